@@ -1,0 +1,435 @@
+//! The one checker. Both front ends run it: the TOML loader maps each error's path to a file line,
+//! the `machine!` macro maps it to the offending token. Errors are collected, not returned at the
+//! first, so a user sees every problem at once.
+
+use super::*;
+use std::collections::HashSet;
+use std::fmt;
+
+/// One step of a path into the IR, as serde names it (`springs[1].stiffness`).
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub enum Seg {
+    Key(String),
+    Index(usize),
+}
+
+/// Where in the model an error sits.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Path(pub Vec<Seg>);
+
+impl Path {
+    pub fn key(mut self, k: &str) -> Path {
+        self.0.push(Seg::Key(k.to_string()));
+        self
+    }
+    pub fn idx(mut self, i: usize) -> Path {
+        self.0.push(Seg::Index(i));
+        self
+    }
+    fn of(parts: &[&str]) -> Path {
+        Path(parts.iter().map(|p| Seg::Key(p.to_string())).collect())
+    }
+}
+
+impl fmt::Display for Path {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for (i, s) in self.0.iter().enumerate() {
+            match s {
+                Seg::Key(k) if i == 0 => write!(f, "{k}")?,
+                Seg::Key(k) => write!(f, ".{k}")?,
+                Seg::Index(n) => write!(f, "[{n}]")?,
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A checker finding: the path to the offending field and what is wrong with it, naming the item.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CheckError {
+    pub path: Path,
+    pub message: String,
+}
+
+impl fmt::Display for CheckError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: {}", self.path, self.message)
+    }
+}
+
+/// Collects errors; the serde_derive pattern (an error context that gathers, then reports).
+#[derive(Default)]
+struct Ctx {
+    errors: Vec<CheckError>,
+}
+
+impl Ctx {
+    fn err(&mut self, path: Path, message: impl Into<String>) {
+        self.errors.push(CheckError {
+            path,
+            message: message.into(),
+        });
+    }
+
+    fn finite(&mut self, path: &Path, what: &str, vals: &[f64]) -> bool {
+        if vals.iter().all(|v| v.is_finite()) {
+            true
+        } else {
+            self.err(path.clone(), format!("{what}: non-finite number"));
+            false
+        }
+    }
+
+    fn positive(&mut self, path: Path, what: &str, v: f64) {
+        if self.finite(&path, what, &[v]) && v <= 0.0 {
+            self.err(path, format!("{what} must be positive, got {v}"));
+        }
+    }
+
+    fn non_negative(&mut self, path: Path, what: &str, v: f64) {
+        if self.finite(&path, what, &[v]) && v < 0.0 {
+            self.err(path, format!("{what} must not be negative, got {v}"));
+        }
+    }
+
+    fn vec3(&mut self, path: Path, what: &str, v: &V3) {
+        self.finite(&path, what, v);
+    }
+}
+
+/// Check a model. `Ok` means both back ends may evaluate it.
+pub fn check(m: &Model) -> Result<(), Vec<CheckError>> {
+    let mut c = Ctx::default();
+    if m.name.trim().is_empty() {
+        c.err(Path::of(&["name"]), "model name is empty");
+    }
+    c.vec3(Path::of(&["gravity"]), "gravity", &m.gravity);
+
+    // Tub.
+    let tub = Path::of(&["tub"]);
+    c.positive(tub.clone().key("mass"), "tub: mass", m.tub.mass);
+    c.vec3(tub.clone().key("cog"), "tub: cog", &m.tub.cog);
+    inertia(&mut c, tub.key("inertia"), "tub", &m.tub.inertia);
+
+    if m.cabinet.modes.is_some() {
+        c.err(
+            Path::of(&["cabinet", "modes"]),
+            "cabinet: elastic modes are not supported yet (the cabinet is fixed)",
+        );
+    }
+
+    let mut names = Names::default();
+
+    // Rotors.
+    for (i, r) in m.rotors.iter().enumerate() {
+        let p = Path::of(&["rotors"]).idx(i);
+        names.add(&mut c, p.clone(), "rotor", &r.name);
+        let w = format!("rotor `{}`", r.name);
+        c.vec3(p.clone().key("axis_point"), &w, &r.axis_point);
+        if c.finite(&p.clone().key("axis"), &w, &r.axis) && norm(&r.axis) < 1e-12 {
+            c.err(p.clone().key("axis"), format!("{w}: axis is the zero vector"));
+        }
+        if c.finite(&p.clone().key("ratio"), &w, &[r.ratio]) && r.ratio == 0.0 {
+            c.err(p.clone().key("ratio"), format!("{w}: ratio must not be zero"));
+        }
+        c.non_negative(p.key("polar_inertia"), &format!("{w}: polar_inertia"), r.polar_inertia);
+    }
+
+    // Unbalances.
+    for (i, u) in m.unbalances.iter().enumerate() {
+        let p = Path::of(&["unbalances"]).idx(i);
+        names.add(&mut c, p.clone(), "unbalance", &u.name);
+        let w = format!("unbalance `{}`", u.name);
+        if !m.rotors.iter().any(|r| r.name == u.rotor) {
+            c.err(p.clone().key("rotor"), format!("{w}: unknown rotor `{}`", u.rotor));
+        }
+        c.positive(p.clone().key("mass"), &format!("{w}: mass"), u.mass);
+        c.vec3(p.key("position"), &w, &u.position);
+    }
+
+    // Speed profile.
+    let sp = Path::of(&["speed"]);
+    if m.speed.table.is_empty() {
+        c.err(sp.clone().key("table"), "speed: the profile has no points");
+    }
+    for (i, row) in m.speed.table.iter().enumerate() {
+        let p = sp.clone().key("table").idx(i);
+        if !c.finite(&p, "speed", row) {
+            continue;
+        }
+        if i > 0 && row[0] <= m.speed.table[i - 1][0] {
+            c.err(
+                p.clone(),
+                format!(
+                    "speed: time must increase strictly, but row {i} has t = {} after t = {}",
+                    row[0],
+                    m.speed.table[i - 1][0]
+                ),
+            );
+        }
+        if row[1] < 0.0 {
+            c.err(p, format!("speed: negative rpm {} at row {i}", row[1]));
+        }
+    }
+
+    // Force elements.
+    for (i, s) in m.springs.iter().enumerate() {
+        let p = Path::of(&["springs"]).idx(i);
+        names.add(&mut c, p.clone(), "spring", &s.name);
+        let w = format!("spring `{}`", s.name);
+        two_points(&mut c, &p, &w, &s.a, &s.b);
+        c.positive(p.clone().key("stiffness"), &format!("{w}: stiffness"), s.stiffness);
+        c.positive(p.key("free_length"), &format!("{w}: free_length"), s.free_length);
+    }
+    for (i, d) in m.dampers.iter().enumerate() {
+        let p = Path::of(&["dampers"]).idx(i);
+        names.add(&mut c, p.clone(), "damper", &d.name);
+        let w = format!("damper `{}`", d.name);
+        two_points(&mut c, &p, &w, &d.a, &d.b);
+        c.non_negative(p.key("damping"), &format!("{w}: damping"), d.damping);
+    }
+    for (i, d) in m.friction_dampers.iter().enumerate() {
+        let p = Path::of(&["friction_dampers"]).idx(i);
+        names.add(&mut c, p.clone(), "friction damper", &d.name);
+        let w = format!("friction damper `{}`", d.name);
+        two_points(&mut c, &p, &w, &d.a, &d.b);
+        c.non_negative(p.clone().key("f_max"), &format!("{w}: f_max"), d.f_max);
+        c.positive(p.clone().key("slope"), &format!("{w}: slope"), d.slope);
+        c.non_negative(
+            p.clone().key("bearing_stiffness"),
+            &format!("{w}: bearing_stiffness"),
+            d.bearing_stiffness,
+        );
+        c.non_negative(
+            p.key("bearing_damping"),
+            &format!("{w}: bearing_damping"),
+            d.bearing_damping,
+        );
+    }
+    for (i, g) in m.gaskets.iter().enumerate() {
+        let p = Path::of(&["gaskets"]).idx(i);
+        names.add(&mut c, p.clone(), "gasket", &g.name);
+        let w = format!("gasket `{}`", g.name);
+        if g.a == g.b {
+            c.err(p.clone().key("b"), format!("{w}: connects {} to itself", g.a.name()));
+        }
+        c.vec3(p.clone().key("point"), &w, &g.point);
+        sym_psd(&mut c, p.clone().key("stiffness"), &format!("{w}: stiffness"), &g.stiffness);
+        sym_psd(&mut c, p.key("damping"), &format!("{w}: damping"), &g.damping);
+    }
+
+    // Sensors.
+    for (i, s) in m.sensors.iter().enumerate() {
+        let p = Path::of(&["sensors"]).idx(i);
+        names.add(&mut c, p.clone(), "sensor", &s.name);
+        c.vec3(p.key("point"), &format!("sensor `{}`", s.name), &s.point);
+    }
+
+    // Scenes.
+    let rotors: Vec<&str> = m.rotors.iter().map(|r| r.name.as_str()).collect();
+    let mut scene_names = HashSet::new();
+    for (i, s) in m.scenes.iter().enumerate() {
+        let p = Path::of(&["scenes"]).idx(i);
+        if !scene_names.insert(s.name.as_str()) {
+            c.err(p.clone().key("name"), format!("duplicate scene name `{}`", s.name));
+        }
+        for (j, e) in s.effects.iter().enumerate() {
+            if Effect::parse(e, &rotors).is_none() {
+                c.err(
+                    p.clone().key("effects").idx(j),
+                    format!(
+                        "scene `{}`: unknown effect `{e}` (known: gyroscopic, friction_dampers, \
+                         gasket_damping, unbalance.<rotor>)",
+                        s.name
+                    ),
+                );
+            }
+        }
+    }
+
+    if c.errors.is_empty() {
+        Ok(())
+    } else {
+        Err(c.errors)
+    }
+}
+
+/// Item names are unique across kinds: they become CSV columns and scene keys.
+#[derive(Default)]
+struct Names<'a> {
+    seen: HashSet<&'a str>,
+}
+
+impl<'a> Names<'a> {
+    fn add(&mut self, c: &mut Ctx, p: Path, kind: &str, name: &'a str) {
+        let valid = !name.is_empty()
+            && name
+                .chars()
+                .all(|ch| ch.is_ascii_alphanumeric() || ch == '_' || ch == '-');
+        if !valid {
+            c.err(
+                p.key("name"),
+                format!("{kind} name `{name}` must be non-empty ASCII letters, digits, _ or -"),
+            );
+        } else if !self.seen.insert(name) {
+            c.err(p.key("name"), format!("duplicate name `{name}` ({kind})"));
+        }
+    }
+}
+
+fn norm(v: &V3) -> f64 {
+    (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
+}
+
+fn two_points(c: &mut Ctx, p: &Path, what: &str, a: &Attach, b: &Attach) {
+    let fa = c.finite(&p.clone().key("a").key("point"), what, &a.point);
+    let fb = c.finite(&p.clone().key("b").key("point"), what, &b.point);
+    if a.body == b.body {
+        c.err(
+            p.clone().key("b").key("body"),
+            format!("{what}: both ends on the {}", a.body.name()),
+        );
+    }
+    if fa && fb {
+        let d = [
+            b.point[0] - a.point[0],
+            b.point[1] - a.point[1],
+            b.point[2] - a.point[2],
+        ];
+        if norm(&d) < 1e-9 {
+            c.err(
+                p.clone().key("b").key("point"),
+                format!("{what}: both ends at the same point, the axis is undefined"),
+            );
+        }
+    }
+}
+
+/// Symmetric eigenvalues of a small matrix by cyclic Jacobi rotations (sizes 3 and 6 only; the
+/// checker must not depend on the back ends' numerics).
+pub fn sym_eigenvalues<const N: usize>(m: &[[f64; N]; N]) -> [f64; N] {
+    let mut a = *m;
+    for _sweep in 0..100 {
+        let mut off = 0.0;
+        for i in 0..N {
+            for j in i + 1..N {
+                off += a[i][j] * a[i][j];
+            }
+        }
+        if off < 1e-30 {
+            break;
+        }
+        for p in 0..N {
+            for q in p + 1..N {
+                if a[p][q].abs() < 1e-300 {
+                    continue;
+                }
+                let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+                let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
+                let t = if theta == 0.0 { 1.0 } else { t };
+                let cs = 1.0 / (t * t + 1.0).sqrt();
+                let sn = t * cs;
+                for k in 0..N {
+                    let akp = a[k][p];
+                    let akq = a[k][q];
+                    a[k][p] = cs * akp - sn * akq;
+                    a[k][q] = sn * akp + cs * akq;
+                }
+                for k in 0..N {
+                    let apk = a[p][k];
+                    let aqk = a[q][k];
+                    a[p][k] = cs * apk - sn * aqk;
+                    a[q][k] = sn * apk + cs * aqk;
+                }
+            }
+        }
+    }
+    let mut ev = [0.0; N];
+    for i in 0..N {
+        ev[i] = a[i][i];
+    }
+    ev.sort_by(|x, y| x.total_cmp(y));
+    ev
+}
+
+fn asymmetry<const N: usize>(m: &[[f64; N]; N]) -> Option<(usize, usize)> {
+    let scale = m.iter().flatten().fold(0.0f64, |s, v| s.max(v.abs()));
+    for i in 0..N {
+        for j in i + 1..N {
+            if (m[i][j] - m[j][i]).abs() > 1e-9 * scale.max(1e-300) {
+                return Some((i, j));
+            }
+        }
+    }
+    None
+}
+
+fn inertia(c: &mut Ctx, p: Path, who: &str, m: &M3) {
+    if !c.finite(&p, &format!("{who}: inertia"), m.as_flattened()) {
+        return;
+    }
+    if let Some((i, j)) = asymmetry(m) {
+        c.err(
+            p,
+            format!("{who}: inertia tensor is not symmetric ([{i}][{j}] = {} but [{j}][{i}] = {})", m[i][j], m[j][i]),
+        );
+        return;
+    }
+    let ev = sym_eigenvalues(m);
+    if ev[0] <= 0.0 {
+        c.err(
+            p,
+            format!("{who}: inertia tensor is not positive definite (principal moments {ev:?})"),
+        );
+    } else if ev[0] + ev[1] < ev[2] * (1.0 - 1e-12) {
+        c.err(
+            p,
+            format!(
+                "{who}: principal moments {ev:?} violate the triangle inequality (I1 + I2 >= I3), \
+                 no mass distribution has them"
+            ),
+        );
+    }
+}
+
+fn sym_psd(c: &mut Ctx, p: Path, what: &str, m: &M6) {
+    if !c.finite(&p, what, m.as_flattened()) {
+        return;
+    }
+    if let Some((i, j)) = asymmetry(m) {
+        c.err(
+            p,
+            format!("{what} is not symmetric ([{i}][{j}] = {} but [{j}][{i}] = {})", m[i][j], m[j][i]),
+        );
+        return;
+    }
+    let ev = sym_eigenvalues(m);
+    let scale = ev[5].abs().max(1e-300);
+    if ev[0] < -1e-12 * scale {
+        c.err(
+            p,
+            format!("{what} is not positive semi-definite (smallest eigenvalue {:e})", ev[0]),
+        );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn jacobi_matches_closed_form_2x2_block() {
+        // [[2,1],[1,2]] has eigenvalues 1 and 3 (closed form); third diagonal 5.
+        let m = [[2.0, 1.0, 0.0], [1.0, 2.0, 0.0], [0.0, 0.0, 5.0]];
+        let ev = sym_eigenvalues(&m);
+        for (a, b) in ev.iter().zip([1.0, 3.0, 5.0]) {
+            assert!((a - b).abs() < 1e-12, "{ev:?}");
+        }
+    }
+
+    #[test]
+    fn path_display() {
+        let p = Path::default().key("springs").idx(2).key("stiffness");
+        assert_eq!(p.to_string(), "springs[2].stiffness");
+    }
+}

@@ -1,0 +1,359 @@
+//! The model IR: one plain description of a machine that both front ends (the TOML loader and the
+//! `machine!` macro) fill and both back ends (interpreter, code generator) consume.
+//!
+//! Frame: origin at the centre of the cabinet's base, x along the drum axis towards the door, y to
+//! the left seen from the front, z up. SI units throughout. All points and directions are given in
+//! this global frame, in the rest (reference) configuration.
+
+pub mod check;
+pub mod toml_file;
+
+use serde::{Deserialize, Serialize};
+
+/// 3-vector in the global frame.
+pub type V3 = [f64; 3];
+/// 3x3 matrix, row-major.
+pub type M3 = [[f64; 3]; 3];
+/// 6x6 matrix, row-major, ordering (x, y, z, rx, ry, rz).
+pub type M6 = [[f64; 6]; 6];
+
+/// A whole machine.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Model {
+    pub name: String,
+    /// Gravity vector, m/s^2 (the reference machine: [0, 0, -9.81]).
+    #[serde(default = "default_gravity")]
+    pub gravity: V3,
+    /// The suspended tub assembly: 6 rigid DOF (subsystem 1).
+    pub tub: Tub,
+    /// The cabinet: fixed until elastic bodies arrive (subsystem 2 then holds its modes).
+    #[serde(default)]
+    pub cabinet: Cabinet,
+    /// Rotors turning with prescribed speed about axes fixed in the tub (drum, motor rotor).
+    #[serde(default)]
+    pub rotors: Vec<Rotor>,
+    /// Point masses carried by rotors.
+    #[serde(default)]
+    pub unbalances: Vec<Unbalance>,
+    /// Drum speed over time; a rotor turns at `ratio` times this.
+    pub speed: SpeedProfile,
+    #[serde(default)]
+    pub springs: Vec<Spring>,
+    #[serde(default)]
+    pub dampers: Vec<LinearDamper>,
+    #[serde(default)]
+    pub friction_dampers: Vec<FrictionDamper>,
+    #[serde(default)]
+    pub gaskets: Vec<Gasket>,
+    #[serde(default)]
+    pub sensors: Vec<Sensor>,
+    /// Named selections of effects; an empty list means the one scene `full`.
+    #[serde(default)]
+    pub scenes: Vec<Scene>,
+}
+
+pub fn default_gravity() -> V3 {
+    [0.0, 0.0, -9.81]
+}
+
+/// The tub assembly with everything rigidly attached to it and the non-spinning mass of the rotors.
+/// Its CoG at rest is the reference point of the tub's 6 DOF.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Tub {
+    /// kg
+    pub mass: f64,
+    /// Centre of gravity at rest, m.
+    pub cog: V3,
+    /// Inertia tensor about the CoG in global axes, kg m^2.
+    pub inertia: M3,
+}
+
+/// The cabinet. Without modes it is the fixed ground frame.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Cabinet {
+    /// Modal data file (elastic-bodies issue); `None`: rigid and fixed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub modes: Option<String>,
+}
+
+/// A body a force element or sensor can attach to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BodyRef {
+    Tub,
+    Cabinet,
+}
+
+impl BodyRef {
+    pub fn name(self) -> &'static str {
+        match self {
+            BodyRef::Tub => "tub",
+            BodyRef::Cabinet => "cabinet",
+        }
+    }
+}
+
+/// A point fixed on a body, given in global coordinates at rest.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Attach {
+    pub body: BodyRef,
+    pub point: V3,
+}
+
+/// A rotor without DOF of its own: it turns about `axis` through `axis_point` (fixed in the tub)
+/// at `ratio` times the drum speed. Its mass and transverse inertia belong to the tub; only its
+/// spin angular momentum (polar inertia) acts here.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Rotor {
+    pub name: String,
+    pub axis_point: V3,
+    /// Unit vector (normalised by the derivation); positive spin by the right-hand rule.
+    #[serde(default = "default_axis")]
+    pub axis: V3,
+    /// Speed ratio to the drum (drum 1, motor 11.25).
+    #[serde(default = "one")]
+    pub ratio: f64,
+    /// kg m^2 about the spin axis.
+    pub polar_inertia: f64,
+}
+
+fn default_axis() -> V3 {
+    [1.0, 0.0, 0.0]
+}
+fn one() -> f64 {
+    1.0
+}
+
+/// A point mass on a rotor; `position` is where it is at rotor angle 0 (global, at rest).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Unbalance {
+    pub name: String,
+    pub rotor: String,
+    /// kg
+    pub mass: f64,
+    pub position: V3,
+}
+
+/// Prescribed drum speed: a piecewise-linear rpm(t) table, inline or from a CSV file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpeedProfile {
+    /// (time s, drum rpm) pairs, strictly increasing in time; constant beyond the ends.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub table: Vec<[f64; 2]>,
+    /// CSV with columns time_s, rpm (header optional); relative to the model file.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub csv: Option<String>,
+}
+
+/// Linear spring, force along its current axis only: F = k (L - L0).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Spring {
+    pub name: String,
+    pub a: Attach,
+    pub b: Attach,
+    /// N/m
+    pub stiffness: f64,
+    /// m
+    pub free_length: f64,
+}
+
+/// Linear viscous damper along its current axis: F = c v (a variant of the friction damper).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LinearDamper {
+    pub name: String,
+    pub a: Attach,
+    pub b: Attach,
+    /// N s/m
+    pub damping: f64,
+}
+
+/// Massless friction damper (seed paper): axial arctan friction F = 2 Fmax/pi atan(s v) and a
+/// rubber bearing at each end, a rotary spring-damper about the two axes normal to the rod.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FrictionDamper {
+    pub name: String,
+    pub a: Attach,
+    pub b: Attach,
+    /// N
+    pub f_max: f64,
+    /// s/m
+    pub slope: f64,
+    /// Rubber bearings, N m/rad (both ends).
+    pub bearing_stiffness: f64,
+    /// Rubber bearings, N m s/rad (both ends).
+    pub bearing_damping: f64,
+}
+
+/// Door gasket: 6-D linear spring-damper between tub and cabinet at `point`, with full K and D
+/// in global axes (x, y, z, rx, ry, rz); zero force in the reference position.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Gasket {
+    pub name: String,
+    /// Body whose motion relative to `b` loads the gasket (the tub).
+    pub a: BodyRef,
+    pub b: BodyRef,
+    pub point: V3,
+    pub stiffness: M6,
+    pub damping: M6,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SensorKind {
+    Acceleration,
+    Displacement,
+}
+
+/// A measurement point: three channels (x, y, z) in global axes.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Sensor {
+    pub name: String,
+    pub body: BodyRef,
+    pub point: V3,
+    pub kind: SensorKind,
+}
+
+impl Sensor {
+    /// CSV column names of the three channels.
+    pub fn channels(&self) -> [String; 3] {
+        let p = match self.kind {
+            SensorKind::Acceleration => "a",
+            SensorKind::Displacement => "u",
+        };
+        ["x", "y", "z"].map(|c| format!("{}_{}{}", self.name, p, c))
+    }
+}
+
+/// A named selection of effects to simulate; what is not listed is left out.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    pub name: String,
+    pub effects: Vec<String>,
+}
+
+/// The effects a scene can switch. Everything else (rigid tub, gravity, springs, gasket
+/// stiffness, linear dampers) is always simulated.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub enum Effect {
+    /// Spin angular momentum of the rotors: gyroscopic moments and spin-up reaction.
+    Gyroscopic,
+    /// The unbalances carried by the named rotor.
+    Unbalance(String),
+    /// The friction dampers (axial friction and rubber bearings).
+    FrictionDampers,
+    /// The gasket's damping matrix.
+    GasketDamping,
+}
+
+impl Effect {
+    /// Parse an effect name; `rotors` are the model's rotor names.
+    pub fn parse(s: &str, rotors: &[&str]) -> Option<Effect> {
+        match s {
+            "gyroscopic" => Some(Effect::Gyroscopic),
+            "friction_dampers" => Some(Effect::FrictionDampers),
+            "gasket_damping" => Some(Effect::GasketDamping),
+            _ => {
+                let r = s.strip_prefix("unbalance.")?;
+                rotors.contains(&r).then(|| Effect::Unbalance(r.to_string()))
+            }
+        }
+    }
+
+    pub fn name(&self) -> String {
+        match self {
+            Effect::Gyroscopic => "gyroscopic".into(),
+            Effect::FrictionDampers => "friction_dampers".into(),
+            Effect::GasketDamping => "gasket_damping".into(),
+            Effect::Unbalance(r) => format!("unbalance.{r}"),
+        }
+    }
+}
+
+/// A resolved scene: which effects are on.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct EffectSet {
+    pub name: String,
+    pub effects: Vec<Effect>,
+}
+
+impl EffectSet {
+    pub fn has(&self, e: &Effect) -> bool {
+        self.effects.contains(e)
+    }
+}
+
+impl Model {
+    /// Every effect this model can switch: the scene `full`.
+    pub fn all_effects(&self) -> Vec<Effect> {
+        let mut v = vec![Effect::Gyroscopic];
+        for r in &self.rotors {
+            if self.unbalances.iter().any(|u| u.rotor == r.name) {
+                v.push(Effect::Unbalance(r.name.clone()));
+            }
+        }
+        if !self.friction_dampers.is_empty() {
+            v.push(Effect::FrictionDampers);
+        }
+        if !self.gaskets.is_empty() {
+            v.push(Effect::GasketDamping);
+        }
+        v
+    }
+
+    /// Names of the scenes: the declared ones, or `full` when none is declared.
+    pub fn scene_names(&self) -> Vec<String> {
+        if self.scenes.is_empty() {
+            vec!["full".to_string()]
+        } else {
+            self.scenes.iter().map(|s| s.name.clone()).collect()
+        }
+    }
+
+    /// Resolve a scene by name (`None`: the first declared scene, or `full`). `full` always
+    /// exists and holds every effect. Unknown effects were rejected by the checker; here they are
+    /// an error too, so an unchecked model cannot silently drop one.
+    pub fn scene(&self, name: Option<&str>) -> Result<EffectSet, String> {
+        let name = name.unwrap_or_else(|| self.scenes.first().map_or("full", |s| s.name.as_str()));
+        if name == "full" && !self.scenes.iter().any(|s| s.name == "full") {
+            return Ok(EffectSet {
+                name: "full".into(),
+                effects: self.all_effects(),
+            });
+        }
+        let scene = self.scenes.iter().find(|s| s.name == name).ok_or_else(|| {
+            format!(
+                "unknown scene `{name}`; this model has: full{}",
+                self.scenes
+                    .iter()
+                    .map(|s| format!(", {}", s.name))
+                    .collect::<String>()
+            )
+        })?;
+        let rotors: Vec<&str> = self.rotors.iter().map(|r| r.name.as_str()).collect();
+        let mut effects = Vec::new();
+        for e in &scene.effects {
+            let eff = Effect::parse(e, &rotors)
+                .ok_or_else(|| format!("scene `{name}`: unknown effect `{e}`"))?;
+            if !effects.contains(&eff) {
+                effects.push(eff);
+            }
+        }
+        Ok(EffectSet {
+            name: name.to_string(),
+            effects,
+        })
+    }
+}

@@ -1,0 +1,167 @@
+//! TOML front end: file -> IR -> the one checker, with every error located at its file line.
+
+use super::check::{CheckError, Path, Seg, check};
+use super::Model;
+use std::fmt;
+use std::path::{Path as FsPath, PathBuf};
+use toml::de::{DeTable, DeValue};
+use toml::Spanned;
+
+/// One problem in a model file, located.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Located {
+    pub file: String,
+    /// 1-based; 0 when the position is unknown.
+    pub line: usize,
+    pub column: usize,
+    pub message: String,
+}
+
+impl fmt::Display for Located {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}:{}:{}: {}", self.file, self.line, self.column, self.message)
+    }
+}
+
+/// All problems found in a model file.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub struct ModelFileError {
+    pub errors: Vec<Located>,
+}
+
+impl fmt::Display for ModelFileError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for (i, e) in self.errors.iter().enumerate() {
+            if i > 0 {
+                writeln!(f)?;
+            }
+            write!(f, "{e}")?;
+        }
+        Ok(())
+    }
+}
+
+/// Load and check a model file.
+pub fn load_file(path: &FsPath) -> Result<Model, ModelFileError> {
+    let name = path.display().to_string();
+    let src = std::fs::read_to_string(path).map_err(|e| ModelFileError {
+        errors: vec![Located {
+            file: name.clone(),
+            line: 0,
+            column: 0,
+            message: format!("cannot read: {e}"),
+        }],
+    })?;
+    let base = path.parent().map(PathBuf::from).unwrap_or_default();
+    load_str(&src, &name, &base)
+}
+
+/// Load and check model text; `file` names it in errors, `base` resolves relative data files.
+pub fn load_str(src: &str, file: &str, base: &FsPath) -> Result<Model, ModelFileError> {
+    let at = |span: Option<std::ops::Range<usize>>, message: String| {
+        let (line, column) = span.map_or((0, 0), |s| line_col(src, s.start));
+        Located {
+            file: file.to_string(),
+            line,
+            column,
+            message,
+        }
+    };
+    let mut model: Model = toml::from_str(src).map_err(|e| ModelFileError {
+        errors: vec![at(e.span(), e.message().trim().to_string())],
+    })?;
+    if let Some(csv) = model.speed.csv.clone() {
+        if !model.speed.table.is_empty() {
+            let span = span_of(src, &Path::default().key("speed").key("csv"));
+            return Err(ModelFileError {
+                errors: vec![at(span, "speed: give either `table` or `csv`, not both".into())],
+            });
+        }
+        let p = base.join(&csv);
+        model.speed.table = read_speed_csv(&p).map_err(|e| ModelFileError {
+            errors: vec![e],
+        })?;
+    }
+    check(&model).map_err(|errs| ModelFileError {
+        errors: errs
+            .into_iter()
+            .map(|CheckError { path, message }| at(span_of(src, &path), message))
+            .collect(),
+    })?;
+    Ok(model)
+}
+
+/// Read a speed profile CSV: `time_s, rpm` per line, an optional header, `#` comments.
+pub fn read_speed_csv(path: &FsPath) -> Result<Vec<[f64; 2]>, Located> {
+    let file = path.display().to_string();
+    let err = |line: usize, message: String| Located {
+        file: file.clone(),
+        line,
+        column: 1,
+        message,
+    };
+    let text = std::fs::read_to_string(path).map_err(|e| err(0, format!("cannot read: {e}")))?;
+    let mut rows = Vec::new();
+    for (i, raw) in text.lines().enumerate() {
+        let line = raw.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let cells: Vec<&str> = line.split(',').map(str::trim).collect();
+        let nums: Result<Vec<f64>, _> = cells.iter().map(|c| c.parse::<f64>()).collect();
+        match nums {
+            Ok(v) if v.len() == 2 => rows.push([v[0], v[1]]),
+            Ok(v) => {
+                return Err(err(
+                    i + 1,
+                    format!("expected 2 columns (time_s, rpm), found {}", v.len()),
+                ));
+            }
+            Err(_) if rows.is_empty() && i == 0 => continue, // header
+            Err(e) => return Err(err(i + 1, format!("not a number: {e} in `{line}`"))),
+        }
+    }
+    if rows.is_empty() {
+        return Err(err(0, "no data rows".into()));
+    }
+    Ok(rows)
+}
+
+fn line_col(src: &str, offset: usize) -> (usize, usize) {
+    let before = &src[..offset.min(src.len())];
+    let line = before.matches('\n').count() + 1;
+    let column = before.len() - before.rfind('\n').map_or(0, |p| p + 1) + 1;
+    (line, column)
+}
+
+/// The span of the deepest part of `path` present in the document: a missing field points at
+/// its table, so the user still lands next to the problem.
+fn span_of(src: &str, path: &Path) -> Option<std::ops::Range<usize>> {
+    let root = DeTable::parse(src).ok()?;
+    let mut best = None;
+    let mut cur: Option<&Spanned<DeValue>> = None;
+    let mut table: Option<&DeTable> = Some(root.get_ref());
+    for seg in &path.0 {
+        let next = match (seg, table, cur.map(|c| c.get_ref())) {
+            (Seg::Key(k), Some(t), _) => t.get(k.as_str()),
+            (Seg::Index(i), _, Some(DeValue::Array(a))) => a.get(*i),
+            _ => None,
+        };
+        let Some(v) = next else { break };
+        best = Some(v.span());
+        cur = Some(v);
+        table = v.get_ref().as_table();
+    }
+    best
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn line_col_counts_from_one() {
+        assert_eq!(line_col("a\nbc\nd", 3), (2, 2));
+        assert_eq!(line_col("abc", 0), (1, 1));
+    }
+}

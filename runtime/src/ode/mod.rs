@@ -1,0 +1,101 @@
+//! Integrators for y' = f(t, y): one method a file, tableaux as data, standard test problems in
+//! `problems/`. All work arrays are allocated in `new`; `init`, `step` and `interpolate` never
+//! allocate (a counting allocator test checks it).
+
+use thiserror::Error;
+
+/// A first-order ODE system y' = f(t, y).
+pub trait OdeSystem {
+    fn dim(&self) -> usize;
+    /// f(t, y) into `dy`.
+    fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]);
+    /// df/dy at (t, y), row-major `dim x dim` into `jac`. Return `false` when the system has no
+    /// analytic Jacobian: the implicit integrators then use finite differences.
+    fn jacobian(&mut self, _t: f64, _y: &[f64], _jac: &mut [f64]) -> bool {
+        false
+    }
+}
+
+/// Why an integration stopped early. Every variant carries the time reached.
+#[derive(Clone, Debug, PartialEq, Error)]
+pub enum OdeError {
+    #[error("step size underflow at t = {t} s (h = {h:e} s)")]
+    StepSizeUnderflow { t: f64, h: f64 },
+    #[error("Newton iteration diverged at t = {t} s (h = {h:e} s)")]
+    NewtonDivergence { t: f64, h: f64 },
+    #[error("non-finite state at t = {t} s")]
+    NonFinite { t: f64 },
+    #[error("step budget of {steps} steps exhausted at t = {t} s")]
+    StepBudget { t: f64, steps: u64 },
+    #[error("singular iteration matrix at t = {t} s")]
+    Singular { t: f64 },
+}
+
+impl OdeError {
+    /// The time the integration reached.
+    pub fn time(&self) -> f64 {
+        match *self {
+            OdeError::StepSizeUnderflow { t, .. }
+            | OdeError::NewtonDivergence { t, .. }
+            | OdeError::NonFinite { t }
+            | OdeError::StepBudget { t, .. }
+            | OdeError::Singular { t } => t,
+        }
+    }
+}
+
+/// Work counters, reported in `summary.json` and the work-precision study.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct Stats {
+    pub steps: u64,
+    pub rejected_steps: u64,
+    pub rhs_evals: u64,
+    pub jacobian_evals: u64,
+    pub lu_decompositions: u64,
+    pub newton_iterations: u64,
+}
+
+/// Step control and budgets.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Options {
+    pub rtol: f64,
+    pub atol: f64,
+    /// Initial step (adaptive) or the fixed step (RK4); 0 = choose automatically.
+    pub h0: f64,
+    pub h_max: f64,
+    pub h_min: f64,
+    pub max_steps: u64,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            rtol: 1e-6,
+            atol: 1e-9,
+            h0: 0.0,
+            h_max: f64::INFINITY,
+            h_min: 1e-14,
+            max_steps: 50_000_000,
+        }
+    }
+}
+
+/// A stepping integrator. The caller owns the loop, so it can sample dense output and evaluate
+/// sensors between steps, and stop at discontinuities of the right-hand side.
+pub trait Solver<S: OdeSystem + ?Sized> {
+    fn name(&self) -> &'static str;
+    /// Start at (t0, y0); discards any history (call again after a discontinuity).
+    fn init(&mut self, sys: &mut S, t0: f64, y0: &[f64]) -> Result<(), OdeError>;
+    /// Take one accepted step, never past `t_stop`, landing exactly on it when it is within
+    /// reach. The right-hand side may be discontinuous at `t_stop`: the caller calls `init`
+    /// again there.
+    fn step(&mut self, sys: &mut S, t_stop: f64) -> Result<(), OdeError>;
+    /// Current time and state (end of the last accepted step).
+    fn t(&self) -> f64;
+    fn y(&self) -> &[f64];
+    /// Start of the last accepted step.
+    fn t_prev(&self) -> f64;
+    /// Dense output: the state at `t` in [t_prev, t] into `out`.
+    fn interpolate(&self, t: f64, out: &mut [f64]);
+    fn stats(&self) -> Stats;
+}

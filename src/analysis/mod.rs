@@ -1,0 +1,1 @@
+//! Run-up analysis: order plots, cascades and speed plots from sensor signals.

@@ -127,12 +127,22 @@ pub fn check(m: &Model) -> Result<(), Vec<CheckError>> {
         let w = format!("rotor `{}`", r.name);
         c.vec3(p.clone().key("axis_point"), &w, &r.axis_point);
         if c.finite(&p.clone().key("axis"), &w, &r.axis) && norm(&r.axis) < 1e-12 {
-            c.err(p.clone().key("axis"), format!("{w}: axis is the zero vector"));
+            c.err(
+                p.clone().key("axis"),
+                format!("{w}: axis is the zero vector"),
+            );
         }
         if c.finite(&p.clone().key("ratio"), &w, &[r.ratio]) && r.ratio == 0.0 {
-            c.err(p.clone().key("ratio"), format!("{w}: ratio must not be zero"));
+            c.err(
+                p.clone().key("ratio"),
+                format!("{w}: ratio must not be zero"),
+            );
         }
-        c.non_negative(p.key("polar_inertia"), &format!("{w}: polar_inertia"), r.polar_inertia);
+        c.non_negative(
+            p.key("polar_inertia"),
+            &format!("{w}: polar_inertia"),
+            r.polar_inertia,
+        );
     }
 
     // Unbalances.
@@ -141,7 +151,10 @@ pub fn check(m: &Model) -> Result<(), Vec<CheckError>> {
         names.add(&mut c, p.clone(), "unbalance", &u.name);
         let w = format!("unbalance `{}`", u.name);
         if !m.rotors.iter().any(|r| r.name == u.rotor) {
-            c.err(p.clone().key("rotor"), format!("{w}: unknown rotor `{}`", u.rotor));
+            c.err(
+                p.clone().key("rotor"),
+                format!("{w}: unknown rotor `{}`", u.rotor),
+            );
         }
         c.positive(p.clone().key("mass"), &format!("{w}: mass"), u.mass);
         c.vec3(p.key("position"), &w, &u.position);
@@ -178,8 +191,16 @@ pub fn check(m: &Model) -> Result<(), Vec<CheckError>> {
         names.add(&mut c, p.clone(), "spring", &s.name);
         let w = format!("spring `{}`", s.name);
         two_points(&mut c, &p, &w, &s.a, &s.b);
-        c.positive(p.clone().key("stiffness"), &format!("{w}: stiffness"), s.stiffness);
-        c.positive(p.key("free_length"), &format!("{w}: free_length"), s.free_length);
+        c.positive(
+            p.clone().key("stiffness"),
+            &format!("{w}: stiffness"),
+            s.stiffness,
+        );
+        c.positive(
+            p.key("free_length"),
+            &format!("{w}: free_length"),
+            s.free_length,
+        );
     }
     for (i, d) in m.dampers.iter().enumerate() {
         let p = Path::of(&["dampers"]).idx(i);
@@ -211,11 +232,24 @@ pub fn check(m: &Model) -> Result<(), Vec<CheckError>> {
         names.add(&mut c, p.clone(), "gasket", &g.name);
         let w = format!("gasket `{}`", g.name);
         if g.a == g.b {
-            c.err(p.clone().key("b"), format!("{w}: connects {} to itself", g.a.name()));
+            c.err(
+                p.clone().key("b"),
+                format!("{w}: connects {} to itself", g.a.name()),
+            );
         }
         c.vec3(p.clone().key("point"), &w, &g.point);
-        sym_psd(&mut c, p.clone().key("stiffness"), &format!("{w}: stiffness"), &g.stiffness);
-        sym_psd(&mut c, p.key("damping"), &format!("{w}: damping"), &g.damping);
+        sym_psd(
+            &mut c,
+            p.clone().key("stiffness"),
+            &format!("{w}: stiffness"),
+            &g.stiffness,
+        );
+        sym_psd(
+            &mut c,
+            p.key("damping"),
+            &format!("{w}: damping"),
+            &g.damping,
+        );
     }
 
     // Sensors.
@@ -231,7 +265,10 @@ pub fn check(m: &Model) -> Result<(), Vec<CheckError>> {
     for (i, s) in m.scenes.iter().enumerate() {
         let p = Path::of(&["scenes"]).idx(i);
         if !scene_names.insert(s.name.as_str()) {
-            c.err(p.clone().key("name"), format!("duplicate scene name `{}`", s.name));
+            c.err(
+                p.clone().key("name"),
+                format!("duplicate scene name `{}`", s.name),
+            );
         }
         for (j, e) in s.effects.iter().enumerate() {
             if Effect::parse(e, &rotors).is_none() {
@@ -371,7 +408,10 @@ fn inertia(c: &mut Ctx, p: Path, who: &str, m: &M3) {
     if let Some((i, j)) = asymmetry(m) {
         c.err(
             p,
-            format!("{who}: inertia tensor is not symmetric ([{i}][{j}] = {} but [{j}][{i}] = {})", m[i][j], m[j][i]),
+            format!(
+                "{who}: inertia tensor is not symmetric ([{i}][{j}] = {} but [{j}][{i}] = {})",
+                m[i][j], m[j][i]
+            ),
         );
         return;
     }
@@ -399,7 +439,10 @@ fn sym_psd(c: &mut Ctx, p: Path, what: &str, m: &M6) {
     if let Some((i, j)) = asymmetry(m) {
         c.err(
             p,
-            format!("{what} is not symmetric ([{i}][{j}] = {} but [{j}][{i}] = {})", m[i][j], m[j][i]),
+            format!(
+                "{what} is not symmetric ([{i}][{j}] = {} but [{j}][{i}] = {})",
+                m[i][j], m[j][i]
+            ),
         );
         return;
     }
@@ -408,7 +451,10 @@ fn sym_psd(c: &mut Ctx, p: Path, what: &str, m: &M6) {
     if ev[0] < -1e-12 * scale {
         c.err(
             p,
-            format!("{what} is not positive semi-definite (smallest eigenvalue {:e})", ev[0]),
+            format!(
+                "{what} is not positive semi-definite (smallest eigenvalue {:e})",
+                ev[0]
+            ),
         );
     }
 }

@@ -267,7 +267,9 @@ impl Effect {
             "gasket_damping" => Some(Effect::GasketDamping),
             _ => {
                 let r = s.strip_prefix("unbalance.")?;
-                rotors.contains(&r).then(|| Effect::Unbalance(r.to_string()))
+                rotors
+                    .contains(&r)
+                    .then(|| Effect::Unbalance(r.to_string()))
             }
         }
     }

@@ -1,11 +1,11 @@
 //! TOML front end: file -> IR -> the one checker, with every error located at its file line.
 
-use super::check::{CheckError, Path, Seg, check};
 use super::Model;
+use super::check::{CheckError, Path, Seg, check};
 use std::fmt;
 use std::path::{Path as FsPath, PathBuf};
-use toml::de::{DeTable, DeValue};
 use toml::Spanned;
+use toml::de::{DeTable, DeValue};
 
 /// One problem in a model file, located.
 #[derive(Clone, Debug, PartialEq)]
@@ -19,7 +19,11 @@ pub struct Located {
 
 impl fmt::Display for Located {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}:{}:{}: {}", self.file, self.line, self.column, self.message)
+        write!(
+            f,
+            "{}:{}:{}: {}",
+            self.file, self.line, self.column, self.message
+        )
     }
 }
 
@@ -74,13 +78,14 @@ pub fn load_str(src: &str, file: &str, base: &FsPath) -> Result<Model, ModelFile
         if !model.speed.table.is_empty() {
             let span = span_of(src, &Path::default().key("speed").key("csv"));
             return Err(ModelFileError {
-                errors: vec![at(span, "speed: give either `table` or `csv`, not both".into())],
+                errors: vec![at(
+                    span,
+                    "speed: give either `table` or `csv`, not both".into(),
+                )],
             });
         }
         let p = base.join(&csv);
-        model.speed.table = read_speed_csv(&p).map_err(|e| ModelFileError {
-            errors: vec![e],
-        })?;
+        model.speed.table = read_speed_csv(&p).map_err(|e| ModelFileError { errors: vec![e] })?;
     }
     check(&model).map_err(|errs| ModelFileError {
         errors: errs

@@ -1,0 +1,86 @@
+//! 3-vectors over any `Scalar`: just what the derivation needs, so it stays traceable.
+
+use crate::scalar::Scalar;
+use std::ops::{Add, Mul, Neg, Sub};
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct V<T>(pub [T; 3]);
+
+impl<T: Scalar> V<T> {
+    pub fn zero() -> Self {
+        V([T::zero(); 3])
+    }
+    /// A constant vector.
+    pub fn c(v: [f64; 3]) -> Self {
+        V(v.map(T::c))
+    }
+    pub fn from_slice(s: &[T]) -> Self {
+        V([s[0], s[1], s[2]])
+    }
+    pub fn dot(self, o: Self) -> T {
+        self.0[0] * o.0[0] + self.0[1] * o.0[1] + self.0[2] * o.0[2]
+    }
+    pub fn cross(self, o: Self) -> Self {
+        let (a, b) = (self.0, o.0);
+        V([
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ])
+    }
+    pub fn scale(self, k: T) -> Self {
+        V(self.0.map(|x| x * k))
+    }
+    pub fn norm(self) -> T {
+        self.dot(self).sqrt()
+    }
+    /// Component normal to the unit vector `n`.
+    pub fn reject(self, n: Self) -> Self {
+        self - n.scale(self.dot(n))
+    }
+    /// Add into a slice at offset `at`.
+    pub fn add_to(self, out: &mut [T], at: usize) {
+        for k in 0..3 {
+            out[at + k] += self.0[k];
+        }
+    }
+}
+
+impl<T: Scalar> Add for V<T> {
+    type Output = Self;
+    fn add(self, o: Self) -> Self {
+        V([self.0[0] + o.0[0], self.0[1] + o.0[1], self.0[2] + o.0[2]])
+    }
+}
+impl<T: Scalar> Sub for V<T> {
+    type Output = Self;
+    fn sub(self, o: Self) -> Self {
+        V([self.0[0] - o.0[0], self.0[1] - o.0[1], self.0[2] - o.0[2]])
+    }
+}
+impl<T: Scalar> Neg for V<T> {
+    type Output = Self;
+    fn neg(self) -> Self {
+        V(self.0.map(|x| -x))
+    }
+}
+impl<T: Scalar> Mul<f64> for V<T> {
+    type Output = Self;
+    fn mul(self, k: f64) -> Self {
+        V(self.0.map(|x| x * k))
+    }
+}
+
+/// Plain f64 helpers for set-up code (constants of the model).
+pub mod f {
+    pub fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+        [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+    }
+    pub fn norm(a: [f64; 3]) -> f64 {
+        (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
+    }
+    pub fn unit(a: [f64; 3]) -> [f64; 3] {
+        let n = norm(a);
+        [a[0] / n, a[1] / n, a[2] / n]
+    }
+}

@@ -1,0 +1,136 @@
+//! The mechanical system as both back ends present it, and its first-order form for the
+//! integrators. M1 is factorised (Cholesky) at every evaluation, M2 once.
+
+use crate::equations::{Equations, Layout};
+use crate::ir::{EffectSet, Model};
+use crate::linalg::{cholesky_in_place, cholesky_solve};
+use crate::ode::OdeSystem;
+use crate::speed::Speed;
+
+/// M(q, t) q'' = h(q, q', t) with M = diag(M1(q, t), M2), as either back end evaluates it.
+pub trait Mechanical {
+    fn layout(&self) -> Layout;
+    /// M1 (n1 x n1, row-major) and h (length n) at (t, q, q').
+    fn eval(&mut self, t: f64, q: &[f64], qd: &[f64], m1: &mut [f64], h: &mut [f64]);
+    /// The constant M2 (n2 x n2, row-major).
+    fn m2(&self) -> &[f64];
+    /// Sensor channels (3 per sensor) from the state and its acceleration.
+    fn sensors(&self, t: f64, q: &[f64], qd: &[f64], qdd: &[f64], out: &mut [f64]);
+    /// Channel names, in the order of `sensors`.
+    fn channel_names(&self) -> Vec<String>;
+    /// The prescribed drum speed.
+    fn speed(&self) -> &Speed;
+}
+
+/// The interpreter back end: the one derivation evaluated with f64 on the resolved model.
+#[derive(Clone, Debug)]
+pub struct Interpreter {
+    pub eq: Equations,
+    pub speed: Speed,
+    m2: Vec<f64>,
+}
+
+impl Interpreter {
+    /// For a checked model and a scene of it.
+    pub fn new(model: &Model, scene: &EffectSet) -> Interpreter {
+        let eq = Equations::new(model, scene);
+        let n2 = eq.layout.n2;
+        let mut m2 = vec![0.0; n2 * n2];
+        for i in 0..n2 {
+            m2[i * n2 + i] = 1.0;
+        }
+        Interpreter {
+            eq,
+            speed: Speed::new(&model.speed.table),
+            m2,
+        }
+    }
+}
+
+impl Mechanical for Interpreter {
+    fn layout(&self) -> Layout {
+        self.eq.layout
+    }
+    fn eval(&mut self, t: f64, q: &[f64], qd: &[f64], m1: &mut [f64], h: &mut [f64]) {
+        let d = self.speed.drive(t);
+        self.eq.eval(&d, q, qd, m1, h);
+    }
+    fn m2(&self) -> &[f64] {
+        &self.m2
+    }
+    fn sensors(&self, _t: f64, q: &[f64], qd: &[f64], qdd: &[f64], out: &mut [f64]) {
+        for i in 0..self.eq.sensors.len() {
+            let v = self.eq.sensor(i, q, qd, qdd);
+            out[3 * i..3 * i + 3].copy_from_slice(&v);
+        }
+    }
+    fn channel_names(&self) -> Vec<String> {
+        self.eq
+            .sensors
+            .iter()
+            .flat_map(|s| s.channels.iter().cloned())
+            .collect()
+    }
+    fn speed(&self) -> &Speed {
+        &self.speed
+    }
+}
+
+/// First-order form y = [q; q'] for the integrators, with preallocated work arrays.
+pub struct FirstOrder<S: Mechanical> {
+    pub sys: S,
+    layout: Layout,
+    m1: Vec<f64>,
+    l2: Vec<f64>,
+    h: Vec<f64>,
+}
+
+impl<S: Mechanical> FirstOrder<S> {
+    pub fn new(sys: S) -> Self {
+        let layout = sys.layout();
+        let (n1, n2) = (layout.n1, layout.n2);
+        let mut l2 = sys.m2().to_vec();
+        assert!(
+            cholesky_in_place(&mut l2, n2),
+            "M2 is not positive definite"
+        );
+        FirstOrder {
+            sys,
+            layout,
+            m1: vec![0.0; n1 * n1],
+            l2,
+            h: vec![0.0; n1 + n2],
+        }
+    }
+
+    pub fn layout(&self) -> Layout {
+        self.layout
+    }
+
+    /// q'' at (t, q, q') into `qdd`. A mass block that is not positive definite yields NaN, which
+    /// the integrators report as a non-finite state with its time.
+    pub fn accelerations(&mut self, t: f64, q: &[f64], qd: &[f64], qdd: &mut [f64]) {
+        let (n1, n2) = (self.layout.n1, self.layout.n2);
+        self.sys.eval(t, q, qd, &mut self.m1, &mut self.h);
+        qdd.copy_from_slice(&self.h);
+        if cholesky_in_place(&mut self.m1, n1) {
+            cholesky_solve(&self.m1, n1, &mut qdd[..n1]);
+        } else {
+            qdd[..n1].fill(f64::NAN);
+        }
+        cholesky_solve(&self.l2, n2, &mut qdd[n1..]);
+    }
+}
+
+impl<S: Mechanical> OdeSystem for FirstOrder<S> {
+    fn dim(&self) -> usize {
+        2 * self.layout.n()
+    }
+    fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) {
+        let n = self.layout.n();
+        let (q, qd) = y.split_at(n);
+        let (dq, dqd) = dy.split_at_mut(n);
+        dq.copy_from_slice(qd);
+        self.accelerations(t, q, qd, dqd);
+    }
+}

@@ -1,0 +1,143 @@
+//! Helpers shared by the integration tests: hand-assembled linear models built from the IR
+//! alone, independent of the derivation under test.
+#![allow(dead_code)]
+
+use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+use washdyn_runtime::ir::{BodyRef, Model};
+use washdyn_runtime::system::{Interpreter, Mechanical};
+
+pub fn skew(s: Vector3<f64>) -> Matrix3<f64> {
+    Matrix3::new(0.0, -s.z, s.y, s.z, 0.0, -s.x, -s.y, s.x, 0.0)
+}
+
+pub fn v3(a: [f64; 3]) -> Vector3<f64> {
+    Vector3::new(a[0], a[1], a[2])
+}
+
+/// T = [I, -s~] maps the tub's (u, alpha) to the displacement of a point at lever s.
+pub fn t_point(s: Vector3<f64>) -> DMatrix<f64> {
+    let mut t = DMatrix::zeros(3, 6);
+    t.view_mut((0, 0), (3, 3)).copy_from(&Matrix3::identity());
+    t.view_mut((0, 3), (3, 3)).copy_from(&(-skew(s)));
+    t
+}
+
+/// Rigid mass matrix about the tub CoG from the IR.
+pub fn mass_hand(m: &Model) -> DMatrix<f64> {
+    let mut mm = DMatrix::zeros(6, 6);
+    for i in 0..3 {
+        mm[(i, i)] = m.tub.mass;
+        for j in 0..3 {
+            mm[(3 + i, 3 + j)] = m.tub.inertia[i][j];
+        }
+    }
+    mm
+}
+
+/// Stiffness about rest, assembled by hand from the potential energy: per spring T^T k T with
+/// k = k n n^T + (P / L)(I - n n^T) (axial stiffness plus the preload's lateral stiffness), the
+/// preload's load stiffness from turning its lever arm, (s.F) I - sym(F s^T) (second-order term
+/// of the finite rotation, Hessian of -F.r), and the gasket's T^T K T with T = [[I, -s~], [0, I]].
+pub fn stiffness_hand(m: &Model) -> DMatrix<f64> {
+    let p0 = v3(m.tub.cog);
+    let mut k = DMatrix::zeros(6, 6);
+    for s in &m.springs {
+        assert_eq!(s.a.body, BodyRef::Tub);
+        let d = v3(s.b.point) - v3(s.a.point);
+        let l = d.norm();
+        let n = d / l;
+        let p = s.stiffness * (l - s.free_length);
+        let ks =
+            s.stiffness * n * n.transpose() + (p / l) * (Matrix3::identity() - n * n.transpose());
+        let lever = v3(s.a.point) - p0;
+        let t = t_point(lever);
+        let ks = DMatrix::from_iterator(3, 3, ks.iter().cloned());
+        k += t.transpose() * ks * &t;
+        let f = p * n;
+        let load = lever.dot(&f) * Matrix3::identity()
+            - 0.5 * (f * lever.transpose() + lever * f.transpose());
+        for i in 0..3 {
+            for j in 0..3 {
+                k[(3 + i, 3 + j)] += load[(i, j)];
+            }
+        }
+    }
+    for g in &m.gaskets {
+        k += gasket_hand(m, g, &g.stiffness);
+    }
+    k
+}
+
+pub fn gasket_hand(
+    m: &Model,
+    g: &washdyn_runtime::ir::Gasket,
+    mat: &[[f64; 6]; 6],
+) -> DMatrix<f64> {
+    assert_eq!(g.a, BodyRef::Tub);
+    let lever = v3(g.point) - v3(m.tub.cog);
+    let mut t = DMatrix::identity(6, 6);
+    t.view_mut((0, 3), (3, 3)).copy_from(&(-skew(lever)));
+    let kg = DMatrix::from_fn(6, 6, |i, j| mat[i][j]);
+    t.transpose() * kg * t
+}
+
+/// Viscous damping by hand: linear dampers T^T c n n^T T and the gasket's T^T D T.
+pub fn damping_hand(m: &Model) -> DMatrix<f64> {
+    let p0 = v3(m.tub.cog);
+    let mut c = DMatrix::zeros(6, 6);
+    for d in &m.dampers {
+        let n = (v3(d.b.point) - v3(d.a.point)).normalize();
+        let t = t_point(v3(d.a.point) - p0);
+        let cn = DMatrix::from_iterator(3, 3, (d.damping * n * n.transpose()).iter().cloned());
+        c += t.transpose() * cn * &t;
+    }
+    for g in &m.gaskets {
+        c += gasket_hand(m, g, &g.damping);
+    }
+    c
+}
+
+/// Natural frequencies (Hz, ascending) of M q'' + K q = 0 for symmetric K and SPD M.
+pub fn frequencies(mm: &DMatrix<f64>, k: &DMatrix<f64>) -> Vec<f64> {
+    let l = mm.clone().cholesky().expect("M SPD").l();
+    let li = l.try_inverse().unwrap();
+    let a = &li * k * li.transpose();
+    let a = 0.5 * (&a + a.transpose());
+    let mut ev: Vec<f64> = a
+        .symmetric_eigenvalues()
+        .iter()
+        .map(|&l| l.max(0.0).sqrt() / (2.0 * std::f64::consts::PI))
+        .collect();
+    ev.sort_by(|a, b| a.total_cmp(b));
+    ev
+}
+
+/// M and K = -dh/dq of the interpreter at rest (t, q = 0, q' = 0), K by central differences.
+pub fn linearise(sys: &mut Interpreter, t: f64) -> (DMatrix<f64>, DMatrix<f64>) {
+    let n = sys.layout().n();
+    let n1 = sys.layout().n1;
+    let mut m1 = vec![0.0; n1 * n1];
+    let mut h = vec![0.0; n];
+    let q0 = vec![0.0; n];
+    sys.eval(t, &q0, &q0, &mut m1, &mut h);
+    let mm = DMatrix::from_row_slice(n1, n1, &m1);
+    let mut k = DMatrix::zeros(n, n);
+    let eps = 1e-6;
+    for j in 0..n {
+        let mut qp = q0.clone();
+        qp[j] = eps;
+        let mut hp = vec![0.0; n];
+        sys.eval(t, &qp, &q0, &mut m1, &mut hp);
+        qp[j] = -eps;
+        let mut hm = vec![0.0; n];
+        sys.eval(t, &qp, &q0, &mut m1, &mut hm);
+        for i in 0..n {
+            k[(i, j)] = -(hp[i] - hm[i]) / (2.0 * eps);
+        }
+    }
+    (mm, k)
+}
+
+pub fn dvec(v: &[f64]) -> DVector<f64> {
+    DVector::from_column_slice(v)
+}

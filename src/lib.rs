@@ -1,2 +1,4 @@
-//! washdyn: the command-line tool's library: run driver glue and post-processing.
+//! washdyn: the command-line tool's library: model resolution, the `run` command and
+//! post-processing.
 pub mod analysis;
+pub mod commands;

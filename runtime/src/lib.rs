@@ -9,3 +9,10 @@ pub mod ode;
 pub mod scalar;
 pub mod speed;
 pub mod system;
+pub mod output;
+pub mod run;
+pub mod statics;
+pub mod codegen;
+
+/// Re-exported for generated code.
+pub use serde_json;

@@ -1,0 +1,117 @@
+//! Malformed model files give errors that name the file line (and never panic or run).
+
+use std::path::Path;
+use washdyn_runtime::ir::toml_file::{load_str, read_speed_csv};
+
+const REF: &str = washdyn_models::REFERENCE_TOML;
+
+/// The reference file with the first occurrence of `from` replaced.
+fn edited(from: &str, to: &str) -> String {
+    assert!(REF.contains(from), "fixture text `{from}` not in the reference file");
+    REF.replacen(from, to, 1)
+}
+
+fn line_of(src: &str, needle: &str, nth: usize) -> usize {
+    src.lines()
+        .enumerate()
+        .filter(|(_, l)| l.contains(needle))
+        .nth(nth)
+        .map(|(i, _)| i + 1)
+        .expect("needle present")
+}
+
+fn errors(src: &str) -> Vec<(usize, String)> {
+    let e = load_str(src, "m.toml", Path::new(".")).expect_err("must be rejected");
+    e.errors.iter().map(|l| (l.line, l.message.clone())).collect()
+}
+
+#[test]
+fn reference_loads() {
+    assert!(load_str(REF, "reference.toml", Path::new(".")).is_ok());
+}
+
+#[test]
+fn syntax_error_has_its_line() {
+    let src = edited("mass = 55.0", "mass = 55.0.0");
+    let e = errors(&src);
+    assert_eq!(e[0].0, line_of(&src, "mass = 55.0.0", 0), "{e:?}");
+}
+
+#[test]
+fn unknown_field_has_its_line() {
+    let src = edited("free_length = 0.1386875", "free_lenght = 0.1386875");
+    let e = errors(&src);
+    assert_eq!(e[0].0, line_of(&src, "free_lenght", 0), "{e:?}");
+    assert!(e[0].1.contains("free_lenght"), "{e:?}");
+}
+
+#[test]
+fn checker_error_points_at_the_field_line() {
+    // Second spring's stiffness negative: the error names the spring and sits on its line.
+    let src = REF.replacen("stiffness = 4000.0", "stiffness = 4000.0", 1).replacen(
+        "name = \"spring_rear_right\"\na = { body = \"tub\", point = [-0.10, -0.15, 0.62] }\nb = { body = \"cabinet\", point = [-0.10, -0.15, 0.82] }\nstiffness = 4000.0",
+        "name = \"spring_rear_right\"\na = { body = \"tub\", point = [-0.10, -0.15, 0.62] }\nb = { body = \"cabinet\", point = [-0.10, -0.15, 0.82] }\nstiffness = -4000.0",
+        1,
+    );
+    let e = errors(&src);
+    assert_eq!(e.len(), 1, "{e:?}");
+    assert_eq!(e[0].0, line_of(&src, "stiffness = -4000.0", 0), "{e:?}");
+    assert!(e[0].1.contains("spring_rear_right") && e[0].1.contains("positive"), "{e:?}");
+}
+
+#[test]
+fn all_checker_errors_are_collected() {
+    let src = edited("mass = 55.0", "mass = 0.0").replacen(
+        "[15.0, 93.0], [178.375, 1400.0]",
+        "[4.0, 93.0], [178.375, 1400.0]",
+        1,
+    );
+    let e = errors(&src);
+    assert_eq!(e.len(), 2, "{e:?}");
+    assert!(e.iter().any(|(l, m)| *l == line_of(&src, "mass = 0.0", 0) && m.contains("tub: mass")));
+    assert!(e.iter().any(|(l, m)| *l == line_of(&src, "table = ", 0) && m.contains("strictly")));
+}
+
+#[test]
+fn gasket_asymmetry_and_unknown_rotor_are_reported() {
+    let src = edited("[0.0, 8000.0, 0.0, 0.0, 0.0, 600.0]", "[0.0, 8000.0, 0.0, 0.0, 0.0, 650.0]")
+        .replacen("rotor = \"motor\"", "rotor = \"motr\"", 1);
+    let e = errors(&src);
+    assert!(e.iter().any(|(_, m)| m.contains("door_gasket") && m.contains("not symmetric")), "{e:?}");
+    assert!(
+        e.iter().any(|(l, m)| *l == line_of(&src, "rotor = \"motr\"", 0) && m.contains("unknown rotor")),
+        "{e:?}"
+    );
+}
+
+#[test]
+fn unknown_body_and_scene_effect() {
+    let src = edited("body = \"tub\", point = [0.0, 0.18, 0.20]", "body = \"tubb\", point = [0.0, 0.18, 0.20]");
+    let e = errors(&src);
+    assert_eq!(e[0].0, line_of(&src, "tubb", 0), "{e:?}");
+    let src = edited("\"gasket_damping\"]\n\n[[scenes]]", "\"gasket_dampin\"]\n\n[[scenes]]");
+    let e = errors(&src);
+    assert!(e[0].1.contains("unknown effect `gasket_dampin`"), "{e:?}");
+    assert_eq!(e[0].0, line_of(&src, "gasket_dampin\"", 0), "{e:?}");
+}
+
+#[test]
+fn speed_csv_errors_have_lines() {
+    let dir = std::env::temp_dir().join(format!("washdyn-csv-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join("profile.csv");
+    std::fs::write(&p, "time_s,rpm\n0,0\n5,93\n7,abc\n").unwrap();
+    let e = read_speed_csv(&p).unwrap_err();
+    assert_eq!(e.line, 4, "{e}");
+    std::fs::write(&p, "time_s,rpm\n0,0\n5,93\n10,400\n").unwrap();
+    assert_eq!(read_speed_csv(&p).unwrap(), vec![[0.0, 0.0], [5.0, 93.0], [10.0, 400.0]]);
+    // A model that takes its profile from that file.
+    let src = REF.replacen(
+        "table = [[0.0, 0.0], [5.0, 93.0], [15.0, 93.0], [178.375, 1400.0]]",
+        "csv = \"profile.csv\"",
+        1,
+    );
+    let m = load_str(&src, "m.toml", &dir).unwrap();
+    assert_eq!(m.speed.table.len(), 3);
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -66,7 +66,10 @@ pub struct RunOutcome {
 
 /// `washdyn run`: integrate, stream `sensors.csv`, write `summary.json`. A failed integration
 /// still writes both and reports the error with its time.
-pub fn run_command(args: &RunArgs, progress: &mut dyn FnMut(Progress)) -> Result<RunOutcome, String> {
+pub fn run_command(
+    args: &RunArgs,
+    progress: &mut dyn FnMut(Progress),
+) -> Result<RunOutcome, String> {
     let (model, _built_in) = resolve_model(&args.model)?;
     let scene = model.scene(args.scene.as_deref())?;
     let backend = args.backend.unwrap_or(Backend::Interpreted);
@@ -81,7 +84,8 @@ pub fn run_command(args: &RunArgs, progress: &mut dyn FnMut(Progress)) -> Result
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from("out").join(&model.name));
-    fs::create_dir_all(&out_dir).map_err(|e| format!("cannot create {}: {e}", out_dir.display()))?;
+    fs::create_dir_all(&out_dir)
+        .map_err(|e| format!("cannot create {}: {e}", out_dir.display()))?;
 
     let interp = Interpreter::new(&model, &scene);
     let t_end = args.t_end.unwrap_or_else(|| interp.speed.end());
@@ -98,7 +102,8 @@ pub fn run_command(args: &RunArgs, progress: &mut dyn FnMut(Progress)) -> Result
     };
     let mut solver = AnySolver::new(args.integrator, dim, ode);
     let csv = out_dir.join("sensors.csv");
-    let mut sink = CsvSink::create(&csv).map_err(|e| format!("cannot create {}: {e}", csv.display()))?;
+    let mut sink =
+        CsvSink::create(&csv).map_err(|e| format!("cannot create {}: {e}", csv.display()))?;
     let opts = RunOptions {
         t_start: 0.0,
         t_end,

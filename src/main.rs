@@ -8,7 +8,11 @@ use washdyn::commands::{Backend, RunArgs, resolve_model, run_command};
 use washdyn_runtime::ode::Method;
 
 #[derive(Parser)]
-#[command(name = "washdyn", version, about = "Vibrations of washing machines as elastic multibody systems")]
+#[command(
+    name = "washdyn",
+    version,
+    about = "Vibrations of washing machines as elastic multibody systems"
+)]
 struct Cli {
     #[command(subcommand)]
     cmd: Cmd,
@@ -76,14 +80,15 @@ fn main() -> ExitCode {
             };
             let bar = ProgressBar::new(1000);
             bar.set_style(
-                ProgressStyle::with_template(
-                    "{bar:40} t = {msg} [{elapsed_precise}, ETA {eta}]",
-                )
-                .expect("valid template"),
+                ProgressStyle::with_template("{bar:40} t = {msg} [{elapsed_precise}, ETA {eta}]")
+                    .expect("valid template"),
             );
             let mut progress = |p: washdyn_runtime::run::Progress| {
                 bar.set_position((1000.0 * p.t / p.t_end) as u64);
-                bar.set_message(format!("{:.2} / {:.2} s, drum {:.0} rpm", p.t, p.t_end, p.rpm));
+                bar.set_message(format!(
+                    "{:.2} / {:.2} s, drum {:.0} rpm",
+                    p.t, p.t_end, p.rpm
+                ));
             };
             let outcome = run_command(&args, &mut progress);
             bar.finish_and_clear();
@@ -92,11 +97,21 @@ fn main() -> ExitCode {
                     let s = &o.summary;
                     println!(
                         "{} / {} / {}: t = {} s, {} steps ({} rejected), {} rhs evals, {:.2} s wall",
-                        s.model, s.scene, s.integrator, s.t_reached, s.steps, s.rejected_steps, s.rhs_evals, s.wall_time_s
+                        s.model,
+                        s.scene,
+                        s.integrator,
+                        s.t_reached,
+                        s.steps,
+                        s.rejected_steps,
+                        s.rhs_evals,
+                        s.wall_time_s
                     );
                     println!("wrote {}/sensors.csv and summary.json", o.out_dir.display());
                     if let Some(e) = o.error {
-                        eprintln!("error: {e}; the output up to then is in {}", o.out_dir.display());
+                        eprintln!(
+                            "error: {e}; the output up to then is in {}",
+                            o.out_dir.display()
+                        );
                         return ExitCode::FAILURE;
                     }
                     ExitCode::SUCCESS

@@ -7,7 +7,10 @@ const REF: &str = washdyn_models::REFERENCE_TOML;
 
 /// The reference file with the first occurrence of `from` replaced.
 fn edited(from: &str, to: &str) -> String {
-    assert!(REF.contains(from), "fixture text `{from}` not in the reference file");
+    assert!(
+        REF.contains(from),
+        "fixture text `{from}` not in the reference file"
+    );
     REF.replacen(from, to, 1)
 }
 
@@ -22,7 +25,10 @@ fn line_of(src: &str, needle: &str, nth: usize) -> usize {
 
 fn errors(src: &str) -> Vec<(usize, String)> {
     let e = load_str(src, "m.toml", Path::new(".")).expect_err("must be rejected");
-    e.errors.iter().map(|l| (l.line, l.message.clone())).collect()
+    e.errors
+        .iter()
+        .map(|l| (l.line, l.message.clone()))
+        .collect()
 }
 
 #[test]
@@ -56,7 +62,10 @@ fn checker_error_points_at_the_field_line() {
     let e = errors(&src);
     assert_eq!(e.len(), 1, "{e:?}");
     assert_eq!(e[0].0, line_of(&src, "stiffness = -4000.0", 0), "{e:?}");
-    assert!(e[0].1.contains("spring_rear_right") && e[0].1.contains("positive"), "{e:?}");
+    assert!(
+        e[0].1.contains("spring_rear_right") && e[0].1.contains("positive"),
+        "{e:?}"
+    );
 }
 
 #[test]
@@ -68,16 +77,29 @@ fn all_checker_errors_are_collected() {
     );
     let e = errors(&src);
     assert_eq!(e.len(), 2, "{e:?}");
-    assert!(e.iter().any(|(l, m)| *l == line_of(&src, "mass = 0.0", 0) && m.contains("tub: mass")));
-    assert!(e.iter().any(|(l, m)| *l == line_of(&src, "table = ", 0) && m.contains("strictly")));
+    assert!(
+        e.iter()
+            .any(|(l, m)| *l == line_of(&src, "mass = 0.0", 0) && m.contains("tub: mass"))
+    );
+    assert!(
+        e.iter()
+            .any(|(l, m)| *l == line_of(&src, "table = ", 0) && m.contains("strictly"))
+    );
 }
 
 #[test]
 fn gasket_asymmetry_and_unknown_rotor_are_reported() {
-    let src = edited("[0.0, 8000.0, 0.0, 0.0, 0.0, 600.0]", "[0.0, 8000.0, 0.0, 0.0, 0.0, 650.0]")
-        .replacen("rotor = \"motor\"", "rotor = \"motr\"", 1);
+    let src = edited(
+        "[0.0, 8000.0, 0.0, 0.0, 0.0, 600.0]",
+        "[0.0, 8000.0, 0.0, 0.0, 0.0, 650.0]",
+    )
+    .replacen("rotor = \"motor\"", "rotor = \"motr\"", 1);
     let e = errors(&src);
-    assert!(e.iter().any(|(_, m)| m.contains("door_gasket") && m.contains("not symmetric")), "{e:?}");
+    assert!(
+        e.iter()
+            .any(|(_, m)| m.contains("door_gasket") && m.contains("not symmetric")),
+        "{e:?}"
+    );
     assert!(
         e.iter().any(|(l, m)| *l == line_of(&src, "rotor = \"motr\"", 0) && m.contains("unknown rotor")),
         "{e:?}"
@@ -86,10 +108,16 @@ fn gasket_asymmetry_and_unknown_rotor_are_reported() {
 
 #[test]
 fn unknown_body_and_scene_effect() {
-    let src = edited("body = \"tub\", point = [0.0, 0.18, 0.20]", "body = \"tubb\", point = [0.0, 0.18, 0.20]");
+    let src = edited(
+        "body = \"tub\", point = [0.0, 0.18, 0.20]",
+        "body = \"tubb\", point = [0.0, 0.18, 0.20]",
+    );
     let e = errors(&src);
     assert_eq!(e[0].0, line_of(&src, "tubb", 0), "{e:?}");
-    let src = edited("\"gasket_damping\"]\n\n[[scenes]]", "\"gasket_dampin\"]\n\n[[scenes]]");
+    let src = edited(
+        "\"gasket_damping\"]\n\n[[scenes]]",
+        "\"gasket_dampin\"]\n\n[[scenes]]",
+    );
     let e = errors(&src);
     assert!(e[0].1.contains("unknown effect `gasket_dampin`"), "{e:?}");
     assert_eq!(e[0].0, line_of(&src, "gasket_dampin\"", 0), "{e:?}");
@@ -104,7 +132,10 @@ fn speed_csv_errors_have_lines() {
     let e = read_speed_csv(&p).unwrap_err();
     assert_eq!(e.line, 4, "{e}");
     std::fs::write(&p, "time_s,rpm\n0,0\n5,93\n10,400\n").unwrap();
-    assert_eq!(read_speed_csv(&p).unwrap(), vec![[0.0, 0.0], [5.0, 93.0], [10.0, 400.0]]);
+    assert_eq!(
+        read_speed_csv(&p).unwrap(),
+        vec![[0.0, 0.0], [5.0, 93.0], [10.0, 400.0]]
+    );
     // A model that takes its profile from that file.
     let src = REF.replacen(
         "table = [[0.0, 0.0], [5.0, 93.0], [15.0, 93.0], [178.375, 1400.0]]",

@@ -46,7 +46,9 @@ fn frf(m: &Model, w: f64) -> DVector<C> {
     let rho_ax = e * e.dot(&rho);
     let rho_r = rho - rho_ax;
     // rho(t) = Re[(rho_r - i e x rho_r) e^{i w t}].
-    let hat: Vec<C> = (0..3).map(|k| C::new(rho_r[k], -e.cross(&rho_r)[k])).collect();
+    let hat: Vec<C> = (0..3)
+        .map(|k| C::new(rho_r[k], -e.cross(&rho_r)[k]))
+        .collect();
     let lever = a + rho_ax - p0;
     let g = Vector3::new(m.gravity[0], m.gravity[1], m.gravity[2]);
     let mu = u.mass;
@@ -160,7 +162,10 @@ fn unbalance_response_matches_linear_frequency_response() {
         let expect = frf(&m, w);
         let got = simulated(&m, w);
         let err = (&got - &expect).norm() / expect.norm();
-        eprintln!("{label} ({hz:.3} Hz): |q| = {:.3e}, relative error {err:.2e}", expect.norm());
+        eprintln!(
+            "{label} ({hz:.3} Hz): |q| = {:.3e}, relative error {err:.2e}",
+            expect.norm()
+        );
         assert!(err < 1e-4, "{label}: {got:?} vs {expect:?}");
     }
 }

@@ -1,18 +1,19 @@
 //! washdyn runtime: model IR, the one derivation of the equations of motion, the interpreter back
 //! end, integrators, sensors and output.
+pub mod codegen;
 pub mod elements;
 pub mod equations;
 pub mod geom;
 pub mod ir;
 pub mod linalg;
 pub mod ode;
-pub mod scalar;
-pub mod speed;
-pub mod system;
 pub mod output;
 pub mod run;
+pub mod scalar;
+pub mod speed;
 pub mod statics;
-pub mod codegen;
+pub mod symbolic;
+pub mod system;
 
 /// Re-exported for generated code.
 pub use serde_json;

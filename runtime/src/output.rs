@@ -68,7 +68,10 @@ impl MemorySink {
         self.values.iter().skip(c).step_by(n).copied().collect()
     }
     pub fn column_by_name(&self, name: &str) -> Option<Vec<f64>> {
-        self.channels.iter().position(|c| c == name).map(|c| self.column(c))
+        self.channels
+            .iter()
+            .position(|c| c == name)
+            .map(|c| self.column(c))
     }
 }
 

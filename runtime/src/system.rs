@@ -20,6 +20,23 @@ pub trait Mechanical {
     fn channel_names(&self) -> Vec<String>;
     /// The prescribed drum speed.
     fn speed(&self) -> &Speed;
+    /// q'' directly, for a back end that factorises M1 itself (the generated one: straight-line
+    /// code). `false`: not provided, the caller factorises M1 from `eval`.
+    fn accelerations(&mut self, _t: f64, _q: &[f64], _qd: &[f64], _qdd: &mut [f64]) -> bool {
+        false
+    }
+    /// Analytic d q''/d q and d q''/d q' (row-major n x n each). `false`: not provided, the
+    /// implicit integrators difference numerically.
+    fn acceleration_jacobians(
+        &mut self,
+        _t: f64,
+        _q: &[f64],
+        _qd: &[f64],
+        _dq: &mut [f64],
+        _dqd: &mut [f64],
+    ) -> bool {
+        false
+    }
 }
 
 /// The interpreter back end: the one derivation evaluated with f64 on the resolved model.
@@ -83,6 +100,8 @@ pub struct FirstOrder<S: Mechanical> {
     m1: Vec<f64>,
     l2: Vec<f64>,
     h: Vec<f64>,
+    jq: Vec<f64>,
+    jqd: Vec<f64>,
 }
 
 impl<S: Mechanical> FirstOrder<S> {
@@ -100,6 +119,8 @@ impl<S: Mechanical> FirstOrder<S> {
             m1: vec![0.0; n1 * n1],
             l2,
             h: vec![0.0; n1 + n2],
+            jq: vec![0.0; (n1 + n2) * (n1 + n2)],
+            jqd: vec![0.0; (n1 + n2) * (n1 + n2)],
         }
     }
 
@@ -110,6 +131,9 @@ impl<S: Mechanical> FirstOrder<S> {
     /// q'' at (t, q, q') into `qdd`. A mass block that is not positive definite yields NaN, which
     /// the integrators report as a non-finite state with its time.
     pub fn accelerations(&mut self, t: f64, q: &[f64], qd: &[f64], qdd: &mut [f64]) {
+        if self.sys.accelerations(t, q, qd, qdd) {
+            return;
+        }
         let (n1, n2) = (self.layout.n1, self.layout.n2);
         self.sys.eval(t, q, qd, &mut self.m1, &mut self.h);
         qdd.copy_from_slice(&self.h);
@@ -132,5 +156,24 @@ impl<S: Mechanical> OdeSystem for FirstOrder<S> {
         let (dq, dqd) = dy.split_at_mut(n);
         dq.copy_from_slice(qd);
         self.accelerations(t, q, qd, dqd);
+    }
+    /// J = [[0, I], [dq''/dq, dq''/dq']] when the back end has analytic Jacobians.
+    fn jacobian(&mut self, t: f64, y: &[f64], jac: &mut [f64]) -> bool {
+        let n = self.layout.n();
+        let (q, qd) = y.split_at(n);
+        if !self
+            .sys
+            .acceleration_jacobians(t, q, qd, &mut self.jq, &mut self.jqd)
+        {
+            return false;
+        }
+        let m = 2 * n;
+        jac.fill(0.0);
+        for i in 0..n {
+            jac[i * m + n + i] = 1.0;
+            jac[(n + i) * m..(n + i) * m + n].copy_from_slice(&self.jq[i * n..(i + 1) * n]);
+            jac[(n + i) * m + n..(n + i + 1) * m].copy_from_slice(&self.jqd[i * n..(i + 1) * n]);
+        }
+        true
     }
 }

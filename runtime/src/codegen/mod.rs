@@ -1,19 +1,444 @@
 //! The code generator: from a checked model to Rust source for a module with the model's IR and
 //! one specialised type per scene. Plain Rust, called by the `machine!` macro at compile time and
 //! unit-tested here without it.
+//!
+//! Each scene's equations are traced by running the one derivation (`equations`) over the
+//! symbolic scalar: the graph is the same arithmetic the interpreter does, with the model's
+//! numbers folded in, zero couplings pruned and common subexpressions shared. M1 is factorised
+//! symbolically (the fixed-size Cholesky becomes straight-line code), and q'' is differentiated
+//! for the implicit integrators' Jacobian.
 
+use crate::equations::{Drive, Equations};
 use crate::ir::Model;
+use crate::scalar::Scalar;
+use crate::symbolic::{Emitter, Graph, Sym, derivative, fmt_f64, trace};
+use std::fmt::Write;
 
-/// Rust source (items) of a module for a checked model: `MODEL_JSON`, `pub fn model()` and, per
-/// scene, a type implementing `system::Mechanical`. The caller has run the checker.
+/// Size and cost of one scene's generated code.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SceneStats {
+    pub scene: String,
+    pub type_name: String,
+    pub n1: usize,
+    pub n2: usize,
+    /// Operations in M1 and h.
+    pub ops_mass_forces: usize,
+    /// Operations in q'' (M1, h, Cholesky and solve).
+    pub ops_accelerations: usize,
+    /// Operations in the Jacobians of q''.
+    pub ops_jacobians: usize,
+}
+
+/// The traced graphs of one scene: what both the emitter and the tests consume.
+pub struct Traced {
+    pub n1: usize,
+    pub n: usize,
+    /// Inputs: q (n), q' (n), phi, omega, omega'.
+    pub mh: (Graph, Vec<Sym>, Vec<Sym>),
+    /// q'' and its Jacobians d/dq, d/dq' (row-major n x n).
+    pub acc: (Graph, Vec<Sym>, Vec<Sym>, Vec<Sym>),
+    /// Inputs: q, q', q''. Outputs: sensor channels.
+    pub sensors: (Graph, Vec<Sym>),
+}
+
+fn inputs(n: usize) -> (Vec<Sym>, Vec<Sym>, Drive<Sym>) {
+    let q: Vec<Sym> = (0..n).map(|_| Sym::input()).collect();
+    let qd: Vec<Sym> = (0..n).map(|_| Sym::input()).collect();
+    let d = Drive {
+        phi: Sym::input(),
+        omega: Sym::input(),
+        omega_dot: Sym::input(),
+    };
+    (q, qd, d)
+}
+
+/// Trace a scene's equations.
+pub fn trace_equations(eq: &Equations) -> Traced {
+    let (n1, n) = (eq.layout.n1, eq.layout.n());
+    let ((m1, h), g_mh) = trace(|| {
+        let (q, qd, d) = inputs(n);
+        let mut m1 = vec![Sym::c(0.0); n1 * n1];
+        let mut h = vec![Sym::c(0.0); n];
+        eq.eval(&d, &q, &qd, &mut m1, &mut h);
+        (m1, h)
+    });
+    let ((qdd, jq, jqd), g_acc) = trace(|| {
+        let (q, qd, d) = inputs(n);
+        let mut m1 = vec![Sym::c(0.0); n1 * n1];
+        let mut h = vec![Sym::c(0.0); n];
+        eq.eval(&d, &q, &qd, &mut m1, &mut h);
+        let mut qdd = h.clone();
+        cholesky_solve_sym(&mut m1, n1, &mut qdd[..n1]);
+        // M2 = I for mass-normalised modes (the interpreter's M2): nothing to solve.
+        let mut jq = vec![Sym::c(0.0); n * n];
+        let mut jqd = vec![Sym::c(0.0); n * n];
+        for j in 0..n {
+            let dj = derivative(&qdd, j as u32);
+            let dvj = derivative(&qdd, (n + j) as u32);
+            for i in 0..n {
+                jq[i * n + j] = dj[i];
+                jqd[i * n + j] = dvj[i];
+            }
+        }
+        (qdd, jq, jqd)
+    });
+    let (ch, g_s) = trace(|| {
+        let q: Vec<Sym> = (0..n).map(|_| Sym::input()).collect();
+        let qd: Vec<Sym> = (0..n).map(|_| Sym::input()).collect();
+        let qdd: Vec<Sym> = (0..n).map(|_| Sym::input()).collect();
+        (0..eq.sensors.len())
+            .flat_map(|i| eq.sensor(i, &q, &qd, &qdd))
+            .collect::<Vec<Sym>>()
+    });
+    Traced {
+        n1,
+        n,
+        mh: (g_mh, m1, h),
+        acc: (g_acc, qdd, jq, jqd),
+        sensors: (g_s, ch),
+    }
+}
+
+/// Cholesky factorisation and solve over symbols: the same algorithm as `linalg`, without the
+/// positive-definiteness branch (a non-SPD M1 shows as NaN, which the integrators report).
+fn cholesky_solve_sym(a: &mut [Sym], n: usize, b: &mut [Sym]) {
+    for j in 0..n {
+        let mut d = a[j * n + j];
+        for k in 0..j {
+            d -= a[j * n + k] * a[j * n + k];
+        }
+        let d = d.sqrt();
+        a[j * n + j] = d;
+        for i in j + 1..n {
+            let mut s = a[i * n + j];
+            for k in 0..j {
+                s -= a[i * n + k] * a[j * n + k];
+            }
+            a[i * n + j] = s / d;
+        }
+    }
+    for i in 0..n {
+        let mut s = b[i];
+        for k in 0..i {
+            s -= a[i * n + k] * b[k];
+        }
+        b[i] = s / a[i * n + i];
+    }
+    for i in (0..n).rev() {
+        let mut s = b[i];
+        for k in i + 1..n {
+            s -= a[k * n + i] * b[k];
+        }
+        b[i] = s / a[i * n + i];
+    }
+}
+
+/// `rigid_low_speed` -> `RigidLowSpeed`.
+pub fn type_name(scene: &str) -> String {
+    let mut out = String::new();
+    for part in scene.split(['_', '-']).filter(|p| !p.is_empty()) {
+        let mut c = part.chars();
+        if let Some(f) = c.next() {
+            out.extend(f.to_uppercase());
+            out.push_str(c.as_str());
+        }
+    }
+    if out.is_empty() || out.starts_with(|c: char| c.is_ascii_digit()) {
+        out.insert_str(0, "Scene");
+    }
+    out
+}
+
+fn state_inputs(n: usize, extra: &[&str]) -> Vec<String> {
+    (0..n)
+        .map(|i| format!("q[{i}]"))
+        .chain((0..n).map(|i| format!("qd[{i}]")))
+        .chain(extra.iter().map(|s| s.to_string()))
+        .collect()
+}
+
+/// Rust source of one scene's type, and its statistics.
+pub fn scene_source(eq: &Equations, name: &str) -> (String, SceneStats) {
+    let t = trace_equations(eq);
+    let (n1, n) = (t.n1, t.n);
+    let n2 = n - n1;
+    let nc = eq.n_channels();
+    let drive = ["d.phi", "d.omega", "d.omega_dot"];
+
+    let (g, m1, h) = &t.mh;
+    let mut e = Emitter::new(g, state_inputs(n, &drive));
+    e.assign(|k| format!("m1[{k}]"), m1);
+    e.assign(|k| format!("h[{k}]"), h);
+    let body_mh = e.take();
+    let ops_mh = g.op_count(&[m1.as_slice(), h.as_slice()].concat());
+
+    let (g, qdd, jq, jqd) = &t.acc;
+    let mut e = Emitter::new(g, state_inputs(n, &drive));
+    e.assign(|k| format!("qdd[{k}]"), qdd);
+    let body_acc = e.take();
+    let mut e = Emitter::new(g, state_inputs(n, &drive));
+    e.assign(|k| format!("jq[{k}]"), jq);
+    e.assign(|k| format!("jqd[{k}]"), jqd);
+    let body_jac = e.take();
+    let ops_acc = g.op_count(qdd);
+    let ops_jac = g.op_count(&[jq.as_slice(), jqd.as_slice()].concat());
+
+    let (g, ch) = &t.sensors;
+    let mut names = state_inputs(n, &[]);
+    names.extend((0..n).map(|i| format!("qdd[{i}]")));
+    let mut e = Emitter::new(g, names);
+    e.assign(|k| format!("out[{k}]"), ch);
+    let body_sensors = e.take();
+
+    let channels: Vec<String> = eq
+        .sensors
+        .iter()
+        .flat_map(|s| s.channels.iter().map(|c| format!("{c:?}")))
+        .collect();
+    let m2: Vec<String> = (0..n2 * n2)
+        .map(|k| fmt_f64(if k % (n2 + 1) == 0 { 1.0 } else { 0.0 }))
+        .collect();
+    let scene = &eq.scene.name;
+    let effects: Vec<String> = eq.scene.effects.iter().map(|e| e.name()).collect();
+    let rt = "::washdyn_runtime";
+    let mut s = String::new();
+    let _ = write!(
+        s,
+        r#"
+/// Scene `{scene}` (effects: {effects}), generated by `machine!`: {n1} + {n2} DOF,
+/// M1 and h in {ops_mh} operations, q'' in {ops_acc}, its Jacobians in {ops_jac}.
+#[derive(Clone, Debug)]
+pub struct {name} {{
+    speed: {rt}::speed::Speed,
+}}
+
+impl Default for {name} {{
+    fn default() -> Self {{
+        Self::new()
+    }}
+}}
+
+#[allow(unused_variables, unused_parens, clippy::all)]
+impl {name} {{
+    pub const SCENE: &'static str = {scene:?};
+    pub const N1: usize = {n1};
+    pub const N2: usize = {n2};
+    pub const N: usize = {n};
+    pub const CHANNELS: &'static [&'static str] = &[{channels}];
+    const M2: [f64; {n2sq}] = [{m2}];
+
+    pub fn new() -> Self {{
+        {name} {{
+            speed: {rt}::speed::Speed::new(&SPEED_TABLE),
+        }}
+    }}
+
+    /// M1 (row-major) and h.
+    #[inline]
+    pub fn mass_and_forces(d: &{rt}::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], m1: &mut [f64; {n1sq}], h: &mut [f64; {n}]) {{
+{body_mh}    }}
+
+    /// q'' = M^-1 h, with M1 factorised in straight-line code.
+    #[inline]
+    pub fn accelerations(d: &{rt}::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], qdd: &mut [f64; {n}]) {{
+{body_acc}    }}
+
+    /// d q''/d q and d q''/d q' (row-major).
+    #[inline]
+    pub fn jacobians(d: &{rt}::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], jq: &mut [f64; {nsq}], jqd: &mut [f64; {nsq}]) {{
+{body_jac}    }}
+
+    /// Sensor channels from q, q', q''.
+    #[inline]
+    pub fn sensor_values(q: &[f64; {n}], qd: &[f64; {n}], qdd: &[f64; {n}], out: &mut [f64; {nc}]) {{
+{body_sensors}    }}
+}}
+
+impl {rt}::system::Mechanical for {name} {{
+    fn layout(&self) -> {rt}::equations::Layout {{
+        {rt}::equations::Layout {{ n1: {n1}, n2: {n2} }}
+    }}
+    fn eval(&mut self, t: f64, q: &[f64], qd: &[f64], m1: &mut [f64], h: &mut [f64]) {{
+        let d = self.speed.drive(t);
+        Self::mass_and_forces(&d, q.try_into().expect("q has N entries"), qd.try_into().expect("qd has N entries"), m1.try_into().expect("m1 has N1^2 entries"), h.try_into().expect("h has N entries"));
+    }}
+    fn m2(&self) -> &[f64] {{
+        &Self::M2
+    }}
+    fn sensors(&self, _t: f64, q: &[f64], qd: &[f64], qdd: &[f64], out: &mut [f64]) {{
+        Self::sensor_values(q.try_into().expect("q"), qd.try_into().expect("qd"), qdd.try_into().expect("qdd"), out.try_into().expect("3 channels per sensor"));
+    }}
+    fn channel_names(&self) -> Vec<String> {{
+        Self::CHANNELS.iter().map(|c| c.to_string()).collect()
+    }}
+    fn speed(&self) -> &{rt}::speed::Speed {{
+        &self.speed
+    }}
+    fn accelerations(&mut self, t: f64, q: &[f64], qd: &[f64], qdd: &mut [f64]) -> bool {{
+        let d = self.speed.drive(t);
+        Self::accelerations(&d, q.try_into().expect("q"), qd.try_into().expect("qd"), qdd.try_into().expect("qdd"));
+        true
+    }}
+    fn acceleration_jacobians(&mut self, t: f64, q: &[f64], qd: &[f64], jq: &mut [f64], jqd: &mut [f64]) -> bool {{
+        let d = self.speed.drive(t);
+        Self::jacobians(&d, q.try_into().expect("q"), qd.try_into().expect("qd"), jq.try_into().expect("jq"), jqd.try_into().expect("jqd"));
+        true
+    }}
+}}
+"#,
+        effects = effects.join(", "),
+        channels = channels.join(", "),
+        m2 = m2.join(", "),
+        n1sq = n1 * n1,
+        n2sq = n2 * n2,
+        nsq = n * n,
+    );
+    let stats = SceneStats {
+        scene: scene.clone(),
+        type_name: name.to_string(),
+        n1,
+        n2,
+        ops_mass_forces: ops_mh,
+        ops_accelerations: ops_acc,
+        ops_jacobians: ops_jac,
+    };
+    (s, stats)
+}
+
+/// Rust source (items) of a module for a checked model: `MODEL_JSON`, `model()`, the speed
+/// table, one type per scene implementing `system::Mechanical`, and `system(scene)` to pick one
+/// by name at run time.
 pub fn generate(model: &Model) -> Result<String, String> {
+    generate_with_stats(model).map(|(s, _)| s)
+}
+
+/// As `generate`, with the statistics of each scene.
+pub fn generate_with_stats(model: &Model) -> Result<(String, Vec<SceneStats>), String> {
     let json = serde_json::to_string(model).map_err(|e| e.to_string())?;
-    Ok(format!(
+    let table: Vec<String> = model
+        .speed
+        .table
+        .iter()
+        .map(|r| format!("[{}, {}]", fmt_f64(r[0]), fmt_f64(r[1])))
+        .collect();
+    let mut s = String::new();
+    let _ = write!(
+        s,
         "/// The model's IR, as the macro filled it.\n\
          pub const MODEL_JSON: &str = {json:?};\n\
          /// The model's IR (the interpreter's input).\n\
          pub fn model() -> ::washdyn_runtime::ir::Model {{\n\
              ::washdyn_runtime::serde_json::from_str(MODEL_JSON).expect(\"the macro wrote valid JSON\")\n\
-         }}\n"
-    ))
+         }}\n\
+         /// The drum speed profile (time s, rpm).\n\
+         pub const SPEED_TABLE: [[f64; 2]; {}] = [{}];\n",
+        table.len(),
+        table.join(", ")
+    );
+    let mut stats = Vec::new();
+    let mut arms = String::new();
+    let names = model.scene_names();
+    for scene in &names {
+        let eff = model.scene(Some(scene))?;
+        let eq = Equations::new(model, &eff);
+        let tn = type_name(scene);
+        let (src, st) = scene_source(&eq, &tn);
+        s.push_str(&src);
+        let _ = writeln!(arms, "        {scene:?} => Some(Box::new({tn}::new())),");
+        stats.push(st);
+    }
+    let _ = write!(
+        s,
+        "\n/// The scenes, in declaration order.\n\
+         pub const SCENES: &[&str] = &[{}];\n\
+         /// The generated system of a scene, by name.\n\
+         pub fn system(scene: &str) -> Option<Box<dyn ::washdyn_runtime::system::Mechanical + Send>> {{\n\
+             match scene {{\n{arms}        _ => None,\n    }}\n}}\n",
+        names
+            .iter()
+            .map(|n| format!("{n:?}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    Ok((s, stats))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ir::Model;
+    use crate::system::{Interpreter, Mechanical};
+
+    fn reference() -> Model {
+        let src = include_str!("../../../models/data/reference.toml");
+        crate::ir::toml_file::load_str(src, "reference.toml", std::path::Path::new(".")).unwrap()
+    }
+
+    #[test]
+    fn type_names() {
+        assert_eq!(type_name("rigid_low_speed"), "RigidLowSpeed");
+        assert_eq!(type_name("full"), "Full");
+        assert_eq!(type_name("2x"), "Scene2x");
+    }
+
+    /// The traced graph, evaluated numerically, reproduces the interpreter (same derivation,
+    /// so only round-off may differ) for random states and times.
+    #[test]
+    fn traced_graph_agrees_with_interpreter() {
+        let m = reference();
+        for scene in m.scene_names() {
+            let eff = m.scene(Some(&scene)).unwrap();
+            let eq = Equations::new(&m, &eff);
+            let t = trace_equations(&eq);
+            let mut interp = Interpreter::new(&m, &eff);
+            let n = t.n;
+            let mut rng = 0x2545F4914F6CDD1Du64;
+            let mut r = || {
+                rng ^= rng << 13;
+                rng ^= rng >> 7;
+                rng ^= rng << 17;
+                (rng >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+            };
+            for _ in 0..20 {
+                let q: Vec<f64> = (0..n).map(|_| 0.01 * r()).collect();
+                let qd: Vec<f64> = (0..n).map(|_| 0.1 * r()).collect();
+                let time = 200.0 * (r() + 0.5);
+                let d = interp.speed.drive(time);
+                let mut inputs = q.clone();
+                inputs.extend(&qd);
+                inputs.extend([d.phi, d.omega, d.omega_dot]);
+                let mut m1 = vec![0.0; t.n1 * t.n1];
+                let mut h = vec![0.0; n];
+                interp.eval(time, &q, &qd, &mut m1, &mut h);
+                let (g, sm1, sh) = &t.mh;
+                let gm1 = g.eval(&inputs, sm1);
+                let gh = g.eval(&inputs, sh);
+                let scale = h.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+                for i in 0..n {
+                    assert!(
+                        (gh[i] - h[i]).abs() <= 1e-12 * scale,
+                        "h[{i}]: {} vs {}",
+                        gh[i],
+                        h[i]
+                    );
+                }
+                for i in 0..m1.len() {
+                    assert!((gm1[i] - m1[i]).abs() <= 1e-12 * m1[0].abs());
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn generated_source_mentions_every_scene() {
+        let m = reference();
+        let (src, stats) = generate_with_stats(&m).unwrap();
+        assert_eq!(stats.len(), 2);
+        assert!(src.contains("pub struct Full") && src.contains("pub struct RigidLowSpeed"));
+        // Leaving effects out shrinks the code.
+        assert!(
+            stats[1].ops_accelerations < stats[0].ops_accelerations,
+            "{stats:?}"
+        );
+    }
 }

@@ -177,3 +177,38 @@ impl<S: Mechanical> OdeSystem for FirstOrder<S> {
         true
     }
 }
+
+/// A system chosen at run time (a generated scene picked by name).
+impl<M: Mechanical + ?Sized> Mechanical for Box<M> {
+    fn layout(&self) -> Layout {
+        (**self).layout()
+    }
+    fn eval(&mut self, t: f64, q: &[f64], qd: &[f64], m1: &mut [f64], h: &mut [f64]) {
+        (**self).eval(t, q, qd, m1, h)
+    }
+    fn m2(&self) -> &[f64] {
+        (**self).m2()
+    }
+    fn sensors(&self, t: f64, q: &[f64], qd: &[f64], qdd: &[f64], out: &mut [f64]) {
+        (**self).sensors(t, q, qd, qdd, out)
+    }
+    fn channel_names(&self) -> Vec<String> {
+        (**self).channel_names()
+    }
+    fn speed(&self) -> &Speed {
+        (**self).speed()
+    }
+    fn accelerations(&mut self, t: f64, q: &[f64], qd: &[f64], qdd: &mut [f64]) -> bool {
+        (**self).accelerations(t, q, qd, qdd)
+    }
+    fn acceleration_jacobians(
+        &mut self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        dq: &mut [f64],
+        dqd: &mut [f64],
+    ) -> bool {
+        (**self).acceleration_jacobians(t, q, qd, dq, dqd)
+    }
+}

@@ -4,8 +4,10 @@
 //! the rod). The bearing moments bend the massless rod; its equilibrium gives the transverse end
 //! forces, so force and moment balance hold exactly for the element.
 
+use super::Element;
 use crate::equations::{Marker, MarkerDef, Wrench, rest_axis};
 use crate::geom::V;
+use crate::geom::f;
 use crate::ir;
 use crate::scalar::Scalar;
 use std::f64::consts::PI;
@@ -19,8 +21,9 @@ pub struct FrictionDamper {
     pub slope: f64,
     pub bearing_stiffness: f64,
     pub bearing_damping: f64,
-    /// Rod direction at rest, a -> b.
+    /// Rod direction and length at rest, a -> b.
     pub n0: [f64; 3],
+    pub l0: f64,
 }
 
 /// The friction law alone: force opposing a relative velocity v (positive: extension).
@@ -33,6 +36,7 @@ impl FrictionDamper {
         FrictionDamper {
             name: d.name.clone(),
             n0: rest_axis(a.point, b.point),
+            l0: f::norm(f::sub(b.point, a.point)),
             a,
             b,
             f_max: d.f_max,
@@ -41,17 +45,38 @@ impl FrictionDamper {
             bearing_damping: d.bearing_damping,
         }
     }
+}
 
-    pub fn wrenches<T: Scalar>(&self, a: &Marker<T>, b: &Marker<T>) -> (Wrench<T>, Wrench<T>) {
-        let r = b.pos - a.pos;
+impl Element for FrictionDamper {
+    fn markers(&self) -> (&MarkerDef, &MarkerDef) {
+        (&self.a, &self.b)
+    }
+
+    fn wrenches<T: Scalar>(
+        &self,
+        a: &Marker<T>,
+        b: &Marker<T>,
+        exact: bool,
+    ) -> (Wrench<T>, Wrench<T>) {
         let rd = b.vel - a.vel;
-        let l2 = r.dot(r);
-        let l = l2.sqrt();
-        let n = r.scale(T::c(1.0) / l);
+        // Linearised: rod axis, length and lever fixed at rest; only the friction law bends.
+        let (r, l2, n) = if exact {
+            let r = b.pos - a.pos;
+            let l2 = r.dot(r);
+            (r, l2, r.scale(T::c(1.0) / l2.sqrt()))
+        } else {
+            let n0 = V::<T>::c(self.n0);
+            (n0.scale(T::c(self.l0)), T::c(self.l0 * self.l0), n0)
+        };
         // Axial friction: resists extension, pulling a towards b.
         let f = friction_force(self.f_max, self.slope, n.dot(rd));
         // Rod rotation from rest (small angle) and its angular velocity normal to the rod.
-        let tilt = V::<T>::c(self.n0).cross(n);
+        let tilt = if exact {
+            V::<T>::c(self.n0).cross(n)
+        } else {
+            let du = b.pos - a.pos - V::c(self.b.point) + V::c(self.a.point);
+            V::<T>::c(self.n0).cross(du).scale(T::c(1.0 / self.l0))
+        };
         let w_rod = r.cross(rd).scale(T::c(1.0) / l2);
         let bearing = |m: &Marker<T>| {
             let dphi = (tilt - m.rot).reject(n);

@@ -2,6 +2,7 @@
 //! gasket point, zero force in the reference position (seed paper: K from a static FE analysis
 //! of the rubber, D fitted).
 
+use super::Element;
 use crate::equations::{Marker, MarkerDef, Wrench};
 use crate::geom::V;
 use crate::ir;
@@ -27,9 +28,21 @@ impl Gasket {
             damping: with_damping.then_some(g.damping),
         }
     }
+}
 
-    /// Wrench on a: -K x - D x', x = displacement and rotation of a relative to b.
-    pub fn wrenches<T: Scalar>(&self, a: &Marker<T>, b: &Marker<T>) -> (Wrench<T>, Wrench<T>) {
+impl Element for Gasket {
+    fn markers(&self) -> (&MarkerDef, &MarkerDef) {
+        (&self.a, &self.b)
+    }
+
+    /// Wrench on a: -K x - D x', x = displacement and rotation of a relative to b. Linear in
+    /// either geometry.
+    fn wrenches<T: Scalar>(
+        &self,
+        a: &Marker<T>,
+        b: &Marker<T>,
+        _exact: bool,
+    ) -> (Wrench<T>, Wrench<T>) {
         let dx = a.pos - b.pos - (V::c(self.a.point) - V::c(self.b.point));
         let x = [dx.0, (a.rot - b.rot).0].concat_arr();
         let xd = [(a.vel - b.vel).0, (a.angvel - b.angvel).0].concat_arr();

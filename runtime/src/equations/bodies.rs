@@ -121,12 +121,20 @@ impl UnbalanceDef {
         st: &TubState<T>,
         d: &Drive<T>,
         g: V<T>,
+        inertia: bool,
         m1: &mut [T],
         n1: usize,
         h: &mut [T],
     ) {
         let m = self.mass;
         let (s, sd, sdd) = self.motion(d);
+        let weight = g * m;
+        if !inertia {
+            // A prescribed rotating load: centrifugal, tangential and weight, nothing more.
+            (weight - sdd * m).add_to(h, 0);
+            (s.cross(weight - st.alpha.cross(weight)) - s.cross(sdd) * m).add_to(h, 3);
+            return;
+        }
         let sv = s.0;
         let ss = s.dot(s);
         for i in 0..3 {
@@ -145,7 +153,6 @@ impl UnbalanceDef {
             }
         }
         let cor = st.alphad.cross(sd).scale(T::c(2.0));
-        let weight = g * m;
         // Translation (global): the centrifugal load turns with the tub (alpha x s'').
         let fu = weight - (sdd + st.alpha.cross(sdd) + cor) * m;
         fu.add_to(h, 0);

@@ -17,7 +17,7 @@
 mod bodies;
 pub mod kinematics;
 
-use crate::elements::{FrictionDamper, Gasket, LinearDamper, Spring};
+use crate::elements::{Element, FrictionDamper, Gasket, LinearDamper, Spring};
 use crate::geom::{V, f};
 use crate::ir::{BodyRef, Effect, EffectSet, Model, SensorKind};
 use crate::scalar::Scalar;
@@ -64,13 +64,39 @@ pub struct Equations {
     pub layout: Layout,
     pub gravity: [f64; 3],
     pub tub: TubDef,
+    /// Unbalances as masses, or as prescribed forces (effect `unbalance_inertia`).
+    pub unbalance_inertia: bool,
     pub rotors: Vec<RotorDef>,
     pub unbalances: Vec<UnbalanceDef>,
-    pub springs: Vec<Spring>,
-    pub dampers: Vec<LinearDamper>,
-    pub friction_dampers: Vec<FrictionDamper>,
-    pub gaskets: Vec<Gasket>,
+    /// Exact element kinematics, or linearised about rest (effect `element_geometry`).
+    pub exact_geometry: bool,
+    pub springs: Vec<Placed<Spring>>,
+    pub dampers: Vec<Placed<LinearDamper>>,
+    pub friction_dampers: Vec<Placed<FrictionDamper>>,
+    pub gaskets: Vec<Placed<Gasket>>,
     pub sensors: Vec<SensorDef>,
+}
+
+/// A force element with its force on body a at rest: the load whose tilting with the tub the
+/// linearised equations keep (alpha x F_rest) when exact geometry is off.
+#[derive(Clone, Debug)]
+pub struct Placed<E> {
+    pub e: E,
+    pub rest_force_a: [f64; 3],
+    pub rest_moment_a: [f64; 3],
+}
+
+impl<E: Element> Placed<E> {
+    fn new(e: E, exact: bool) -> Self {
+        let zero = TubState::<f64>::new(&[0.0; 6], &[0.0; 6]);
+        let (ma, mb) = e.markers();
+        let (wa, _) = e.wrenches(&ma.state(&zero), &mb.state(&zero), exact);
+        Placed {
+            e,
+            rest_force_a: wa.force.0,
+            rest_moment_a: wa.moment.0,
+        }
+    }
 }
 
 impl Equations {
@@ -98,7 +124,11 @@ impl Equations {
             Vec::new()
         };
         let gasket_damping = scene.has(&Effect::GasketDamping);
+        let exact = scene.has(&Effect::ElementGeometry);
+        let place = |e| Placed::new(e, exact);
         Equations {
+            exact_geometry: exact,
+            unbalance_inertia: scene.has(&Effect::UnbalanceInertia),
             scene: scene.clone(),
             layout: Layout { n1: 6, n2: 0 },
             gravity: model.gravity,
@@ -109,11 +139,13 @@ impl Equations {
                 .springs
                 .iter()
                 .map(|s| Spring::new(s, mk(s.a.body, s.a.point), mk(s.b.body, s.b.point)))
+                .map(place)
                 .collect(),
             dampers: model
                 .dampers
                 .iter()
                 .map(|d| LinearDamper::new(d, mk(d.a.body, d.a.point), mk(d.b.body, d.b.point)))
+                .map(|e| Placed::new(e, exact))
                 .collect(),
             friction_dampers: if scene.has(&Effect::FrictionDampers) {
                 model
@@ -122,6 +154,7 @@ impl Equations {
                     .map(|d| {
                         FrictionDamper::new(d, mk(d.a.body, d.a.point), mk(d.b.body, d.b.point))
                     })
+                    .map(|e| Placed::new(e, exact))
                     .collect()
             } else {
                 Vec::new()
@@ -130,6 +163,7 @@ impl Equations {
                 .gaskets
                 .iter()
                 .map(|g| Gasket::new(g, mk(g.a, g.point), mk(g.b, g.point), gasket_damping))
+                .map(|e| Placed::new(e, exact))
                 .collect(),
             sensors: model
                 .sensors
@@ -159,44 +193,54 @@ impl Equations {
             r.add(&st, d, h);
         }
         for u in &self.unbalances {
-            u.add(&st, d, g, m1, n1, h);
+            u.add(&st, d, g, self.unbalance_inertia, m1, n1, h);
         }
 
-        for e in &self.springs {
-            let (a, b) = (e.a.state(&st), e.b.state(&st));
-            let (wa, wb) = e.wrenches(&a, &b);
-            self.apply(&e.a, &st, &wa, h);
-            self.apply(&e.b, &st, &wb, h);
-        }
-        for e in &self.dampers {
-            let (a, b) = (e.a.state(&st), e.b.state(&st));
-            let (wa, wb) = e.wrenches(&a, &b);
-            self.apply(&e.a, &st, &wa, h);
-            self.apply(&e.b, &st, &wb, h);
-        }
-        for e in &self.friction_dampers {
-            let (a, b) = (e.a.state(&st), e.b.state(&st));
-            let (wa, wb) = e.wrenches(&a, &b);
-            self.apply(&e.a, &st, &wa, h);
-            self.apply(&e.b, &st, &wb, h);
-        }
-        for e in &self.gaskets {
-            let (a, b) = (e.a.state(&st), e.b.state(&st));
-            let (wa, wb) = e.wrenches(&a, &b);
-            self.apply(&e.a, &st, &wa, h);
-            self.apply(&e.b, &st, &wb, h);
+        self.elements(&self.springs, &st, h);
+        self.elements(&self.dampers, &st, h);
+        self.elements(&self.friction_dampers, &st, h);
+        self.elements(&self.gaskets, &st, h);
+    }
+
+    fn elements<T: Scalar, E: Element>(&self, list: &[Placed<E>], st: &TubState<T>, h: &mut [T]) {
+        for p in list {
+            let (ma, mb) = p.e.markers();
+            let (wa, wb) =
+                p.e.wrenches(&ma.state(st), &mb.state(st), self.exact_geometry);
+            self.apply(ma, st, &wa, p, true, h);
+            self.apply(mb, st, &wb, p, false, h);
         }
     }
 
-    /// Generalised forces of a wrench acting on a body at a marker.
-    fn apply<T: Scalar>(&self, at: &MarkerDef, st: &TubState<T>, w: &Wrench<T>, h: &mut [T]) {
+    /// Generalised forces of a wrench acting on a body at a marker (`on_a`: the element's end a,
+    /// whose rest load is stored; end b's is its negative).
+    fn apply<T: Scalar, E>(
+        &self,
+        at: &MarkerDef,
+        st: &TubState<T>,
+        w: &Wrench<T>,
+        rest: &Placed<E>,
+        on_a: bool,
+        h: &mut [T],
+    ) {
         match at.body {
             BodyRef::Tub => {
                 // Translation: global components. Rotation: tub components (see module doc).
                 w.force.add_to(h, 0);
                 let s = V::<T>::c(at.s);
-                let f_tub = w.force - st.alpha.cross(w.force);
-                let m_tub = w.moment - st.alpha.cross(w.moment);
+                // The load seen from the tilted tub: the current load, or (linearised) the rest
+                // load, so the term stays linear in the state.
+                let (f_tilt, m_tilt) = if self.exact_geometry {
+                    (w.force, w.moment)
+                } else {
+                    let sign = if on_a { 1.0 } else { -1.0 };
+                    (
+                        V::c(rest.rest_force_a) * sign,
+                        V::c(rest.rest_moment_a) * sign,
+                    )
+                };
+                let f_tub = w.force - st.alpha.cross(f_tilt);
+                let m_tub = w.moment - st.alpha.cross(m_tilt);
                 (s.cross(f_tub) + m_tub).add_to(h, 3);
             }
             // Fixed until its modes arrive: it takes the reactions.

@@ -276,7 +276,7 @@ pub fn check(m: &Model) -> Result<(), Vec<CheckError>> {
                     p.clone().key("effects").idx(j),
                     format!(
                         "scene `{}`: unknown effect `{e}` (known: gyroscopic, friction_dampers, \
-                         gasket_damping, unbalance.<rotor>)",
+                         gasket_damping, element_geometry, unbalance_inertia, unbalance.<rotor>)",
                         s.name
                     ),
                 );

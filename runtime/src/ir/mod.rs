@@ -163,6 +163,15 @@ pub struct Spring {
     pub stiffness: f64,
     /// m
     pub free_length: f64,
+    /// N/m^2: k2 in F = k (L - L0) + k2 (L - Lr)^2, Lr the length at rest. A characteristic
+    /// curve stiffer in one direction (the seed paper's explanation of measured even orders);
+    /// it leaves the rest position unchanged.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub quadratic_stiffness: f64,
+}
+
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 /// Linear viscous damper along its current axis: F = c v (a variant of the friction damper).
@@ -256,6 +265,13 @@ pub enum Effect {
     FrictionDampers,
     /// The gasket's damping matrix.
     GasketDamping,
+    /// Force elements with their exact kinematics (current axis, rod tilt) and the tilting of
+    /// applied loads with the tub. Off: all linearised about the rest position, so a scene's only
+    /// nonlinearity can be the friction law (half-wave symmetry checks).
+    ElementGeometry,
+    /// Unbalances as masses: angle-dependent M1, Coriolis, and the centrifugal load turning with
+    /// the tub. Off: prescribed rotating forces only.
+    UnbalanceInertia,
 }
 
 impl Effect {
@@ -265,6 +281,8 @@ impl Effect {
             "gyroscopic" => Some(Effect::Gyroscopic),
             "friction_dampers" => Some(Effect::FrictionDampers),
             "gasket_damping" => Some(Effect::GasketDamping),
+            "element_geometry" => Some(Effect::ElementGeometry),
+            "unbalance_inertia" => Some(Effect::UnbalanceInertia),
             _ => {
                 let r = s.strip_prefix("unbalance.")?;
                 rotors
@@ -279,6 +297,8 @@ impl Effect {
             Effect::Gyroscopic => "gyroscopic".into(),
             Effect::FrictionDampers => "friction_dampers".into(),
             Effect::GasketDamping => "gasket_damping".into(),
+            Effect::ElementGeometry => "element_geometry".into(),
+            Effect::UnbalanceInertia => "unbalance_inertia".into(),
             Effect::Unbalance(r) => format!("unbalance.{r}"),
         }
     }
@@ -300,7 +320,11 @@ impl EffectSet {
 impl Model {
     /// Every effect this model can switch: the scene `full`.
     pub fn all_effects(&self) -> Vec<Effect> {
-        let mut v = vec![Effect::Gyroscopic];
+        let mut v = vec![
+            Effect::Gyroscopic,
+            Effect::ElementGeometry,
+            Effect::UnbalanceInertia,
+        ];
         for r in &self.rotors {
             if self.unbalances.iter().any(|u| u.rotor == r.name) {
                 v.push(Effect::Unbalance(r.name.clone()));

@@ -66,6 +66,40 @@ impl Dopri5 {
         self.h
     }
 
+    /// Current time (inherent twin of [`Solver::t`], callable without naming the system).
+    pub fn t(&self) -> f64 {
+        self.t
+    }
+
+    /// Current state.
+    pub fn y(&self) -> &[f64] {
+        &self.y
+    }
+
+    /// Start of the last accepted step.
+    pub fn t_prev(&self) -> f64 {
+        self.t_prev
+    }
+
+    /// Work counters so far.
+    pub fn stats(&self) -> Stats {
+        self.stats
+    }
+
+    /// Dense output at t in [t_prev, t] (see [`Solver::interpolate`]).
+    pub fn dense_output(&self, t: f64, out: &mut [f64]) {
+        let theta = if self.h_last > 0.0 {
+            (t - self.t_prev) / self.h_last
+        } else {
+            0.0
+        };
+        let th1 = 1.0 - theta;
+        let [r1, r2, r3, r4, r5] = &self.dense;
+        for i in 0..out.len() {
+            out[i] = r1[i] + theta * (r2[i] + th1 * (r3[i] + theta * (r4[i] + th1 * r5[i])));
+        }
+    }
+
     /// Restart the work counters (they accumulate across `init` calls).
     pub fn reset_stats(&mut self) {
         self.stats = Stats::default();
@@ -250,16 +284,7 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Dopri5 {
     }
 
     fn interpolate(&self, t: f64, out: &mut [f64]) {
-        let theta = if self.h_last > 0.0 {
-            (t - self.t_prev) / self.h_last
-        } else {
-            0.0
-        };
-        let th1 = 1.0 - theta;
-        let [r1, r2, r3, r4, r5] = &self.dense;
-        for i in 0..out.len() {
-            out[i] = r1[i] + theta * (r2[i] + th1 * (r3[i] + theta * (r4[i] + th1 * r5[i])));
-        }
+        self.dense_output(t, out)
     }
 
     fn stats(&self) -> Stats {

@@ -106,7 +106,8 @@ mod tests {
     }
 
     /// The Hilbert matrix of order 6 is badly conditioned (cond ~ 1.5e7); the residual of the
-    /// computed solution must still be at rounding level (backward stability of GEPP).
+    /// computed solution must still be at rounding level relative to |A| |x| (backward
+    /// stability of Gaussian elimination with partial pivoting; |A|_inf < 2.5 here).
     #[test]
     fn small_residual_on_hilbert_matrix() {
         let n = 6;
@@ -120,8 +121,11 @@ mod tests {
         lu_factor(&mut lu, n, &mut piv).unwrap();
         lu_solve(&lu, n, &piv, &mut x);
         let r = mat_vec(&a, n, &x);
+        let xmax = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        assert!(xmax > 1e3, "the test needs a large solution, got {xmax}");
         for i in 0..n {
-            assert!((r[i] - rhs[i]).abs() < 1e-12, "residual {}", r[i] - rhs[i]);
+            let bound = 100.0 * f64::EPSILON * 2.5 * xmax;
+            assert!((r[i] - rhs[i]).abs() < bound, "residual {}", r[i] - rhs[i]);
         }
     }
 

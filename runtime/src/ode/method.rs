@@ -48,6 +48,16 @@ impl FromStr for Method {
     }
 }
 
+macro_rules! dispatch {
+    ($self:expr, $s:ident => $e:expr) => {
+        match $self {
+            AnySolver::Rk4($s) => $e,
+            AnySolver::Dopri5($s) => $e,
+            AnySolver::Sdirk4($s) => $e,
+        }
+    };
+}
+
 /// One of the integrators, chosen at run time.
 pub enum AnySolver {
     Rk4(Rk4),
@@ -65,6 +75,31 @@ impl AnySolver {
         }
     }
 
+    /// Current time (inherent twin of [`Solver::t`], callable without naming the system).
+    pub fn t(&self) -> f64 {
+        dispatch!(self, s => s.t())
+    }
+
+    /// Current state.
+    pub fn y(&self) -> &[f64] {
+        dispatch!(self, s => s.y())
+    }
+
+    /// Start of the last accepted step.
+    pub fn t_prev(&self) -> f64 {
+        dispatch!(self, s => s.t_prev())
+    }
+
+    /// Dense output at t in [t_prev, t].
+    pub fn dense_output(&self, t: f64, out: &mut [f64]) {
+        dispatch!(self, s => s.dense_output(t, out))
+    }
+
+    /// Work counters so far.
+    pub fn stats(&self) -> Stats {
+        dispatch!(self, s => s.stats())
+    }
+
     pub fn method(&self) -> Method {
         match self {
             AnySolver::Rk4(_) => Method::Rk4,
@@ -72,16 +107,6 @@ impl AnySolver {
             AnySolver::Sdirk4(_) => Method::Sdirk4,
         }
     }
-}
-
-macro_rules! dispatch {
-    ($self:expr, $s:ident => $e:expr) => {
-        match $self {
-            AnySolver::Rk4($s) => $e,
-            AnySolver::Dopri5($s) => $e,
-            AnySolver::Sdirk4($s) => $e,
-        }
-    };
 }
 
 impl<S: OdeSystem + ?Sized> Solver<S> for AnySolver {
@@ -95,19 +120,19 @@ impl<S: OdeSystem + ?Sized> Solver<S> for AnySolver {
         dispatch!(self, s => Solver::<S>::step(s, sys, t_stop))
     }
     fn t(&self) -> f64 {
-        dispatch!(self, s => Solver::<S>::t(s))
+        AnySolver::t(self)
     }
     fn y(&self) -> &[f64] {
-        dispatch!(self, s => Solver::<S>::y(s))
+        AnySolver::y(self)
     }
     fn t_prev(&self) -> f64 {
-        dispatch!(self, s => Solver::<S>::t_prev(s))
+        AnySolver::t_prev(self)
     }
     fn interpolate(&self, t: f64, out: &mut [f64]) {
-        dispatch!(self, s => Solver::<S>::interpolate(s, t, out))
+        self.dense_output(t, out)
     }
     fn stats(&self) -> Stats {
-        dispatch!(self, s => Solver::<S>::stats(s))
+        AnySolver::stats(self)
     }
 }
 

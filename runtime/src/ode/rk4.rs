@@ -56,6 +56,40 @@ impl Rk4 {
         self.h
     }
 
+    /// Current time (inherent twin of [`Solver::t`], callable without naming the system).
+    pub fn t(&self) -> f64 {
+        self.t
+    }
+
+    /// Current state.
+    pub fn y(&self) -> &[f64] {
+        &self.y
+    }
+
+    /// Start of the last accepted step.
+    pub fn t_prev(&self) -> f64 {
+        self.t_prev
+    }
+
+    /// Work counters so far.
+    pub fn stats(&self) -> Stats {
+        self.stats
+    }
+
+    /// Dense output at t in [t_prev, t] (see [`Solver::interpolate`]).
+    pub fn dense_output(&self, t: f64, out: &mut [f64]) {
+        hermite(
+            self.t_prev,
+            self.t - self.t_prev,
+            &self.y_prev,
+            &self.f_prev,
+            &self.y,
+            &self.f,
+            t,
+            out,
+        );
+    }
+
     /// Restart the work counters (they accumulate across `init` calls).
     pub fn reset_stats(&mut self) {
         self.stats = Stats::default();
@@ -163,16 +197,7 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Rk4 {
     }
 
     fn interpolate(&self, t: f64, out: &mut [f64]) {
-        hermite(
-            self.t_prev,
-            self.t - self.t_prev,
-            &self.y_prev,
-            &self.f_prev,
-            &self.y,
-            &self.f,
-            t,
-            out,
-        );
+        self.dense_output(t, out)
     }
 
     fn stats(&self) -> Stats {

@@ -4,6 +4,22 @@
 
 use thiserror::Error;
 
+mod common;
+pub mod dopri5;
+pub mod lu;
+pub mod method;
+pub mod problems;
+pub mod rk4;
+pub mod sdirk4;
+pub mod tableau;
+#[cfg(test)]
+mod tests;
+
+pub use dopri5::Dopri5;
+pub use method::{AnySolver, Method, UnknownMethod};
+pub use rk4::Rk4;
+pub use sdirk4::Sdirk4;
+
 /// A first-order ODE system y' = f(t, y).
 pub trait OdeSystem {
     fn dim(&self) -> usize;

@@ -1,0 +1,125 @@
+//! Pieces shared by the methods: the error norm, the automatic initial step, cubic Hermite
+//! dense output and the rule for landing on `t_stop`.
+
+use super::{OdeError, OdeSystem, Options, Stats};
+
+/// Hairer's weighted RMS norm of `err` with scale atol + rtol * max(|y0_i|, |y1_i|)
+/// (Solving ODEs I, eq. II.4.11). A value <= 1 means the step meets the tolerance.
+pub fn error_norm(err: &[f64], y0: &[f64], y1: &[f64], rtol: f64, atol: f64) -> f64 {
+    let n = err.len();
+    if n == 0 {
+        return 0.0;
+    }
+    let mut sum = 0.0;
+    for i in 0..n {
+        let sc = atol + rtol * y0[i].abs().max(y1[i].abs());
+        let q = err[i] / sc;
+        sum += q * q;
+    }
+    (sum / n as f64).sqrt()
+}
+
+/// Whether every entry is finite.
+pub fn all_finite(v: &[f64]) -> bool {
+    v.iter().all(|x| x.is_finite())
+}
+
+/// Hairer's starting step size (Solving ODEs I, Section II.4, "automatic selection of the
+/// initial step size") for a method of order `order`. `f0` = f(t0, y0) is given; `y1` and
+/// `f1` are scratch buffers. Costs one right-hand side evaluation (counted in `stats`).
+#[allow(clippy::too_many_arguments)]
+pub fn initial_step<S: OdeSystem + ?Sized>(
+    sys: &mut S,
+    t0: f64,
+    y0: &[f64],
+    f0: &[f64],
+    order: u32,
+    opts: &Options,
+    y1: &mut [f64],
+    f1: &mut [f64],
+    stats: &mut Stats,
+) -> f64 {
+    let n = y0.len();
+    if n == 0 {
+        return opts.h_max.min(1.0);
+    }
+    let sc = |i: usize| opts.atol + opts.rtol * y0[i].abs();
+    let rms = |v: &dyn Fn(usize) -> f64| -> f64 {
+        ((0..n).map(|i| v(i).powi(2)).sum::<f64>() / n as f64).sqrt()
+    };
+    let d0 = rms(&|i| y0[i] / sc(i));
+    let d1 = rms(&|i| f0[i] / sc(i));
+    let mut h0 = if d0 < 1e-5 || d1 < 1e-5 {
+        1e-6
+    } else {
+        0.01 * d0 / d1
+    };
+    h0 = h0.min(opts.h_max);
+    // One explicit Euler step estimates the second derivative.
+    for i in 0..n {
+        y1[i] = y0[i] + h0 * f0[i];
+    }
+    sys.rhs(t0 + h0, y1, f1);
+    stats.rhs_evals += 1;
+    let d2 = rms(&|i| (f1[i] - f0[i]) / sc(i)) / h0;
+    let dmax = d1.max(d2);
+    let h1 = if !dmax.is_finite() {
+        h0 * 1e-3
+    } else if dmax <= 1e-15 {
+        (h0 * 1e-3).max(1e-6)
+    } else {
+        (0.01 / dmax).powf(1.0 / (order as f64 + 1.0))
+    };
+    (100.0 * h0).min(h1).min(opts.h_max).max(opts.h_min)
+}
+
+/// The step to try from `t` towards `t_stop` with the proposed size `h`: returns the step and
+/// whether it lands on `t_stop`. A step that would end within 1% of a step short of `t_stop`
+/// is stretched to land on it, so no sliver step is left over.
+pub fn clip_step(t: f64, h: f64, t_stop: f64) -> (f64, bool) {
+    let remaining = t_stop - t;
+    if h * 1.01 >= remaining {
+        (remaining, true)
+    } else {
+        (h, false)
+    }
+}
+
+/// Cubic Hermite interpolation on [t0, t0 + h] from the end values and slopes; third order,
+/// used by RK4 and SDIRK4 as their dense output.
+#[allow(clippy::too_many_arguments)]
+pub fn hermite(
+    t0: f64,
+    h: f64,
+    y0: &[f64],
+    f0: &[f64],
+    y1: &[f64],
+    f1: &[f64],
+    t: f64,
+    out: &mut [f64],
+) {
+    if h == 0.0 {
+        out.copy_from_slice(y1);
+        return;
+    }
+    let s = (t - t0) / h;
+    let s2 = s * s;
+    let s3 = s2 * s;
+    let h00 = 2.0 * s3 - 3.0 * s2 + 1.0;
+    let h10 = s3 - 2.0 * s2 + s;
+    let h01 = -2.0 * s3 + 3.0 * s2;
+    let h11 = s3 - s2;
+    for i in 0..out.len() {
+        out[i] = h00 * y0[i] + h10 * h * f0[i] + h01 * y1[i] + h11 * h * f1[i];
+    }
+}
+
+/// The budget check shared by the methods: every attempted step (accepted or rejected) counts.
+pub fn check_budget(stats: &Stats, opts: &Options, t: f64) -> Result<(), OdeError> {
+    let attempts = stats.steps + stats.rejected_steps;
+    if attempts >= opts.max_steps {
+        Err(OdeError::StepBudget { t, steps: attempts })
+    } else {
+        Ok(())
+    }
+}

@@ -1,0 +1,293 @@
+//! Dormand-Prince 5(4) with FSAL, Hairer's error norm, a PI step size controller and Hairer's
+//! fourth-order continuous extension for dense output. The workhorse for non-stiff models.
+//!
+//! Step control (Solving ODEs I, Section IV.2 of vol. II for the PI form):
+//! h_new = h * clamp(0.9 * err^-(0.2 - 0.75*beta) * err_prev^beta, 0.2, 10), beta = 0.04; after a
+//! rejection the step may not grow. A trial step whose stages are not finite is rejected with
+//! h / 10; ten such trials in a row end the integration with `NonFinite` at the last good time.
+
+use super::common::{all_finite, check_budget, clip_step, error_norm, initial_step};
+use super::tableau::{DOPRI5, DOPRI5_DENSE_D};
+use super::{OdeError, OdeSystem, Options, Solver, Stats};
+
+const SAFETY: f64 = 0.9;
+const BETA: f64 = 0.04;
+const ALPHA: f64 = 0.2 - 0.75 * BETA;
+const FAC_MIN: f64 = 0.2;
+const FAC_MAX: f64 = 10.0;
+/// Consecutive non-finite trial steps tolerated before giving up.
+const MAX_NONFINITE_TRIALS: u32 = 10;
+
+pub struct Dopri5 {
+    opts: Options,
+    n: usize,
+    t: f64,
+    t_prev: f64,
+    /// Step size proposed for the next step (0 = choose at the first step).
+    h: f64,
+    /// Size of the last accepted step.
+    h_last: f64,
+    /// Previous accepted error norm (the "I" part of the PI controller).
+    err_prev: f64,
+    y: Vec<f64>,
+    y_prev: Vec<f64>,
+    y_new: Vec<f64>,
+    /// Stage derivatives k1..k7; k[0] holds f(t, y) between steps (FSAL).
+    k: [Vec<f64>; 7],
+    err: Vec<f64>,
+    /// Dense output coefficients of the last accepted step (Hairer's r1..r5).
+    dense: [Vec<f64>; 5],
+    stats: Stats,
+}
+
+impl Dopri5 {
+    pub fn new(dim: usize, options: Options) -> Self {
+        let v = || vec![0.0; dim];
+        Dopri5 {
+            opts: options,
+            n: dim,
+            t: 0.0,
+            t_prev: 0.0,
+            h: 0.0,
+            h_last: 0.0,
+            err_prev: 1e-4,
+            y: v(),
+            y_prev: v(),
+            y_new: v(),
+            k: [v(), v(), v(), v(), v(), v(), v()],
+            err: v(),
+            dense: [v(), v(), v(), v(), v()],
+            stats: Stats::default(),
+        }
+    }
+
+    /// The step size the controller proposes next.
+    pub fn step_size(&self) -> f64 {
+        self.h
+    }
+
+    /// Current time (inherent twin of [`Solver::t`], callable without naming the system).
+    pub fn t(&self) -> f64 {
+        self.t
+    }
+
+    /// Current state.
+    pub fn y(&self) -> &[f64] {
+        &self.y
+    }
+
+    /// Start of the last accepted step.
+    pub fn t_prev(&self) -> f64 {
+        self.t_prev
+    }
+
+    /// Work counters so far.
+    pub fn stats(&self) -> Stats {
+        self.stats
+    }
+
+    /// Dense output at t in [t_prev, t] (see [`Solver::interpolate`]).
+    pub fn dense_output(&self, t: f64, out: &mut [f64]) {
+        let theta = if self.h_last > 0.0 {
+            (t - self.t_prev) / self.h_last
+        } else {
+            0.0
+        };
+        let th1 = 1.0 - theta;
+        let [r1, r2, r3, r4, r5] = &self.dense;
+        for i in 0..out.len() {
+            out[i] = r1[i] + theta * (r2[i] + th1 * (r3[i] + theta * (r4[i] + th1 * r5[i])));
+        }
+    }
+
+    /// Restart the work counters (they accumulate across `init` calls).
+    pub fn reset_stats(&mut self) {
+        self.stats = Stats::default();
+    }
+
+    /// Stages 2..7 and the new solution for step size h; returns the error norm.
+    fn attempt<S: OdeSystem + ?Sized>(&mut self, sys: &mut S, h: f64) -> f64 {
+        let n = self.n;
+        let t0 = self.t;
+        let tab = &DOPRI5;
+        for s in 1..7 {
+            {
+                let (done, _) = self.k.split_at(s);
+                for i in 0..n {
+                    let mut acc = 0.0;
+                    for (j, kj) in done.iter().enumerate() {
+                        acc += tab.a[s][j] * kj[i];
+                    }
+                    self.y_new[i] = self.y[i] + h * acc;
+                }
+            }
+            // Stage 7 is evaluated at the new solution (its row of A is b).
+            sys.rhs(t0 + tab.c[s] * h, &self.y_new, &mut self.k[s]);
+        }
+        self.stats.rhs_evals += 6;
+        for i in 0..n {
+            let mut e = 0.0;
+            for s in 0..7 {
+                e += (tab.b[s] - tab.b_hat[s]) * self.k[s][i];
+            }
+            self.err[i] = h * e;
+        }
+        let norm = error_norm(
+            &self.err,
+            &self.y,
+            &self.y_new,
+            self.opts.rtol,
+            self.opts.atol,
+        );
+        if norm.is_finite() && !all_finite(&self.y_new) {
+            return f64::INFINITY;
+        }
+        norm
+    }
+}
+
+impl<S: OdeSystem + ?Sized> Solver<S> for Dopri5 {
+    fn name(&self) -> &'static str {
+        "dopri5"
+    }
+
+    fn init(&mut self, sys: &mut S, t0: f64, y0: &[f64]) -> Result<(), OdeError> {
+        assert_eq!(y0.len(), self.n, "state dimension");
+        self.t = t0;
+        self.t_prev = t0;
+        self.h_last = 0.0;
+        self.err_prev = 1e-4;
+        self.y.copy_from_slice(y0);
+        self.y_prev.copy_from_slice(y0);
+        // Dense output before the first step is the constant y0.
+        for d in self.dense.iter_mut() {
+            d.fill(0.0);
+        }
+        self.dense[0].copy_from_slice(y0);
+        if !all_finite(y0) {
+            return Err(OdeError::NonFinite { t: t0 });
+        }
+        sys.rhs(t0, &self.y, &mut self.k[0]);
+        self.stats.rhs_evals += 1;
+        if !all_finite(&self.k[0]) {
+            return Err(OdeError::NonFinite { t: t0 });
+        }
+        self.h = if self.opts.h0 > 0.0 {
+            self.opts.h0.min(self.opts.h_max)
+        } else {
+            let (a, b) = self.k.split_at_mut(1);
+            let (y1, rest) = b.split_at_mut(1);
+            initial_step(
+                sys,
+                t0,
+                &self.y,
+                &a[0],
+                DOPRI5.order,
+                &self.opts,
+                &mut y1[0],
+                &mut rest[0],
+                &mut self.stats,
+            )
+        };
+        Ok(())
+    }
+
+    fn step(&mut self, sys: &mut S, t_stop: f64) -> Result<(), OdeError> {
+        if t_stop <= self.t {
+            return Ok(());
+        }
+        let mut rejected_last = false;
+        let mut nonfinite_trials = 0;
+        loop {
+            check_budget(&self.stats, &self.opts, self.t)?;
+            let h_prop = self.h.min(self.opts.h_max);
+            if h_prop < self.opts.h_min {
+                return Err(OdeError::StepSizeUnderflow {
+                    t: self.t,
+                    h: h_prop,
+                });
+            }
+            let (h, lands) = clip_step(self.t, h_prop, t_stop);
+            let err = self.attempt(sys, h);
+
+            if !err.is_finite() {
+                nonfinite_trials += 1;
+                self.stats.rejected_steps += 1;
+                if nonfinite_trials >= MAX_NONFINITE_TRIALS {
+                    return Err(OdeError::NonFinite { t: self.t });
+                }
+                self.h = h * 0.1;
+                rejected_last = true;
+                continue;
+            }
+            if err > 1.0 {
+                self.stats.rejected_steps += 1;
+                let fac = (SAFETY * err.powf(-ALPHA)).clamp(FAC_MIN, 1.0);
+                self.h = h * fac;
+                rejected_last = true;
+                continue;
+            }
+
+            // Accepted: PI controller for the next step.
+            let err_c = err.max(1e-10);
+            let mut fac = SAFETY * err_c.powf(-ALPHA) * self.err_prev.powf(BETA);
+            fac = fac.clamp(FAC_MIN, FAC_MAX);
+            if rejected_last {
+                fac = fac.min(1.0);
+            }
+            self.err_prev = err.max(1e-4);
+            self.h = (h * fac).min(self.opts.h_max);
+
+            let t_new = if lands { t_stop } else { self.t + h };
+            // Dense output coefficients (Hairer's continuous extension).
+            let d = &DOPRI5_DENSE_D;
+            for i in 0..self.n {
+                let y0 = self.y[i];
+                let y1 = self.y_new[i];
+                let dy = y1 - y0;
+                let r3 = h * self.k[0][i] - dy;
+                self.dense[0][i] = y0;
+                self.dense[1][i] = dy;
+                self.dense[2][i] = r3;
+                self.dense[3][i] = dy - h * self.k[6][i] - r3;
+                let mut acc = 0.0;
+                for s in 0..7 {
+                    acc += d[s] * self.k[s][i];
+                }
+                self.dense[4][i] = h * acc;
+            }
+            std::mem::swap(&mut self.y_prev, &mut self.y);
+            std::mem::swap(&mut self.y, &mut self.y_new);
+            // FSAL: f(t_new, y_new) becomes the first stage of the next step.
+            self.k.swap(0, 6);
+            self.stats.steps += 1;
+            self.t_prev = self.t;
+            self.t = t_new;
+            self.h_last = h;
+            if !all_finite(&self.y) {
+                return Err(OdeError::NonFinite { t: t_new });
+            }
+            return Ok(());
+        }
+    }
+
+    fn t(&self) -> f64 {
+        self.t
+    }
+
+    fn y(&self) -> &[f64] {
+        &self.y
+    }
+
+    fn t_prev(&self) -> f64 {
+        self.t_prev
+    }
+
+    fn interpolate(&self, t: f64, out: &mut [f64]) {
+        self.dense_output(t, out)
+    }
+
+    fn stats(&self) -> Stats {
+        self.stats
+    }
+}

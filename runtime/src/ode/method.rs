@@ -1,0 +1,151 @@
+//! Picking an integrator by name at run time (CLI, model files) without generics at the call
+//! site: [`Method`] parses the name, [`AnySolver`] dispatches to the concrete solver.
+
+use std::fmt;
+use std::str::FromStr;
+
+use super::{Dopri5, OdeError, OdeSystem, Options, Rk4, Sdirk4, Solver, Stats};
+
+/// The available integrators, named `rk4`, `dopri5`, `sdirk4`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Method {
+    Rk4,
+    Dopri5,
+    Sdirk4,
+}
+
+impl Method {
+    pub const ALL: [Method; 3] = [Method::Rk4, Method::Dopri5, Method::Sdirk4];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Rk4 => "rk4",
+            Method::Dopri5 => "dopri5",
+            Method::Sdirk4 => "sdirk4",
+        }
+    }
+}
+
+impl fmt::Display for Method {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// An unknown method name.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("unknown integrator `{0}` (expected rk4, dopri5 or sdirk4)")]
+pub struct UnknownMethod(pub String);
+
+impl FromStr for Method {
+    type Err = UnknownMethod;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Method::ALL
+            .into_iter()
+            .find(|m| m.name().eq_ignore_ascii_case(s.trim()))
+            .ok_or_else(|| UnknownMethod(s.to_string()))
+    }
+}
+
+macro_rules! dispatch {
+    ($self:expr, $s:ident => $e:expr) => {
+        match $self {
+            AnySolver::Rk4($s) => $e,
+            AnySolver::Dopri5($s) => $e,
+            AnySolver::Sdirk4($s) => $e,
+        }
+    };
+}
+
+/// One of the integrators, chosen at run time.
+pub enum AnySolver {
+    Rk4(Rk4),
+    Dopri5(Dopri5),
+    Sdirk4(Sdirk4),
+}
+
+impl AnySolver {
+    /// Allocates the chosen solver's work arrays for a system of dimension `dim`.
+    pub fn new(method: Method, dim: usize, options: Options) -> Self {
+        match method {
+            Method::Rk4 => AnySolver::Rk4(Rk4::new(dim, options)),
+            Method::Dopri5 => AnySolver::Dopri5(Dopri5::new(dim, options)),
+            Method::Sdirk4 => AnySolver::Sdirk4(Sdirk4::new(dim, options)),
+        }
+    }
+
+    /// Current time (inherent twin of [`Solver::t`], callable without naming the system).
+    pub fn t(&self) -> f64 {
+        dispatch!(self, s => s.t())
+    }
+
+    /// Current state.
+    pub fn y(&self) -> &[f64] {
+        dispatch!(self, s => s.y())
+    }
+
+    /// Start of the last accepted step.
+    pub fn t_prev(&self) -> f64 {
+        dispatch!(self, s => s.t_prev())
+    }
+
+    /// Dense output at t in [t_prev, t].
+    pub fn dense_output(&self, t: f64, out: &mut [f64]) {
+        dispatch!(self, s => s.dense_output(t, out))
+    }
+
+    /// Work counters so far.
+    pub fn stats(&self) -> Stats {
+        dispatch!(self, s => s.stats())
+    }
+
+    pub fn method(&self) -> Method {
+        match self {
+            AnySolver::Rk4(_) => Method::Rk4,
+            AnySolver::Dopri5(_) => Method::Dopri5,
+            AnySolver::Sdirk4(_) => Method::Sdirk4,
+        }
+    }
+}
+
+impl<S: OdeSystem + ?Sized> Solver<S> for AnySolver {
+    fn name(&self) -> &'static str {
+        self.method().name()
+    }
+    fn init(&mut self, sys: &mut S, t0: f64, y0: &[f64]) -> Result<(), OdeError> {
+        dispatch!(self, s => Solver::<S>::init(s, sys, t0, y0))
+    }
+    fn step(&mut self, sys: &mut S, t_stop: f64) -> Result<(), OdeError> {
+        dispatch!(self, s => Solver::<S>::step(s, sys, t_stop))
+    }
+    fn t(&self) -> f64 {
+        AnySolver::t(self)
+    }
+    fn y(&self) -> &[f64] {
+        AnySolver::y(self)
+    }
+    fn t_prev(&self) -> f64 {
+        AnySolver::t_prev(self)
+    }
+    fn interpolate(&self, t: f64, out: &mut [f64]) {
+        self.dense_output(t, out)
+    }
+    fn stats(&self) -> Stats {
+        AnySolver::stats(self)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip() {
+        for m in Method::ALL {
+            assert_eq!(m.to_string().parse::<Method>(), Ok(m));
+        }
+        assert_eq!("DOPRI5".parse::<Method>(), Ok(Method::Dopri5));
+        assert!("euler".parse::<Method>().is_err());
+    }
+}

@@ -1,0 +1,474 @@
+//! L-stable 5-stage SDIRK of order 4 (embedded order 3, gamma = 1/4; Hairer & Wanner, Solving
+//! ODEs II, Table IV.6.5) for stiff models: stiff suspension springs, contact penalties.
+//!
+//! Each stage solves z_i = s_i + h*gamma*f(t + c_i h, y0 + z_i), s_i = sum_{j<i} a_ij h k_j, by
+//! simplified Newton with the one matrix M = I - h*gamma*J for all stages. The stage derivative
+//! is recovered as h k_i = (z_i - s_i) / gamma instead of a new f evaluation (better behaved
+//! on stiff components). The method is stiffly accurate, so y1 = y0 + z_5.
+//!
+//! * Jacobian: `sys.jacobian` when it returns true, else forward differences. It is kept
+//!   across steps while Newton contracts quickly (rate <= 0.1) and recomputed after slow
+//!   convergence, a Newton failure or a rejected step.
+//! * LU of M is redone only when h changes; a proposed growth by less than 20 % is not taken,
+//!   so that the factorisation can be reused (Hairer's trick).
+//! * Newton stop: eta * |dz| <= kappa with eta = theta / (1 - theta), theta the observed
+//!   contraction, kappa = max(10 eps / rtol, min(0.03, sqrt(rtol))) in the error norm; divergence
+//!   (theta >= 0.99), a predicted miss within 7 iterations, or non-finite values fail the
+//!   attempt: first with a fresh Jacobian, then with h / 2.
+//! * Error estimate: the embedded difference sum (b_i - b^_i) h k_i filtered through M^-1, as
+//!   Hairer does, so the estimate does not blow up on stiff components.
+//! * Dense output: cubic Hermite from (y0, f0, y1, f1) with f1 = k_5, the derivative at the
+//!   (stiffly accurate) last stage; third order, no extra right-hand side evaluation.
+
+use super::common::{all_finite, check_budget, clip_step, error_norm, hermite, initial_step};
+use super::lu::{lu_factor, lu_solve};
+use super::tableau::{SDIRK4, SDIRK4_GAMMA};
+use super::{OdeError, OdeSystem, Options, Solver, Stats};
+
+const STAGES: usize = 5;
+const SAFETY: f64 = 0.9;
+const FAC_MIN: f64 = 0.2;
+const FAC_MAX: f64 = 5.0;
+const MAX_NEWTON: u32 = 7;
+/// Newton contraction above which the Jacobian is refreshed for the next step.
+const THETA_REFRESH: f64 = 0.1;
+/// Proposed growth factors in [1, FREEZE] keep the old h (and its LU).
+const FREEZE: f64 = 1.2;
+const MAX_NONFINITE_TRIALS: u32 = 10;
+
+enum Attempt {
+    /// Newton converged; the error norm of the step.
+    Done(f64),
+    NewtonFailed,
+    NonFinite,
+    Singular,
+}
+
+pub struct Sdirk4 {
+    opts: Options,
+    n: usize,
+    t: f64,
+    t_prev: f64,
+    h: f64,
+    y: Vec<f64>,
+    y_prev: Vec<f64>,
+    y_new: Vec<f64>,
+    /// f at (t, y) and (t_prev, y_prev), for dense output and the first Newton guess.
+    f: Vec<f64>,
+    f_prev: Vec<f64>,
+    jac: Vec<f64>,
+    lu: Vec<f64>,
+    piv: Vec<usize>,
+    /// A Jacobian is stored and may be used.
+    jac_valid: bool,
+    /// The stored Jacobian was computed at the current (t, y).
+    jac_fresh: bool,
+    /// Step size the LU of M belongs to (0 = none).
+    lu_h: f64,
+    /// h k_i for the stages.
+    hk: [Vec<f64>; STAGES],
+    z: Vec<f64>,
+    s: Vec<f64>,
+    ytmp: Vec<f64>,
+    ftmp: Vec<f64>,
+    delta: Vec<f64>,
+    scale: Vec<f64>,
+    /// Newton rate estimate carried between stages and steps.
+    eta: f64,
+    /// Largest Newton contraction in the last attempt.
+    theta_max: f64,
+    stats: Stats,
+}
+
+impl Sdirk4 {
+    pub fn new(dim: usize, options: Options) -> Self {
+        let v = || vec![0.0; dim];
+        Sdirk4 {
+            opts: options,
+            n: dim,
+            t: 0.0,
+            t_prev: 0.0,
+            h: 0.0,
+            y: v(),
+            y_prev: v(),
+            y_new: v(),
+            f: v(),
+            f_prev: v(),
+            jac: vec![0.0; dim * dim],
+            lu: vec![0.0; dim * dim],
+            piv: vec![0; dim],
+            jac_valid: false,
+            jac_fresh: false,
+            lu_h: 0.0,
+            hk: [v(), v(), v(), v(), v()],
+            z: v(),
+            s: v(),
+            ytmp: v(),
+            ftmp: v(),
+            delta: v(),
+            scale: v(),
+            eta: 1.0,
+            theta_max: 0.0,
+            stats: Stats::default(),
+        }
+    }
+
+    /// The step size the controller proposes next.
+    pub fn step_size(&self) -> f64 {
+        self.h
+    }
+
+    /// Current time (inherent twin of [`Solver::t`], callable without naming the system).
+    pub fn t(&self) -> f64 {
+        self.t
+    }
+
+    /// Current state.
+    pub fn y(&self) -> &[f64] {
+        &self.y
+    }
+
+    /// Start of the last accepted step.
+    pub fn t_prev(&self) -> f64 {
+        self.t_prev
+    }
+
+    /// Work counters so far.
+    pub fn stats(&self) -> Stats {
+        self.stats
+    }
+
+    /// Dense output at t in [t_prev, t] (see [`Solver::interpolate`]).
+    pub fn dense_output(&self, t: f64, out: &mut [f64]) {
+        hermite(
+            self.t_prev,
+            self.t - self.t_prev,
+            &self.y_prev,
+            &self.f_prev,
+            &self.y,
+            &self.f,
+            t,
+            out,
+        );
+    }
+
+    /// Restart the work counters (they accumulate across `init` calls).
+    pub fn reset_stats(&mut self) {
+        self.stats = Stats::default();
+    }
+
+    fn newton_tol(&self) -> f64 {
+        (10.0 * f64::EPSILON / self.opts.rtol).max(0.03f64.min(self.opts.rtol.sqrt()))
+    }
+
+    /// df/dy at (t, y) into `jac`: analytic if the system has it, else forward differences
+    /// with increments sqrt(eps * max(1e-5, |y_j|)) (Hairer's choice).
+    fn compute_jacobian<S: OdeSystem + ?Sized>(&mut self, sys: &mut S) {
+        self.stats.jacobian_evals += 1;
+        if sys.jacobian(self.t, &self.y, &mut self.jac) {
+            return;
+        }
+        let n = self.n;
+        // A fresh f(t, y): the stored one comes from the Newton solve and is not accurate
+        // enough to difference against.
+        sys.rhs(self.t, &self.y, &mut self.ftmp);
+        self.ytmp.copy_from_slice(&self.y);
+        for j in 0..n {
+            let yj = self.y[j];
+            let d = (f64::EPSILON * yj.abs().max(1e-5)).sqrt();
+            self.ytmp[j] = yj + d;
+            let d = self.ytmp[j] - yj;
+            sys.rhs(self.t, &self.ytmp, &mut self.delta);
+            for i in 0..n {
+                self.jac[i * n + j] = (self.delta[i] - self.ftmp[i]) / d;
+            }
+            self.ytmp[j] = yj;
+        }
+        self.stats.rhs_evals += n as u64 + 1;
+    }
+
+    /// One trial step of size h from (t, y) into `y_new`.
+    fn attempt<S: OdeSystem + ?Sized>(&mut self, sys: &mut S, h: f64) -> Attempt {
+        let n = self.n;
+        let g = SDIRK4_GAMMA;
+        let tab = &SDIRK4;
+        if !self.jac_valid {
+            self.compute_jacobian(sys);
+            self.jac_valid = true;
+            self.jac_fresh = true;
+            self.lu_h = 0.0;
+        }
+        if self.lu_h != h {
+            for (m, j) in self.lu.iter_mut().zip(&self.jac) {
+                *m = -h * g * j;
+            }
+            for i in 0..n {
+                self.lu[i * n + i] += 1.0;
+            }
+            self.stats.lu_decompositions += 1;
+            if lu_factor(&mut self.lu, n, &mut self.piv).is_err() {
+                self.lu_h = 0.0;
+                return Attempt::Singular;
+            }
+            self.lu_h = h;
+        }
+        for i in 0..n {
+            self.scale[i] = self.opts.atol + self.opts.rtol * self.y[i].abs();
+        }
+        let kappa = self.newton_tol();
+        self.theta_max = 0.0;
+
+        for st in 0..STAGES {
+            {
+                let (done, _) = self.hk.split_at(st);
+                for i in 0..n {
+                    let mut acc = 0.0;
+                    for (j, hkj) in done.iter().enumerate() {
+                        acc += tab.a[st][j] * hkj[i];
+                    }
+                    self.s[i] = acc;
+                    // Guess: the stage derivative equals the previous one.
+                    let prev = if st == 0 {
+                        h * self.f[i]
+                    } else {
+                        done[st - 1][i]
+                    };
+                    self.z[i] = acc + g * prev;
+                }
+            }
+            let tc = self.t + tab.c[st] * h;
+            let mut eta = self.eta.max(f64::EPSILON).powf(0.8);
+            let mut dnorm_old = 0.0;
+            let mut converged = false;
+            for it in 0..MAX_NEWTON {
+                for i in 0..n {
+                    self.ytmp[i] = self.y[i] + self.z[i];
+                }
+                sys.rhs(tc, &self.ytmp, &mut self.ftmp);
+                self.stats.rhs_evals += 1;
+                self.stats.newton_iterations += 1;
+                for i in 0..n {
+                    self.delta[i] = self.s[i] + h * g * self.ftmp[i] - self.z[i];
+                }
+                lu_solve(&self.lu, n, &self.piv, &mut self.delta);
+                let mut sum = 0.0;
+                for i in 0..n {
+                    let q = self.delta[i] / self.scale[i];
+                    sum += q * q;
+                }
+                let dnorm = if n > 0 { (sum / n as f64).sqrt() } else { 0.0 };
+                if !dnorm.is_finite() {
+                    return Attempt::NonFinite;
+                }
+                if it > 0 {
+                    let theta = dnorm / dnorm_old;
+                    self.theta_max = self.theta_max.max(theta);
+                    if theta >= 0.99 {
+                        return Attempt::NewtonFailed;
+                    }
+                    eta = theta / (1.0 - theta);
+                    // Predicted error after the remaining iterations still too large.
+                    let left = (MAX_NEWTON - 1 - it) as i32;
+                    if theta.powi(left) / (1.0 - theta) * dnorm > kappa {
+                        return Attempt::NewtonFailed;
+                    }
+                }
+                for i in 0..n {
+                    self.z[i] += self.delta[i];
+                }
+                if eta * dnorm <= kappa || dnorm == 0.0 {
+                    converged = true;
+                    break;
+                }
+                dnorm_old = dnorm;
+            }
+            if !converged {
+                return Attempt::NewtonFailed;
+            }
+            self.eta = eta;
+            for i in 0..n {
+                self.hk[st][i] = (self.z[i] - self.s[i]) / g;
+            }
+        }
+        for i in 0..n {
+            self.y_new[i] = self.y[i] + self.z[i];
+        }
+        if !all_finite(&self.y_new) {
+            return Attempt::NonFinite;
+        }
+        // Embedded difference, filtered through M^-1.
+        for i in 0..n {
+            let mut e = 0.0;
+            for st in 0..STAGES {
+                e += (tab.b[st] - tab.b_hat[st]) * self.hk[st][i];
+            }
+            self.delta[i] = e;
+        }
+        lu_solve(&self.lu, n, &self.piv, &mut self.delta);
+        let err = error_norm(
+            &self.delta,
+            &self.y,
+            &self.y_new,
+            self.opts.rtol,
+            self.opts.atol,
+        );
+        if err.is_finite() {
+            Attempt::Done(err)
+        } else {
+            Attempt::NonFinite
+        }
+    }
+}
+
+impl<S: OdeSystem + ?Sized> Solver<S> for Sdirk4 {
+    fn name(&self) -> &'static str {
+        "sdirk4"
+    }
+
+    fn init(&mut self, sys: &mut S, t0: f64, y0: &[f64]) -> Result<(), OdeError> {
+        assert_eq!(y0.len(), self.n, "state dimension");
+        self.t = t0;
+        self.t_prev = t0;
+        self.y.copy_from_slice(y0);
+        self.y_prev.copy_from_slice(y0);
+        self.jac_valid = false;
+        self.jac_fresh = false;
+        self.lu_h = 0.0;
+        self.eta = 1.0;
+        if !all_finite(y0) {
+            return Err(OdeError::NonFinite { t: t0 });
+        }
+        sys.rhs(t0, &self.y, &mut self.f);
+        self.stats.rhs_evals += 1;
+        self.f_prev.copy_from_slice(&self.f);
+        if !all_finite(&self.f) {
+            return Err(OdeError::NonFinite { t: t0 });
+        }
+        self.h = if self.opts.h0 > 0.0 {
+            self.opts.h0.min(self.opts.h_max)
+        } else {
+            initial_step(
+                sys,
+                t0,
+                &self.y,
+                &self.f,
+                SDIRK4.order,
+                &self.opts,
+                &mut self.ytmp,
+                &mut self.ftmp,
+                &mut self.stats,
+            )
+        };
+        Ok(())
+    }
+
+    fn step(&mut self, sys: &mut S, t_stop: f64) -> Result<(), OdeError> {
+        if t_stop <= self.t {
+            return Ok(());
+        }
+        let mut rejected_last = false;
+        let mut nonfinite_trials = 0;
+        loop {
+            check_budget(&self.stats, &self.opts, self.t)?;
+            let h_prop = self.h.min(self.opts.h_max);
+            if h_prop < self.opts.h_min {
+                return Err(OdeError::StepSizeUnderflow {
+                    t: self.t,
+                    h: h_prop,
+                });
+            }
+            let (h, lands) = clip_step(self.t, h_prop, t_stop);
+            let err = match self.attempt(sys, h) {
+                Attempt::Done(err) => err,
+                Attempt::Singular => return Err(OdeError::Singular { t: self.t }),
+                Attempt::NewtonFailed => {
+                    self.stats.rejected_steps += 1;
+                    rejected_last = true;
+                    if !self.jac_fresh {
+                        // Retry the same h with a Jacobian at the current point.
+                        self.jac_valid = false;
+                        continue;
+                    }
+                    if h <= self.opts.h_min {
+                        return Err(OdeError::NewtonDivergence { t: self.t, h });
+                    }
+                    self.h = (0.5 * h).max(self.opts.h_min);
+                    continue;
+                }
+                Attempt::NonFinite => {
+                    self.stats.rejected_steps += 1;
+                    rejected_last = true;
+                    nonfinite_trials += 1;
+                    if nonfinite_trials >= MAX_NONFINITE_TRIALS {
+                        return Err(OdeError::NonFinite { t: self.t });
+                    }
+                    if !self.jac_fresh {
+                        self.jac_valid = false;
+                    }
+                    self.h = 0.1 * h;
+                    continue;
+                }
+            };
+            let fac = SAFETY * err.max(1e-10).powf(-0.25);
+            if err > 1.0 {
+                self.stats.rejected_steps += 1;
+                rejected_last = true;
+                self.h = h * fac.clamp(FAC_MIN, 1.0);
+                if !self.jac_fresh {
+                    self.jac_valid = false;
+                }
+                continue;
+            }
+
+            // Accepted.
+            let mut fac = fac.clamp(FAC_MIN, FAC_MAX);
+            if rejected_last {
+                fac = fac.min(1.0);
+            }
+            let slow = self.theta_max > THETA_REFRESH;
+            if (1.0..=FREEZE).contains(&fac) && !slow {
+                fac = 1.0;
+            }
+            self.h = (h * fac).min(self.opts.h_max);
+            if slow {
+                self.jac_valid = false;
+            }
+            self.jac_fresh = false;
+
+            let t_new = if lands { t_stop } else { self.t + h };
+            std::mem::swap(&mut self.y_prev, &mut self.y);
+            std::mem::swap(&mut self.y, &mut self.y_new);
+            std::mem::swap(&mut self.f_prev, &mut self.f);
+            for i in 0..self.n {
+                self.f[i] = self.hk[STAGES - 1][i] / h;
+            }
+            self.stats.steps += 1;
+            self.t_prev = self.t;
+            self.t = t_new;
+            if !all_finite(&self.y) {
+                return Err(OdeError::NonFinite { t: t_new });
+            }
+            return Ok(());
+        }
+    }
+
+    fn t(&self) -> f64 {
+        self.t
+    }
+
+    fn y(&self) -> &[f64] {
+        &self.y
+    }
+
+    fn t_prev(&self) -> f64 {
+        self.t_prev
+    }
+
+    fn interpolate(&self, t: f64, out: &mut [f64]) {
+        self.dense_output(t, out)
+    }
+
+    fn stats(&self) -> Stats {
+        self.stats
+    }
+}

@@ -1,0 +1,305 @@
+//! Butcher tableaux as plain data. The methods read their coefficients from here, so a tableau
+//! can be checked against the order conditions in one place (see the tests at the bottom).
+
+/// An s-stage Runge-Kutta tableau with an optional embedded weight vector. `a` is the full
+/// s x s matrix, row-major; explicit methods leave the diagonal and upper triangle zero,
+/// diagonally implicit ones the upper triangle only.
+#[derive(Clone, Copy, Debug)]
+pub struct Tableau<const S: usize> {
+    pub a: [[f64; S]; S],
+    pub b: [f64; S],
+    /// Embedded (lower order) weights, used only for the error estimate.
+    pub b_hat: [f64; S],
+    pub c: [f64; S],
+    /// Order of `b` and of `b_hat`.
+    pub order: u32,
+    pub order_hat: u32,
+}
+
+/// Classic fourth-order Runge-Kutta (Kutta 1901). No embedded pair: `b_hat` repeats `b` and
+/// `order_hat` is 0 to make that explicit.
+pub const RK4: Tableau<4> = Tableau {
+    a: [
+        [0.0, 0.0, 0.0, 0.0],
+        [0.5, 0.0, 0.0, 0.0],
+        [0.0, 0.5, 0.0, 0.0],
+        [0.0, 0.0, 1.0, 0.0],
+    ],
+    b: [1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0],
+    b_hat: [1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0],
+    c: [0.0, 0.5, 0.5, 1.0],
+    order: 4,
+    order_hat: 0,
+};
+
+/// Dormand & Prince (1980) 5(4) pair, as in Hairer, Norsett & Wanner, Solving ODEs I, Table
+/// II.5.2. The seventh stage is evaluated at the new solution, so it is the first stage of the
+/// next step (FSAL): b equals the last row of `a`.
+pub const DOPRI5: Tableau<7> = Tableau {
+    a: [
+        [0.0; 7],
+        [1.0 / 5.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        [3.0 / 40.0, 9.0 / 40.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        [44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0, 0.0, 0.0, 0.0, 0.0],
+        [
+            19372.0 / 6561.0,
+            -25360.0 / 2187.0,
+            64448.0 / 6561.0,
+            -212.0 / 729.0,
+            0.0,
+            0.0,
+            0.0,
+        ],
+        [
+            9017.0 / 3168.0,
+            -355.0 / 33.0,
+            46732.0 / 5247.0,
+            49.0 / 176.0,
+            -5103.0 / 18656.0,
+            0.0,
+            0.0,
+        ],
+        [
+            35.0 / 384.0,
+            0.0,
+            500.0 / 1113.0,
+            125.0 / 192.0,
+            -2187.0 / 6784.0,
+            11.0 / 84.0,
+            0.0,
+        ],
+    ],
+    b: [
+        35.0 / 384.0,
+        0.0,
+        500.0 / 1113.0,
+        125.0 / 192.0,
+        -2187.0 / 6784.0,
+        11.0 / 84.0,
+        0.0,
+    ],
+    b_hat: [
+        5179.0 / 57600.0,
+        0.0,
+        7571.0 / 16695.0,
+        393.0 / 640.0,
+        -92097.0 / 339200.0,
+        187.0 / 2100.0,
+        1.0 / 40.0,
+    ],
+    c: [0.0, 1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0, 1.0, 1.0],
+    order: 5,
+    order_hat: 4,
+};
+
+/// Coefficients of Hairer's continuous extension of DOPRI5 (Solving ODEs I, Section II.6,
+/// and the published `dopri5` code): the fifth term of the dense output polynomial is
+/// h * sum(d_i k_i). Stage 2 does not enter.
+pub const DOPRI5_DENSE_D: [f64; 7] = [
+    -12715105075.0 / 11282082432.0,
+    0.0,
+    87487479700.0 / 32700410799.0,
+    -10690763975.0 / 1880347072.0,
+    701980252875.0 / 199316789632.0,
+    -1453857185.0 / 822651844.0,
+    69997945.0 / 29380423.0,
+];
+
+/// Five-stage L-stable SDIRK of order 4 with an embedded method of order 3, gamma = 1/4;
+/// Hairer & Wanner, Solving ODEs II, Section IV.6, Table 6.5. Stiffly accurate: b is the last
+/// row of `a`, so y1 is the last stage value and R(infinity) = 0.
+pub const SDIRK4: Tableau<5> = Tableau {
+    a: [
+        [0.25, 0.0, 0.0, 0.0, 0.0],
+        [0.5, 0.25, 0.0, 0.0, 0.0],
+        [17.0 / 50.0, -1.0 / 25.0, 0.25, 0.0, 0.0],
+        [371.0 / 1360.0, -137.0 / 2720.0, 15.0 / 544.0, 0.25, 0.0],
+        [25.0 / 24.0, -49.0 / 48.0, 125.0 / 16.0, -85.0 / 12.0, 0.25],
+    ],
+    b: [25.0 / 24.0, -49.0 / 48.0, 125.0 / 16.0, -85.0 / 12.0, 0.25],
+    b_hat: [59.0 / 48.0, -17.0 / 96.0, 225.0 / 32.0, -85.0 / 12.0, 0.0],
+    c: [0.25, 0.75, 11.0 / 20.0, 0.5, 1.0],
+    order: 4,
+    order_hat: 3,
+};
+
+/// The diagonal entry of [`SDIRK4`].
+pub const SDIRK4_GAMMA: f64 = 0.25;
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+
+    fn dot<const S: usize>(u: &[f64; S], v: &[f64; S]) -> f64 {
+        u.iter().zip(v).map(|(x, y)| x * y).sum()
+    }
+    fn mat_vec<const S: usize>(a: &[[f64; S]; S], v: &[f64; S]) -> [f64; S] {
+        let mut out = [0.0; S];
+        for i in 0..S {
+            out[i] = dot(&a[i], v);
+        }
+        out
+    }
+    fn hadamard<const S: usize>(u: &[f64; S], v: &[f64; S]) -> [f64; S] {
+        let mut out = [0.0; S];
+        for i in 0..S {
+            out[i] = u[i] * v[i];
+        }
+        out
+    }
+
+    /// Residuals of the order conditions sum b_i Phi_i(t) = 1/gamma(t) for all rooted trees t
+    /// with at most 5 nodes (Butcher; Solving ODEs I, Table II.2.2), grouped by order.
+    /// Returns the largest residual for each order 1..=5.
+    pub(crate) fn order_residuals<const S: usize>(
+        a: &[[f64; S]; S],
+        b: &[f64; S],
+        c: &[f64; S],
+    ) -> [f64; 5] {
+        let one = [1.0; S];
+        let c2 = hadamard(c, c);
+        let c3 = hadamard(&c2, c);
+        let c4 = hadamard(&c3, c);
+        let ac = mat_vec(a, c);
+        let ac2 = mat_vec(a, &c2);
+        let ac3 = mat_vec(a, &c3);
+        let aac = mat_vec(a, &ac);
+        let aac2 = mat_vec(a, &ac2);
+        let aaac = mat_vec(a, &aac);
+        let a_cac = mat_vec(a, &hadamard(c, &ac));
+        let conds: [(usize, f64, f64); 17] = [
+            (1, dot(b, &one), 1.0),
+            (2, dot(b, c), 1.0 / 2.0),
+            (3, dot(b, &c2), 1.0 / 3.0),
+            (3, dot(b, &ac), 1.0 / 6.0),
+            (4, dot(b, &c3), 1.0 / 4.0),
+            (4, dot(b, &hadamard(c, &ac)), 1.0 / 8.0),
+            (4, dot(b, &ac2), 1.0 / 12.0),
+            (4, dot(b, &aac), 1.0 / 24.0),
+            (5, dot(b, &c4), 1.0 / 5.0),
+            (5, dot(b, &hadamard(&c2, &ac)), 1.0 / 10.0),
+            (5, dot(b, &hadamard(c, &ac2)), 1.0 / 15.0),
+            (5, dot(b, &hadamard(c, &aac)), 1.0 / 30.0),
+            (5, dot(b, &hadamard(&ac, &ac)), 1.0 / 20.0),
+            (5, dot(b, &ac3), 1.0 / 20.0),
+            (5, dot(b, &a_cac), 1.0 / 40.0),
+            (5, dot(b, &aac2), 1.0 / 60.0),
+            (5, dot(b, &aaac), 1.0 / 120.0),
+        ];
+        let mut worst = [0.0f64; 5];
+        for (order, value, expected) in conds {
+            worst[order - 1] = worst[order - 1].max((value - expected).abs());
+        }
+        worst
+    }
+
+    /// Checks the row-sum condition c_i = sum_j a_ij, and that the order conditions hold up to
+    /// `order` and (when order < 5) fail for order + 1, i.e. the order is exactly as claimed.
+    fn check<const S: usize>(t: &Tableau<S>) {
+        for i in 0..S {
+            let row: f64 = t.a[i].iter().sum();
+            assert!(
+                (row - t.c[i]).abs() < 1e-14,
+                "row {i}: {row} != c = {}",
+                t.c[i]
+            );
+        }
+        let check_order = |b: &[f64; S], p: u32| {
+            let res = order_residuals(&t.a, b, &t.c);
+            for (k, r) in res.iter().enumerate().take(p as usize) {
+                assert!(*r < 1e-13, "order {} condition residual {r}", k + 1);
+            }
+            if (p as usize) < 5 {
+                assert!(
+                    res[p as usize] > 1e-6,
+                    "claims order {p} but satisfies order {}",
+                    p + 1
+                );
+            }
+        };
+        check_order(&t.b, t.order);
+        if t.order_hat > 0 {
+            check_order(&t.b_hat, t.order_hat);
+        }
+    }
+
+    #[test]
+    fn rk4_has_order_4() {
+        check(&RK4);
+    }
+
+    #[test]
+    fn dopri5_has_orders_5_and_4() {
+        check(&DOPRI5);
+        // FSAL: b is the last row of A and c_7 = 1.
+        assert_eq!(DOPRI5.b, DOPRI5.a[6]);
+    }
+
+    #[test]
+    fn sdirk4_has_orders_4_and_3_and_is_l_stable() {
+        check(&SDIRK4);
+        for i in 0..5 {
+            assert_eq!(SDIRK4.a[i][i], SDIRK4_GAMMA);
+        }
+        // Stiffly accurate, hence R(inf) = 1 - b^T A^{-1} 1 = 0: the last stage is the solution.
+        assert_eq!(SDIRK4.b, SDIRK4.a[4]);
+        // R(z) at large |z| by solving (I - z A) k = z 1, R = 1 + b.k; tends to 0 like 1/z.
+        for z in [-1e4, -1e8] {
+            let mut k = [0.0; 5];
+            for i in 0..5 {
+                let mut s = 1.0;
+                for j in 0..i {
+                    s += SDIRK4.a[i][j] * k[j];
+                }
+                k[i] = z * s / (1.0 - z * SDIRK4.a[i][i]);
+            }
+            let r = 1.0 + dot(&SDIRK4.b, &k);
+            assert!(r.abs() < 50.0 / z.abs(), "R({z}) = {r}");
+        }
+    }
+
+    /// The dense output of DOPRI5 is y0 + h sum b_i(theta) k_i; its weights must satisfy the
+    /// order conditions up to order 4 with right-hand sides theta^rho(t) / gamma(t) (Solving
+    /// ODEs I, Section II.6). The weights follow from the Hermite-type formula used in
+    /// `dopri5.rs`.
+    #[test]
+    fn dopri5_dense_output_has_order_4() {
+        let b = DOPRI5.b;
+        let d = DOPRI5_DENSE_D;
+        for theta in [0.1, 0.3, 0.5, 0.77, 1.0] {
+            let th1 = 1.0 - theta;
+            // y(theta) - y0 = theta*(r2 + th1*(r3 + theta*(r4 + th1*r5))), with
+            // r2 = h b.k, r3 = h k1 - r2, r4 = r2 - h k7 - r3, r5 = h d.k (per unit h).
+            let mut w = [0.0; 7];
+            for i in 0..7 {
+                let e1 = if i == 0 { 1.0 } else { 0.0 };
+                let e7 = if i == 6 { 1.0 } else { 0.0 };
+                let r2 = b[i];
+                let r3 = e1 - r2;
+                let r4 = r2 - e7 - r3;
+                let r5 = d[i];
+                w[i] = theta * (r2 + th1 * (r3 + theta * (r4 + th1 * r5)));
+            }
+            let one = [1.0; 7];
+            let c = DOPRI5.c;
+            let c2 = hadamard(&c, &c);
+            let ac = mat_vec(&DOPRI5.a, &c);
+            let conds = [
+                (dot(&w, &one), theta),
+                (dot(&w, &c), theta.powi(2) / 2.0),
+                (dot(&w, &c2), theta.powi(3) / 3.0),
+                (dot(&w, &ac), theta.powi(3) / 6.0),
+                (dot(&w, &hadamard(&c2, &c)), theta.powi(4) / 4.0),
+                (dot(&w, &hadamard(&c, &ac)), theta.powi(4) / 8.0),
+                (dot(&w, &mat_vec(&DOPRI5.a, &c2)), theta.powi(4) / 12.0),
+                (dot(&w, &mat_vec(&DOPRI5.a, &ac)), theta.powi(4) / 24.0),
+            ];
+            for (k, (v, e)) in conds.iter().enumerate() {
+                assert!(
+                    (v - e).abs() < 1e-13,
+                    "theta {theta}, condition {k}: {v} vs {e}"
+                );
+            }
+        }
+    }
+}

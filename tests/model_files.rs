@@ -114,10 +114,7 @@ fn unknown_body_and_scene_effect() {
     );
     let e = errors(&src);
     assert_eq!(e[0].0, line_of(&src, "tubb", 0), "{e:?}");
-    let src = edited(
-        "\"gasket_damping\"]\n\n[[scenes]]",
-        "\"gasket_dampin\"]\n\n[[scenes]]",
-    );
+    let src = edited("\"gasket_damping\"", "\"gasket_dampin\"");
     let e = errors(&src);
     assert!(e[0].1.contains("unknown effect `gasket_dampin`"), "{e:?}");
     assert_eq!(e[0].0, line_of(&src, "gasket_dampin\"", 0), "{e:?}");

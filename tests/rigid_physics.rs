@@ -87,6 +87,7 @@ fn symmetric_spring_only(k: f64, len: f64) -> Model {
             },
             stiffness: k,
             free_length: len - preload / k,
+            quadratic_stiffness: 0.0,
         })
         .collect();
     m

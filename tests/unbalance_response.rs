@@ -14,8 +14,9 @@ use washdyn_runtime::system::{FirstOrder, Interpreter};
 type C = Complex<f64>;
 
 /// Linear dampers (150 N s/m) in place of the friction dampers, and a 1 g unbalance at the front
-/// of the drum: small enough that the response is linear to better than 1e-5.
-fn linear_variant(rpm: f64) -> Model {
+/// of the drum: small enough that the response is linear to better than 1e-5. `inertia`: the
+/// unbalance as a mass (angle-dependent M1) or as a prescribed rotating force.
+fn linear_variant(rpm: f64, inertia: bool) -> Model {
     let mut m = washdyn_models::reference();
     m.dampers = m
         .friction_dampers
@@ -30,13 +31,33 @@ fn linear_variant(rpm: f64) -> Model {
     m.friction_dampers.clear();
     m.unbalances.retain(|u| u.rotor == "drum");
     m.unbalances[0].mass = 1e-3;
+    // Balance the unbalance's mean weight so the machine still hangs in equilibrium at q = 0:
+    // the tub gives up its mass and moves its CoG so the combined CoG stays where the springs
+    // carry it. Otherwise the static sag (~1e-6 m) changes K by ~q/L, which the resonance
+    // amplifies to ~1e-4 of the response.
+    let (mu, mt) = (m.unbalances[0].mass, m.tub.mass);
+    let rotor = m.rotors.iter().find(|r| r.name == "drum").unwrap();
+    let e = v3(rotor.axis).normalize();
+    let a = v3(rotor.axis_point);
+    let mean = a + e * e.dot(&(v3(m.unbalances[0].position) - a));
+    let cog = (v3(m.tub.cog) * mt - mean * mu) / (mt - mu);
+    m.tub.mass = mt - mu;
+    m.tub.cog = [cog.x, cog.y, cog.z];
     m.speed.table = vec![[0.0, rpm], [1.0e4, rpm]];
-    m.scenes.clear();
+    let mut effects: Vec<String> = m.all_effects().iter().map(|e| e.name()).collect();
+    if !inertia {
+        effects.retain(|e| e != "unbalance_inertia");
+    }
+    m.scenes = vec![washdyn_runtime::ir::Scene {
+        name: "linear".into(),
+        effects,
+    }];
     m
 }
 
-/// Hand-assembled complex amplitude of the steady state at drum speed w.
-fn frf(m: &Model, w: f64) -> DVector<C> {
+/// Hand-assembled complex amplitude of the steady state at drum speed w. With `inertia` the
+/// unbalance's mass averaged over a turn joins M (its 2 W fluctuation cannot enter an LTI model).
+fn frf(m: &Model, w: f64, inertia: bool) -> DVector<C> {
     let u = &m.unbalances[0];
     let rotor = m.rotors.iter().find(|r| r.name == "drum").unwrap();
     let p0 = v3(m.tub.cog);
@@ -76,8 +97,9 @@ fn frf(m: &Model, w: f64) -> DVector<C> {
     }
     // Mass: tub plus the unbalance's mean contribution (point mass averaged over a turn).
     let mut mm = mass_hand(m);
+    let mu_m = if inertia { mu } else { 0.0 };
     for k in 0..3 {
-        mm[(k, k)] += mu;
+        mm[(k, k)] += mu_m;
     }
     let c = lever;
     let r2 = rho_r.norm_squared();
@@ -86,12 +108,22 @@ fn frf(m: &Model, w: f64) -> DVector<C> {
     let sk = skew(c);
     for i in 0..3 {
         for j in 0..3 {
-            mm[(3 + i, 3 + j)] += mu * inertia[(i, j)];
-            mm[(i, 3 + j)] -= mu * sk[(i, j)];
-            mm[(3 + i, j)] += mu * sk[(i, j)];
+            mm[(3 + i, 3 + j)] += mu_m * inertia[(i, j)];
+            mm[(i, 3 + j)] -= mu_m * sk[(i, j)];
+            mm[(3 + i, j)] += mu_m * sk[(i, j)];
         }
     }
-    let k = stiffness_hand(m);
+    // Load stiffness of the unbalance's mean weight W at lever c, as for the spring preloads:
+    // Hessian of -W.r with the finite rotation, (c.W) I - sym(W c^T).
+    let mut k = stiffness_hand(m);
+    let wv = g * mu;
+    let load = c.dot(&wv) * nalgebra::Matrix3::identity()
+        - 0.5 * (wv * c.transpose() + c * wv.transpose());
+    for i in 0..3 {
+        for j in 0..3 {
+            k[(3 + i, 3 + j)] += load[(i, j)];
+        }
+    }
     let d = damping_hand(m);
     // Gyroscopic: d/dt (Jp W e) in tub axes gives Jp W (alpha' x e) = -Jp W e~ alpha'.
     let mut gm = DMatrix::zeros(6, 6);
@@ -119,7 +151,8 @@ fn simulated(m: &Model, w: f64) -> DVector<C> {
     };
     let mut s = Dopri5::new(12, opts);
     let period = 2.0 * PI / w;
-    let settle = 25.0;
+    // The slowest mode decays by more than e^-20 in this time.
+    let settle = 80.0;
     let t0 = (settle / period).ceil() * period;
     let n_per = 8usize;
     let n_samples = 64 * n_per;
@@ -136,7 +169,7 @@ fn simulated(m: &Model, w: f64) -> DVector<C> {
                 break;
             }
             if t >= s.t_prev() {
-                s.interpolate(t, &mut y);
+                s.dense_output(t, &mut y);
                 let ph = C::new(0.0, -w * t).exp();
                 for i in 0..6 {
                     acc[i] += ph * y[i];
@@ -151,21 +184,44 @@ fn simulated(m: &Model, w: f64) -> DVector<C> {
     acc * C::from(2.0 / n_samples as f64)
 }
 
+/// Relative error of the simulated first harmonic against the FRF at three speeds: below, near
+/// and above the first rigid-body resonance.
+fn errors(inertia: bool) -> Vec<(String, f64)> {
+    let probe = linear_variant(60.0, inertia);
+    let f = frequencies(&mass_hand(&probe), &stiffness_hand(&probe));
+    [("below", 0.5 * f[0]), ("near", f[0]), ("above", 3.0 * f[5])]
+        .into_iter()
+        .map(|(label, hz)| {
+            let w = 2.0 * PI * hz;
+            let m = linear_variant(hz * 60.0, inertia);
+            let expect = frf(&m, w, inertia);
+            let got = simulated(&m, w);
+            let err = (&got - &expect).norm() / expect.norm();
+            eprintln!(
+                "inertia {inertia}, {label} ({hz:.3} Hz): |q| = {:.3e}, relative error {err:.2e}",
+                expect.norm()
+            );
+            (label.to_string(), err)
+        })
+        .collect()
+}
+
 #[test]
 fn unbalance_response_matches_linear_frequency_response() {
-    let probe = linear_variant(60.0);
-    let f = frequencies(&mass_hand(&probe), &stiffness_hand(&probe));
-    // Below, near and above the first rigid-body resonance.
-    for (label, hz) in [("below", 0.5 * f[0]), ("near", f[0]), ("above", 3.0 * f[5])] {
-        let w = 2.0 * PI * hz;
-        let m = linear_variant(hz * 60.0);
-        let expect = frf(&m, w);
-        let got = simulated(&m, w);
-        let err = (&got - &expect).norm() / expect.norm();
-        eprintln!(
-            "{label} ({hz:.3} Hz): |q| = {:.3e}, relative error {err:.2e}",
-            expect.norm()
-        );
-        assert!(err < 1e-4, "{label}: {got:?} vs {expect:?}");
+    // The unbalance as a prescribed rotating force: the model is then exactly linear
+    // time-invariant apart from the springs' and dampers' geometry (second order at 1e-4 m).
+    // Measured: 1e-8 below, 3e-6 near, 3e-7 above the first resonance.
+    for (label, err) in errors(false) {
+        assert!(err < 1e-4, "{label}: relative error {err:e}");
+    }
+}
+
+#[test]
+fn unbalance_inertia_adds_only_a_small_parametric_term() {
+    // With the 1 g unbalance as a mass, M1 fluctuates at 2 W; fed by the W response it adds a
+    // first harmonic of relative order m r^2 / I ~ 1e-5 (x the resonance's amplification),
+    // which no LTI frequency response holds. Measured here: 2e-7, 3e-5, 5e-5.
+    for (label, err) in errors(true) {
+        assert!(err < 1e-4, "{label}: relative error {err:e}");
     }
 }

@@ -85,7 +85,10 @@ fn observed_orders_on_the_test_equation() {
         let e3 = run(m, h / 4.0, &mut sys);
         let (p1, p2) = (order(e1, e2), order(e2, e3));
         println!("{m}: errors {e1:.3e} {e2:.3e} {e3:.3e}, orders {p1:.2} {p2:.2}");
-        assert!((p2 - p).abs() < 0.25, "{m}: observed order {p2}, expected {p}");
+        assert!(
+            (p2 - p).abs() < 0.25,
+            "{m}: observed order {p2}, expected {p}"
+        );
     }
 }
 
@@ -117,8 +120,14 @@ fn observed_orders_on_the_harmonic_oscillator() {
             *e = max_abs_diff(s.y(), &exact);
         }
         let p2 = order(errs[1], errs[2]);
-        println!("{m}: errors {:.3e} {:.3e} {:.3e}, order {p2:.2}", errs[0], errs[1], errs[2]);
-        assert!((p2 - p).abs() < 0.25, "{m}: observed order {p2}, expected {p}");
+        println!(
+            "{m}: errors {:.3e} {:.3e} {:.3e}, order {p2:.2}",
+            errs[0], errs[1], errs[2]
+        );
+        assert!(
+            (p2 - p).abs() < 0.25,
+            "{m}: observed order {p2}, expected {p}"
+        );
     }
 }
 
@@ -130,7 +139,11 @@ fn observed_orders_on_the_harmonic_oscillator() {
 fn dense_output_order_at_the_midpoint() {
     let mut sys = Harmonic { omega: 1.0 };
     let y0 = [1.0, 0.5];
-    for (m, p) in [(Method::Rk4, 4.0), (Method::Dopri5, 5.0), (Method::Sdirk4, 4.0)] {
+    for (m, p) in [
+        (Method::Rk4, 4.0),
+        (Method::Dopri5, 5.0),
+        (Method::Sdirk4, 4.0),
+    ] {
         let mut errs = [0.0; 3];
         for (k, e) in errs.iter_mut().enumerate() {
             let h = 0.4 / 2f64.powi(k as i32);
@@ -156,8 +169,14 @@ fn dense_output_order_at_the_midpoint() {
             assert!(max_abs_diff(&out, &y0) < 1e-15);
         }
         let p2 = order(errs[1], errs[2]);
-        println!("{m}: midpoint errors {:.3e} {:.3e} {:.3e}, local order {p2:.2}", errs[0], errs[1], errs[2]);
-        assert!((p2 - p).abs() < 0.3, "{m}: dense output order {p2}, expected {p}");
+        println!(
+            "{m}: midpoint errors {:.3e} {:.3e} {:.3e}, local order {p2:.2}",
+            errs[0], errs[1], errs[2]
+        );
+        assert!(
+            (p2 - p).abs() < 0.3,
+            "{m}: dense output order {p2}, expected {p}"
+        );
     }
 }
 
@@ -179,7 +198,10 @@ fn dense_output_along_an_adaptive_run() {
             worst = worst.max(max_abs_diff(&out, &sys.exact(y0, tm)));
         }
         let st = s.stats();
-        println!("{m}: worst midpoint error {worst:.2e} in {} steps", st.steps);
+        println!(
+            "{m}: worst midpoint error {worst:.2e} in {} steps",
+            st.steps
+        );
         assert!(worst < 1e-6, "{m}: {worst}");
     }
 }
@@ -242,7 +264,12 @@ fn van_der_pol_mu10_dopri5_agrees_with_sdirk4() {
     let mut b = Sdirk4::new(2, tols(1e-11, 1e-11));
     let sb = integrate(&mut b, &mut sys, 0.0, &y0, 20.0).unwrap();
     let d = max_abs_diff(a.y(), b.y());
-    println!("mu=10: dopri5 {:?} ({} steps), sdirk4 {:?} ({} steps), diff {d:.2e}",
-        a.y(), sa.steps, b.y(), sb.steps);
+    println!(
+        "mu=10: dopri5 {:?} ({} steps), sdirk4 {:?} ({} steps), diff {d:.2e}",
+        a.y(),
+        sa.steps,
+        b.y(),
+        sb.steps
+    );
     assert!(d < 1e-6, "{d}");
 }

@@ -1,0 +1,96 @@
+//! Nothing allocates in the step loop: a whole run allocates the same number of times whether
+//! it simulates 1 s or 10 s, so every allocation is set-up (counting global allocator).
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::io;
+use std::sync::atomic::{AtomicU64, Ordering};
+use washdyn_runtime::ode::{AnySolver, Method, Options};
+use washdyn_runtime::output::SampleSink;
+use washdyn_runtime::run::{Labels, RunOptions, run};
+use washdyn_runtime::system::{FirstOrder, Interpreter, Mechanical};
+
+struct Counting;
+static ALLOCS: AtomicU64 = AtomicU64::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
+        ALLOCS.fetch_add(1, Ordering::Relaxed);
+        unsafe { System.alloc(l) }
+    }
+    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
+        unsafe { System.dealloc(p, l) }
+    }
+    unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
+        ALLOCS.fetch_add(1, Ordering::Relaxed);
+        unsafe { System.realloc(p, l, n) }
+    }
+}
+
+#[global_allocator]
+static A: Counting = Counting;
+
+/// Counts samples, keeps nothing.
+struct Null(u64);
+impl SampleSink for Null {
+    fn header(&mut self, _: &[String]) -> io::Result<()> {
+        Ok(())
+    }
+    fn sample(&mut self, _: f64, _: f64, _: &[f64]) -> io::Result<()> {
+        self.0 += 1;
+        Ok(())
+    }
+    fn flush(&mut self) -> io::Result<()> {
+        Ok(())
+    }
+}
+
+/// Allocations of a whole run of `sys` over [0, t_end] with `method`.
+pub fn allocations<S: Mechanical>(sys: S, method: Method, t_end: f64) -> (u64, u64) {
+    let mut sys = FirstOrder::new(sys);
+    let n = 2 * sys.layout().n();
+    let opts = Options {
+        rtol: 1e-5,
+        atol: 1e-8,
+        h0: if method == Method::Rk4 { 2e-4 } else { 0.0 },
+        ..Options::default()
+    };
+    let mut solver = AnySolver::new(method, n, opts);
+    let mut sink = Null(0);
+    let ro = RunOptions {
+        t_end,
+        sample_rate: 500.0,
+        ..RunOptions::default()
+    };
+    let before = ALLOCS.load(Ordering::Relaxed);
+    let r = run(
+        &mut sys,
+        &mut solver,
+        &ro,
+        &Labels::default(),
+        (1e-5, 1e-8),
+        &mut sink,
+        &mut |_| {},
+    );
+    let after = ALLOCS.load(Ordering::Relaxed);
+    assert!(r.is_ok(), "{:?}", r.err().map(|e| e.0.to_string()));
+    (after - before, sink.0)
+}
+
+#[test]
+fn interpreted_run_allocates_only_at_set_up() {
+    // The reference run-up from 5 s (93 rpm reached) with every effect on.
+    let m = washdyn_models::reference();
+    let scene = m.scene(Some("full")).unwrap();
+    for method in [Method::Dopri5, Method::Rk4, Method::Sdirk4] {
+        let (short, ns) = allocations(Interpreter::new(&m, &scene), method, 1.0);
+        let (long, nl) = allocations(Interpreter::new(&m, &scene), method, 10.0);
+        assert!(
+            nl > 9 * ns,
+            "{method}: the long run sampled {nl}, the short {ns}"
+        );
+        assert_eq!(
+            short, long,
+            "{method}: allocations grow with the simulated time"
+        );
+    }
+}

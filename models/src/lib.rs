@@ -1,4 +1,16 @@
-//! Built-in machine models: the reference machine as TOML data (shared/reference-machine.md).
+//! Built-in machine models: the reference machine as TOML data (shared/reference-machine.md),
+//! and the same machine and a variant of it declared with `machine!` (compiled at build time).
+
+#[path = "compact.rs"]
+mod compact_decl;
+#[path = "reference.rs"]
+mod reference_decl;
+
+/// The compact machine (`machine!` variant of the reference file): `compact::model()`.
+pub use compact_decl::compact;
+/// The reference machine declared with `machine!`: `reference::model()`. (The function
+/// `reference()` loads the TOML file; a module and a function may share a name.)
+pub use reference_decl::reference;
 
 use washdyn_runtime::ir::Model;
 use washdyn_runtime::ir::toml_file::{ModelFileError, load_str};

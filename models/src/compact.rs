@@ -1,0 +1,20 @@
+//! A compact machine as a variant of the reference file: only what differs is written.
+
+washdyn_macros::machine! {
+    /// The reference machine with a smaller drum and stiffer springs.
+    compact {
+        base: "data/reference.toml",
+
+        // Drum radius 0.21 m instead of 0.24: a thin shell of the same depth and wall has mass
+        // ~ r and polar inertia ~ r^3, 0.49 * (0.21 / 0.24)^3 = 0.33 kg m^2 (estimate); the test
+        // mass sits 0.21 m above the axis.
+        rotor drum { polar_inertia: 0.33 }
+        unbalance test_mass { position: [0.15, 0.0, 0.66] }
+
+        // 5000 N/m springs; free_length = 0.2 m - preload / k keeps the CoG at rest at z = 0.45
+        // (preloads 147.15, 147.15, 245.25 N as in the reference).
+        spring spring_rear_left { stiffness: 5000.0, free_length: 0.17057 }
+        spring spring_rear_right { stiffness: 5000.0, free_length: 0.17057 }
+        spring spring_front { stiffness: 5000.0, free_length: 0.15095 }
+    }
+}

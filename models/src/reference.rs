@@ -1,0 +1,137 @@
+//! The reference machine declared with `machine!`: the same numbers as `data/reference.toml`
+//! (a test holds the two equal). Sources: shared/reference-machine.md; "estimate" there means an
+//! engineering estimate, not a measurement.
+
+washdyn_macros::machine! {
+    /// The washdyn reference machine: a front loader of the seed paper's layout (Wagner &
+    /// Pfeiffer, DETC99/VIB-8213). Frame: origin at the centre of the cabinet's base, x along
+    /// the drum axis towards the door, y to the left seen from the front, z up. SI units. The
+    /// cabinet is rigid and fixed until elastic bodies arrive.
+    reference {
+        gravity: [0.0, 0.0, -9.81],
+
+        // Suspended body: tub assembly with counterweight, bearing unit, motor stator, plus the
+        // (non-spinning) mass of drum and motor rotor. ~60 kg in a comparable machine (Tuerkay
+        // 1995); split and inertia: estimate.
+        tub {
+            mass: 55.0,
+            cog: [0.0, 0.0, 0.45],
+            inertia: [[2.6, 0.0, 0.0], [0.0, 2.3, 0.0], [0.0, 0.0, 2.3]],
+        }
+
+        // Drum: radius 0.24 m, depth 0.30 m, front face at x = +0.17; polar inertia of an 8.5 kg
+        // thin shell (estimate). Only its spin acts here; its mass is part of the tub's 55 kg.
+        rotor drum {
+            axis_point: [0.0, 0.0, 0.45],
+            axis: [1.0, 0.0, 0.0],
+            ratio: 1.0,
+            polar_inertia: 0.49,
+        }
+
+        // Motor rotor: belt ratio 11.25 (seed paper); polar inertia estimate.
+        rotor motor {
+            axis_point: [-0.05, 0.0, 0.18],
+            axis: [1.0, 0.0, 0.0],
+            ratio: 11.25,
+            polar_inertia: 6.8e-4,
+        }
+
+        // Test unbalance: the seed paper's 0.6 kg magnet at the front position (radius 0.24 m,
+        // x = +0.15), along +z at drum angle 0.
+        unbalance test_mass { rotor: drum, mass: 0.6, position: [0.15, 0.0, 0.69] }
+
+        // Motor unbalance 6e-6 kg m (balance grade G 6.3 for a 1.5 kg rotor at 15 750 rpm,
+        // estimate), placed as 1.5e-4 kg at 0.04 m.
+        unbalance motor_residual { rotor: motor, mass: 1.5e-4, position: [-0.05, 0.0, 0.22] }
+
+        // Stationary run-up: 0 -> 93 rpm in 5 s, hold to 15 s, then 8 rpm/s to 1400 rpm
+        // (estimate).
+        speed { table: [[0.0, 0.0], [5.0, 93.0], [15.0, 93.0], [178.375, 1400.0]] }
+
+        // Three vertical springs, 4000 N/m (4 x 3099 N/m in Tuerkay 1995); free lengths chosen so
+        // that the 55 kg body hangs at rest with its CoG at (0, 0, 0.45): preloads 147.15,
+        // 147.15, 245.25 N, free_length = 0.2 m - preload / k.
+        spring spring_rear_left {
+            a: { body: tub, point: [-0.10, 0.15, 0.62] },
+            b: { body: cabinet, point: [-0.10, 0.15, 0.82] },
+            stiffness: 4000.0,
+            free_length: 0.1632125,
+        }
+        spring spring_rear_right {
+            a: { body: tub, point: [-0.10, -0.15, 0.62] },
+            b: { body: cabinet, point: [-0.10, -0.15, 0.82] },
+            stiffness: 4000.0,
+            free_length: 0.1632125,
+        }
+        spring spring_front {
+            a: { body: tub, point: [0.12, 0.0, 0.62] },
+            b: { body: cabinet, point: [0.12, 0.0, 0.82] },
+            stiffness: 4000.0,
+            free_length: 0.1386875,
+        }
+
+        // Two friction dampers, Fmax = 100 N each (Spelta et al. 2008); slope 2000 s/m
+        // (estimate: 90 % of Fmax at 3.2 mm/s); rubber bearings 80 N m/rad (Tuerkay 1995),
+        // 0.05 N m s/rad (estimate).
+        friction_damper damper_left {
+            a: { body: tub, point: [0.0, 0.18, 0.20] },
+            b: { body: cabinet, point: [0.0, 0.24, 0.03] },
+            f_max: 100.0,
+            slope: 2000.0,
+            bearing_stiffness: 80.0,
+            bearing_damping: 0.05,
+        }
+        friction_damper damper_right {
+            a: { body: tub, point: [0.0, -0.18, 0.20] },
+            b: { body: cabinet, point: [0.0, -0.24, 0.03] },
+            f_max: 100.0,
+            slope: 2000.0,
+            bearing_stiffness: 80.0,
+            bearing_damping: 0.05,
+        }
+
+        // Door gasket (estimate): a bellows, soft axially, stiffer radially, non-diagonal as the
+        // seed paper states; D = 0.01 s * K. Order (x, y, z, rx, ry, rz), global axes at the
+        // gasket point.
+        gasket door_gasket {
+            a: tub,
+            b: cabinet,
+            point: [0.30, 0.0, 0.45],
+            stiffness: [
+                [3000.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+                [0.0, 8000.0, 0.0, 0.0, 0.0, 600.0],
+                [0.0, 0.0, 8000.0, 0.0, -600.0, 0.0],
+                [0.0, 0.0, 0.0, 150.0, 0.0, 0.0],
+                [0.0, 0.0, -600.0, 0.0, 120.0, 0.0],
+                [0.0, 600.0, 0.0, 0.0, 0.0, 120.0],
+            ],
+            damping: [
+                [30.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+                [0.0, 80.0, 0.0, 0.0, 0.0, 6.0],
+                [0.0, 0.0, 80.0, 0.0, -6.0, 0.0],
+                [0.0, 0.0, 0.0, 1.5, 0.0, 0.0],
+                [0.0, 0.0, -6.0, 0.0, 1.2, 0.0],
+                [0.0, 6.0, 0.0, 0.0, 0.0, 1.2],
+            ],
+        }
+
+        // Measurement points after the seed paper's 5 + 2 (positions: estimate). cabinet2 is the
+        // centre of the left side panel; both cabinet points read zero while the cabinet is rigid
+        // and fixed.
+        sensor tub1 { body: tub, point: [0.30, 0.0, 0.70], kind: acceleration }
+        sensor tub2 { body: tub, point: [0.30, 0.25, 0.45], kind: acceleration }
+        sensor tub3 { body: tub, point: [-0.25, 0.0, 0.70], kind: acceleration }
+        sensor tub4 { body: tub, point: [0.0, 0.30, 0.45], kind: acceleration }
+        sensor tub5 { body: tub, point: [-0.05, 0.0, 0.15], kind: acceleration }
+        sensor cabinet1 { body: cabinet, point: [0.30, 0.30, 0.80], kind: acceleration }
+        sensor cabinet2 { body: cabinet, point: [0.0, 0.30, 0.45], kind: acceleration }
+        // Displacement of the drum's front centre (with the tub's rigid motion; the drum's
+        // elastic part joins when elastic bodies arrive).
+        sensor drum_front { body: tub, point: [0.17, 0.0, 0.45], kind: displacement }
+
+        scene full {
+            effects: [gyroscopic, unbalance.drum, unbalance.motor, friction_dampers, gasket_damping],
+        }
+        scene rigid_low_speed { effects: [unbalance.drum, friction_dampers, gasket_damping] }
+    }
+}

@@ -1,0 +1,59 @@
+//! The `machine!` front end fills the same IR as the TOML front end.
+
+use washdyn_models::{compact, reference};
+use washdyn_runtime::ir::check::check;
+
+#[test]
+fn declared_reference_equals_the_toml_file() {
+    assert_eq!(reference::model(), washdyn_models::reference());
+}
+
+#[test]
+fn compact_differs_from_the_reference_exactly_where_declared() {
+    let c = compact::model();
+    check(&c).expect("the compact machine passes the checker");
+
+    // Undo the declared changes; what remains must be the reference file.
+    let mut undone = c.clone();
+    assert_eq!(undone.name, "compact");
+    undone.name = "reference".into();
+
+    let drum = undone.rotors.iter_mut().find(|r| r.name == "drum").unwrap();
+    assert_eq!(drum.polar_inertia, 0.33);
+    drum.polar_inertia = 0.49;
+
+    let test_mass = undone
+        .unbalances
+        .iter_mut()
+        .find(|u| u.name == "test_mass")
+        .unwrap();
+    assert_eq!(test_mass.position, [0.15, 0.0, 0.66]);
+    test_mass.position = [0.15, 0.0, 0.69];
+
+    for (name, preload, l0_ref) in [
+        ("spring_rear_left", 147.15, 0.1632125),
+        ("spring_rear_right", 147.15, 0.1632125),
+        ("spring_front", 245.25, 0.1386875),
+    ] {
+        let s = undone.springs.iter_mut().find(|s| s.name == name).unwrap();
+        assert_eq!(s.stiffness, 5000.0);
+        // Free length keeps the tub's rest position: 0.2 m between the attachment points.
+        assert!((s.free_length - (0.2 - preload / 5000.0)).abs() < 1e-12, "{name}");
+        s.stiffness = 4000.0;
+        s.free_length = l0_ref;
+    }
+
+    assert_eq!(undone, washdyn_models::reference());
+}
+
+#[test]
+fn compact_spring_preloads_carry_the_tub() {
+    // Static balance at the reference position: sum of k (L - L0) = m g with L = 0.2 m.
+    let c = compact::model();
+    let total: f64 = c
+        .springs
+        .iter()
+        .map(|s| s.stiffness * (0.2 - s.free_length))
+        .sum();
+    assert!((total - c.tub.mass * 9.81).abs() < 1e-9, "{total}");
+}

@@ -2,7 +2,7 @@
 //! literals, inputs by the names the caller gives. LLVM does the rest (register allocation,
 //! scheduling); the graph already did the algebra.
 
-use super::{Graph, Node, Sym};
+use super::{Graph, Node, Sym, operands};
 use std::fmt::Write;
 
 /// A float as a Rust literal that reads back to the same bits.
@@ -24,20 +24,35 @@ pub fn fmt_f64(v: f64) -> String {
 
 /// Emits statements for the nodes some outputs need, skipping those emitted before (so several
 /// output groups in one function share their common part).
+///
+/// Values are grouped by topological level, one `let` of a fixed-size array per level: every
+/// `let` opens a nested lexical scope, and thousands of them overflow the debug-info builder's
+/// recursion (rustc crashed in LLVM's DWARF emission). Nesting now equals the graph's depth.
 pub struct Emitter<'g> {
     g: &'g Graph,
     inputs: Vec<String>,
-    done: Vec<bool>,
+    /// Where an emitted node lives: (group, index).
+    loc: Vec<Option<(u32, u32)>>,
+    level: Vec<u32>,
+    groups: u32,
     pub code: String,
 }
 
 impl<'g> Emitter<'g> {
     /// `inputs[k]` is the Rust expression of input k.
     pub fn new(g: &'g Graph, inputs: Vec<String>) -> Self {
+        let mut level = vec![0u32; g.nodes.len()];
+        for (i, n) in g.nodes.iter().enumerate() {
+            if !matches!(n, Node::Const(_) | Node::Input(_)) {
+                level[i] = 1 + operands(*n).map(|o| level[o as usize]).max().unwrap_or(0);
+            }
+        }
         Emitter {
             g,
             inputs,
-            done: vec![false; g.nodes.len()],
+            loc: vec![None; g.nodes.len()],
+            level,
+            groups: 0,
             code: String::new(),
         }
     }
@@ -47,32 +62,56 @@ impl<'g> Emitter<'g> {
         match self.g.nodes[s.0 as usize] {
             Node::Const(b) => fmt_f64(f64::from_bits(b)),
             Node::Input(k) => self.inputs[k as usize].clone(),
-            _ => format!("v{}", s.0),
+            _ => {
+                let (g, i) = self.loc[s.0 as usize].expect("operand emitted before use");
+                format!("g{g}[{i}]")
+            }
         }
     }
 
-    /// Emit `let` statements for everything `outputs` depend on.
+    fn expr(&self, i: usize) -> String {
+        let n = |k: u32| self.name(Sym(k));
+        match self.g.nodes[i] {
+            Node::Const(_) | Node::Input(_) => self.name(Sym(i as u32)),
+            Node::Add(a, b) => format!("{} + {}", n(a), n(b)),
+            Node::Sub(a, b) => format!("{} - {}", n(a), n(b)),
+            Node::Mul(a, b) => format!("{} * {}", n(a), n(b)),
+            Node::Div(a, b) => format!("{} / {}", n(a), n(b)),
+            Node::Neg(a) => format!("-{}", n(a)),
+            Node::Sqrt(a) => format!("{}.sqrt()", n(a)),
+            Node::Atan(a) => format!("{}.atan()", n(a)),
+            Node::Sin(a) => format!("{}.sin()", n(a)),
+            Node::Cos(a) => format!("{}.cos()", n(a)),
+        }
+    }
+
+    /// Emit the statements everything `outputs` depend on.
     pub fn need(&mut self, outputs: &[Sym]) {
         let live = self.g.live(outputs);
+        let mut by_level: Vec<Vec<usize>> = Vec::new();
         for (i, &l) in live.iter().enumerate() {
-            if !l || self.done[i] {
-                continue;
+            let op = !matches!(self.g.nodes[i], Node::Const(_) | Node::Input(_));
+            if l && op && self.loc[i].is_none() {
+                let lv = self.level[i] as usize;
+                if by_level.len() <= lv {
+                    by_level.resize(lv + 1, Vec::new());
+                }
+                by_level[lv].push(i);
             }
-            self.done[i] = true;
-            let n = |k: u32| self.name(Sym(k));
-            let rhs = match self.g.nodes[i] {
-                Node::Const(_) | Node::Input(_) => continue,
-                Node::Add(a, b) => format!("{} + {}", n(a), n(b)),
-                Node::Sub(a, b) => format!("{} - {}", n(a), n(b)),
-                Node::Mul(a, b) => format!("{} * {}", n(a), n(b)),
-                Node::Div(a, b) => format!("{} / {}", n(a), n(b)),
-                Node::Neg(a) => format!("-{}", n(a)),
-                Node::Sqrt(a) => format!("{}.sqrt()", n(a)),
-                Node::Atan(a) => format!("{}.atan()", n(a)),
-                Node::Sin(a) => format!("{}.sin()", n(a)),
-                Node::Cos(a) => format!("{}.cos()", n(a)),
-            };
-            let _ = writeln!(self.code, "let v{i}: f64 = {rhs};");
+        }
+        for nodes in by_level.into_iter().filter(|v| !v.is_empty()) {
+            let gid = self.groups;
+            self.groups += 1;
+            let exprs: Vec<String> = nodes.iter().map(|&i| self.expr(i)).collect();
+            let _ = writeln!(
+                self.code,
+                "let g{gid}: [f64; {}] = [{}];",
+                nodes.len(),
+                exprs.join(", ")
+            );
+            for (k, &i) in nodes.iter().enumerate() {
+                self.loc[i] = Some((gid, k as u32));
+            }
         }
     }
 

@@ -251,8 +251,8 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Dopri5 {
                 self.dense[2][i] = r3;
                 self.dense[3][i] = dy - h * self.k[6][i] - r3;
                 let mut acc = 0.0;
-                for s in 0..7 {
-                    acc += d[s] * self.k[s][i];
+                for (ds, ks) in d.iter().zip(&self.k) {
+                    acc += ds * ks[i];
                 }
                 self.dense[4][i] = h * acc;
             }

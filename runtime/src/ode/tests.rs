@@ -85,7 +85,10 @@ fn observed_orders_on_the_test_equation() {
         let e3 = run(m, h / 4.0, &mut sys);
         let (p1, p2) = (order(e1, e2), order(e2, e3));
         println!("{m}: errors {e1:.3e} {e2:.3e} {e3:.3e}, orders {p1:.2} {p2:.2}");
-        assert!((p2 - p).abs() < 0.25, "{m}: observed order {p2}, expected {p}");
+        assert!(
+            (p2 - p).abs() < 0.25,
+            "{m}: observed order {p2}, expected {p}"
+        );
     }
 }
 
@@ -117,8 +120,14 @@ fn observed_orders_on_the_harmonic_oscillator() {
             *e = max_abs_diff(s.y(), &exact);
         }
         let p2 = order(errs[1], errs[2]);
-        println!("{m}: errors {:.3e} {:.3e} {:.3e}, order {p2:.2}", errs[0], errs[1], errs[2]);
-        assert!((p2 - p).abs() < 0.25, "{m}: observed order {p2}, expected {p}");
+        println!(
+            "{m}: errors {:.3e} {:.3e} {:.3e}, order {p2:.2}",
+            errs[0], errs[1], errs[2]
+        );
+        assert!(
+            (p2 - p).abs() < 0.25,
+            "{m}: observed order {p2}, expected {p}"
+        );
     }
 }
 
@@ -130,7 +139,11 @@ fn observed_orders_on_the_harmonic_oscillator() {
 fn dense_output_order_at_the_midpoint() {
     let mut sys = Harmonic { omega: 1.0 };
     let y0 = [1.0, 0.5];
-    for (m, p) in [(Method::Rk4, 4.0), (Method::Dopri5, 5.0), (Method::Sdirk4, 4.0)] {
+    for (m, p) in [
+        (Method::Rk4, 4.0),
+        (Method::Dopri5, 5.0),
+        (Method::Sdirk4, 4.0),
+    ] {
         let mut errs = [0.0; 3];
         for (k, e) in errs.iter_mut().enumerate() {
             let h = 0.4 / 2f64.powi(k as i32);
@@ -156,8 +169,14 @@ fn dense_output_order_at_the_midpoint() {
             assert!(max_abs_diff(&out, &y0) < 1e-15);
         }
         let p2 = order(errs[1], errs[2]);
-        println!("{m}: midpoint errors {:.3e} {:.3e} {:.3e}, local order {p2:.2}", errs[0], errs[1], errs[2]);
-        assert!((p2 - p).abs() < 0.3, "{m}: dense output order {p2}, expected {p}");
+        println!(
+            "{m}: midpoint errors {:.3e} {:.3e} {:.3e}, local order {p2:.2}",
+            errs[0], errs[1], errs[2]
+        );
+        assert!(
+            (p2 - p).abs() < 0.3,
+            "{m}: dense output order {p2}, expected {p}"
+        );
     }
 }
 
@@ -179,7 +198,10 @@ fn dense_output_along_an_adaptive_run() {
             worst = worst.max(max_abs_diff(&out, &sys.exact(y0, tm)));
         }
         let st = s.stats();
-        println!("{m}: worst midpoint error {worst:.2e} in {} steps", st.steps);
+        println!(
+            "{m}: worst midpoint error {worst:.2e} in {} steps",
+            st.steps
+        );
         assert!(worst < 1e-6, "{m}: {worst}");
     }
 }
@@ -242,8 +264,13 @@ fn van_der_pol_mu10_dopri5_agrees_with_sdirk4() {
     let mut b = Sdirk4::new(2, tols(1e-11, 1e-11));
     let sb = integrate(&mut b, &mut sys, 0.0, &y0, 20.0).unwrap();
     let d = max_abs_diff(a.y(), b.y());
-    println!("mu=10: dopri5 {:?} ({} steps), sdirk4 {:?} ({} steps), diff {d:.2e}",
-        a.y(), sa.steps, b.y(), sb.steps);
+    println!(
+        "mu=10: dopri5 {:?} ({} steps), sdirk4 {:?} ({} steps), diff {d:.2e}",
+        a.y(),
+        sa.steps,
+        b.y(),
+        sb.steps
+    );
     assert!(d < 1e-6, "{d}");
 }
 
@@ -267,7 +294,9 @@ fn hires_sdirk4_matches_the_test_set_reference() {
             let mut s = Sdirk4::new(8, tols(rtol, rtol * 1e-3));
             let st = integrate(&mut s, &mut sys, 0.0, &Hires::Y0, Hires::T_END).unwrap();
             let err = hires_error(s.y());
-            println!("hires sdirk4 rtol {rtol:.0e} analytic J {analytic}: max rel err {err:.2e}, {st:?}");
+            println!(
+                "hires sdirk4 rtol {rtol:.0e} analytic J {analytic}: max rel err {err:.2e}, {st:?}"
+            );
             assert!(err < bound, "rtol {rtol}: {err}");
         }
     }
@@ -406,13 +435,27 @@ impl OdeSystem for NanAfter {
 fn nan_rhs_is_non_finite() {
     for m in Method::ALL {
         // NaN at the initial point: reported by init at t0.
-        let mut s = AnySolver::new(m, 1, Options { h0: 0.01, ..Options::default() });
+        let mut s = AnySolver::new(
+            m,
+            1,
+            Options {
+                h0: 0.01,
+                ..Options::default()
+            },
+        );
         let e = s.init(&mut NanAfter { good: 0 }, 0.5, &[1.0]).unwrap_err();
         assert_eq!(e, OdeError::NonFinite { t: 0.5 }, "{m}");
 
         // NaN from some point on: the error carries the last good time.
         let mut sys = NanAfter { good: 60 };
-        let mut s = AnySolver::new(m, 1, Options { h0: 0.01, ..Options::default() });
+        let mut s = AnySolver::new(
+            m,
+            1,
+            Options {
+                h0: 0.01,
+                ..Options::default()
+            },
+        );
         let e = integrate(&mut s, &mut sys, 0.0, &[1.0], 10.0).unwrap_err();
         println!("{m}: {e}");
         assert!(matches!(e, OdeError::NonFinite { .. }), "{m}: {e:?}");
@@ -470,7 +513,13 @@ fn evaluation_counts_are_honest() {
     let mut s = Dopri5::new(2, tols(1e-8, 1e-8));
     let st = integrate(&mut s, &mut sys, 0.0, &[1.0, 0.0], 10.0).unwrap();
     assert_eq!(st.rhs_evals, 2 + 6 * (st.steps + st.rejected_steps));
-    let mut s = Rk4::new(2, Options { h0: 0.1, ..Options::default() });
+    let mut s = Rk4::new(
+        2,
+        Options {
+            h0: 0.1,
+            ..Options::default()
+        },
+    );
     let st = integrate(&mut s, &mut sys, 0.0, &[1.0, 0.0], 10.0).unwrap();
     assert_eq!(st.steps, 100);
     assert_eq!(st.rhs_evals, 1 + 4 * 100);
@@ -519,4 +568,3 @@ fn stats_match_the_calls_the_system_saw() {
         }
     }
 }
-

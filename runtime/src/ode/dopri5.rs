@@ -193,7 +193,8 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Dopri5 {
     }
 
     fn step(&mut self, sys: &mut S, t_stop: f64) -> Result<(), OdeError> {
-        if t_stop <= self.t {
+        // Nothing to do at or before the current time (forward integration only).
+        if t_stop.is_nan() || t_stop <= self.t {
             return Ok(());
         }
         let mut rejected_last = false;

@@ -1,5 +1,18 @@
 //! Picking an integrator by name at run time (CLI, model files) without generics at the call
 //! site: [`Method`] parses the name, [`AnySolver`] dispatches to the concrete solver.
+//!
+//! Conventions shared by all solvers:
+//! * Forward integration only; `step` with `t_stop <= t` does nothing.
+//! * `Stats` accumulate from construction across `init` calls (`reset_stats` on the concrete
+//!   solvers restarts them); `rejected_steps` includes Newton failures.
+//! * `max_steps` bounds attempted steps (accepted + rejected) since construction.
+//! * `NonFinite`: from `init` when y0 or f(t0, y0) is not finite; from `step` when the accepted
+//!   state is not finite, or (adaptive methods) after ten consecutive trial steps with
+//!   non-finite values, each tried with h / 10, at the last good time.
+//! * `StepSizeUnderflow` when the controller wants a step below `h_min`; a final step shortened
+//!   to land on `t_stop` may be smaller than `h_min`.
+//! * Each solver also has inherent `t`, `y`, `t_prev`, `stats` and `dense_output`, so callers
+//!   need not name the system type to read the state.
 
 use std::fmt;
 use std::str::FromStr;

@@ -123,12 +123,14 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Rk4 {
     }
 
     fn step(&mut self, sys: &mut S, t_stop: f64) -> Result<(), OdeError> {
-        if t_stop <= self.t {
+        // Nothing to do at or before the current time (forward integration only).
+        if t_stop.is_nan() || t_stop <= self.t {
             return Ok(());
         }
         check_budget(&self.stats, &self.opts, self.t)?;
         if self.h <= 0.0 {
-            self.h = (t_stop - self.t) / 1000.0;
+            // Automatic choice; never below h_min, so a short interval is a single step.
+            self.h = ((t_stop - self.t) / 1000.0).max(self.opts.h_min);
         }
         if self.h < self.opts.h_min {
             return Err(OdeError::StepSizeUnderflow {

@@ -283,10 +283,12 @@ fn hires_error(y: &[f64]) -> f64 {
 }
 
 /// HIRES (Test Set for IVP Solvers) with SDIRK4 against the published reference at
-/// t = 321.8122, with the analytic and the finite-difference Jacobian.
+/// t = 321.8122, with the analytic and the finite-difference Jacobian (atol = rtol * 1e-3).
+/// Reached: rtol 1e-6 -> max rel error 4.4e-7 (380 steps, 19 rejected, 35 Jacobians, 218 LU);
+/// rtol 1e-9 -> 1.1e-9 (5030 steps, 6 rejected, 18 Jacobians, 2422 LU), both Jacobians alike.
 #[test]
 fn hires_sdirk4_matches_the_test_set_reference() {
-    for (rtol, bound) in [(1e-6, 1e-3), (1e-9, 1e-6)] {
+    for (rtol, bound) in [(1e-6, 5e-6), (1e-9, 1e-8)] {
         for analytic in [true, false] {
             let mut sys = Hires {
                 analytic_jacobian: analytic,
@@ -303,7 +305,8 @@ fn hires_sdirk4_matches_the_test_set_reference() {
 }
 
 /// HIRES with DOPRI5 at a tight tolerance (it is only mildly stiff, so the explicit method
-/// gets there, paying with steps limited by stability).
+/// gets there, paying with steps limited by stability). Reached: rtol 1e-10, atol 1e-13 ->
+/// max rel error 4.9e-11 in 15483 steps, 92900 f evaluations.
 #[test]
 fn hires_dopri5_matches_the_test_set_reference() {
     let mut sys = Hires::default();
@@ -312,17 +315,19 @@ fn hires_dopri5_matches_the_test_set_reference() {
     let st = integrate(&mut s, &mut sys, 0.0, &Hires::Y0, Hires::T_END).unwrap();
     let err = hires_error(s.y());
     println!("hires dopri5 rtol {rtol:.0e}: max rel err {err:.2e}, {st:?}");
-    assert!(err < 1e-7, "{err}");
+    assert!(err < 1e-9, "{err}");
 }
 
 /// Stiff Van der Pol, problem VDPOL of the Test Set (eps = 1e-6, y(0) = (2, 0), t = 2),
 /// against its published reference. An explicit method would need ~1e6 steps here.
+/// Reached (rtol = atol): 1e-6 -> rel errors 3.8e-7 / 7.8e-7 (1245 steps, 84 rejected);
+/// 1e-8 -> 1.6e-8 / 2.9e-8 (7691 steps, 68 rejected).
 #[test]
 fn vdpol_sdirk4_matches_the_test_set_reference() {
     let mut sys = VanDerPol {
         eps: VanDerPol::TESTSET_EPS,
     };
-    for (tol, bound) in [(1e-6, 1e-3), (1e-8, 1e-5)] {
+    for (tol, bound) in [(1e-6, 1e-5), (1e-8, 3e-7)] {
         let mut s = Sdirk4::new(2, tols(tol, tol));
         let st = integrate(
             &mut s,

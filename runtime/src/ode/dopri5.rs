@@ -238,6 +238,11 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Dopri5 {
             }
             self.err_prev = err.max(1e-4);
             self.h = (h * fac).min(self.opts.h_max);
+            if lands && !rejected_last {
+                // A step cut short to reach t_stop says nothing against the step proposed
+                // before the cut: keep that, so stepping on without `init` is not slowed down.
+                self.h = self.h.max(h_prop);
+            }
 
             let t_new = if lands { t_stop } else { self.t + h };
             // Dense output coefficients (Hairer's continuous extension).

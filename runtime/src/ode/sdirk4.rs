@@ -455,6 +455,11 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Sdirk4 {
                 fac = 1.0;
             }
             self.h = (h * fac).min(self.opts.h_max);
+            if lands && !rejected_last {
+                // A step cut short to reach t_stop says nothing against the step proposed
+                // before the cut: keep that, so stepping on without `init` is not slowed down.
+                self.h = self.h.max(h_prop);
+            }
             if slow {
                 self.jac_valid = false;
             }

@@ -573,3 +573,44 @@ fn stats_match_the_calls_the_system_saw() {
         }
     }
 }
+
+/// y' = y^2, y(0) = 1 with SDIRK4 forced to h = h_min = 3: the first stage equation
+/// z = (h/4) (1 + z)^2 = 0.75 (1 + z)^2 has no real solution (discriminant 0.25 - 2.25 < 0), so
+/// Newton cannot converge, and at h_min the error is `NewtonDivergence` with the time and step.
+/// (h = 2 would make I - h gamma J = 1 - 0.5 * 2 exactly singular instead.)
+#[test]
+fn newton_divergence_at_h_min() {
+    let mut sys = Blowup;
+    let opts = Options {
+        h_min: 3.0,
+        ..pinned(3.0)
+    };
+    let mut s = Sdirk4::new(1, opts);
+    s.init(&mut sys, 0.0, &[1.0]).unwrap();
+    let e = s.step(&mut sys, 10.0).unwrap_err();
+    assert_eq!(e, OdeError::NewtonDivergence { t: 0.0, h: 3.0 });
+    assert!(s.stats().rejected_steps >= 1);
+}
+
+/// A step cut short to land on t_stop must not shrink the following steps: stepping on past a
+/// stop without `init` takes no more steps than the same run without the stop (+2 for the cut).
+#[test]
+fn landing_does_not_slow_the_next_steps() {
+    for m in [Method::Dopri5, Method::Sdirk4] {
+        let mut sys = Harmonic { omega: 1.0 };
+        let mut free = AnySolver::new(m, 2, tols(1e-6, 1e-6));
+        let n_free = integrate(&mut free, &mut sys, 0.0, &[1.0, 0.0], 20.0)
+            .unwrap()
+            .steps;
+        let mut s = AnySolver::new(m, 2, tols(1e-6, 1e-6));
+        s.init(&mut sys, 0.0, &[1.0, 0.0]).unwrap();
+        for stop in [1.0001, 20.0] {
+            while s.t() < stop {
+                s.step(&mut sys, stop).unwrap();
+            }
+        }
+        let n = s.stats().steps;
+        println!("{m}: {n_free} steps free, {n} with a stop");
+        assert!(n <= n_free + 2, "{m}: {n} vs {n_free}");
+    }
+}

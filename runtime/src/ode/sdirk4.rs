@@ -293,7 +293,7 @@ impl Sdirk4 {
                     eta = theta / (1.0 - theta);
                     // Predicted error after the remaining iterations still too large.
                     let left = (MAX_NEWTON - 1 - it) as i32;
-                    if theta.powi(left) / (1.0 - theta) * dnorm > kappa {
+                    if eta * theta.powi(left) * dnorm > kappa {
                         return Attempt::NewtonFailed;
                     }
                 }

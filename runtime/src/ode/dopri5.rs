@@ -6,7 +6,7 @@
 //! rejection the step may not grow. A trial step whose stages are not finite is rejected with
 //! h / 10; ten such trials in a row end the integration with `NonFinite` at the last good time.
 
-use super::common::{all_finite, check_budget, clip_step, error_norm, initial_step};
+use super::common::{all_finite, check_budget, clip_step, error_norm, initial_step, min_step};
 use super::tableau::{DOPRI5, DOPRI5_DENSE_D};
 use super::{OdeError, OdeSystem, Options, Solver, Stats};
 
@@ -202,7 +202,7 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Dopri5 {
         loop {
             check_budget(&self.stats, &self.opts, self.t)?;
             let h_prop = self.h.min(self.opts.h_max);
-            if h_prop < self.opts.h_min {
+            if h_prop < min_step(self.t, &self.opts) {
                 return Err(OdeError::StepSizeUnderflow {
                     t: self.t,
                     h: h_prop,

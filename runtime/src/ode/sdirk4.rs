@@ -22,7 +22,9 @@
 //! * Dense output: cubic Hermite from (y0, f0, y1, f1) with f1 = k_5, the derivative at the
 //!   (stiffly accurate) last stage; third order, no extra right-hand side evaluation.
 
-use super::common::{all_finite, check_budget, clip_step, error_norm, hermite, initial_step};
+use super::common::{
+    all_finite, check_budget, clip_step, error_norm, hermite, initial_step, min_step,
+};
 use super::lu::{lu_factor, lu_solve};
 use super::tableau::{SDIRK4, SDIRK4_GAMMA};
 use super::{OdeError, OdeSystem, Options, Solver, Stats};
@@ -396,7 +398,7 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Sdirk4 {
         loop {
             check_budget(&self.stats, &self.opts, self.t)?;
             let h_prop = self.h.min(self.opts.h_max);
-            if h_prop < self.opts.h_min {
+            if h_prop < min_step(self.t, &self.opts) {
                 return Err(OdeError::StepSizeUnderflow {
                     t: self.t,
                     h: h_prop,

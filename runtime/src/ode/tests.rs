@@ -614,3 +614,26 @@ fn landing_does_not_slow_the_next_steps() {
         assert!(n <= n_free + 2, "{m}: {n} vs {n_free}");
     }
 }
+
+/// Far from t = 0 the time resolution (ulp of t) exceeds a tiny h_min: a blow-up there must end
+/// in `StepSizeUnderflow`, not stall on steps that do not advance t.
+#[test]
+fn no_stall_below_the_time_resolution() {
+    for m in [Method::Dopri5, Method::Sdirk4] {
+        let mut sys = Blowup;
+        let opts = Options {
+            h_min: 0.0,
+            ..tols(1e-8, 1e-8)
+        };
+        let mut s = AnySolver::new(m, 1, opts);
+        // y = 1 / (1e6 + 1 - t) from t0 = 1e6: pole at t = 1e6 + 1, where ulp(t) = 1.2e-10.
+        let e = integrate(&mut s, &mut sys, 1e6, &[1.0], 1e6 + 2.0).unwrap_err();
+        println!("{m}: {e}, {:?}", s.stats());
+        assert!(
+            matches!(e, OdeError::StepSizeUnderflow { .. }),
+            "{m}: {e:?}"
+        );
+        assert!((e.time() - (1e6 + 1.0)).abs() < 1e-5, "{m}: {e:?}");
+        assert!(s.stats().steps < 100_000);
+    }
+}

@@ -161,4 +161,26 @@ mod tests {
         assert_eq!("DOPRI5".parse::<Method>(), Ok(Method::Dopri5));
         assert!("euler".parse::<Method>().is_err());
     }
+
+    /// A CLI holds the model as `dyn OdeSystem` and the method as a name: both must work.
+    #[test]
+    fn runs_a_dyn_system_picked_by_name() {
+        use crate::ode::problems::Harmonic;
+        for name in ["rk4", "dopri5", "sdirk4"] {
+            let m: Method = name.parse().unwrap();
+            let opts = Options {
+                h0: if m == Method::Rk4 { 1e-3 } else { 0.0 },
+                ..Options::default()
+            };
+            let mut solver = AnySolver::new(m, 2, opts);
+            let mut model = Harmonic { omega: 1.0 };
+            let sys: &mut dyn OdeSystem = &mut model;
+            solver.init(sys, 0.0, &[1.0, 0.0]).unwrap();
+            while solver.t() < 1.0 {
+                solver.step(sys, 1.0).unwrap();
+            }
+            assert_eq!(Solver::<dyn OdeSystem>::name(&solver), name);
+            assert!((solver.y()[0] - 1f64.cos()).abs() < 1e-5, "{name}");
+        }
+    }
 }

@@ -114,6 +114,12 @@ pub fn hermite(
     }
 }
 
+/// The smallest step allowed at time t: `h_min`, and never below the time resolution (a few
+/// ulps of t), where t + h would not advance and the integration would stall.
+pub fn min_step(t: f64, opts: &Options) -> f64 {
+    opts.h_min.max(4.0 * f64::EPSILON * t.abs())
+}
+
 /// The budget check shared by the methods: every attempted step (accepted or rejected) counts.
 pub fn check_budget(stats: &Stats, opts: &Options, t: f64) -> Result<(), OdeError> {
     let attempts = stats.steps + stats.rejected_steps;

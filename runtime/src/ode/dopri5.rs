@@ -6,7 +6,7 @@
 //! rejection the step may not grow. A trial step whose stages are not finite is rejected with
 //! h / 10; ten such trials in a row end the integration with `NonFinite` at the last good time.
 
-use super::common::{all_finite, check_budget, clip_step, error_norm, initial_step};
+use super::common::{all_finite, check_budget, clip_step, error_norm, initial_step, min_step};
 use super::tableau::{DOPRI5, DOPRI5_DENSE_D};
 use super::{OdeError, OdeSystem, Options, Solver, Stats};
 
@@ -193,7 +193,8 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Dopri5 {
     }
 
     fn step(&mut self, sys: &mut S, t_stop: f64) -> Result<(), OdeError> {
-        if t_stop <= self.t {
+        // Nothing to do at or before the current time (forward integration only).
+        if t_stop.is_nan() || t_stop <= self.t {
             return Ok(());
         }
         let mut rejected_last = false;
@@ -201,7 +202,7 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Dopri5 {
         loop {
             check_budget(&self.stats, &self.opts, self.t)?;
             let h_prop = self.h.min(self.opts.h_max);
-            if h_prop < self.opts.h_min {
+            if h_prop < min_step(self.t, &self.opts) {
                 return Err(OdeError::StepSizeUnderflow {
                     t: self.t,
                     h: h_prop,
@@ -237,6 +238,11 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Dopri5 {
             }
             self.err_prev = err.max(1e-4);
             self.h = (h * fac).min(self.opts.h_max);
+            if lands && !rejected_last {
+                // A step cut short to reach t_stop says nothing against the step proposed
+                // before the cut: keep that, so stepping on without `init` is not slowed down.
+                self.h = self.h.max(h_prop);
+            }
 
             let t_new = if lands { t_stop } else { self.t + h };
             // Dense output coefficients (Hairer's continuous extension).
@@ -251,8 +257,8 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Dopri5 {
                 self.dense[2][i] = r3;
                 self.dense[3][i] = dy - h * self.k[6][i] - r3;
                 let mut acc = 0.0;
-                for s in 0..7 {
-                    acc += d[s] * self.k[s][i];
+                for (ds, ks) in d.iter().zip(&self.k) {
+                    acc += ds * ks[i];
                 }
                 self.dense[4][i] = h * acc;
             }

@@ -52,8 +52,7 @@ pub fn lu_factor(a: &mut [f64], n: usize, piv: &mut [usize]) -> Result<(), Singu
 pub fn lu_solve(lu: &[f64], n: usize, piv: &[usize], b: &mut [f64]) {
     debug_assert_eq!(b.len(), n);
     // Apply the row interchanges in the order they were made, then L (unit diagonal).
-    for k in 0..n {
-        let p = piv[k];
+    for (k, &p) in piv.iter().enumerate() {
         if p != k {
             b.swap(k, p);
         }

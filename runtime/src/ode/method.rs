@@ -1,5 +1,18 @@
 //! Picking an integrator by name at run time (CLI, model files) without generics at the call
 //! site: [`Method`] parses the name, [`AnySolver`] dispatches to the concrete solver.
+//!
+//! Conventions shared by all solvers:
+//! * Forward integration only; `step` with `t_stop <= t` does nothing.
+//! * `Stats` accumulate from construction across `init` calls (`reset_stats` on the concrete
+//!   solvers restarts them); `rejected_steps` includes Newton failures.
+//! * `max_steps` bounds attempted steps (accepted + rejected) since construction.
+//! * `NonFinite`: from `init` when y0 or f(t0, y0) is not finite; from `step` when the accepted
+//!   state is not finite, or (adaptive methods) after ten consecutive trial steps with
+//!   non-finite values, each tried with h / 10, at the last good time.
+//! * `StepSizeUnderflow` when the controller wants a step below `h_min`; a final step shortened
+//!   to land on `t_stop` may be smaller than `h_min`.
+//! * Each solver also has inherent `t`, `y`, `t_prev`, `stats` and `dense_output`, so callers
+//!   need not name the system type to read the state.
 
 use std::fmt;
 use std::str::FromStr;
@@ -147,5 +160,27 @@ mod tests {
         }
         assert_eq!("DOPRI5".parse::<Method>(), Ok(Method::Dopri5));
         assert!("euler".parse::<Method>().is_err());
+    }
+
+    /// A CLI holds the model as `dyn OdeSystem` and the method as a name: both must work.
+    #[test]
+    fn runs_a_dyn_system_picked_by_name() {
+        use crate::ode::problems::Harmonic;
+        for name in ["rk4", "dopri5", "sdirk4"] {
+            let m: Method = name.parse().unwrap();
+            let opts = Options {
+                h0: if m == Method::Rk4 { 1e-3 } else { 0.0 },
+                ..Options::default()
+            };
+            let mut solver = AnySolver::new(m, 2, opts);
+            let mut model = Harmonic { omega: 1.0 };
+            let sys: &mut dyn OdeSystem = &mut model;
+            solver.init(sys, 0.0, &[1.0, 0.0]).unwrap();
+            while solver.t() < 1.0 {
+                solver.step(sys, 1.0).unwrap();
+            }
+            assert_eq!(Solver::<dyn OdeSystem>::name(&solver), name);
+            assert!((solver.y()[0] - 1f64.cos()).abs() < 1e-5, "{name}");
+        }
     }
 }

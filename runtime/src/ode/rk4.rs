@@ -7,7 +7,7 @@
 //! Dense output is cubic Hermite from (y0, f0, y1, f1); f1 is the first stage of the next step,
 //! so a step costs 4 right-hand side evaluations.
 
-use super::common::{all_finite, check_budget, clip_step, hermite};
+use super::common::{all_finite, check_budget, clip_step, hermite, min_step};
 use super::tableau::RK4;
 use super::{OdeError, OdeSystem, Options, Solver, Stats};
 
@@ -123,14 +123,16 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Rk4 {
     }
 
     fn step(&mut self, sys: &mut S, t_stop: f64) -> Result<(), OdeError> {
-        if t_stop <= self.t {
+        // Nothing to do at or before the current time (forward integration only).
+        if t_stop.is_nan() || t_stop <= self.t {
             return Ok(());
         }
         check_budget(&self.stats, &self.opts, self.t)?;
         if self.h <= 0.0 {
-            self.h = (t_stop - self.t) / 1000.0;
+            // Automatic choice; never below h_min, so a short interval is a single step.
+            self.h = ((t_stop - self.t) / 1000.0).max(self.opts.h_min);
         }
-        if self.h < self.opts.h_min {
+        if self.h < min_step(self.t, &self.opts) {
             return Err(OdeError::StepSizeUnderflow {
                 t: self.t,
                 h: self.h,

@@ -247,10 +247,7 @@ pub(crate) mod tests {
         for z in [-1e4, -1e8] {
             let mut k = [0.0; 5];
             for i in 0..5 {
-                let mut s = 1.0;
-                for j in 0..i {
-                    s += SDIRK4.a[i][j] * k[j];
-                }
+                let s = 1.0 + dot(&SDIRK4.a[i], &k);
                 k[i] = z * s / (1.0 - z * SDIRK4.a[i][i]);
             }
             let r = 1.0 + dot(&SDIRK4.b, &k);

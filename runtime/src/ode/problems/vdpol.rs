@@ -38,8 +38,10 @@ impl OdeSystem for VanDerPol {
 }
 
 /// The classic form x'' = mu (1 - x^2) x' - x as y = (x, x'), for mildly stiff mu = 1..10.
-/// For mu = 1 Hairer, Norsett & Wanner (Solving ODEs I) give the periodic orbit through
-/// (2.00861986087484313650940188, 0) with period 6.6632868593231301896996820305.
+/// For mu = 1 the periodic orbit passes through (2.00861986087484313650940188, 0) with period
+/// 6.6632868593231301896996820305 (values attributed to Hairer, Norsett & Wanner in widely used
+/// course material on their Van der Pol example; the period is published independently by
+/// P. Amore, arXiv:2111.12198, T = 6.663286859323130).
 #[derive(Clone, Copy, Debug)]
 pub struct VanDerPolClassic {
     pub mu: f64,

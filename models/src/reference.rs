@@ -130,8 +130,16 @@ washdyn_macros::machine! {
         sensor drum_front { body: tub, point: [0.17, 0.0, 0.45], kind: displacement }
 
         scene full {
-            effects: [gyroscopic, unbalance.drum, unbalance.motor, friction_dampers, gasket_damping],
+            effects: [
+                gyroscopic, unbalance.drum, unbalance.motor, friction_dampers, gasket_damping,
+                element_geometry, unbalance_inertia,
+            ],
         }
-        scene rigid_low_speed { effects: [unbalance.drum, friction_dampers, gasket_damping] }
+        scene rigid_low_speed {
+            effects: [
+                unbalance.drum, friction_dampers, gasket_damping, element_geometry,
+                unbalance_inertia,
+            ],
+        }
     }
 }

@@ -7,7 +7,7 @@ use washdyn_runtime::ir::toml_file::load_file;
 use washdyn_runtime::ode::{AnySolver, Method, Options};
 use washdyn_runtime::output::CsvSink;
 use washdyn_runtime::run::{Labels, Progress, RunOptions, Start, Summary, run};
-use washdyn_runtime::system::{FirstOrder, Interpreter};
+use washdyn_runtime::system::{FirstOrder, Interpreter, Mechanical};
 
 /// Which evaluator of the equations runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -70,16 +70,27 @@ pub fn run_command(
     args: &RunArgs,
     progress: &mut dyn FnMut(Progress),
 ) -> Result<RunOutcome, String> {
-    let (model, _built_in) = resolve_model(&args.model)?;
+    let (model, built_in) = resolve_model(&args.model)?;
     let scene = model.scene(args.scene.as_deref())?;
-    let backend = args.backend.unwrap_or(Backend::Interpreted);
-    if backend == Backend::Generated {
-        return Err(
-            "the generated back end is not available yet (it arrives with the equation compiler); \
-             use --backend interpreted"
-                .into(),
-        );
-    }
+    // Generated code exists for what was compiled in: the built-in models.
+    let backend = args.backend.unwrap_or(if built_in {
+        Backend::Generated
+    } else {
+        Backend::Interpreted
+    });
+    let mech: Box<dyn Mechanical + Send> = match backend {
+        Backend::Interpreted => Box::new(Interpreter::new(&model, &scene)),
+        Backend::Generated if built_in => washdyn_models::generated(&args.model, &scene.name)
+            .ok_or_else(|| format!("no generated code for scene `{}`", scene.name))?,
+        Backend::Generated => {
+            return Err(format!(
+                "`{}` is a model file: generated code exists only for models compiled in with \
+                 machine! (built-in: {}); use --backend interpreted",
+                args.model,
+                washdyn_models::BUILT_IN.join(", ")
+            ));
+        }
+    };
     let out_dir = args
         .out
         .clone()
@@ -87,9 +98,8 @@ pub fn run_command(
     fs::create_dir_all(&out_dir)
         .map_err(|e| format!("cannot create {}: {e}", out_dir.display()))?;
 
-    let interp = Interpreter::new(&model, &scene);
-    let t_end = args.t_end.unwrap_or_else(|| interp.speed.end());
-    let mut sys = FirstOrder::new(interp);
+    let t_end = args.t_end.unwrap_or_else(|| mech.speed().end());
+    let mut sys = FirstOrder::new(mech);
     let dim = 2 * sys.layout().n();
     let ode = Options {
         rtol: args.tol,
@@ -113,7 +123,10 @@ pub fn run_command(
     let labels = Labels {
         model: model.name.clone(),
         scene: scene.name.clone(),
-        backend: "interpreted".into(),
+        backend: match backend {
+            Backend::Interpreted => "interpreted".into(),
+            Backend::Generated => "generated".into(),
+        },
     };
     let (summary, error) = match run(
         &mut sys,

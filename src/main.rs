@@ -2,6 +2,7 @@
 
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
+use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use washdyn::commands::{Backend, RunArgs, resolve_model, run_command};
@@ -22,7 +23,7 @@ struct Cli {
 enum Cmd {
     /// Simulate a run-up: writes DIR/sensors.csv and DIR/summary.json.
     Run {
-        /// A built-in model (`reference`) or a model file (.toml).
+        /// A built-in model (`reference`, `compact`) or a model file (.toml).
         model: String,
         /// End time, s (default: the end of the speed profile).
         #[arg(long)]
@@ -39,7 +40,7 @@ enum Cmd {
         /// Fixed step of rk4, s (default 1e-4).
         #[arg(long)]
         step: Option<f64>,
-        /// interpreted or generated.
+        /// generated (default for built-in models) or interpreted (default for model files).
         #[arg(long)]
         backend: Option<Backend>,
         /// A scene of the model (default: its first scene).
@@ -124,7 +125,12 @@ fn main() -> ExitCode {
         }
         Cmd::Check { model } => match resolve_model(&model) {
             Ok((m, _)) => {
-                println!("{}: ok; scenes: {}", m.name, m.scene_names().join(", "));
+                let _ = writeln!(
+                    std::io::stdout(),
+                    "{}: ok; scenes: {}",
+                    m.name,
+                    m.scene_names().join(", ")
+                );
                 ExitCode::SUCCESS
             }
             Err(e) => {

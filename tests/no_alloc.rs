@@ -94,3 +94,19 @@ fn interpreted_run_allocates_only_at_set_up() {
         );
     }
 }
+
+#[test]
+fn generated_run_allocates_only_at_set_up() {
+    for scene in ["full", "rigid_low_speed"] {
+        for method in [Method::Dopri5, Method::Sdirk4] {
+            let sys = || washdyn_models::generated("reference", scene).unwrap();
+            let (short, ns) = allocations(sys(), method, 1.0);
+            let (long, nl) = allocations(sys(), method, 10.0);
+            assert!(nl > 9 * ns);
+            assert_eq!(
+                short, long,
+                "{scene}/{method}: allocations grow with the simulated time"
+            );
+        }
+    }
+}

@@ -87,7 +87,9 @@ fn emit(machine: &Machine, model: &Model, built: &Built) -> TokenStream {
     };
     let files = built.files.iter().map(|f| {
         let f = f.display().to_string();
-        quote!(const _: &[u8] = include_bytes!(#f);)
+        quote!(
+            const _: &[u8] = include_bytes!(#f);
+        )
     });
     quote! {
         #docs
@@ -195,7 +197,11 @@ pub fn serde_error(path: &Path, msg: &str, spans: &Spans, diag: &mut Diag) {
             Some(Seg::Key(k)) if k == "kind" => "sensor kind",
             _ => "value",
         };
-        (spans.locate(path), path.clone(), format!("unknown {what} {rest}"))
+        (
+            spans.locate(path),
+            path.clone(),
+            format!("unknown {what} {rest}"),
+        )
     } else {
         (spans.locate(path), path.clone(), msg.to_string())
     };
@@ -237,4 +243,3 @@ pub fn findings(src: &str, dir: &FsPath) -> Vec<crate::loc::Diagnostic> {
         Err(d) => d.list,
     }
 }
-

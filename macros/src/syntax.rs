@@ -120,16 +120,19 @@ fn docs_only(input: ParseStream, diag: &mut Diag) -> syn::Result<Vec<Attribute>>
 
 fn entry(input: ParseStream, diag: &mut Diag) -> syn::Result<Entry> {
     docs_only(input, diag)?;
-    let kind = input
-        .call(Ident::parse_any)
-        .map_err(|e| syn::Error::new(e.span(), "expected a field `key: value`, a block `KIND { .. }` or an item `KIND NAME { .. }`"))?;
+    let kind = input.call(Ident::parse_any).map_err(|e| {
+        syn::Error::new(
+            e.span(),
+            "expected a field `key: value`, a block `KIND { .. }` or an item `KIND NAME { .. }`",
+        )
+    })?;
     if input.peek(Token![:]) {
         input.parse::<Token![:]>()?;
         let value = value(input, diag)?;
         if !input.is_empty() {
-            input.parse::<Token![,]>().map_err(|e| {
-                syn::Error::new(e.span(), "expected `,` after the field's value")
-            })?;
+            input
+                .parse::<Token![,]>()
+                .map_err(|e| syn::Error::new(e.span(), "expected `,` after the field's value"))?;
         }
         return Ok(Entry::Field(Field {
             key: kind.unraw().to_string(),
@@ -210,10 +213,7 @@ fn fields_into(input: ParseStream, diag: &mut Diag, out: &mut Vec<Field>) -> syn
         let value = value(input, diag)?;
         let key_str = key.unraw().to_string();
         if out.iter().any(|f| f.key == key_str) {
-            diag.push(
-                Loc::new(key.span()),
-                format!("duplicate field `{key_str}`"),
-            );
+            diag.push(Loc::new(key.span()), format!("duplicate field `{key_str}`"));
         } else {
             out.push(Field {
                 key: key_str,
@@ -351,4 +351,3 @@ fn suffix(s: &str, text: &str) -> Result<(), String> {
         ))
     }
 }
-

@@ -58,8 +58,7 @@ pub fn build(m: &Machine, dir: &FsPath, diag: &mut Diag) -> Built {
     }
 
     b.spans.set(&root, name_loc);
-    b.spans
-        .set_item(&root, format!("machine `{model_name}`"));
+    b.spans.set_item(&root, format!("machine `{model_name}`"));
     b.spans.set(&root.clone().key("name"), name_loc);
     obj(&mut b.root).insert("name".into(), Value::String(model_name));
 
@@ -92,7 +91,10 @@ pub fn build(m: &Machine, dir: &FsPath, diag: &mut Diag) -> Built {
                 // A speed profile is a table or a file: giving one replaces both.
                 if k == "speed"
                     && let Value::Object(old) = slot
-                    && body.fields.iter().any(|f| f.key == "table" || f.key == "csv")
+                    && body
+                        .fields
+                        .iter()
+                        .any(|f| f.key == "table" || f.key == "csv")
                 {
                     old.remove("table");
                     old.remove("csv");
@@ -123,7 +125,9 @@ pub fn build(m: &Machine, dir: &FsPath, diag: &mut Diag) -> Built {
                 if let Some(f) = body.fields.iter().find(|f| f.key == "name") {
                     diag.push(
                         f.key_loc,
-                        format!("the {what}'s name is the one before the braces: `{k} NAME {{ .. }}`"),
+                        format!(
+                            "the {what}'s name is the one before the braces: `{k} NAME {{ .. }}`"
+                        ),
                     );
                     continue;
                 }
@@ -156,8 +160,7 @@ pub fn build(m: &Machine, dir: &FsPath, diag: &mut Diag) -> Built {
                 put_object(&mut items[i], &path, body, &mut b.spans, diag);
                 b.spans.set(&path, name.loc);
                 b.spans.set(&path.clone().key("name"), name.loc);
-                b.spans
-                    .set_item(&path, format!("{what} `{}`", name.value));
+                b.spans.set_item(&path, format!("{what} `{}`", name.value));
                 if body.broken {
                     diag.poison(path);
                 }
@@ -174,10 +177,7 @@ fn unknown_kind(k: &str) -> String {
         .copied()
         .chain(LISTS.iter().map(|l| l.0))
         .collect();
-    let mut msg = format!(
-        "unknown block `{k}`; expected one of: {}",
-        known.join(", ")
-    );
+    let mut msg = format!("unknown block `{k}`; expected one of: {}", known.join(", "));
     if let Some(s) = crate::suggest::closest(k, known.iter().copied()) {
         msg.push_str(&format!("; did you mean `{s}`?"));
     }
@@ -190,9 +190,10 @@ fn top_field(f: &Field, b: &mut Built, diag: &mut Diag) {
         "base" => return, // read before everything else
         "name" => Some("the machine's name is the identifier before the braces".to_string()),
         _ if SINGLETONS.contains(&k) => Some(format!("write `{k}` as a block: `{k} {{ .. }}`")),
-        _ => LISTS.iter().find(|l| l.1 == k).map(|l| {
-            format!("declare {k} one by one as items: `{} NAME {{ .. }}`", l.0)
-        }),
+        _ => LISTS
+            .iter()
+            .find(|l| l.1 == k)
+            .map(|l| format!("declare {k} one by one as items: `{} NAME {{ .. }}`", l.0)),
     };
     if let Some(h) = hint {
         diag.push(f.key_loc, h);

@@ -19,16 +19,35 @@ use washdyn_runtime::ir::toml_file::{ModelFileError, load_str};
 pub const REFERENCE_TOML: &str = include_str!("../data/reference.toml");
 
 /// Names of the built-in models.
-pub const BUILT_IN: &[&str] = &["reference"];
+pub const BUILT_IN: &[&str] = &["reference", "compact"];
 
-/// The built-in model `name`, loaded and checked.
+/// The built-in model `name`: the reference from its TOML file (checked at load), the others
+/// as their `machine!` declaration filled them (checked at compile time).
 pub fn built_in(name: &str) -> Option<Result<Model, ModelFileError>> {
-    let src = match name {
-        "reference" => REFERENCE_TOML,
-        _ => return None,
-    };
-    let base = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data");
-    Some(load_str(src, &format!("models/data/{name}.toml"), &base))
+    match name {
+        "reference" => {
+            let base = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data");
+            Some(load_str(
+                REFERENCE_TOML,
+                "models/data/reference.toml",
+                &base,
+            ))
+        }
+        "compact" => Some(Ok(compact::model())),
+        _ => None,
+    }
+}
+
+/// The generated system of a built-in model's scene (`None`: unknown model or scene).
+pub fn generated(
+    name: &str,
+    scene: &str,
+) -> Option<Box<dyn washdyn_runtime::system::Mechanical + Send>> {
+    match name {
+        "reference" => reference::system(scene),
+        "compact" => compact::system(scene),
+        _ => None,
+    }
 }
 
 /// The reference machine (panics only if the shipped file is broken, which a test guards).

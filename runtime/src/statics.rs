@@ -2,8 +2,8 @@
 //! start of a run, so the tub does not drop under the unbalance's extra weight. Set-up code: it
 //! may allocate.
 
+use crate::ode::lu::{lu_factor, lu_solve};
 use crate::system::Mechanical;
-use nalgebra::{DMatrix, DVector};
 
 /// Solve for the rest position at time t0 (velocities zero). Returns q.
 pub fn static_equilibrium<S: Mechanical>(sys: &mut S, t0: f64) -> Result<Vec<f64>, String> {
@@ -21,19 +21,21 @@ pub fn static_equilibrium<S: Mechanical>(sys: &mut S, t0: f64) -> Result<Vec<f64
         if res < 1e-10 {
             return Ok(q);
         }
-        let mut k = DMatrix::zeros(n, n);
+        // Row-major dh/dq by forward differences.
+        let mut k = vec![0.0; n * n];
         for j in 0..n {
             let mut qp = q.clone();
             qp[j] += eps;
             sys.eval(t0, &qp, &zero, &mut m1, &mut hp);
             for i in 0..n {
-                k[(i, j)] = (hp[i] - h[i]) / eps;
+                k[i * n + j] = (hp[i] - h[i]) / eps;
             }
         }
-        let dq = k
-            .lu()
-            .solve(&(-DVector::from_column_slice(&h)))
-            .ok_or("static equilibrium: singular stiffness (a free rigid-body motion?)")?;
+        let mut piv = vec![0; n];
+        lu_factor(&mut k, n, &mut piv)
+            .map_err(|_| "static equilibrium: singular stiffness (a free rigid-body motion?)")?;
+        let mut dq: Vec<f64> = h.iter().map(|v| -v).collect();
+        lu_solve(&k, n, &piv, &mut dq);
         for i in 0..n {
             q[i] += dq[i];
         }

@@ -1,0 +1,111 @@
+//! Generated vs interpreted back end, per scene of the reference machine: one M1+h evaluation,
+//! one q'' evaluation (M1 factorised), and a whole run-up. Ratios for the README come from one
+//! run of this bench (`cargo bench --bench backends`).
+
+use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use std::hint::black_box;
+use std::io;
+use washdyn_runtime::ode::{Dopri5, Options};
+use washdyn_runtime::output::SampleSink;
+use washdyn_runtime::run::{Labels, RunOptions, run};
+use washdyn_runtime::system::{FirstOrder, Interpreter, Mechanical};
+
+/// A state in the middle of the run-up (0.5 mm, 1 mrad, 0.1 m/s).
+fn state(n: usize) -> (Vec<f64>, Vec<f64>) {
+    let q = (0..n).map(|i| if i < 3 { 5e-4 } else { 1e-3 }).collect();
+    let qd = (0..n).map(|i| 0.1 / (i + 1) as f64).collect();
+    (q, qd)
+}
+
+fn evaluations(c: &mut Criterion) {
+    let m = washdyn_models::reference();
+    for scene in m.scene_names() {
+        let eff = m.scene(Some(&scene)).unwrap();
+        let mut interp = Interpreter::new(&m, &eff);
+        let mut gen_ = washdyn_models::generated("reference", &scene).unwrap();
+        let lay = interp.layout();
+        let (n, n1) = (lay.n(), lay.n1);
+        let (q, qd) = state(n);
+        let (mut m1, mut h) = (vec![0.0; n1 * n1], vec![0.0; n]);
+        let t = 120.0;
+        let mut g = c.benchmark_group(format!("mass_and_forces/{scene}"));
+        g.bench_function("interpreted", |b| {
+            b.iter(|| interp.eval(black_box(t), black_box(&q), black_box(&qd), &mut m1, &mut h))
+        });
+        g.bench_function("generated", |b| {
+            b.iter(|| gen_.eval(black_box(t), black_box(&q), black_box(&qd), &mut m1, &mut h))
+        });
+        g.finish();
+        let mut fa = FirstOrder::new(Interpreter::new(&m, &eff));
+        let mut qdd = vec![0.0; n];
+        let mut g = c.benchmark_group(format!("accelerations/{scene}"));
+        g.bench_function("interpreted", |b| {
+            b.iter(|| fa.accelerations(black_box(t), black_box(&q), black_box(&qd), &mut qdd))
+        });
+        g.bench_function("generated", |b| {
+            b.iter(|| gen_.accelerations(black_box(t), black_box(&q), black_box(&qd), &mut qdd))
+        });
+        g.finish();
+    }
+}
+
+struct Null;
+impl SampleSink for Null {
+    fn header(&mut self, _: &[String]) -> io::Result<()> {
+        Ok(())
+    }
+    fn sample(&mut self, _: f64, _: f64, v: &[f64]) -> io::Result<()> {
+        black_box(v);
+        Ok(())
+    }
+    fn flush(&mut self) -> io::Result<()> {
+        Ok(())
+    }
+}
+
+fn run_up<S: Mechanical>(sys: S) -> u64 {
+    let mut sys = FirstOrder::new(sys);
+    let n = 2 * sys.layout().n();
+    let opts = Options {
+        rtol: 1e-6,
+        atol: 1e-9,
+        ..Options::default()
+    };
+    let mut solver = Dopri5::new(n, opts);
+    let ro = RunOptions {
+        t_end: sys.sys.speed().end(),
+        sample_rate: 2000.0,
+        ..RunOptions::default()
+    };
+    let s = run(
+        &mut sys,
+        &mut solver,
+        &ro,
+        &Labels::default(),
+        (1e-6, 1e-9),
+        &mut Null,
+        &mut |_| {},
+    )
+    .map_err(|e| e.0.to_string())
+    .unwrap();
+    s.rhs_evals
+}
+
+fn run_ups(c: &mut Criterion) {
+    let m = washdyn_models::reference();
+    let mut g = c.benchmark_group("run_up_178s_dopri5");
+    g.sample_size(10);
+    for scene in m.scene_names() {
+        let eff = m.scene(Some(&scene)).unwrap();
+        g.bench_with_input(BenchmarkId::new("interpreted", &scene), &scene, |b, _| {
+            b.iter(|| run_up(Interpreter::new(&m, &eff)))
+        });
+        g.bench_with_input(BenchmarkId::new("generated", &scene), &scene, |b, s| {
+            b.iter(|| run_up(washdyn_models::generated("reference", s).unwrap()))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, evaluations, run_ups);
+criterion_main!(benches);

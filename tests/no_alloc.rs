@@ -3,25 +3,33 @@
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::io;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::cell::Cell;
 use washdyn_runtime::ode::{AnySolver, Method, Options};
 use washdyn_runtime::output::SampleSink;
 use washdyn_runtime::run::{Labels, RunOptions, run};
 use washdyn_runtime::system::{FirstOrder, Interpreter, Mechanical};
 
 struct Counting;
-static ALLOCS: AtomicU64 = AtomicU64::new(0);
+
+thread_local! {
+    /// Per thread, so tests running in parallel do not count each other's allocations.
+    static ALLOCS: Cell<u64> = const { Cell::new(0) };
+}
+
+fn count() {
+    let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
+}
 
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, l: Layout) -> *mut u8 {
-        ALLOCS.fetch_add(1, Ordering::Relaxed);
+        count();
         unsafe { System.alloc(l) }
     }
     unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
         unsafe { System.dealloc(p, l) }
     }
     unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
-        ALLOCS.fetch_add(1, Ordering::Relaxed);
+        count();
         unsafe { System.realloc(p, l, n) }
     }
 }
@@ -61,7 +69,7 @@ pub fn allocations<S: Mechanical>(sys: S, method: Method, t_end: f64) -> (u64, u
         sample_rate: 500.0,
         ..RunOptions::default()
     };
-    let before = ALLOCS.load(Ordering::Relaxed);
+    let before = ALLOCS.with(Cell::get);
     let r = run(
         &mut sys,
         &mut solver,
@@ -71,7 +79,7 @@ pub fn allocations<S: Mechanical>(sys: S, method: Method, t_end: f64) -> (u64, u
         &mut sink,
         &mut |_| {},
     );
-    let after = ALLOCS.load(Ordering::Relaxed);
+    let after = ALLOCS.with(Cell::get);
     assert!(r.is_ok(), "{:?}", r.err().map(|e| e.0.to_string()));
     (after - before, sink.0)
 }

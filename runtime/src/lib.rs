@@ -1,5 +1,7 @@
 //! washdyn runtime: model IR, the one derivation of the equations of motion, the interpreter back
 //! end, integrators, sensors and output.
+// Index loops over matrix entries read like the formulas they implement.
+#![allow(clippy::needless_range_loop)]
 pub mod codegen;
 pub mod elements;
 pub mod equations;

@@ -60,7 +60,7 @@ impl Element for Gasket {
             moment: V([w[3], w[4], w[5]]),
         };
         // Both markers sit at the same point, so b takes the plain reaction.
-        (wa, wa.neg())
+        (wa, wa.reaction())
     }
 }
 

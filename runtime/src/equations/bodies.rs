@@ -116,6 +116,7 @@ impl UnbalanceDef {
         (pos, vel, acc)
     }
 
+    #[allow(clippy::too_many_arguments)]
     pub fn add<T: Scalar>(
         &self,
         st: &TubState<T>,

@@ -72,7 +72,8 @@ impl<T: Scalar> Wrench<T> {
             moment: V::zero(),
         }
     }
-    pub fn neg(self) -> Self {
+    /// The equal and opposite wrench.
+    pub fn reaction(self) -> Self {
         Wrench {
             force: -self.force,
             moment: -self.moment,

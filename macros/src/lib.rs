@@ -45,3 +45,6 @@ pub fn machine(input: TokenStream) -> TokenStream {
     }
     out.into()
 }
+
+#[cfg(test)]
+mod tests;

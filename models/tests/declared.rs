@@ -38,7 +38,10 @@ fn compact_differs_from_the_reference_exactly_where_declared() {
         let s = undone.springs.iter_mut().find(|s| s.name == name).unwrap();
         assert_eq!(s.stiffness, 5000.0);
         // Free length keeps the tub's rest position: 0.2 m between the attachment points.
-        assert!((s.free_length - (0.2 - preload / 5000.0)).abs() < 1e-12, "{name}");
+        assert!(
+            (s.free_length - (0.2 - preload / 5000.0)).abs() < 1e-12,
+            "{name}"
+        );
         s.stiffness = 4000.0;
         s.free_length = l0_ref;
     }

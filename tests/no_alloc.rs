@@ -2,8 +2,8 @@
 //! it simulates 1 s or 10 s, so every allocation is set-up (counting global allocator).
 
 use std::alloc::{GlobalAlloc, Layout, System};
-use std::io;
 use std::cell::Cell;
+use std::io;
 use washdyn_runtime::ode::{AnySolver, Method, Options};
 use washdyn_runtime::output::SampleSink;
 use washdyn_runtime::run::{Labels, RunOptions, run};

@@ -2,7 +2,7 @@
 
 use crate::loc::{Diag, Loc, Spans};
 use crate::syntax::{self, Machine};
-use crate::tree::{self, Built, SINGLETONS};
+use crate::tree::{self, Built, LISTS, SINGLETONS};
 use proc_macro2::TokenStream;
 use quote::quote;
 use serde::de::DeserializeOwned;
@@ -46,7 +46,7 @@ pub fn analyse(input: TokenStream, dir: &FsPath) -> Result<(Machine, Model, Buil
     {
         for CheckError { path, message } in errors {
             let loc = built.spans.locate(&path);
-            diag.at(&path, loc, with_origin(message, loc));
+            diag.at(&path, loc, with_origin(message, loc, &path, &built.spans));
         }
     }
     match model {
@@ -154,11 +154,15 @@ fn one<T: DeserializeOwned>(v: &Value, at: &Path, spans: &Spans, diag: &mut Diag
 
 fn each<T: DeserializeOwned>(v: &Value, at: &Path, spans: &Spans, diag: &mut Diag) -> bool {
     match v {
-        Value::Array(items) => items
-            .iter()
-            .enumerate()
-            .map(|(i, it)| one::<T>(it, &at.clone().idx(i), spans, diag))
-            .fold(true, |a, b| a && b),
+        // Every element is read (no short circuit): each reports its own error.
+        Value::Array(items) => {
+            let failed = items
+                .iter()
+                .enumerate()
+                .filter(|(i, it)| !one::<T>(it, &at.clone().idx(*i), spans, diag))
+                .count();
+            failed == 0
+        }
         _ => one::<Vec<T>>(v, at, spans, diag),
     }
 }
@@ -180,7 +184,13 @@ fn ir_path(at: &Path, p: &serde_path_to_error::Path) -> Path {
 /// Place a serde error: an unknown field at its key, a missing field at the item (its name), a
 /// wrong value at the value; and name the item in the message.
 pub fn serde_error(path: &Path, msg: &str, spans: &Spans, diag: &mut Diag) {
-    let (loc, about, msg) = if msg.starts_with("unknown field `") {
+    let (loc, about, msg) = if path.0.len() == 1 && msg.starts_with("unknown field `") {
+        (
+            spans.locate_key(path),
+            Path::default(),
+            unknown_top_field(msg),
+        )
+    } else if msg.starts_with("unknown field `") {
         let parent = Path(path.0[..path.0.len().saturating_sub(1)].to_vec());
         (spans.locate_key(path), parent, with_suggestion(msg))
     } else if let Some(rest) = msg.strip_prefix("missing field `") {
@@ -211,7 +221,27 @@ pub fn serde_error(path: &Path, msg: &str, spans: &Spans, diag: &mut Diag) {
     } else {
         format!("{what}, `{rel}`")
     };
-    diag.at(path, loc, with_origin(format!("{prefix}: {msg}"), loc));
+    diag.at(
+        path,
+        loc,
+        with_origin(format!("{prefix}: {msg}"), loc, path, spans),
+    );
+}
+
+/// At the top level serde would offer the IR's lists (`springs`), which are written as items
+/// here: name what can be written instead.
+fn unknown_top_field(msg: &str) -> String {
+    let typo = msg.split('`').nth(1).unwrap_or_default();
+    let fields = ["gravity", "base"];
+    let kinds = SINGLETONS.iter().chain(LISTS.iter().map(|l| &l.0)).copied();
+    let mut out = format!(
+        "unknown field `{typo}`; top-level fields are `gravity` and `base`, blocks and items \
+         are written `KIND {{ .. }}` / `KIND NAME {{ .. }}`"
+    );
+    if let Some(s) = crate::suggest::closest(typo, fields.into_iter().chain(kinds)) {
+        out.push_str(&format!("; did you mean `{s}`?"));
+    }
+    out
 }
 
 /// serde lists the expected fields in backticks; suggest the closest to the unknown one.
@@ -226,12 +256,15 @@ fn with_suggestion(msg: &str) -> String {
     }
 }
 
-/// A finding about something the declaration inherited says so: the span is the `base` literal.
-fn with_origin(msg: String, loc: Loc) -> String {
-    if loc.from_base {
-        format!("{msg} (inherited from the base model)")
-    } else {
-        msg
+/// A finding about something inherited from the base file says so: its span is the `base`
+/// literal or the redeclared item's name, not the value itself.
+fn with_origin(msg: String, loc: Loc, path: &Path, spans: &Spans) -> String {
+    if !loc.from_base {
+        return msg;
+    }
+    match spans.describe(path).1 {
+        rel if rel.0.is_empty() => format!("{msg} (from the base model)"),
+        rel => format!("{msg} (`{rel}` is from the base model)"),
     }
 }
 

@@ -15,8 +15,16 @@ use washdyn_runtime::ir::check::Path;
 pub struct Loc {
     pub start: Span,
     pub end: Span,
-    /// Inherited from a variant's base file: the span is the `base` string literal.
+    /// Stands for something inherited from a variant's base file (the span is the `base`
+    /// literal, or the name of the redeclared item).
     pub from_base: bool,
+    /// Creation order, which follows the source as the parser reads it: findings are sorted by
+    /// it so they read top to bottom whatever step found them.
+    pub order: usize,
+}
+
+thread_local! {
+    static NEXT: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
 }
 
 impl Loc {
@@ -29,6 +37,7 @@ impl Loc {
             start,
             end,
             from_base: false,
+            order: NEXT.with(|n| n.replace(n.get() + 1)),
         }
     }
 
@@ -99,8 +108,9 @@ impl Diag {
         self.list.is_empty()
     }
 
-    /// All findings as one `syn::Error` (rustc prints each).
-    pub fn into_error(self) -> Option<syn::Error> {
+    /// All findings as one `syn::Error` (rustc prints each), in source order.
+    pub fn into_error(mut self) -> Option<syn::Error> {
+        self.list.sort_by_key(|d| d.loc.order);
         self.list
             .into_iter()
             .map(|d| d.loc.error(d.message))

@@ -193,6 +193,16 @@ fn object(input: ParseStream, diag: &mut Diag) -> syn::Result<Object> {
     })
 }
 
+/// Pass an error inside nested brackets up, leaving the brackets consumed: syn reports tokens
+/// left in a dropped group as an extra "unexpected token" at the very end, which would turn a
+/// recoverable error in one item into a fatal one for the whole machine.
+fn unwind(content: ParseStream, read: syn::Result<()>) -> syn::Result<()> {
+    if read.is_err() {
+        skip_rest(content)?;
+    }
+    read
+}
+
 fn skip_rest(input: ParseStream) -> syn::Result<()> {
     input.step(|cursor| {
         let mut rest = *cursor;
@@ -236,20 +246,25 @@ fn value(input: ParseStream, diag: &mut Diag) -> syn::Result<Value> {
         let content;
         let bracket = bracketed!(content in input);
         let mut items = Vec::new();
-        while !content.is_empty() {
-            items.push(value(&content, diag)?);
-            if content.is_empty() {
-                break;
+        let read = (|| {
+            while !content.is_empty() {
+                items.push(value(&content, diag)?);
+                if content.is_empty() {
+                    break;
+                }
+                content.parse::<Token![,]>()?;
             }
-            content.parse::<Token![,]>()?;
-        }
+            Ok(())
+        })();
+        unwind(&content, read)?;
         return Ok(Value::Array(items, Loc::new(bracket.span.join())));
     }
     if input.peek(token::Brace) {
         let content;
         let brace = braced!(content in input);
         let mut fields = Vec::new();
-        fields_into(&content, diag, &mut fields)?;
+        let read = fields_into(&content, diag, &mut fields);
+        unwind(&content, read)?;
         return Ok(Value::Object(Object {
             fields,
             loc: Loc::new(brace.span.join()),

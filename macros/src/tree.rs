@@ -5,7 +5,7 @@
 //! model instead of an empty one and merges the declarations into it.
 
 use crate::loc::{Diag, Loc, Spans};
-use crate::syntax::{Entry, Field, Machine, Object, Value as Syn};
+use crate::syntax::{Entry, Field, Machine, Name, Object, Value as Syn};
 use serde_json::{Map, Number, Value};
 use std::collections::HashSet;
 use std::path::{Path as FsPath, PathBuf};
@@ -64,111 +64,122 @@ pub fn build(m: &Machine, dir: &FsPath, diag: &mut Diag) -> Built {
 
     let mut singletons: HashSet<String> = HashSet::new();
     for e in &m.entries {
-        match e {
-            Entry::Field(f) => top_field(f, &mut b, diag),
-            Entry::Block {
-                kind,
-                name: None,
-                body,
-            } => {
-                let k = kind.to_string();
-                let kloc = Loc::new(kind.span());
-                if !SINGLETONS.contains(&k.as_str()) {
-                    let hint = if LISTS.iter().any(|l| l.0 == k) {
-                        format!("`{k}` needs a name: `{k} NAME {{ .. }}`")
-                    } else {
-                        unknown_kind(&k)
-                    };
-                    diag.push(kloc, hint);
-                    continue;
-                }
-                if !singletons.insert(k.clone()) {
-                    diag.push(kloc, format!("duplicate `{k}` block"));
-                    continue;
-                }
-                let path = root.clone().key(&k);
-                let slot = obj(&mut b.root).entry(k.clone()).or_insert(Value::Null);
-                // A speed profile is a table or a file: giving one replaces both.
-                if k == "speed"
-                    && let Value::Object(old) = slot
-                    && body
-                        .fields
-                        .iter()
-                        .any(|f| f.key == "table" || f.key == "csv")
-                {
-                    old.remove("table");
-                    old.remove("csv");
-                    b.spans.clear_below(&path);
-                }
-                put_object(slot, &path, body, &mut b.spans, diag);
-                b.spans.set(&path, kloc);
-                b.spans.set_item(&path, k.clone());
-                if body.broken {
-                    diag.poison(path);
-                }
+        let Entry::Block { kind, name, body } = e else {
+            if let Entry::Field(f) = e {
+                top_field(f, &mut b, diag);
             }
-            Entry::Block {
-                kind,
-                name: Some(name),
-                body,
-            } => {
-                let k = kind.to_string();
-                let Some(&(_, list, what)) = LISTS.iter().find(|l| l.0 == k) else {
-                    let hint = if SINGLETONS.contains(&k.as_str()) {
-                        format!("`{k}` is a single block and takes no name: `{k} {{ .. }}`")
-                    } else {
-                        unknown_kind(&k)
-                    };
-                    diag.push(Loc::new(kind.span()), hint);
-                    continue;
-                };
-                if let Some(f) = body.fields.iter().find(|f| f.key == "name") {
-                    diag.push(
-                        f.key_loc,
-                        format!(
-                            "the {what}'s name is the one before the braces: `{k} NAME {{ .. }}`"
-                        ),
-                    );
-                    continue;
-                }
-                let items = obj(&mut b.root)
-                    .entry(list.to_string())
-                    .or_insert_with(|| Value::Array(Vec::new()));
-                let Value::Array(items) = items else {
-                    unreachable!("lists are arrays")
-                };
-                // Redeclaring a base item (once) merges into it; anything else is a new item,
-                // so a name declared twice reaches the checker as a duplicate.
-                let list_path = root.clone().key(list);
-                let found = items.iter().enumerate().position(|(i, it)| {
-                    from_base.contains(&list_path.clone().idx(i))
-                        && it.get("name").and_then(Value::as_str) == Some(name.value.as_str())
-                });
-                let i = match found {
-                    Some(i) => {
-                        from_base.remove(&list_path.clone().idx(i));
-                        i
-                    }
-                    None => {
-                        let mut fresh = Map::new();
-                        fresh.insert("name".into(), Value::String(name.value.clone()));
-                        items.push(Value::Object(fresh));
-                        items.len() - 1
-                    }
-                };
-                let path = list_path.idx(i);
-                put_object(&mut items[i], &path, body, &mut b.spans, diag);
-                b.spans.set(&path, name.loc);
-                b.spans.set(&path.clone().key("name"), name.loc);
-                b.spans.set_item(&path, format!("{what} `{}`", name.value));
-                if body.broken {
-                    diag.poison(path);
-                }
+            continue;
+        };
+        let k = kind.to_string();
+        let kloc = Loc::new(kind.span());
+        if SINGLETONS.contains(&k.as_str()) {
+            if let Some(n) = name {
+                // Still read the block: the intent is clear and a "missing block" would mislead.
+                diag.push(
+                    n.loc,
+                    format!("`{k}` is a single block and takes no name: `{k} {{ .. }}`"),
+                );
             }
+            if singletons.insert(k.clone()) {
+                singleton(&k, kloc, body, &mut b, diag);
+            } else {
+                diag.push(kloc, format!("duplicate `{k}` block"));
+            }
+        } else if let Some(&(_, list, what)) = LISTS.iter().find(|l| l.0 == k) {
+            match name {
+                Some(n) => named(&k, list, what, n, body, &mut b, &mut from_base, diag),
+                None => diag.push(kloc, format!("`{k}` needs a name: `{k} NAME {{ .. }}`")),
+            }
+        } else {
+            diag.push(kloc, unknown_kind(&k));
         }
     }
     resolve_files(&mut b, dir, diag);
     b
+}
+
+/// `tub { .. }`, `cabinet { .. }`, `speed { .. }`: fields into that table (merged into the base's).
+fn singleton(k: &str, kloc: Loc, body: &Object, b: &mut Built, diag: &mut Diag) {
+    let path = Path::default().key(k);
+    let slot = obj(&mut b.root).entry(k.to_string()).or_insert(Value::Null);
+    if b.spans.get(&path).is_some_and(|l| l.from_base) {
+        // What the redeclaration leaves as it was now points at the block's keyword.
+        record(slot, &path, kloc.as_base(), &mut b.spans);
+    }
+    // A speed profile is a table or a file: giving one replaces both.
+    if k == "speed"
+        && let Value::Object(old) = slot
+        && body
+            .fields
+            .iter()
+            .any(|f| f.key == "table" || f.key == "csv")
+    {
+        old.remove("table");
+        old.remove("csv");
+        b.spans.clear_below(&path);
+    }
+    put_object(slot, &path, body, &mut b.spans, diag);
+    b.spans.set(&path, kloc);
+    b.spans.set_item(&path, k.to_string());
+    if body.broken {
+        diag.poison(path);
+    }
+}
+
+/// `KIND NAME { .. }`: a new element of the kind's list, or, in a variant, changes to the base's
+/// item of that name (once: a name declared twice reaches the checker as a duplicate).
+#[allow(clippy::too_many_arguments)]
+fn named(
+    k: &str,
+    list: &str,
+    what: &str,
+    name: &Name,
+    body: &Object,
+    b: &mut Built,
+    from_base: &mut HashSet<Path>,
+    diag: &mut Diag,
+) {
+    if let Some(f) = body.fields.iter().find(|f| f.key == "name") {
+        diag.push(
+            f.key_loc,
+            format!("the {what}'s name is the one before the braces: `{k} NAME {{ .. }}`"),
+        );
+        return;
+    }
+    let list_path = Path::default().key(list);
+    let items = obj(&mut b.root)
+        .entry(list.to_string())
+        .or_insert_with(|| Value::Array(Vec::new()));
+    let Value::Array(items) = items else {
+        unreachable!("lists are arrays")
+    };
+    let found = items.iter().enumerate().position(|(i, it)| {
+        from_base.contains(&list_path.clone().idx(i))
+            && it.get("name").and_then(Value::as_str) == Some(name.value.as_str())
+    });
+    let i = match found {
+        Some(i) => {
+            let p = list_path.clone().idx(i);
+            from_base.remove(&p);
+            // What the redeclaration leaves as it was now points at its name.
+            record(&items[i], &p, name.loc.as_base(), &mut b.spans);
+            i
+        }
+        None => {
+            let mut fresh = Map::new();
+            fresh.insert("name".into(), Value::String(name.value.clone()));
+            items.push(Value::Object(fresh));
+            items.len() - 1
+        }
+    };
+    let path = list_path.idx(i);
+    put_object(&mut items[i], &path, body, &mut b.spans, diag);
+    b.spans.set(&path, name.loc);
+    b.spans.set(&path.clone().key("name"), name.loc);
+    b.spans.set_item(&path, format!("{what} `{}`", name.value));
+    if body.broken {
+        diag.poison(path);
+    }
 }
 
 fn unknown_kind(k: &str) -> String {

@@ -189,7 +189,9 @@ where
     let n = lay.n();
     let names = sys.sys.channel_names();
     let (t0, t_end) = (opts.t_start, opts.t_end);
-    if !(t_end > t0) || !(opts.sample_rate > 0.0) {
+    // Written to reject NaN too.
+    let ordered = |a: f64, b: f64| a.partial_cmp(&b) == Some(std::cmp::Ordering::Greater);
+    if !ordered(t_end, t0) || !ordered(opts.sample_rate, 0.0) {
         return Err(RunError::Setup(format!(
             "need t_end > t_start and a positive sample rate (t_start {t0}, t_end {t_end}, rate {})",
             opts.sample_rate

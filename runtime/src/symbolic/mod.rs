@@ -114,6 +114,8 @@ impl Graph {
         self.intern(Node::Const(v.to_bits()))
     }
 
+    // Guards on float values read as the algebra they implement.
+    #[allow(clippy::redundant_guards)]
     /// Build a node with folding: constants evaluate, x+0, x*1, x*0, 0/x, --x and x-x simplify,
     /// commutative operands are ordered so a+b and b+a are one node.
     pub fn make(&mut self, n: Node) -> u32 {

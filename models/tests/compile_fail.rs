@@ -1,0 +1,31 @@
+//! `machine!` rejects broken machines at compile time, each error at the offending token.
+//! Cases: `tests/ui/*.rs`, expected output beside each in `.stderr`
+//! (regenerate with `TRYBUILD=overwrite`, then read them).
+
+use std::path::{Path, PathBuf};
+
+/// trybuild compiles the cases in its own crate under the target directory, so that crate's
+/// `CARGO_MANIFEST_DIR` is where `machine!` resolves base files: stage the fixture files there.
+fn stage_fixtures() {
+    let target = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .parent()
+        .expect("CARGO_TARGET_TMPDIR is <target>/tmp");
+    let project = target.join("tests/trybuild/washdyn-models/ui-data");
+    std::fs::create_dir_all(&project).expect("create the trybuild project's ui-data");
+    let here = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let mut files: Vec<PathBuf> = std::fs::read_dir(here.join("tests/ui-data"))
+        .expect("tests/ui-data")
+        .map(|e| e.expect("dir entry").path())
+        .collect();
+    files.push(here.join("data/reference.toml"));
+    for f in files {
+        std::fs::copy(&f, project.join(f.file_name().expect("a file"))).expect("copy fixture");
+    }
+}
+
+#[test]
+fn ui() {
+    stage_fixtures();
+    let t = trybuild::TestCases::new();
+    t.compile_fail("tests/ui/*.rs");
+}

@@ -1,0 +1,13 @@
+// An inertia tensor with a zero principal moment.
+washdyn_macros::machine! {
+    m {
+        tub {
+            mass: 1.0,
+            cog: [0.0, 0.0, 0.5],
+            inertia: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 0.0]],
+        }
+        speed { table: [[0.0, 0.0], [1.0, 100.0]] }
+    }
+}
+
+fn main() {}

@@ -1,0 +1,15 @@
+// A scene switching an effect that does not exist (no rotor `motor`).
+washdyn_macros::machine! {
+    m {
+        tub {
+            mass: 1.0,
+            cog: [0.0, 0.0, 0.5],
+            inertia: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+        }
+        speed { table: [[0.0, 0.0], [1.0, 100.0]] }
+        rotor drum { axis_point: [0.0, 0.0, 0.5], polar_inertia: 0.5 }
+        scene spin { effects: [gyroscopic, unbalance.motor] }
+    }
+}
+
+fn main() {}

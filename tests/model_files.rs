@@ -54,7 +54,7 @@ fn unknown_field_has_its_line() {
 #[test]
 fn checker_error_points_at_the_field_line() {
     // Second spring's stiffness negative: the error names the spring and sits on its line.
-    let src = REF.replacen("stiffness = 4000.0", "stiffness = 4000.0", 1).replacen(
+    let src = REF.replacen(
         "name = \"spring_rear_right\"\na = { body = \"tub\", point = [-0.10, -0.15, 0.62] }\nb = { body = \"cabinet\", point = [-0.10, -0.15, 0.82] }\nstiffness = 4000.0",
         "name = \"spring_rear_right\"\na = { body = \"tub\", point = [-0.10, -0.15, 0.62] }\nb = { body = \"cabinet\", point = [-0.10, -0.15, 0.82] }\nstiffness = -4000.0",
         1,

@@ -114,9 +114,10 @@ fn frf(m: &Model, w: f64, inertia: bool) -> DVector<C> {
         }
     }
     // Load stiffness of the unbalance's mean weight W at lever c, as for the spring preloads:
-    // Hessian of -W.r with the finite rotation, (c.W) I - sym(W c^T).
+    // Hessian of -W.r with the finite rotation, (c.W) I - sym(W c^T). A prescribed rotating
+    // force (no inertia) depends on time only and has none.
     let mut k = stiffness_hand(m);
-    let wv = g * mu;
+    let wv = g * mu_m;
     let load = c.dot(&wv) * nalgebra::Matrix3::identity()
         - 0.5 * (wv * c.transpose() + c * wv.transpose());
     for i in 0..3 {

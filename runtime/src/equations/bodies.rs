@@ -131,9 +131,11 @@ impl UnbalanceDef {
         let (s, sd, sdd) = self.motion(d);
         let weight = g * m;
         if !inertia {
-            // A prescribed rotating load: centrifugal, tangential and weight, nothing more.
+            // A prescribed rotating load, a function of time only: centrifugal, tangential and
+            // weight. (Keeping the weight's tilt with the tub, alpha x W at the turning lever,
+            // would be a parametric term feeding even orders.)
             (weight - sdd * m).add_to(h, 0);
-            (s.cross(weight - st.alpha.cross(weight)) - s.cross(sdd) * m).add_to(h, 3);
+            (s.cross(weight) - s.cross(sdd) * m).add_to(h, 3);
             return;
         }
         let sv = s.0;

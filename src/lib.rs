@@ -2,3 +2,4 @@
 //! post-processing.
 pub mod analysis;
 pub mod commands;
+pub mod sweep;

@@ -52,6 +52,37 @@ enum Cmd {
     },
     /// Check a model file and list its scenes.
     Check { model: String },
+    /// Run variants (unbalance position, mass, speed profile) on all cores: one folder each
+    /// and a comparison table DIR/sweep.csv.
+    Sweep {
+        /// A built-in model or a model file.
+        model: String,
+        /// Unbalance positions: front, middle, rear (comma-separated).
+        #[arg(long, value_delimiter = ',')]
+        positions: Vec<String>,
+        /// Unbalance masses, kg (comma-separated).
+        #[arg(long, value_delimiter = ',')]
+        masses: Vec<f64>,
+        /// Speed profile CSV files (time_s, rpm), comma-separated.
+        #[arg(long, value_delimiter = ',')]
+        profiles: Vec<PathBuf>,
+        #[arg(long)]
+        t_end: Option<f64>,
+        /// Output directory (default: out/<model>-sweep).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        #[arg(long, default_value = "dopri5")]
+        integrator: Method,
+        #[arg(long, default_value_t = 1e-6)]
+        tol: f64,
+        #[arg(long)]
+        scene: Option<String>,
+        #[arg(long, default_value_t = 2000.0)]
+        sample_rate: f64,
+        /// Parallel runs (default: all cores).
+        #[arg(long)]
+        jobs: Option<usize>,
+    },
 }
 
 fn main() -> ExitCode {
@@ -116,6 +147,75 @@ fn main() -> ExitCode {
                         return ExitCode::FAILURE;
                     }
                     ExitCode::SUCCESS
+                }
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    ExitCode::from(2)
+                }
+            }
+        }
+        Cmd::Sweep {
+            model,
+            positions,
+            masses,
+            profiles,
+            t_end,
+            out,
+            integrator,
+            tol,
+            scene,
+            sample_rate,
+            jobs,
+        } => {
+            let result = (|| {
+                let (m, _) = resolve_model(&model)?;
+                let spec = washdyn::sweep::SweepSpec {
+                    positions,
+                    masses,
+                    profiles,
+                };
+                let vars = washdyn::sweep::variants(&m, &spec)?;
+                let cfg = washdyn::sweep::SweepRun {
+                    out: out
+                        .unwrap_or_else(|| PathBuf::from("out").join(format!("{}-sweep", m.name))),
+                    t_end,
+                    method: integrator,
+                    tol,
+                    scene,
+                    sample_rate,
+                    jobs: jobs.unwrap_or_else(|| {
+                        std::thread::available_parallelism().map_or(2, |n| n.get())
+                    }),
+                };
+                let bar = ProgressBar::new(vars.len() as u64);
+                bar.set_style(
+                    ProgressStyle::with_template(
+                        "{bar:40} {pos}/{len} variants [{elapsed_precise}, ETA {eta}] {msg}",
+                    )
+                    .expect("valid template"),
+                );
+                let done = |r: &washdyn::sweep::VariantResult| {
+                    bar.inc(1);
+                    bar.set_message(format!("{}: {}", r.name, r.summary.status));
+                };
+                let res = washdyn::sweep::run_sweep(vars, &cfg, &done)?;
+                bar.finish_and_clear();
+                Ok::<_, String>((cfg.out, res))
+            })();
+            match result {
+                Ok((dir, res)) => {
+                    let failed = res.iter().filter(|r| r.summary.status != "ok").count();
+                    let _ = writeln!(
+                        std::io::stdout(),
+                        "{} variants ({failed} failed); table: {}/sweep.csv",
+                        res.len(),
+                        dir.display()
+                    );
+                    if failed > 0 {
+                        ExitCode::FAILURE
+                    } else {
+                        ExitCode::SUCCESS
+                    }
                 }
                 Err(e) => {
                     eprintln!("error: {e}");

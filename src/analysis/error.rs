@@ -56,16 +56,17 @@ pub enum AnalysisError {
         previous: f64,
     },
 
-    /// A time step differs from the mean step by more than the tolerance (dropped or jittered samples).
+    /// A time step differs from the median step by more than the tolerance (dropped or jittered samples).
     #[error(
-        "{path}, line {line}: time step {step} s differs from the mean step {mean_step} s by more than \
-         {tolerance_percent} %; the analysis needs uniformly sampled time"
+        "{path}, line {line}: time step {step} s differs from the typical (median) step \
+         {typical_step} s by more than {tolerance_percent} %; the analysis needs uniformly \
+         sampled time"
     )]
     TimeNotUniform {
         path: PathBuf,
         line: usize,
         step: f64,
-        mean_step: f64,
+        typical_step: f64,
         tolerance_percent: f64,
     },
 

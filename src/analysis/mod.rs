@@ -124,8 +124,7 @@ pub fn analyse_signals(
         .unwrap_or(1)
         .min(signals.channels.len())
         .max(1);
-    let results: Vec<Result<(Vec<PathBuf>, ChannelReport, usize), AnalysisError>> = if workers == 1
-    {
+    let results: Vec<Result<ChannelOutput, AnalysisError>> = if workers == 1 {
         signals
             .channels
             .iter()
@@ -192,13 +191,16 @@ pub fn analyse_signals(
     })
 }
 
+/// Files written for a channel, its report and its number of blocks.
+type ChannelOutput = (Vec<PathBuf>, ChannelReport, usize);
+
 /// Analyse one channel and write its files.
 fn analyse_channel(
     signals: &Signals,
     channel: &Channel,
     out_dir: &Path,
     opts: &AnalysisOptions,
-) -> Result<(Vec<PathBuf>, ChannelReport, usize), AnalysisError> {
+) -> Result<ChannelOutput, AnalysisError> {
     let run = RunUp::analyse(signals, channel, opts)?;
     let stem = file_stem(&channel.name);
     let mut files = Vec::new();

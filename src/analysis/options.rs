@@ -112,10 +112,11 @@ impl AnalysisOptions {
                 self.max_order
             ));
         }
-        if let Some(f) = self.max_frequency_hz {
-            if !(f.is_finite() && f > 0.0) {
-                return bad(format!("max_frequency_hz must be positive, got {f}"));
-            }
+        if let Some(f) = self
+            .max_frequency_hz
+            .filter(|f| !(f.is_finite() && *f > 0.0))
+        {
+            return bad(format!("max_frequency_hz must be positive, got {f}"));
         }
         if !(self.min_rpm.is_finite() && self.min_rpm > 0.0) {
             return bad(format!("min_rpm must be positive, got {}", self.min_rpm));

@@ -90,28 +90,63 @@ impl Block {
 
     /// Peak amplitude of drum order `order` from the energy in its band: main lobe
     /// (±2 bins) widened by the frequency sweep of that order within the block.
-    /// `None` where the order is not resolved (see [`Block::order_band`]).
+    /// `None` if the band reaches beyond Nyquist or the drum stands still. Does not
+    /// check whether other orders fall into the band (see [`Block::order_resolved`]).
     pub fn order_amplitude(&self, order: f64) -> Option<f64> {
         let (f, half) = self.order_band(order)?;
         Some(self.spectrum.band_amplitude(f - half, f + half))
     }
 
-    /// Centre frequency and half-width in Hz of the band of `order`; `None` when
-    /// the order is not resolved: band beyond Nyquist, or wider than ±0.5 order, so
-    /// it would take in the neighbouring integer orders (with 1 s blocks below
-    /// ~240 rpm).
+    /// Centre frequency and half-width in Hz of the band of `order` (main lobe
+    /// widened by the order's frequency sweep within the block); `None` if the band
+    /// reaches beyond Nyquist or the drum stands still.
     pub fn order_band(&self, order: f64) -> Option<(f64, f64)> {
         let fr = self.rotation_hz();
         let f = order * fr;
-        let sweep = order * (self.rpm_max - self.rpm_min) / 60.0;
-        let half = MAIN_LOBE_HALF_WIDTH_BINS * self.spectrum.df + 0.5 * sweep;
+        let half = self.band_half_width(order);
         let nyquist = self.spectrum.frequency(self.spectrum.amplitude.len() - 1);
-        (fr > 0.0 && f.is_finite() && f + half <= nyquist && half <= 0.5 * fr).then_some((f, half))
+        (fr > 0.0 && f.is_finite() && f + half <= nyquist).then_some((f, half))
+    }
+
+    /// Half-width in Hz of the band of `order`: ±2 bins plus half the sweep.
+    pub fn band_half_width(&self, order: f64) -> f64 {
+        let sweep = order.abs() * (self.rpm_max - self.rpm_min) / 60.0;
+        MAIN_LOBE_HALF_WIDTH_BINS * self.spectrum.df + 0.5 * sweep
+    }
+
+    /// True if the band of `order` is clear of the bands of every order in
+    /// `neighbours` (DC counts as order 0), so its energy is its own.
+    pub fn order_resolved(&self, order: f64, neighbours: &[f64]) -> bool {
+        let fr = self.rotation_hz();
+        let h = self.band_half_width(order);
+        neighbours
+            .iter()
+            .filter(|&&n| (n - order).abs() > 1e-9)
+            .all(|&n| (order - n).abs() * fr >= h + self.band_half_width(n))
     }
 }
 
-/// Amplitude of one order over the run-up (one value per block, `None` where the
-/// order is not resolved or the speed is below the minimum).
+/// Orders whose bands a tracked order must stay clear of: DC, the other tracked
+/// orders, and for integer (drum harmonic) orders the adjacent harmonics, which a
+/// real drum always has to some degree.
+pub fn neighbour_orders(tracked: &[f64]) -> Vec<f64> {
+    let mut v = vec![0.0];
+    for &o in tracked {
+        v.push(o);
+        if (o - o.round()).abs() < 1e-9 {
+            v.push(o - 1.0);
+            v.push(o + 1.0);
+        }
+    }
+    v.retain(|o| *o >= 0.0);
+    v.sort_by(f64::total_cmp);
+    v.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
+    v
+}
+
+/// Amplitude of one order over the run-up (one value per block, `None` below the
+/// minimum speed, above Nyquist, or where its band would take in a neighbouring
+/// order, see [`neighbour_orders`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct OrderTrack {
     /// Drum order.
@@ -192,8 +227,9 @@ impl RunUp {
                 }
             })
             .collect();
-        let tracks = opts
-            .tracked_orders()
+        let tracked = opts.tracked_orders();
+        let neighbours = neighbour_orders(&tracked.iter().map(|(o, _)| *o).collect::<Vec<_>>());
+        let tracks = tracked
             .into_iter()
             .map(|(order, label)| OrderTrack {
                 order,
@@ -201,7 +237,7 @@ impl RunUp {
                 amplitude: blocks
                     .iter()
                     .map(|b| {
-                        if b.rpm < opts.min_rpm {
+                        if b.rpm < opts.min_rpm || !b.order_resolved(order, &neighbours) {
                             None
                         } else {
                             b.order_amplitude(order)

@@ -281,8 +281,9 @@ enum HeatY {
 
 /// Amplitude (SI, amplitude-corrected) per pixel of a `w` x `h` heat map, top row
 /// first; NaN where there is no data. Each pixel column takes the blocks whose speed
-/// lies within half a block spacing (or half a column) of the column's speed and
-/// keeps the largest value (max hold where a speed plateau yields many blocks).
+/// lies within half a block spacing (or half a column) of the column's speed; each
+/// pixel keeps the largest bin overlapping its frequency interval and the largest
+/// over those blocks, so no peak disappears between pixels (max hold).
 fn heat_values(
     blocks: &[&Block],
     y: HeatY,
@@ -310,18 +311,23 @@ fn heat_values(
         let a = blocks.partition_point(|b| b.rpm < rc - tol);
         let e = blocks.partition_point(|b| b.rpm <= rc + tol);
         for b in &blocks[a..e] {
-            let n_bins = b.spectrum.amplitude.len();
+            let amp = &b.spectrum.amplitude;
+            let scale = match y {
+                HeatY::Order => b.rotation_hz() / b.spectrum.df,
+                HeatY::Frequency => 1.0 / b.spectrum.df,
+            };
             for j in 0..h {
-                let yv = yr.end - (j as f64 + 0.5) * dy;
-                let f = match y {
-                    HeatY::Order => yv * b.rotation_hz(),
-                    HeatY::Frequency => yv,
-                };
-                let k = (f / b.spectrum.df).round();
-                if !(k >= 0.0 && (k as usize) < n_bins) {
+                // Row j spans [y_lo, y_hi) in axis units; bin k spans k ± 0.5.
+                let y_hi = yr.end - j as f64 * dy;
+                let y_lo = y_hi - dy;
+                let k_lo = (y_lo * scale).round().max(0.0);
+                let k_hi = (y_hi * scale).round().min((amp.len() - 1) as f64);
+                if k_lo > k_hi {
                     continue;
                 }
-                let v = b.spectrum.amplitude[k as usize];
+                let v = amp[k_lo as usize..=k_hi as usize]
+                    .iter()
+                    .fold(0.0, |m: f64, &v| m.max(v));
                 let cell = &mut out[j * w + i];
                 if cell.is_nan() || v > *cell {
                     *cell = v;
@@ -402,6 +408,7 @@ where
         .axis_desc_style(font(DESC_SIZE))
         .label_style(font(TICK_SIZE))
         .x_label_formatter(&|v| format!("{v:.0}"))
+        .y_label_formatter(&|v| fmt_number(*v))
         .x_labels(10)
         .y_labels(12)
         .draw()?;
@@ -422,9 +429,10 @@ fn draw_overlay<DB: DrawingBackend>(
 where
     DB::ErrorType: 'static,
 {
-    let line = ShapeStyle::from(&WHITE).stroke_width(2);
-    let shadow = ShapeStyle::from(&BLACK.mix(0.6)).stroke_width(4);
+    // Thin, translucent dashes: the marked order stays visible between them.
+    let line = ShapeStyle::from(&WHITE.mix(0.8)).stroke_width(1);
     let label_style = font(NOTE_SIZE);
+    let (_, py) = chart.plotting_area().get_pixel_range();
     match overlay {
         Overlay::Orders(lines) => {
             for (o, label) in lines {
@@ -432,13 +440,12 @@ where
                     continue;
                 }
                 let pts = [(x.start, *o), (x.end, *o)];
-                chart.draw_series(std::iter::once(PathElement::new(pts, shadow)))?;
-                chart.draw_series(DashedLineSeries::new(pts, 12, 6, line))?;
+                chart.draw_series(DashedLineSeries::new(pts, 8, 8, line))?;
                 let at = chart.backend_coord(&(x.end, *o));
                 boxed_label(
                     chart.plotting_area(),
                     label,
-                    (at.0 - 8, at.1 - 6),
+                    (at.0 - 8, at.1 - 8),
                     Pos::new(HPos::Right, VPos::Bottom),
                     &label_style,
                 )?;
@@ -454,14 +461,23 @@ where
                     continue;
                 }
                 let pts = [(r0, f(r0).max(y.start)), (r1, f(r1))];
-                chart.draw_series(std::iter::once(PathElement::new(pts, shadow)))?;
-                chart.draw_series(DashedLineSeries::new(pts, 12, 6, line))?;
+                chart.draw_series(DashedLineSeries::new(pts, 8, 8, line))?;
                 let at = chart.backend_coord(&(r1, f(r1)));
+                // Below the ray's end if there is room, else above it.
+                let (_, th) = chart
+                    .plotting_area()
+                    .estimate_text_size(label, &label_style)?;
+                let below = at.1 + 12 + th as i32 + 4 < py.end;
+                let (dy, vpos) = if below {
+                    (12, VPos::Top)
+                } else {
+                    (-12, VPos::Bottom)
+                };
                 boxed_label(
                     chart.plotting_area(),
                     label,
-                    (at.0 - 10, at.1 + 8),
-                    Pos::new(HPos::Right, VPos::Top),
+                    (at.0 - 12, at.1 + dy),
+                    Pos::new(HPos::Right, vpos),
                     &label_style,
                 )?;
             }
@@ -598,8 +614,9 @@ fn heat_plot_cascade<'a>(run: &'a RunUp, opts: &AnalysisOptions) -> HeatPlot<'a>
     blocks.sort_by(|a, b| a.rpm.total_cmp(&b.rpm));
     let nyquist = run.layout.sample_rate / 2.0;
     let fmax = opts.max_frequency_hz.unwrap_or(nyquist).min(nyquist);
-    let mut rays = vec![(1.0, "drum order 1".to_string())];
-    rays.extend(motor_labels(opts));
+    // Only motor orders: a labelled drum-order-1 ray would sit among the low drum
+    // harmonics, where a label cannot be told apart from its neighbours.
+    let rays = motor_labels(opts);
     HeatPlot {
         title: format!("{}: cascade ({})", run.channel, run.quantity.noun()),
         subtitle: method_note(run, opts, "amplitude-corrected peak spectrum"),
@@ -626,24 +643,77 @@ const TRACK_COLOURS: [RGBColor; 8] = [
     RGBColor(23, 190, 207),
 ];
 
-/// Min/max of `data` per speed bin: the raw signal over speed without drawing
-/// every sample (a 60 s run at 2 kHz has 120 000).
+/// A track's legend label and its polyline segments (gaps where unresolved).
+type TrackLines = (String, Vec<Vec<(f64, f64)>>);
+
+/// Width right of line plots for the legend, outside the data.
+const LEGEND_AREA: u32 = 270;
+
+/// Min/max of `data` per speed bin, including the segment to the neighbouring
+/// sample, so the band is what drawing every sample as a polyline would give at
+/// this resolution (a 60 s run at 2 kHz has 120 000 samples).
 fn envelope(rpm: &[f64], data: &[f64], x: &Range<f64>, bins: usize) -> Vec<(f64, f64, f64)> {
     let mut lo = vec![f64::INFINITY; bins];
     let mut hi = vec![f64::NEG_INFINITY; bins];
     let width = (x.end - x.start) / bins as f64;
-    for (&r, &v) in rpm.iter().zip(data) {
+    let bin = |r: f64| {
         let b = ((r - x.start) / width).floor();
-        if b >= 0.0 && (b as usize) < bins {
-            let b = b as usize;
+        (b >= 0.0 && b < bins as f64).then_some(b as usize)
+    };
+    let mut put = |b: Option<usize>, v: f64| {
+        if let Some(b) = b {
             lo[b] = lo[b].min(v);
             hi[b] = hi[b].max(v);
         }
+    };
+    let mut prev: Option<(Option<usize>, f64)> = None;
+    for (&r, &v) in rpm.iter().zip(data) {
+        let b = bin(r);
+        put(b, v);
+        if let Some((pb, pv)) = prev.filter(|(pb, _)| *pb != b) {
+            put(b, pv);
+            put(pb, v);
+        }
+        prev = Some((b, v));
     }
     (0..bins)
         .filter(|&b| lo[b] <= hi[b])
         .map(|b| (x.start + (b as f64 + 0.5) * width, lo[b], hi[b]))
         .collect()
+}
+
+/// Tick label formatter that prints round-off next to zero as `0`.
+fn tick_formatter(span: f64) -> impl Fn(&f64) -> String {
+    move |v: &f64| {
+        if v.abs() < span.abs() * 1e-9 {
+            "0".to_string()
+        } else {
+            fmt_number(*v)
+        }
+    }
+}
+
+/// Legend in its own area (outside the data): a coloured line and a label per item.
+fn draw_legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    title: &str,
+    items: &[(String, RGBColor)],
+    top: i32,
+) -> PResult
+where
+    DB::ErrorType: 'static,
+{
+    let style = font(TICK_SIZE).pos(Pos::new(HPos::Left, VPos::Center));
+    area.draw(&Text::new(title.to_string(), (12, top), style.clone()))?;
+    for (i, (label, colour)) in items.iter().enumerate() {
+        let y = top + 30 + 28 * i as i32;
+        area.draw(&PathElement::new(
+            [(14, y), (44, y)],
+            colour.stroke_width(3),
+        ))?;
+        area.draw(&Text::new(label.clone(), (52, y), style.clone()))?;
+    }
+    Ok(())
 }
 
 fn draw_speed_plot<DB: DrawingBackend>(
@@ -664,24 +734,25 @@ where
         )?
         .titled(
             &format!(
-                "top: order amplitudes from energy-corrected spectra (band = Hann main lobe + \
-                 speed sweep per block), {:.3} s blocks; bottom: raw signal (min/max per speed bin)",
+                "top: order amplitudes from energy-corrected Hann spectra, {:.3} s blocks \
+                 (band: main lobe + speed sweep); bottom: raw signal",
                 run.layout.len as f64 / run.layout.sample_rate
             ),
             font(SUBTITLE_SIZE).color(&RGBColor(70, 70, 70)),
         )?;
-    let (_, h) = body.dim_in_pixel();
-    let (top, bottom) = body.split_vertically((h as f64 * 0.58) as u32);
+    let (w, h) = body.dim_in_pixel();
+    let (plots, legend) = body.split_horizontally(w.saturating_sub(LEGEND_AREA));
+    let (top, bottom) = plots.split_vertically((h as f64 * 0.58) as u32);
     let x_range = rpm_range(run.order_blocks().map(|b| b.rpm));
 
-    // Top: order tracks.
+    // Top: order tracks. 12 % headroom so the largest track is not drawn on the frame.
     let max = run
         .tracks
         .iter()
         .flat_map(|t| t.amplitude.iter().flatten())
         .fold(0.0, |m: f64, &a| m.max(a));
-    let axis = AmplitudeAxis::new(opts.colour_scale, run.quantity, max);
-    let series: Vec<(String, Vec<Vec<(f64, f64)>>)> = run
+    let axis = AmplitudeAxis::new(opts.colour_scale, run.quantity, max * 1.12);
+    let series: Vec<TrackLines> = run
         .tracks
         .iter()
         .map(|t| {
@@ -708,10 +779,11 @@ where
     let mut builder = ChartBuilder::on(&top);
     builder
         .margin(12)
-        .margin_right(30)
+        .margin_right(20)
         .x_label_area_size(50)
         .y_label_area_size(100);
     let y_desc = axis.caption();
+    let fmt_y = tick_formatter(axis.hi - axis.lo);
     match axis.scale {
         ColourScale::Log { .. } => {
             let mut chart =
@@ -723,7 +795,7 @@ where
                 .axis_desc_style(font(DESC_SIZE))
                 .label_style(font(TICK_SIZE))
                 .x_label_formatter(&|v| format!("{v:.0}"))
-                .y_label_formatter(&|v| fmt_number(*v))
+                .y_label_formatter(&fmt_y)
                 .light_line_style(RGBColor(235, 235, 235))
                 .draw()?;
             draw_track_series(&mut chart, &series)?;
@@ -737,67 +809,57 @@ where
                 .axis_desc_style(font(DESC_SIZE))
                 .label_style(font(TICK_SIZE))
                 .x_label_formatter(&|v| format!("{v:.0}"))
-                .y_label_formatter(&|v| fmt_number(*v))
+                .y_label_formatter(&fmt_y)
                 .light_line_style(RGBColor(235, 235, 235))
                 .draw()?;
             draw_track_series(&mut chart, &series)?;
         }
     }
+    let items: Vec<(String, RGBColor)> = series
+        .iter()
+        .enumerate()
+        .map(|(i, (l, _))| (l.clone(), TRACK_COLOURS[i % TRACK_COLOURS.len()]))
+        .collect();
+    draw_legend(&legend, "drum orders:", &items, 30)?;
+    let (_, top_h) = top.dim_in_pixel();
+    draw_legend(
+        &legend,
+        "raw signal:",
+        &[(run.channel.clone(), TRACK_COLOURS[0])],
+        top_h as i32 + 30,
+    )?;
 
-    // Bottom: raw channel over speed.
-    let f = run.quantity.display_factor();
-    let all_rpm = rpm_range(signals.drum_rpm.iter().copied());
-    let x_raw = if x_range.start <= all_rpm.start && x_range.end >= all_rpm.end {
-        x_range.clone()
-    } else {
-        all_rpm.start.min(x_range.start)..all_rpm.end.max(x_range.end)
-    };
+    // Bottom: raw channel over speed, same speed axis.
     draw_raw_panel(
         &bottom,
-        &x_raw,
+        &x_range,
         &[(channel, TRACK_COLOURS[0])],
         &signals.drum_rpm,
         &format!("{} [{}]", run.channel, run.quantity.display_unit()),
-        f,
-        false,
+        run.quantity.display_factor(),
     )?;
     Ok(())
 }
 
 fn draw_track_series<'a, DB: DrawingBackend + 'a, Y>(
     chart: &mut ChartContext<'a, DB, Cartesian2d<RangedCoordf64, Y>>,
-    series: &[(String, Vec<Vec<(f64, f64)>>)],
+    series: &[TrackLines],
 ) -> PResult
 where
     DB::ErrorType: 'static,
     Y: Ranged<ValueType = f64>,
 {
-    for (i, (label, segs)) in series.iter().enumerate() {
-        let colour = TRACK_COLOURS[i % TRACK_COLOURS.len()];
-        let style = colour.stroke_width(2);
-        let mut first = true;
+    for (i, (_, segs)) in series.iter().enumerate() {
+        let style = TRACK_COLOURS[i % TRACK_COLOURS.len()].stroke_width(2);
         for seg in segs {
-            let anno = chart.draw_series(LineSeries::new(seg.iter().copied(), style))?;
-            if first {
-                anno.label(label.clone()).legend(move |(x, y)| {
-                    PathElement::new([(x, y), (x + 24, y)], colour.stroke_width(3))
-                });
-                first = false;
-            }
+            chart.draw_series(LineSeries::new(seg.iter().copied(), style))?;
         }
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperLeft)
-        .margin(10)
-        .label_font(font(TICK_SIZE))
-        .background_style(WHITE.mix(0.9))
-        .border_style(RGBColor(160, 160, 160))
-        .draw()?;
     Ok(())
 }
 
-/// Raw signals over speed as min/max envelopes; `legend` when several channels share the panel.
+/// Raw signals over speed as filled bands (see [`envelope`]); translucent so
+/// several channels can share the panel.
 fn draw_raw_panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     x: &Range<f64>,
@@ -805,12 +867,12 @@ fn draw_raw_panel<DB: DrawingBackend>(
     rpm: &[f64],
     y_desc: &str,
     factor: f64,
-    legend: bool,
 ) -> PResult
 where
     DB::ErrorType: 'static,
 {
-    let bins = (area.dim_in_pixel().0 as usize).saturating_sub(150).max(50);
+    // Speed bins of about one pixel column.
+    let bins = (area.dim_in_pixel().0 as usize).saturating_sub(140).max(50);
     let envs: Vec<Vec<(f64, f64, f64)>> = channels
         .iter()
         .map(|(c, _)| {
@@ -830,11 +892,12 @@ where
         (lo, hi) = (-1.0, 1.0);
     }
     let pad = ((hi - lo) * 0.05)
-        .max(hi.abs().max(lo.abs()) * 1e-6)
+        .max(hi.abs().max(lo.abs()) * 1e-3)
         .max(1e-300);
+    let fmt_y = tick_formatter(hi - lo + 2.0 * pad);
     let mut chart = ChartBuilder::on(area)
         .margin(12)
-        .margin_right(30)
+        .margin_right(20)
         .x_label_area_size(62)
         .y_label_area_size(100)
         .build_cartesian_2d(x.clone(), (lo - pad)..(hi + pad))?;
@@ -845,35 +908,20 @@ where
         .axis_desc_style(font(DESC_SIZE))
         .label_style(font(TICK_SIZE))
         .x_label_formatter(&|v| format!("{v:.0}"))
-        .y_label_formatter(&|v| fmt_number(*v))
+        .y_label_formatter(&fmt_y)
         .light_line_style(RGBColor(235, 235, 235))
         .draw()?;
-    for ((c, colour), env) in channels.iter().zip(&envs) {
-        let colour = *colour;
-        if legend {
-            chart
-                .draw_series(LineSeries::new(env.iter().map(|e| (e.0, e.2)), colour))?
-                .label(c.name.clone())
-                .legend(move |(x, y)| {
-                    PathElement::new([(x, y), (x + 24, y)], colour.stroke_width(3))
-                });
-            chart.draw_series(LineSeries::new(env.iter().map(|e| (e.0, e.1)), colour))?;
-        } else {
-            chart.draw_series(
-                env.iter()
-                    .map(|e| PathElement::new([(e.0, e.1), (e.0, e.2)], colour)),
-            )?;
-        }
-    }
-    if legend {
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperLeft)
-            .margin(10)
-            .label_font(font(TICK_SIZE))
-            .background_style(WHITE.mix(0.9))
-            .border_style(RGBColor(160, 160, 160))
-            .draw()?;
+    let alpha = if channels.len() > 1 { 0.45 } else { 1.0 };
+    for ((_, colour), env) in channels.iter().zip(envs) {
+        let band: Vec<(f64, f64)> = env
+            .iter()
+            .map(|e| (e.0, e.2))
+            .chain(env.iter().rev().map(|e| (e.0, e.1)))
+            .collect();
+        chart.draw_series(std::iter::once(Polygon::new(
+            band,
+            colour.mix(alpha).filled(),
+        )))?;
     }
     Ok(())
 }
@@ -888,11 +936,13 @@ where
 {
     root.fill(&WHITE)?;
     let body = root
-        .titled("Displacements over drum speed", font(TITLE_SIZE))?
+        .titled("displacements over drum speed", font(TITLE_SIZE))?
         .titled(
-            "upper and lower envelope (max/min per speed bin) of each displacement channel",
+            "raw signals (band: every sample within a speed pixel)",
             font(SUBTITLE_SIZE).color(&RGBColor(70, 70, 70)),
         )?;
+    let (w, _) = body.dim_in_pixel();
+    let (plot, legend) = body.split_horizontally(w.saturating_sub(LEGEND_AREA));
     let x = rpm_range(signals.drum_rpm.iter().copied());
     let coloured: Vec<(&Channel, RGBColor)> = channels
         .iter()
@@ -901,14 +951,18 @@ where
         .collect();
     let q = Quantity::Displacement;
     draw_raw_panel(
-        &body,
+        &plot,
         &x,
         &coloured,
         &signals.drum_rpm,
         &format!("displacement [{}]", q.display_unit()),
         q.display_factor(),
-        true,
-    )
+    )?;
+    let items: Vec<(String, RGBColor)> = coloured
+        .iter()
+        .map(|(c, col)| (c.name.clone(), *col))
+        .collect();
+    draw_legend(&legend, "channels:", &items, 30)
 }
 
 /// Render with both backends: `<base>.png` and `<base>.svg`. Returns the paths.
@@ -999,7 +1053,11 @@ mod tests {
         assert_eq!(fmt_number(0.05), "0.05");
         assert_eq!(fmt_number(120.0), "120");
         assert_eq!(fmt_number(1e-5), "1e-5");
-        assert_eq!(nice_ticks(0.0, 1.0, 5), vec![0.0, 0.2, 0.4, 0.6, 0.8, 1.0]);
+        let ticks: Vec<String> = nice_ticks(0.0, 1.0, 5)
+            .into_iter()
+            .map(fmt_number)
+            .collect();
+        assert_eq!(ticks, ["0", "0.2", "0.4", "0.6", "0.8", "1"]);
     }
 
     #[test]

@@ -68,9 +68,9 @@ impl Window {
     }
 
     /// Equivalent noise bandwidth in bins, `N Σw² / (Σw)²` (1.5 for Hann): the
-    /// ratio of the two corrections squared.
+    /// squared ratio of amplitude to energy correction.
     pub fn enbw_bins(&self) -> f64 {
-        (self.energy_correction() / self.amplitude_correction()).powi(2)
+        (self.amplitude_correction() / self.energy_correction()).powi(2)
     }
 }
 
@@ -96,7 +96,7 @@ impl Spectrum {
     /// Index of the Nyquist bin if the block length is even (it is then counted
     /// once, like DC).
     fn nyquist_bin(&self) -> Option<usize> {
-        (self.block_len % 2 == 0).then_some(self.block_len / 2)
+        (self.block_len & 1 == 0).then_some(self.block_len / 2)
     }
 
     /// Mean square from the energy-corrected spectrum: `Σ A_k²/2` over the bins
@@ -186,7 +186,7 @@ impl SpectrumAnalyzer {
             .expect("buffer sizes come from the plan");
         let ca = self.window.amplitude_correction();
         let ce = self.window.energy_correction();
-        let nyq = (n % 2 == 0).then_some(n / 2);
+        let nyq = (n & 1 == 0).then_some(n / 2);
         let mut amplitude = Vec::with_capacity(self.output.len());
         let mut energy = Vec::with_capacity(self.output.len());
         for (k, z) in self.output.iter().enumerate() {

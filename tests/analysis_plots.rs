@@ -8,21 +8,52 @@ use std::path::PathBuf;
 
 use washdyn::analysis::{AnalysisOptions, ColourScale, analyse_file, plot};
 
-/// Linear run-up `r0 -> r1` rpm over `duration` s at `fs` Hz; acceleration channels with
-/// orders 1 (1.0), 3 (0.3) and motor order 1 = 11.25 (0.05 m/s^2), phase integrated
-/// from the speed so the orders are exact; a displacement channel with order 1.
+/// Linear run-up `r0 -> r1` rpm over `duration` s at `fs` Hz, phase integrated from
+/// the speed so the orders are exact:
+/// * `tub1_ax`: orders 1 (1.0), 3 (0.3), motor order 1 = 11.25 (0.05 m/s^2);
+/// * `tub1_ay`: order 1 (1.0), motor order 2 = 22.5 (0.05 m/s^2);
+/// * `cabinet2_az`: what a measurement looks like: order 1 through a suspension
+///   resonance at 250 rpm, motor orders growing with speed, a panel resonance at
+///   85 Hz excited by noise, and broadband noise;
+/// * `drum_front_ux`, `drum_front_uy`: displacements, order 1 around a static offset.
 fn write_run_up_csv(path: &std::path::Path, r0: f64, r1: f64, duration: f64, fs: f64) {
     let n = (duration * fs) as usize;
-    let mut s = String::from("time_s,drum_rpm,tub1_ax,tub1_ay,drum_front_ux,drum_front_uy\n");
+    let mut s =
+        String::from("time_s,drum_rpm,tub1_ax,tub1_ay,cabinet2_az,drum_front_ux,drum_front_uy\n");
+    let mut seed = 0x9E37_79B9_7F4A_7C15u64;
+    let mut rand = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    // Panel resonance: two-pole resonator at 85 Hz, pole radius 0.99.
+    let (r, th) = (0.99, 2.0 * PI * 85.0 / fs);
+    let (mut y1, mut y2) = (0.0, 0.0);
     for i in 0..n {
         let t = i as f64 / fs;
         let rpm = r0 + (r1 - r0) * t / duration;
         let phi = 2.0 * PI / 60.0 * (r0 * t + 0.5 * (r1 - r0) * t * t / duration);
         let ax = (phi).sin() + 0.3 * (3.0 * phi).sin() + 0.05 * (11.25 * phi).sin();
         let ay = (phi).cos() + 0.05 * (22.5 * phi).sin();
+        let eta = rpm / 250.0;
+        let suspension = 0.4 * eta * eta / ((1.0 - eta * eta).powi(2) + (0.2 * eta).powi(2)).sqrt();
+        let y = 2.0 * r * th.cos() * y1 - r * r * y2 + 0.02 * rand();
+        (y2, y1) = (y1, y);
+        let speed = rpm / 1400.0;
+        let az = suspension * phi.sin()
+            + 0.08 * (2.0 * phi).sin()
+            + 0.03 * speed * speed * (11.25 * phi).sin()
+            + 0.01 * speed * (22.5 * phi).sin()
+            + y
+            + 0.005 * rand();
         let ux = 0.002 * (phi).sin() - 0.01;
         let uy = 0.002 * (phi).cos() * (1.0 + 0.5 * t / duration);
-        writeln!(s, "{t:.6},{rpm:.4},{ax:.7e},{ay:.7e},{ux:.7e},{uy:.7e}").unwrap();
+        writeln!(
+            s,
+            "{t:.6},{rpm:.4},{ax:.7e},{ay:.7e},{az:.7e},{ux:.7e},{uy:.7e}"
+        )
+        .unwrap();
     }
     std::fs::write(path, s).unwrap();
 }
@@ -42,7 +73,13 @@ fn analyse_file_writes_all_plots_and_csvs() {
     let report = analyse_file(&csv, &out, &opts).unwrap();
     println!("{report}");
 
-    for ch in ["tub1_ax", "tub1_ay", "drum_front_ux", "drum_front_uy"] {
+    for ch in [
+        "tub1_ax",
+        "tub1_ay",
+        "cabinet2_az",
+        "drum_front_ux",
+        "drum_front_uy",
+    ] {
         for kind in ["order", "cascade", "speed"] {
             for ext in ["png", "svg"] {
                 let p = out.join(format!("{ch}_{kind}.{ext}"));
@@ -94,7 +131,7 @@ fn every_colour_scale_renders() {
         };
         let out = tmp.path().join(format!("out{i}"));
         let report = analyse_file(&csv, &out, &opts).unwrap();
-        assert_eq!(report.files.len(), 4 * 8 + 2);
+        assert_eq!(report.files.len(), 5 * 8 + 2);
         for f in report
             .files
             .iter()

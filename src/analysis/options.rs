@@ -32,12 +32,13 @@ impl Default for ColourScale {
 ///
 /// Defaults are chosen for the simulator's 2 kHz output and drum speeds up to
 /// 1400 rpm (23.3 Hz):
-/// * `block_length_s = 1.0`: 1 Hz resolution, i.e. order resolution
-///   `60 / (T rpm)` = 0.6 at 100 rpm, 0.15 at 400 rpm, 0.04 at 1400 rpm, so orders
-///   1, 2, 3 have separate Hann main lobes (±2 bins) from about 240 rpm on. Longer
-///   blocks would resolve better but smear more: during a run-up of ~20 rpm/s the
-///   motor order 1 (drum order 11.25) sweeps ~4 Hz per second. Order tracks widen
-///   their band by that sweep, so they stay right.
+/// * `block_length_s = 1.0`: 1 Hz resolution, i.e. order resolution of the order
+///   plot `60 / (T rpm)` = 0.6 at 100 rpm, 0.15 at 400 rpm, 0.04 at 1400 rpm.
+///   Longer blocks resolve better but smear more: during a run-up of ~20 rpm/s
+///   motor order 1 (drum order 11.25) sweeps ~4 Hz (4 bins) within a 1 s block, at
+///   2 s it would be 15 bins of a 0.5 Hz grid. The order tracks do not smear (they
+///   follow the drum angle) and resolve orders 1 and 2 from 2 revolutions per
+///   block, i.e. from 120 rpm, below the usual suspension resonance (150-300 rpm).
 /// * `overlap = 0.5`: Hann windows at 50 % overlap sum to a constant, so every
 ///   sample counts equally; a 60 s run-up gives ~120 blocks (~11 rpm apart at 20 rpm/s).
 /// * `max_order = 25`: covers the drum harmonics and motor orders 1 and 2 (11.25,

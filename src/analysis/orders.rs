@@ -1,14 +1,28 @@
-//! Order analysis of a run-up: block spectra tagged with drum speed, order axis,
-//! and order tracks extracted from the energy-corrected spectra.
+//! Order analysis of a run-up: block spectra tagged with drum speed and an order
+//! axis, and order tracks by a synchronous (angle-domain) DFT of the same blocks.
+//!
+//! Order tracks do not read the block spectra: during a run-up an order sweeps
+//! through several bins within one block (motor order 1 at 20 rpm/s: ~4 Hz per
+//! second), and at low speed neighbouring orders share bins. Instead each block is
+//! demodulated with the drum angle `phi(t) = 2 pi ∫ rpm/60 dt`: the DFT is evaluated
+//! at `e^{-i o phi}` rather than `e^{-i 2 pi f t}`, so a component locked to the drum
+//! lands on one "bin" whatever the sweep, and the bin spacing is `1 / revolutions`
+//! in orders. That keeps orders 1 and 2 apart from 2 revolutions per block on
+//! (120 rpm with 1 s blocks) instead of ~4 bins of the time spectrum (~250 rpm).
+
+use std::f64::consts::PI;
+
+use realfft::num_complex::Complex;
 
 use super::error::AnalysisError;
 use super::options::AnalysisOptions;
 use super::signals::{Channel, Quantity, Signals};
 use super::spectrum::{Spectrum, SpectrumAnalyzer, Window};
 
-/// Half-width of the Hann main lobe in bins: a stationary sine keeps > 99.9 % of
-/// its energy within ±2 bins of its frequency, whatever its offset from the bins.
-pub const MAIN_LOBE_HALF_WIDTH_BINS: f64 = 2.0;
+/// Half-width in order bins of the energy band of a resolved order. The Hann main
+/// lobe is ±2 bins: the band captures the whole lobe, so a small speed error (the
+/// order off its exact bin) still reads the right amplitude.
+pub const BAND_HALF_WIDTH_BINS: usize = 2;
 
 /// Block geometry resolved from the options and the sample rate.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -65,6 +79,9 @@ pub struct Block {
     pub rpm_min: f64,
     /// See `rpm_min`.
     pub rpm_max: f64,
+    /// Drum revolutions within the block: the inverse of the order resolution of
+    /// the order tracks.
+    pub revolutions: f64,
     /// Spectrum of the block.
     pub spectrum: Spectrum,
 }
@@ -87,48 +104,121 @@ impl Block {
         (k.is_finite() && k >= 0.0 && (k as usize) < self.spectrum.amplitude.len())
             .then_some(k as usize)
     }
+}
 
-    /// Peak amplitude of drum order `order` from the energy in its band: main lobe
-    /// (±2 bins) widened by the frequency sweep of that order within the block.
-    /// `None` if the band reaches beyond Nyquist or the drum stands still. Does not
-    /// check whether other orders fall into the band (see [`Block::order_resolved`]).
-    pub fn order_amplitude(&self, order: f64) -> Option<f64> {
-        let (f, half) = self.order_band(order)?;
-        Some(self.spectrum.band_amplitude(f - half, f + half))
+/// Drum angle in rad at every sample: trapezoidal integral of the speed (exact
+/// for speed varying linearly between samples).
+pub fn drum_angle(rpm: &[f64], sample_rate: f64) -> Vec<f64> {
+    let k = 2.0 * PI / 60.0 * 0.5 / sample_rate;
+    let mut angle = Vec::with_capacity(rpm.len());
+    let mut acc = 0.0;
+    angle.push(acc);
+    for w in rpm.windows(2) {
+        acc += k * (w[0] + w[1]);
+        angle.push(acc);
+    }
+    angle
+}
+
+/// Synchronous DFT of one block at drum orders: Hann window, drum angle instead of time.
+pub struct OrderTracker {
+    window: Window,
+    demeaned: Vec<f64>,
+}
+
+impl OrderTracker {
+    /// Tracker for blocks of `len` samples.
+    pub fn new(len: usize) -> OrderTracker {
+        OrderTracker {
+            window: Window::hann(len),
+            demeaned: vec![0.0; len],
+        }
     }
 
-    /// Centre frequency and half-width in Hz of the band of `order` (main lobe
-    /// widened by the order's frequency sweep within the block); `None` if the band
-    /// reaches beyond Nyquist or the drum stands still.
-    pub fn order_band(&self, order: f64) -> Option<(f64, f64)> {
-        let fr = self.rotation_hz();
-        let f = order * fr;
-        let half = self.band_half_width(order);
-        let nyquist = self.spectrum.frequency(self.spectrum.amplitude.len() - 1);
-        (fr > 0.0 && f.is_finite() && f + half <= nyquist).then_some((f, half))
-    }
-
-    /// Half-width in Hz of the band of `order`: ±2 bins plus half the sweep.
-    pub fn band_half_width(&self, order: f64) -> f64 {
-        let sweep = order.abs() * (self.rpm_max - self.rpm_min) / 60.0;
-        MAIN_LOBE_HALF_WIDTH_BINS * self.spectrum.df + 0.5 * sweep
-    }
-
-    /// True if the band of `order` is clear of the bands of every order in
-    /// `neighbours` (DC counts as order 0), so its energy is its own.
-    pub fn order_resolved(&self, order: f64, neighbours: &[f64]) -> bool {
-        let fr = self.rotation_hz();
-        let h = self.band_half_width(order);
-        neighbours
+    /// Peak amplitude of drum order `order` in a block with samples `x` and drum
+    /// angles `angle`, or `None` if it is not resolved: a neighbour order (from
+    /// `neighbours`, DC = 0) closer than 2 order bins (its main lobe would reach
+    /// the order), or the order above Nyquist. Where the neighbours are at least
+    /// 4 bins away the amplitude comes from the energy of ±2 bins (robust to small
+    /// speed errors); closer, from the amplitude-corrected value of the exact bin.
+    pub fn amplitude(
+        &mut self,
+        x: &[f64],
+        angle: &[f64],
+        order: f64,
+        neighbours: &[f64],
+        sample_rate: f64,
+        remove_mean: bool,
+    ) -> Option<f64> {
+        let n = self.window.len();
+        assert!(x.len() == n && angle.len() == n, "block length mismatch");
+        let span = angle[n - 1] - angle[0];
+        let revs = span / (2.0 * PI) * n as f64 / (n - 1) as f64;
+        if revs.is_nan() || revs <= 0.0 {
+            return None;
+        }
+        let bin = 1.0 / revs;
+        // Highest frequency of the band must stay below Nyquist.
+        let max_rate =
+            angle.windows(2).map(|w| w[1] - w[0]).fold(0.0, f64::max) * sample_rate / (2.0 * PI);
+        let band = BAND_HALF_WIDTH_BINS as f64;
+        if (order + band * bin) * max_rate >= 0.5 * sample_rate {
+            return None;
+        }
+        let separation = neighbours
             .iter()
-            .filter(|&&n| (n - order).abs() > 1e-9)
-            .all(|&n| (order - n).abs() * fr >= h + self.band_half_width(n))
+            .filter(|&&o| (o - order).abs() > 1e-9)
+            .map(|&o| (o - order).abs() * revs)
+            .fold(f64::INFINITY, f64::min);
+        let half = (separation - 2.0).floor().min(band);
+        if half < 0.0 {
+            return None;
+        }
+        let half = half as i64;
+        let mean = if remove_mean {
+            x.iter().sum::<f64>() / n as f64
+        } else {
+            0.0
+        };
+        for ((d, &v), &w) in self.demeaned.iter_mut().zip(x).zip(self.window.coeffs()) {
+            *d = (v - mean) * w;
+        }
+        // Sums for bins m = -half..=half at orders `order + m / revs`.
+        let mut sums = vec![Complex::new(0.0, 0.0); (2 * half + 1) as usize];
+        let a0 = angle[0];
+        for (&v, &a) in self.demeaned.iter().zip(angle) {
+            let da = a - a0;
+            let base = Complex::from_polar(v, -order * da);
+            let step = Complex::from_polar(1.0, -bin * da);
+            let step_inv = step.conj();
+            let mid = half as usize;
+            sums[mid] += base;
+            let (mut up, mut down) = (base, base);
+            for m in 1..=mid {
+                up *= step;
+                down *= step_inv;
+                sums[mid + m] += up;
+                sums[mid - m] += down;
+            }
+        }
+        let scale = 2.0 / n as f64;
+        if half == 0 {
+            Some(self.window.amplitude_correction() * scale * sums[0].norm())
+        } else {
+            let ce = self.window.energy_correction() * scale;
+            Some(
+                sums.iter()
+                    .map(|s| (ce * s.norm()).powi(2))
+                    .sum::<f64>()
+                    .sqrt(),
+            )
+        }
     }
 }
 
-/// Orders whose bands a tracked order must stay clear of: DC, the other tracked
-/// orders, and for integer (drum harmonic) orders the adjacent harmonics, which a
-/// real drum always has to some degree.
+/// Orders a tracked order must be resolved from: DC, the other tracked orders,
+/// and for integer (drum harmonic) orders the adjacent harmonics, which a real
+/// drum always has to some degree.
 pub fn neighbour_orders(tracked: &[f64]) -> Vec<f64> {
     let mut v = vec![0.0];
     for &o in tracked {
@@ -145,8 +235,8 @@ pub fn neighbour_orders(tracked: &[f64]) -> Vec<f64> {
 }
 
 /// Amplitude of one order over the run-up (one value per block, `None` below the
-/// minimum speed, above Nyquist, or where its band would take in a neighbouring
-/// order, see [`neighbour_orders`]).
+/// minimum speed, above Nyquist, or where a neighbouring order is too close, see
+/// [`OrderTracker::amplitude`] and [`neighbour_orders`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct OrderTrack {
     /// Drum order.
@@ -208,9 +298,11 @@ impl RunUp {
             });
         }
         let mut analyzer = SpectrumAnalyzer::new(Window::hann(layout.len), signals.sample_rate);
-        let blocks: Vec<Block> = layout
-            .starts(n)
-            .map(|s| {
+        let angle = drum_angle(&signals.drum_rpm, signals.sample_rate);
+        let starts: Vec<usize> = layout.starts(n).collect();
+        let blocks: Vec<Block> = starts
+            .iter()
+            .map(|&s| {
                 let rpm = &signals.drum_rpm[s..s + layout.len];
                 let mean = rpm.iter().sum::<f64>() / rpm.len() as f64;
                 let (lo, hi) = rpm
@@ -218,30 +310,41 @@ impl RunUp {
                     .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &r| {
                         (lo.min(r), hi.max(r))
                     });
+                let span = angle[s + layout.len - 1] - angle[s];
                 Block {
                     time_s: signals.time[s] + 0.5 * (layout.len - 1) as f64 / signals.sample_rate,
                     rpm: mean,
                     rpm_min: lo,
                     rpm_max: hi,
+                    revolutions: span / (2.0 * PI) * layout.len as f64 / (layout.len - 1) as f64,
                     spectrum: analyzer.spectrum(&channel.data[s..s + layout.len], opts.remove_mean),
                 }
             })
             .collect();
         let tracked = opts.tracked_orders();
         let neighbours = neighbour_orders(&tracked.iter().map(|(o, _)| *o).collect::<Vec<_>>());
+        let mut tracker = OrderTracker::new(layout.len);
         let tracks = tracked
             .into_iter()
             .map(|(order, label)| OrderTrack {
                 order,
                 label,
-                amplitude: blocks
+                amplitude: starts
                     .iter()
-                    .map(|b| {
-                        if b.rpm < opts.min_rpm || !b.order_resolved(order, &neighbours) {
-                            None
-                        } else {
-                            b.order_amplitude(order)
+                    .zip(&blocks)
+                    .map(|(&s, b)| {
+                        if b.rpm < opts.min_rpm {
+                            return None;
                         }
+                        let r = s..s + layout.len;
+                        tracker.amplitude(
+                            &channel.data[r.clone()],
+                            &angle[r],
+                            order,
+                            &neighbours,
+                            signals.sample_rate,
+                            opts.remove_mean,
+                        )
                     })
                     .collect(),
             })

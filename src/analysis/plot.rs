@@ -734,8 +734,8 @@ where
         )?
         .titled(
             &format!(
-                "top: order amplitudes from energy-corrected Hann spectra, {:.3} s blocks \
-                 (band: main lobe + speed sweep); bottom: raw signal",
+                "top: order amplitudes (peak) by drum-angle synchronous DFT, Hann, {:.3} s \
+                 blocks; gaps: order not resolved; bottom: raw signal",
                 run.layout.len as f64 / run.layout.sample_rate
             ),
             font(SUBTITLE_SIZE).color(&RGBColor(70, 70, 70)),

@@ -69,6 +69,10 @@ fn analyse_file_writes_all_plots_and_csvs() {
     let csv = tmp.path().join("runup.csv");
     write_run_up_csv(&csv, 100.0, 1400.0, 40.0, 2000.0);
 
+    if std::env::var_os("WASHDYN_ANALYSIS_OUT").is_some() {
+        std::fs::create_dir_all(&out).unwrap();
+        std::fs::copy(&csv, out.join("input_runup.csv")).unwrap();
+    }
     let opts = AnalysisOptions::default();
     let report = analyse_file(&csv, &out, &opts).unwrap();
     println!("{report}");
@@ -139,5 +143,74 @@ fn every_colour_scale_renders() {
         {
             assert!(std::fs::metadata(f).unwrap().len() > 2_000, "{f:?}");
         }
+    }
+}
+
+#[test]
+fn analyse_signals_in_memory_with_awkward_names() {
+    use washdyn::analysis::{Channel, Signals, analyse_signals};
+    // Names that sanitise to the same stem, or to the overview plot's name.
+    let fs = 500.0;
+    let n = 2000;
+    let rpm: Vec<f64> = (0..n).map(|i| 300.0 + 0.05 * i as f64).collect();
+    let x: Vec<f64> = (0..n).map(|i| (0.3 * i as f64).sin()).collect();
+    let s = Signals::from_uniform(
+        0.0,
+        fs,
+        rpm,
+        vec![
+            Channel::new("left/front", x.clone()),
+            Channel::new("left front", x.clone()),
+            Channel::new("displacements", x),
+        ],
+    )
+    .unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let opts = AnalysisOptions {
+        plot_size: (640, 400),
+        ..AnalysisOptions::default()
+    };
+    let report = analyse_signals(&s, tmp.path(), &opts).unwrap();
+    assert_eq!(report.files.len(), 3 * 8);
+    let mut names: Vec<String> = report
+        .files
+        .iter()
+        .map(|f| f.file_name().unwrap().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names.dedup();
+    assert_eq!(names.len(), 24, "file names collide: {names:?}");
+    assert!(names.contains(&"left_front_order.png".to_string()));
+    assert!(names.contains(&"left_front_4_order.png".to_string()));
+    assert!(names.contains(&"displacements_5_speed.svg".to_string()));
+    // Generic channel: unit unknown, so no displacement overview.
+    assert!(!tmp.path().join("displacements_speed.png").exists());
+}
+
+#[test]
+fn degenerate_signals_still_render() {
+    use washdyn::analysis::{Channel, Signals, analyse_signals};
+    // Drum at standstill, a silent channel and a constant one: no orders, nothing
+    // to scale by; the plots must still come out (grey where there is no data).
+    let n = 3000;
+    let s = Signals::from_uniform(
+        0.0,
+        1000.0,
+        vec![0.0; n],
+        vec![
+            Channel::new("silent_az", vec![0.0; n]),
+            Channel::new("offset_uz", vec![0.01; n]),
+        ],
+    )
+    .unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let opts = AnalysisOptions {
+        plot_size: (640, 400),
+        ..AnalysisOptions::default()
+    };
+    let report = analyse_signals(&s, tmp.path(), &opts).unwrap();
+    assert_eq!(report.files.len(), 2 * 8 + 2);
+    for c in &report.channels {
+        assert!(c.orders.iter().all(|o| o.max_amplitude.is_none()), "{c:?}");
     }
 }

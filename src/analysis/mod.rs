@@ -35,7 +35,7 @@ pub struct OrderMax {
     pub order: f64,
     /// Legend label (`order 1`, `motor order 1 (= 11.25)`).
     pub label: String,
-    /// Largest peak amplitude in SI units (`None` if the order never was below Nyquist).
+    /// Largest peak amplitude in SI units (`None` if the order was never resolved).
     pub max_amplitude: Option<f64>,
     /// Drum speed (rpm) of the block with the largest amplitude.
     pub rpm_at_max: Option<f64>,
@@ -84,7 +84,7 @@ impl fmt::Display for AnalysisReport {
                     (Some(a), Some(r)) => {
                         writeln!(f, "  {:<28} max {a:.4e} at {r:.0} rpm", o.label)?
                     }
-                    _ => writeln!(f, "  {:<28} (above Nyquist)", o.label)?,
+                    _ => writeln!(f, "  {:<28} (never resolved)", o.label)?,
                 }
             }
         }
@@ -117,6 +117,7 @@ pub fn analyse_signals(
         source,
     })?;
     let layout = BlockLayout::new(opts, signals.sample_rate)?;
+    let stems = unique_stems(&signals.channels);
 
     // Channels are independent: spread them over the cores (plot encoding dominates).
     let workers = std::thread::available_parallelism()
@@ -128,7 +129,8 @@ pub fn analyse_signals(
         signals
             .channels
             .iter()
-            .map(|c| analyse_channel(signals, c, out_dir, opts))
+            .zip(&stems)
+            .map(|(c, stem)| analyse_channel(signals, c, stem, out_dir, opts))
             .collect()
     } else {
         let next = std::sync::atomic::AtomicUsize::new(0);
@@ -143,7 +145,8 @@ pub fn analyse_signals(
                             let Some(c) = signals.channels.get(i) else {
                                 break;
                             };
-                            done.push((i, analyse_channel(signals, c, out_dir, opts)));
+                            let r = analyse_channel(signals, c, &stems[i], out_dir, opts);
+                            done.push((i, r));
                         }
                         done
                     })
@@ -180,7 +183,7 @@ pub fn analyse_signals(
             signals,
             &displacements,
             opts,
-            &out_dir.join("displacements_speed"),
+            &out_dir.join(format!("{DISPLACEMENT_OVERVIEW}_speed")),
         )?);
     }
     Ok(AnalysisReport {
@@ -198,11 +201,11 @@ type ChannelOutput = (Vec<PathBuf>, ChannelReport, usize);
 fn analyse_channel(
     signals: &Signals,
     channel: &Channel,
+    stem: &str,
     out_dir: &Path,
     opts: &AnalysisOptions,
 ) -> Result<ChannelOutput, AnalysisError> {
     let run = RunUp::analyse(signals, channel, opts)?;
-    let stem = file_stem(&channel.name);
     let mut files = Vec::new();
     files.extend(plot::order_plot(
         &run,
@@ -250,6 +253,26 @@ fn analyse_channel(
             .collect(),
     };
     Ok((files, report, run.blocks.len()))
+}
+
+/// Base name of the all-displacements plot; no channel may get it as its stem.
+const DISPLACEMENT_OVERVIEW: &str = "displacements";
+
+/// One file stem per channel, unique even where sanitising maps two names to one
+/// (`a/b`, `a b`) or a name to the overview's: later ones get `_<column number>`.
+fn unique_stems(channels: &[Channel]) -> Vec<String> {
+    let mut seen = std::collections::HashSet::from([DISPLACEMENT_OVERVIEW.to_string()]);
+    channels
+        .iter()
+        .enumerate()
+        .map(|(i, c)| {
+            let mut stem = file_stem(&c.name);
+            while !seen.insert(stem.clone()) {
+                stem = format!("{stem}_{}", i + 3);
+            }
+            stem
+        })
+        .collect()
 }
 
 /// File-name-safe version of a channel name (measured files may use `/`, spaces, units).

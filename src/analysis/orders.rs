@@ -137,10 +137,12 @@ impl OrderTracker {
 
     /// Peak amplitude of drum order `order` in a block with samples `x` and drum
     /// angles `angle`, or `None` if it is not resolved: a neighbour order (from
-    /// `neighbours`, DC = 0) closer than 2 order bins (its main lobe would reach
-    /// the order), or the order above Nyquist. Where the neighbours are at least
-    /// 4 bins away the amplitude comes from the energy of ±2 bins (robust to small
-    /// speed errors); closer, from the amplitude-corrected value of the exact bin.
+    /// `neighbours`, DC = 0) closer than 2 order bins (inside the Hann main lobe),
+    /// or the order above Nyquist. Where the neighbours are at least 4 bins away
+    /// the amplitude comes from the energy of ±2 bins (robust to small speed
+    /// errors); closer, from the amplitude-corrected value of the exact bin, with
+    /// crosstalk from a neighbour of equal size below 3 % (Hann sidelobes at 2 to
+    /// 4 bins), below 0.4 % from 4 bins on.
     pub fn amplitude(
         &mut self,
         x: &[f64],

@@ -1,1 +1,295 @@
 //! Run-up analysis: order plots, cascades and speed plots from sensor signals.
+//!
+//! A washing machine is judged by its vibration over a stationary run-up of the
+//! drum (Wagner & Pfeiffer, DETC99): each channel is cut into Hann-windowed blocks,
+//! each block's spectrum is tagged with its mean drum speed, and frequency becomes
+//! drum order `f / (rpm/60)`. Motor orders sit at `motor_ratio * n` drum orders.
+//!
+//! Entry points: [`analyse_file`] (CSV in, files out) and [`analyse_signals`]
+//! (in-memory signals from the simulator). For every channel they write
+//! `<channel>_order.{png,svg}`, `<channel>_cascade.{png,svg}`,
+//! `<channel>_speed.{png,svg}`, `<channel>_spectra.csv` and `<channel>_orders.csv`,
+//! plus `displacements_speed.{png,svg}` if there are displacement channels.
+
+pub mod error;
+pub mod export;
+pub mod options;
+pub mod orders;
+pub mod plot;
+pub mod signals;
+pub mod spectrum;
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+pub use error::AnalysisError;
+pub use options::{AnalysisOptions, ColourScale};
+pub use orders::{Block, BlockLayout, OrderTrack, RunUp};
+pub use signals::{Channel, Quantity, Signals, parse_signals, read_signals};
+pub use spectrum::{Spectrum, SpectrumAnalyzer, Window};
+
+/// Largest amplitude of one tracked order over the run-up.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OrderMax {
+    /// Drum order.
+    pub order: f64,
+    /// Legend label (`order 1`, `motor order 1 (= 11.25)`).
+    pub label: String,
+    /// Largest peak amplitude in SI units (`None` if the order was never resolved).
+    pub max_amplitude: Option<f64>,
+    /// Drum speed (rpm) of the block with the largest amplitude.
+    pub rpm_at_max: Option<f64>,
+}
+
+/// Summary of one channel.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ChannelReport {
+    /// Channel name.
+    pub name: String,
+    /// Quantity (decides the unit).
+    pub quantity: Quantity,
+    /// Maximum per tracked order.
+    pub orders: Vec<OrderMax>,
+}
+
+/// What [`analyse_file`] / [`analyse_signals`] did.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AnalysisReport {
+    /// Every file written, in writing order.
+    pub files: Vec<PathBuf>,
+    /// Per-channel maxima of the tracked orders.
+    pub channels: Vec<ChannelReport>,
+    /// Block geometry used.
+    pub layout: BlockLayout,
+    /// Number of blocks per channel.
+    pub blocks: usize,
+}
+
+impl fmt::Display for AnalysisReport {
+    /// Table for the CLI: channel, order, max amplitude with unit, speed at max.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "{} blocks of {} samples ({:.3} s, df = {:.3} Hz), {} files written",
+            self.blocks,
+            self.layout.len,
+            self.layout.len as f64 / self.layout.sample_rate,
+            self.layout.df(),
+            self.files.len()
+        )?;
+        for c in &self.channels {
+            writeln!(f, "{} [{}]", c.name, c.quantity.si_unit())?;
+            for o in &c.orders {
+                match (o.max_amplitude, o.rpm_at_max) {
+                    (Some(a), Some(r)) => {
+                        writeln!(f, "  {:<28} max {a:.4e} at {r:.0} rpm", o.label)?
+                    }
+                    _ => writeln!(f, "  {:<28} (never resolved)", o.label)?,
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Read `csv_path` and analyse every channel into `out_dir` (created if missing).
+pub fn analyse_file(
+    csv_path: impl AsRef<Path>,
+    out_dir: impl AsRef<Path>,
+    opts: &AnalysisOptions,
+) -> Result<AnalysisReport, AnalysisError> {
+    opts.validate()?;
+    let signals = read_signals(csv_path)?;
+    analyse_signals(&signals, out_dir, opts)
+}
+
+/// Analyse in-memory signals (e.g. straight from the simulator) into `out_dir`.
+pub fn analyse_signals(
+    signals: &Signals,
+    out_dir: impl AsRef<Path>,
+    opts: &AnalysisOptions,
+) -> Result<AnalysisReport, AnalysisError> {
+    opts.validate()?;
+    signals.validate()?;
+    let out_dir = out_dir.as_ref();
+    std::fs::create_dir_all(out_dir).map_err(|source| AnalysisError::Write {
+        path: out_dir.to_path_buf(),
+        source,
+    })?;
+    let layout = BlockLayout::new(opts, signals.sample_rate)?;
+    let stems = unique_stems(&signals.channels);
+
+    // Channels are independent: spread them over the cores (plot encoding dominates).
+    let workers = std::thread::available_parallelism()
+        .map(|n| n.get())
+        .unwrap_or(1)
+        .min(signals.channels.len())
+        .max(1);
+    let results: Vec<Result<ChannelOutput, AnalysisError>> = if workers == 1 {
+        signals
+            .channels
+            .iter()
+            .zip(&stems)
+            .map(|(c, stem)| analyse_channel(signals, c, stem, out_dir, opts))
+            .collect()
+    } else {
+        let next = std::sync::atomic::AtomicUsize::new(0);
+        let mut slots: Vec<Option<_>> = (0..signals.channels.len()).map(|_| None).collect();
+        std::thread::scope(|s| {
+            let handles: Vec<_> = (0..workers)
+                .map(|_| {
+                    s.spawn(|| {
+                        let mut done = Vec::new();
+                        loop {
+                            let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                            let Some(c) = signals.channels.get(i) else {
+                                break;
+                            };
+                            let r = analyse_channel(signals, c, &stems[i], out_dir, opts);
+                            done.push((i, r));
+                        }
+                        done
+                    })
+                })
+                .collect();
+            for h in handles {
+                for (i, r) in h.join().expect("analysis worker panicked") {
+                    slots[i] = Some(r);
+                }
+            }
+        });
+        slots
+            .into_iter()
+            .map(|r| r.expect("every channel analysed"))
+            .collect()
+    };
+
+    let mut files = Vec::new();
+    let mut channels = Vec::new();
+    let mut blocks = 0;
+    for r in results {
+        let (f, c, n) = r?;
+        files.extend(f);
+        channels.push(c);
+        blocks = n;
+    }
+    let displacements: Vec<&Channel> = signals
+        .channels
+        .iter()
+        .filter(|c| c.quantity == Quantity::Displacement)
+        .collect();
+    if !displacements.is_empty() {
+        files.extend(plot::displacement_plot(
+            signals,
+            &displacements,
+            opts,
+            &out_dir.join(format!("{DISPLACEMENT_OVERVIEW}_speed")),
+        )?);
+    }
+    Ok(AnalysisReport {
+        files,
+        channels,
+        layout,
+        blocks,
+    })
+}
+
+/// Files written for a channel, its report and its number of blocks.
+type ChannelOutput = (Vec<PathBuf>, ChannelReport, usize);
+
+/// Analyse one channel and write its files.
+fn analyse_channel(
+    signals: &Signals,
+    channel: &Channel,
+    stem: &str,
+    out_dir: &Path,
+    opts: &AnalysisOptions,
+) -> Result<ChannelOutput, AnalysisError> {
+    let run = RunUp::analyse(signals, channel, opts)?;
+    let mut files = Vec::new();
+    files.extend(plot::order_plot(
+        &run,
+        opts,
+        &out_dir.join(format!("{stem}_order")),
+    )?);
+    files.extend(plot::cascade_plot(
+        &run,
+        opts,
+        &out_dir.join(format!("{stem}_cascade")),
+    )?);
+    files.extend(plot::speed_plot(
+        &run,
+        channel,
+        signals,
+        opts,
+        &out_dir.join(format!("{stem}_speed")),
+    )?);
+    let nyquist = signals.sample_rate / 2.0;
+    let spectra = out_dir.join(format!("{stem}_spectra.csv"));
+    export::write_spectra_csv(
+        &run,
+        opts.max_frequency_hz.unwrap_or(nyquist).min(nyquist),
+        &spectra,
+    )?;
+    files.push(spectra);
+    let orders_csv = out_dir.join(format!("{stem}_orders.csv"));
+    export::write_orders_csv(&run, &orders_csv)?;
+    files.push(orders_csv);
+    let report = ChannelReport {
+        name: channel.name.clone(),
+        quantity: channel.quantity,
+        orders: run
+            .tracks
+            .iter()
+            .map(|t| {
+                let m = t.max(&run.blocks);
+                OrderMax {
+                    order: t.order,
+                    label: t.label.clone(),
+                    max_amplitude: m.map(|m| m.0),
+                    rpm_at_max: m.map(|m| m.1),
+                }
+            })
+            .collect(),
+    };
+    Ok((files, report, run.blocks.len()))
+}
+
+/// Base name of the all-displacements plot; no channel may get it as its stem.
+const DISPLACEMENT_OVERVIEW: &str = "displacements";
+
+/// One file stem per channel, unique even where sanitising maps two names to one
+/// (`a/b`, `a b`) or a name to the overview's: later ones get `_<column number>`.
+fn unique_stems(channels: &[Channel]) -> Vec<String> {
+    let mut seen = std::collections::HashSet::from([DISPLACEMENT_OVERVIEW.to_string()]);
+    channels
+        .iter()
+        .enumerate()
+        .map(|(i, c)| {
+            let mut stem = file_stem(&c.name);
+            while !seen.insert(stem.clone()) {
+                stem = format!("{stem}_{}", i + 3);
+            }
+            stem
+        })
+        .collect()
+}
+
+/// File-name-safe version of a channel name (measured files may use `/`, spaces, units).
+pub fn file_stem(channel: &str) -> String {
+    let s: String = channel
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.') {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if s.is_empty() || s.starts_with('.') {
+        format!("ch{s}")
+    } else {
+        s
+    }
+}

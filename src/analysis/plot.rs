@@ -1,0 +1,1082 @@
+//! Plots of a run-up with plotters, each as PNG and SVG: order plot, cascade,
+//! speed plot (order tracks and raw signal over speed) and a displacement overview.
+//!
+//! Text uses the pure-Rust ab_glyph route with DejaVu Sans compiled in, so no
+//! system font lookup happens; [`init_fonts`] registers it (idempotent).
+//! Heat maps are rendered as one bitmap of exactly the plot area's pixels (the
+//! SVG embeds it as a PNG), so an SVG holds one image instead of ~10^5 rectangles.
+
+use std::error::Error;
+use std::ops::Range;
+use std::path::Path;
+use std::sync::Once;
+
+use plotters::coord::Shift;
+use plotters::coord::types::RangedCoordf64;
+use plotters::element::BitMapElement;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+use plotters::style::{FontStyle, FontTransform, register_font};
+
+use super::error::AnalysisError;
+use super::options::{AnalysisOptions, ColourScale, fmt_order};
+use super::orders::{Block, RunUp};
+use super::signals::{Channel, Quantity, Signals};
+
+static FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
+const FAMILY: &str = "sans-serif";
+
+/// Register the bundled font with plotters once per process. Every plotting entry
+/// point calls it; call it yourself before using plotters elsewhere (e.g. benches),
+/// because with the `ab_glyph` feature plotters has no other font source.
+pub fn init_fonts() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        if register_font(FAMILY, FontStyle::Normal, FONT).is_err() {
+            panic!("bundled font assets/DejaVuSans.ttf is not a valid font");
+        }
+    });
+}
+
+type DynErr = Box<dyn Error + Send + Sync>;
+type PResult<T = ()> = Result<T, DynErr>;
+
+const TITLE_SIZE: u32 = 28;
+const SUBTITLE_SIZE: u32 = 17;
+const DESC_SIZE: u32 = 22;
+const TICK_SIZE: u32 = 18;
+const NOTE_SIZE: u32 = 17;
+/// Width reserved right of a heat map for the colour bar, its ticks and caption.
+const COLOUR_BAR_AREA: u32 = 200;
+/// Colour of plot regions without data (above Nyquist, speed gaps).
+const NO_DATA: RGBColor = RGBColor(225, 225, 225);
+
+fn font(size: u32) -> TextStyle<'static> {
+    (FAMILY, size).into_font().color(&BLACK)
+}
+
+/// Perceptually ordered colour map (dark violet - blue - green - yellow), readable
+/// in greyscale prints and for colour-blind readers, unlike a rainbow.
+pub fn colour_map(t: f64) -> RGBColor {
+    const ANCHORS: [(u8, u8, u8); 9] = [
+        (68, 1, 84),
+        (71, 44, 122),
+        (59, 81, 139),
+        (44, 113, 142),
+        (33, 144, 141),
+        (39, 173, 129),
+        (92, 200, 99),
+        (170, 220, 50),
+        (253, 231, 37),
+    ];
+    let t = if t.is_finite() {
+        t.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let x = t * (ANCHORS.len() - 1) as f64;
+    let i = (x.floor() as usize).min(ANCHORS.len() - 2);
+    let f = x - i as f64;
+    let (a, b) = (ANCHORS[i], ANCHORS[i + 1]);
+    let mix = |p: u8, q: u8| (p as f64 + f * (q as f64 - p as f64)).round() as u8;
+    RGBColor(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
+}
+
+/// Amplitude axis resolved against the data: maps SI amplitudes to the axis unit
+/// (display unit or dB) and to a colour fraction, and provides ticks and caption.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AmplitudeAxis {
+    /// Scale kind.
+    pub scale: ColourScale,
+    /// Channel quantity (unit, dB reference).
+    pub quantity: Quantity,
+    /// Lower end in axis units (display unit, or dB).
+    pub lo: f64,
+    /// Upper end in axis units.
+    pub hi: f64,
+}
+
+impl AmplitudeAxis {
+    /// Axis covering amplitudes up to `max_si` (SI units).
+    pub fn new(scale: ColourScale, quantity: Quantity, max_si: f64) -> AmplitudeAxis {
+        let f = quantity.display_factor();
+        let max = if max_si.is_finite() && max_si > 0.0 {
+            max_si
+        } else {
+            1.0 / f
+        };
+        let (lo, hi) = match scale {
+            ColourScale::Linear => (0.0, nice_ceil(max * f)),
+            ColourScale::Log { range_db } => {
+                let hi = max * f;
+                (hi * 10f64.powf(-range_db / 20.0), hi)
+            }
+            ColourScale::Decibel { range_db } => {
+                let hi = (20.0 * (max / quantity.db_reference()).log10() / 5.0).ceil() * 5.0;
+                (hi - range_db, hi)
+            }
+        };
+        AmplitudeAxis {
+            scale,
+            quantity,
+            lo,
+            hi,
+        }
+    }
+
+    /// Value on the axis (display unit or dB) of an SI amplitude.
+    pub fn axis_value(&self, v_si: f64) -> f64 {
+        match self.scale {
+            ColourScale::Linear | ColourScale::Log { .. } => v_si * self.quantity.display_factor(),
+            ColourScale::Decibel { .. } => {
+                20.0 * (v_si.max(1e-300) / self.quantity.db_reference()).log10()
+            }
+        }
+    }
+
+    /// Position of an SI amplitude along the axis, 0 (low) to 1 (high), clamped.
+    pub fn fraction(&self, v_si: f64) -> f64 {
+        let t = match self.scale {
+            ColourScale::Log { .. } => {
+                let v = self.axis_value(v_si);
+                if v <= 0.0 {
+                    0.0
+                } else {
+                    (v / self.lo).log10() / (self.hi / self.lo).log10()
+                }
+            }
+            _ => (self.axis_value(v_si) - self.lo) / (self.hi - self.lo),
+        };
+        if t.is_finite() {
+            t.clamp(0.0, 1.0)
+        } else {
+            0.0
+        }
+    }
+
+    /// Position of an axis value (not SI) along the axis.
+    fn fraction_of_axis_value(&self, v: f64) -> f64 {
+        match self.scale {
+            ColourScale::Log { .. } => (v / self.lo).log10() / (self.hi / self.lo).log10(),
+            _ => (v - self.lo) / (self.hi - self.lo),
+        }
+    }
+
+    /// Tick positions (fraction) and labels.
+    pub fn ticks(&self) -> Vec<(f64, String)> {
+        let values: Vec<f64> = match self.scale {
+            ColourScale::Linear => nice_ticks(self.lo, self.hi, 6),
+            ColourScale::Decibel { range_db } => {
+                let step = if range_db > 40.0 {
+                    10.0
+                } else if range_db > 15.0 {
+                    5.0
+                } else {
+                    1.0
+                };
+                let first = (self.lo / step).ceil() as i64;
+                let last = (self.hi / step).floor() as i64;
+                (first..=last).map(|i| i as f64 * step).collect()
+            }
+            ColourScale::Log { .. } => {
+                let decades = (self.hi / self.lo).log10();
+                let mantissas: &[f64] = if decades < 2.5 {
+                    &[1.0, 2.0, 5.0]
+                } else {
+                    &[1.0]
+                };
+                let (e0, e1) = (
+                    self.lo.log10().floor() as i32,
+                    self.hi.log10().ceil() as i32,
+                );
+                (e0..=e1)
+                    .flat_map(|e| mantissas.iter().map(move |m| m * 10f64.powi(e)))
+                    .filter(|v| *v >= self.lo * (1.0 - 1e-9) && *v <= self.hi * (1.0 + 1e-9))
+                    .collect()
+            }
+        };
+        values
+            .into_iter()
+            .map(|v| (self.fraction_of_axis_value(v), fmt_number(v)))
+            .collect()
+    }
+
+    /// Axis caption with unit and convention (peak amplitude).
+    pub fn caption(&self) -> String {
+        let unit = self.quantity.display_unit();
+        match self.scale {
+            ColourScale::Linear => format!("amplitude (peak) [{unit}]"),
+            ColourScale::Log { .. } => format!("amplitude (peak) [{unit}], log scale"),
+            ColourScale::Decibel { .. } => {
+                format!("level (peak) [{}]", self.quantity.db_reference_label())
+            }
+        }
+    }
+}
+
+/// Smallest 1-2-2.5-5 number times a power of ten not below `v`.
+fn nice_ceil(v: f64) -> f64 {
+    if !(v.is_finite() && v > 0.0) {
+        return 1.0;
+    }
+    let p = 10f64.powf(v.log10().floor());
+    for m in [1.0, 2.0, 2.5, 5.0, 10.0] {
+        if m * p >= v * (1.0 - 1e-12) {
+            return m * p;
+        }
+    }
+    10.0 * p
+}
+
+/// About `n` round tick values in `[lo, hi]`.
+fn nice_ticks(lo: f64, hi: f64, n: usize) -> Vec<f64> {
+    let step = nice_ceil((hi - lo) / n.max(1) as f64);
+    let first = (lo / step).ceil() as i64;
+    let last = (hi / step + 1e-9).floor() as i64;
+    (first..=last).map(|i| i as f64 * step).collect()
+}
+
+/// Short number for tick labels: plain decimals where readable, else scientific.
+fn fmt_number(v: f64) -> String {
+    if v == 0.0 {
+        return "0".into();
+    }
+    let a = v.abs();
+    if (1e-3..1e5).contains(&a) {
+        let decimals = (3 - a.log10().floor() as i32).clamp(0, 6) as usize;
+        let s = format!("{v:.decimals$}");
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        }
+    } else {
+        let s = format!("{v:.1e}");
+        s.replace(".0e", "e")
+    }
+}
+
+/// Speed axis range over the given blocks, padded to round 50 rpm.
+fn rpm_range<'a>(rpms: impl Iterator<Item = f64> + 'a) -> Range<f64> {
+    let (lo, hi) = rpms.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), r| {
+        (l.min(r), h.max(r))
+    });
+    if !lo.is_finite() {
+        return 0.0..100.0;
+    }
+    let (mut lo, mut hi) = ((lo / 50.0).floor() * 50.0, (hi / 50.0).ceil() * 50.0);
+    if hi - lo < 50.0 {
+        lo -= 50.0;
+        hi += 50.0;
+    }
+    lo.max(0.0)..hi
+}
+
+/// What the y axis of a heat map shows.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum HeatY {
+    Order,
+    Frequency,
+}
+
+/// Amplitude (SI, amplitude-corrected) per pixel of a `w` x `h` heat map, top row
+/// first; NaN where there is no data. Each pixel column takes the blocks whose speed
+/// lies within half a block spacing (or half a column) of the column's speed; each
+/// pixel keeps the largest bin overlapping its frequency interval and the largest
+/// over those blocks, so no peak disappears between pixels (max hold).
+fn heat_values(
+    blocks: &[&Block],
+    y: HeatY,
+    x: &Range<f64>,
+    yr: &Range<f64>,
+    w: usize,
+    h: usize,
+) -> Vec<f64> {
+    let mut out = vec![f64::NAN; w * h];
+    if blocks.is_empty() || w == 0 || h == 0 {
+        return out;
+    }
+    let mut gaps: Vec<f64> = blocks
+        .windows(2)
+        .map(|p| p[1].rpm - p[0].rpm)
+        .filter(|d| *d > 1e-9)
+        .collect();
+    gaps.sort_by(f64::total_cmp);
+    let spacing = gaps.get(gaps.len() / 2).copied().unwrap_or(f64::INFINITY);
+    let dx = (x.end - x.start) / w as f64;
+    let tol = (0.5 * dx).max(0.5 * spacing * 1.0001);
+    let dy = (yr.end - yr.start) / h as f64;
+    for i in 0..w {
+        let rc = x.start + (i as f64 + 0.5) * dx;
+        let a = blocks.partition_point(|b| b.rpm < rc - tol);
+        let e = blocks.partition_point(|b| b.rpm <= rc + tol);
+        for b in &blocks[a..e] {
+            let amp = &b.spectrum.amplitude;
+            let scale = match y {
+                HeatY::Order => b.rotation_hz() / b.spectrum.df,
+                HeatY::Frequency => 1.0 / b.spectrum.df,
+            };
+            for j in 0..h {
+                // Row j spans [y_lo, y_hi) in axis units; bin k spans k ± 0.5.
+                let y_hi = yr.end - j as f64 * dy;
+                let y_lo = y_hi - dy;
+                let k_lo = (y_lo * scale).round().max(0.0);
+                let k_hi = (y_hi * scale).round().min((amp.len() - 1) as f64);
+                if k_lo > k_hi {
+                    continue;
+                }
+                let v = amp[k_lo as usize..=k_hi as usize]
+                    .iter()
+                    .fold(0.0, |m: f64, &v| m.max(v));
+                let cell = &mut out[j * w + i];
+                if cell.is_nan() || v > *cell {
+                    *cell = v;
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Reference lines drawn over a heat map.
+enum Overlay {
+    /// Horizontal lines at these orders (order plot).
+    Orders(Vec<(f64, String)>),
+    /// Rays `f = order * rpm / 60` (cascade).
+    Rays(Vec<(f64, String)>),
+}
+
+/// Everything a heat-map plot needs apart from the backend.
+struct HeatPlot<'a> {
+    title: String,
+    subtitle: String,
+    blocks: Vec<&'a Block>,
+    y: HeatY,
+    x_range: Range<f64>,
+    y_range: Range<f64>,
+    y_desc: String,
+    scale: ColourScale,
+    quantity: Quantity,
+    overlay: Overlay,
+}
+
+fn draw_heat_plot<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &HeatPlot) -> PResult
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE)?;
+    let body = root.titled(&p.title, font(TITLE_SIZE))?.titled(
+        &p.subtitle,
+        font(SUBTITLE_SIZE).color(&RGBColor(70, 70, 70)),
+    )?;
+    let (w, _) = body.dim_in_pixel();
+    let (main, _) = body.split_horizontally(w.saturating_sub(COLOUR_BAR_AREA));
+    let mut chart = ChartBuilder::on(&main)
+        .margin(12)
+        .margin_right(24)
+        .x_label_area_size(62)
+        .y_label_area_size(84)
+        .build_cartesian_2d(p.x_range.clone(), p.y_range.clone())?;
+
+    let (px, py) = chart.plotting_area().get_pixel_range();
+    let (pw, ph) = ((px.end - px.start) as usize, (py.end - py.start) as usize);
+    let values = heat_values(&p.blocks, p.y, &p.x_range, &p.y_range, pw, ph);
+    let max = values
+        .iter()
+        .copied()
+        .filter(|v| v.is_finite())
+        .fold(0.0, f64::max);
+    let axis = AmplitudeAxis::new(p.scale, p.quantity, max);
+    let mut rgb = Vec::with_capacity(pw * ph * 3);
+    for v in &values {
+        let c = if v.is_nan() {
+            NO_DATA
+        } else {
+            colour_map(axis.fraction(*v))
+        };
+        rgb.extend_from_slice(&[c.0, c.1, c.2]);
+    }
+    let image = BitMapElement::with_owned_buffer((px.start, py.start), (pw as u32, ph as u32), rgb)
+        .ok_or("heat map buffer size mismatch")?;
+    root.draw(&image)?;
+
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_desc("drum speed [rpm]")
+        .y_desc(p.y_desc.as_str())
+        .axis_desc_style(font(DESC_SIZE))
+        .label_style(font(TICK_SIZE))
+        .x_label_formatter(&|v| format!("{v:.0}"))
+        .y_label_formatter(&|v| fmt_number(*v))
+        .x_labels(10)
+        .y_labels(12)
+        .draw()?;
+
+    draw_overlay(&mut chart, &p.overlay, &p.x_range, &p.y_range)?;
+    draw_colour_bar(root, &axis, (px.end, py.clone()))?;
+    Ok(())
+}
+
+type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+fn draw_overlay<DB: DrawingBackend>(
+    chart: &mut Chart<DB>,
+    overlay: &Overlay,
+    x: &Range<f64>,
+    y: &Range<f64>,
+) -> PResult
+where
+    DB::ErrorType: 'static,
+{
+    // Thin, translucent dashes: the marked order stays visible between them.
+    let line = ShapeStyle::from(&WHITE.mix(0.8)).stroke_width(1);
+    let label_style = font(NOTE_SIZE);
+    let (_, py) = chart.plotting_area().get_pixel_range();
+    match overlay {
+        Overlay::Orders(lines) => {
+            for (o, label) in lines {
+                if *o < y.start || *o > y.end {
+                    continue;
+                }
+                let pts = [(x.start, *o), (x.end, *o)];
+                chart.draw_series(DashedLineSeries::new(pts, 8, 8, line))?;
+                let at = chart.backend_coord(&(x.end, *o));
+                boxed_label(
+                    chart.plotting_area(),
+                    label,
+                    (at.0 - 8, at.1 - 8),
+                    Pos::new(HPos::Right, VPos::Bottom),
+                    &label_style,
+                )?;
+            }
+        }
+        Overlay::Rays(rays) => {
+            for (o, label) in rays {
+                // Clip f = o * rpm / 60 to the plot rectangle.
+                let f = |r: f64| o * r / 60.0;
+                let r0 = x.start;
+                let r1 = x.end.min(if *o > 0.0 { y.end * 60.0 / o } else { x.end });
+                if r1 <= r0 || f(r0) > y.end {
+                    continue;
+                }
+                let pts = [(r0, f(r0).max(y.start)), (r1, f(r1))];
+                chart.draw_series(DashedLineSeries::new(pts, 8, 8, line))?;
+                let at = chart.backend_coord(&(r1, f(r1)));
+                // Below the ray's end if there is room, else above it.
+                let (_, th) = chart
+                    .plotting_area()
+                    .estimate_text_size(label, &label_style)?;
+                let below = at.1 + 12 + th as i32 + 4 < py.end;
+                let (dy, vpos) = if below {
+                    (12, VPos::Top)
+                } else {
+                    (-12, VPos::Bottom)
+                };
+                boxed_label(
+                    chart.plotting_area(),
+                    label,
+                    (at.0 - 12, at.1 + dy),
+                    Pos::new(HPos::Right, vpos),
+                    &label_style,
+                )?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Text on a white, slightly transparent box so it stays readable over the heat map.
+fn boxed_label<DB: DrawingBackend, CT: CoordTranslate>(
+    area: &DrawingArea<DB, CT>,
+    text: &str,
+    at: (i32, i32),
+    pos: Pos,
+    style: &TextStyle,
+) -> PResult
+where
+    DB::ErrorType: 'static,
+{
+    let (tw, th) = area.estimate_text_size(text, style)?;
+    let (tw, th) = (tw as i32, th as i32);
+    let x0 = match pos.h_pos {
+        HPos::Left => at.0,
+        HPos::Center => at.0 - tw / 2,
+        HPos::Right => at.0 - tw,
+    };
+    let y0 = match pos.v_pos {
+        VPos::Top => at.1,
+        VPos::Center => at.1 - th / 2,
+        VPos::Bottom => at.1 - th,
+    };
+    let (bx, by) = area.get_base_pixel();
+    let abs = area.strip_coord_spec();
+    let rect = [
+        (x0 - 4 - bx, y0 - 3 - by),
+        (x0 + tw + 4 - bx, y0 + th + 3 - by),
+    ];
+    abs.draw(&Rectangle::new(rect, WHITE.mix(0.85).filled()))?;
+    abs.draw(&Text::new(
+        text.to_string(),
+        (x0 - bx, y0 - by),
+        style.pos(Pos::new(HPos::Left, VPos::Top)),
+    ))?;
+    Ok(())
+}
+
+/// Colour bar right of the plot area, `x_left` its left edge in root pixels and `y`
+/// the plot area's vertical pixel range, so bar and map share their height.
+fn draw_colour_bar<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    axis: &AmplitudeAxis,
+    (x_left, y): (i32, Range<i32>),
+) -> PResult
+where
+    DB::ErrorType: 'static,
+{
+    let bar_x = x_left + 36;
+    let bar_w = 26u32;
+    let h = (y.end - y.start).max(1) as u32;
+    let mut rgb = Vec::with_capacity((bar_w * h * 3) as usize);
+    for j in 0..h {
+        let c = colour_map(1.0 - (j as f64 + 0.5) / h as f64);
+        for _ in 0..bar_w {
+            rgb.extend_from_slice(&[c.0, c.1, c.2]);
+        }
+    }
+    let img = BitMapElement::with_owned_buffer((bar_x, y.start), (bar_w, h), rgb)
+        .ok_or("colour bar buffer size mismatch")?;
+    root.draw(&img)?;
+    root.draw(&Rectangle::new(
+        [(bar_x, y.start), (bar_x + bar_w as i32, y.end)],
+        BLACK.stroke_width(1),
+    ))?;
+    let tick_style = font(TICK_SIZE).pos(Pos::new(HPos::Left, VPos::Center));
+    let mut widest = 0;
+    for (t, label) in axis.ticks() {
+        let py = y.end - (t * (y.end - y.start) as f64).round() as i32;
+        let x1 = bar_x + bar_w as i32;
+        root.draw(&PathElement::new([(x1, py), (x1 + 6, py)], BLACK))?;
+        root.draw(&Text::new(label.clone(), (x1 + 9, py), tick_style.clone()))?;
+        widest = widest.max(root.estimate_text_size(&label, &tick_style)?.0 as i32);
+    }
+    let caption = axis.caption();
+    let cap_style = font(DESC_SIZE)
+        .transform(FontTransform::Rotate90)
+        .pos(Pos::new(HPos::Center, VPos::Top));
+    let cx = bar_x + bar_w as i32 + 9 + widest + 12;
+    let cy = (y.start + y.end) / 2;
+    root.draw(&Text::new(caption, (cx + DESC_SIZE as i32, cy), cap_style))?;
+    Ok(())
+}
+
+/// Second title line: how the spectra were made.
+fn method_note(run: &RunUp, opts: &AnalysisOptions, spectrum: &str) -> String {
+    format!(
+        "Hann, {:.3} s blocks (Δf = {:.3} Hz), {:.0} % overlap, {spectrum}; grey: no data",
+        run.layout.len as f64 / run.layout.sample_rate,
+        run.layout.df(),
+        opts.overlap * 100.0,
+    )
+}
+
+fn motor_labels(opts: &AnalysisOptions) -> Vec<(f64, String)> {
+    opts.motor_drum_orders()
+        .into_iter()
+        .map(|(n, o)| (o, format!("motor order {n} (drum order {})", fmt_order(o))))
+        .collect()
+}
+
+fn heat_plot_order<'a>(run: &'a RunUp, opts: &AnalysisOptions) -> HeatPlot<'a> {
+    let mut blocks: Vec<&Block> = run.order_blocks().collect();
+    blocks.sort_by(|a, b| a.rpm.total_cmp(&b.rpm));
+    HeatPlot {
+        title: format!(
+            "{}: order plot ({}, motor/drum ratio {})",
+            run.channel,
+            run.quantity.noun(),
+            fmt_order(opts.motor_ratio)
+        ),
+        subtitle: method_note(run, opts, "amplitude-corrected peak spectrum"),
+        x_range: rpm_range(blocks.iter().map(|b| b.rpm)),
+        blocks,
+        y: HeatY::Order,
+        y_range: 0.0..opts.max_order,
+        y_desc: "drum order [-]".into(),
+        scale: opts.colour_scale,
+        quantity: run.quantity,
+        overlay: Overlay::Orders(motor_labels(opts)),
+    }
+}
+
+fn heat_plot_cascade<'a>(run: &'a RunUp, opts: &AnalysisOptions) -> HeatPlot<'a> {
+    let mut blocks: Vec<&Block> = run.blocks.iter().collect();
+    blocks.sort_by(|a, b| a.rpm.total_cmp(&b.rpm));
+    let nyquist = run.layout.sample_rate / 2.0;
+    let fmax = opts.max_frequency_hz.unwrap_or(nyquist).min(nyquist);
+    // Only motor orders: a labelled drum-order-1 ray would sit among the low drum
+    // harmonics, where a label cannot be told apart from its neighbours.
+    let rays = motor_labels(opts);
+    HeatPlot {
+        title: format!("{}: cascade ({})", run.channel, run.quantity.noun()),
+        subtitle: method_note(run, opts, "amplitude-corrected peak spectrum"),
+        x_range: rpm_range(blocks.iter().map(|b| b.rpm)),
+        blocks,
+        y: HeatY::Frequency,
+        y_range: 0.0..fmax,
+        y_desc: "frequency [Hz]".into(),
+        scale: opts.colour_scale,
+        quantity: run.quantity,
+        overlay: Overlay::Rays(rays),
+    }
+}
+
+/// Line colours for order tracks: distinct and print-safe.
+const TRACK_COLOURS: [RGBColor; 8] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(23, 190, 207),
+];
+
+/// A track's legend label and its polyline segments (gaps where unresolved).
+type TrackLines = (String, Vec<Vec<(f64, f64)>>);
+
+/// Width right of line plots for the legend, outside the data.
+const LEGEND_AREA: u32 = 270;
+
+/// Min/max of `data` per speed bin, including the segment to the neighbouring
+/// sample, so the band is what drawing every sample as a polyline would give at
+/// this resolution (a 60 s run at 2 kHz has 120 000 samples).
+fn envelope(rpm: &[f64], data: &[f64], x: &Range<f64>, bins: usize) -> Vec<(f64, f64, f64)> {
+    let mut lo = vec![f64::INFINITY; bins];
+    let mut hi = vec![f64::NEG_INFINITY; bins];
+    let width = (x.end - x.start) / bins as f64;
+    let bin = |r: f64| {
+        let b = ((r - x.start) / width).floor();
+        (b >= 0.0 && b < bins as f64).then_some(b as usize)
+    };
+    let mut put = |b: Option<usize>, v: f64| {
+        if let Some(b) = b {
+            lo[b] = lo[b].min(v);
+            hi[b] = hi[b].max(v);
+        }
+    };
+    let mut prev: Option<(Option<usize>, f64)> = None;
+    for (&r, &v) in rpm.iter().zip(data) {
+        let b = bin(r);
+        put(b, v);
+        if let Some((pb, pv)) = prev.filter(|(pb, _)| *pb != b) {
+            put(b, pv);
+            put(pb, v);
+        }
+        prev = Some((b, v));
+    }
+    (0..bins)
+        .filter(|&b| lo[b] <= hi[b])
+        .map(|b| (x.start + (b as f64 + 0.5) * width, lo[b], hi[b]))
+        .collect()
+}
+
+/// Tick label formatter that prints round-off next to zero as `0`.
+fn tick_formatter(span: f64) -> impl Fn(&f64) -> String {
+    move |v: &f64| {
+        if v.abs() < span.abs() * 1e-9 {
+            "0".to_string()
+        } else {
+            fmt_number(*v)
+        }
+    }
+}
+
+/// Legend in its own area (outside the data): a coloured line and a label per item.
+fn draw_legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    title: &str,
+    items: &[(String, RGBColor)],
+    top: i32,
+) -> PResult
+where
+    DB::ErrorType: 'static,
+{
+    let style = font(TICK_SIZE).pos(Pos::new(HPos::Left, VPos::Center));
+    area.draw(&Text::new(title.to_string(), (12, top), style.clone()))?;
+    for (i, (label, colour)) in items.iter().enumerate() {
+        let y = top + 30 + 28 * i as i32;
+        area.draw(&PathElement::new(
+            [(14, y), (44, y)],
+            colour.stroke_width(3),
+        ))?;
+        area.draw(&Text::new(label.clone(), (52, y), style.clone()))?;
+    }
+    Ok(())
+}
+
+fn draw_speed_plot<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    run: &RunUp,
+    channel: &Channel,
+    signals: &Signals,
+    opts: &AnalysisOptions,
+) -> PResult
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE)?;
+    let body = root
+        .titled(
+            &format!("{}: speed plot ({})", run.channel, run.quantity.noun()),
+            font(TITLE_SIZE),
+        )?
+        .titled(
+            &format!(
+                "top: order amplitudes (peak) by drum-angle synchronous DFT, Hann, {:.3} s \
+                 blocks; gaps: order not resolved; bottom: raw signal",
+                run.layout.len as f64 / run.layout.sample_rate
+            ),
+            font(SUBTITLE_SIZE).color(&RGBColor(70, 70, 70)),
+        )?;
+    let (w, h) = body.dim_in_pixel();
+    let (plots, legend) = body.split_horizontally(w.saturating_sub(LEGEND_AREA));
+    let (top, bottom) = plots.split_vertically((h as f64 * 0.58) as u32);
+    let x_range = rpm_range(run.order_blocks().map(|b| b.rpm));
+
+    // Top: order tracks. 12 % headroom so the largest track is not drawn on the frame.
+    let max = run
+        .tracks
+        .iter()
+        .flat_map(|t| t.amplitude.iter().flatten())
+        .fold(0.0, |m: f64, &a| m.max(a));
+    let axis = AmplitudeAxis::new(opts.colour_scale, run.quantity, max * 1.12);
+    let series: Vec<TrackLines> = run
+        .tracks
+        .iter()
+        .map(|t| {
+            // Split into runs of consecutive defined values so gaps stay gaps.
+            let mut segs: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
+            for (a, b) in t.amplitude.iter().zip(&run.blocks) {
+                match a {
+                    Some(a) => {
+                        let v = axis.axis_value(*a);
+                        let v = if matches!(axis.scale, ColourScale::Linear) {
+                            v
+                        } else {
+                            v.max(axis.lo)
+                        };
+                        segs.last_mut().expect("non-empty").push((b.rpm, v));
+                    }
+                    None => segs.push(Vec::new()),
+                }
+            }
+            segs.retain(|s| !s.is_empty());
+            (t.label.clone(), segs)
+        })
+        .collect();
+    let mut builder = ChartBuilder::on(&top);
+    builder
+        .margin(12)
+        .margin_right(20)
+        .x_label_area_size(50)
+        .y_label_area_size(100);
+    let y_desc = axis.caption();
+    let fmt_y = tick_formatter(axis.hi - axis.lo);
+    match axis.scale {
+        ColourScale::Log { .. } => {
+            let mut chart =
+                builder.build_cartesian_2d(x_range.clone(), (axis.lo..axis.hi).log_scale())?;
+            chart
+                .configure_mesh()
+                .x_desc("drum speed [rpm]")
+                .y_desc(y_desc.as_str())
+                .axis_desc_style(font(DESC_SIZE))
+                .label_style(font(TICK_SIZE))
+                .x_label_formatter(&|v| format!("{v:.0}"))
+                .y_label_formatter(&fmt_y)
+                .light_line_style(RGBColor(235, 235, 235))
+                .draw()?;
+            draw_track_series(&mut chart, &series)?;
+        }
+        _ => {
+            let mut chart = builder.build_cartesian_2d(x_range.clone(), axis.lo..axis.hi)?;
+            chart
+                .configure_mesh()
+                .x_desc("drum speed [rpm]")
+                .y_desc(y_desc.as_str())
+                .axis_desc_style(font(DESC_SIZE))
+                .label_style(font(TICK_SIZE))
+                .x_label_formatter(&|v| format!("{v:.0}"))
+                .y_label_formatter(&fmt_y)
+                .light_line_style(RGBColor(235, 235, 235))
+                .draw()?;
+            draw_track_series(&mut chart, &series)?;
+        }
+    }
+    let items: Vec<(String, RGBColor)> = series
+        .iter()
+        .enumerate()
+        .map(|(i, (l, _))| (l.clone(), TRACK_COLOURS[i % TRACK_COLOURS.len()]))
+        .collect();
+    draw_legend(&legend, "drum orders:", &items, 30)?;
+    let (_, top_h) = top.dim_in_pixel();
+    draw_legend(
+        &legend,
+        "raw signal:",
+        &[(run.channel.clone(), TRACK_COLOURS[0])],
+        top_h as i32 + 30,
+    )?;
+
+    // Bottom: raw channel over speed, same speed axis.
+    draw_raw_panel(
+        &bottom,
+        &x_range,
+        &[(channel, TRACK_COLOURS[0])],
+        &signals.drum_rpm,
+        &format!("{} [{}]", run.channel, run.quantity.display_unit()),
+        run.quantity.display_factor(),
+    )?;
+    Ok(())
+}
+
+fn draw_track_series<'a, DB: DrawingBackend + 'a, Y>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<RangedCoordf64, Y>>,
+    series: &[TrackLines],
+) -> PResult
+where
+    DB::ErrorType: 'static,
+    Y: Ranged<ValueType = f64>,
+{
+    for (i, (_, segs)) in series.iter().enumerate() {
+        let style = TRACK_COLOURS[i % TRACK_COLOURS.len()].stroke_width(2);
+        for seg in segs {
+            chart.draw_series(LineSeries::new(seg.iter().copied(), style))?;
+        }
+    }
+    Ok(())
+}
+
+/// Raw signals over speed as filled bands (see [`envelope`]); translucent so
+/// several channels can share the panel.
+fn draw_raw_panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    x: &Range<f64>,
+    channels: &[(&Channel, RGBColor)],
+    rpm: &[f64],
+    y_desc: &str,
+    factor: f64,
+) -> PResult
+where
+    DB::ErrorType: 'static,
+{
+    // Speed bins of about one pixel column.
+    let bins = (area.dim_in_pixel().0 as usize).saturating_sub(140).max(50);
+    let envs: Vec<Vec<(f64, f64, f64)>> = channels
+        .iter()
+        .map(|(c, _)| {
+            envelope(rpm, &c.data, x, bins)
+                .into_iter()
+                .map(|(r, lo, hi)| (r, lo * factor, hi * factor))
+                .collect()
+        })
+        .collect();
+    let (mut lo, mut hi) = envs
+        .iter()
+        .flatten()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), e| {
+            (l.min(e.1), h.max(e.2))
+        });
+    if !lo.is_finite() {
+        (lo, hi) = (-1.0, 1.0);
+    }
+    let pad = ((hi - lo) * 0.05)
+        .max(hi.abs().max(lo.abs()) * 1e-3)
+        .max(1e-300);
+    let fmt_y = tick_formatter(hi - lo + 2.0 * pad);
+    let mut chart = ChartBuilder::on(area)
+        .margin(12)
+        .margin_right(20)
+        .x_label_area_size(62)
+        .y_label_area_size(100)
+        .build_cartesian_2d(x.clone(), (lo - pad)..(hi + pad))?;
+    chart
+        .configure_mesh()
+        .x_desc("drum speed [rpm]")
+        .y_desc(y_desc)
+        .axis_desc_style(font(DESC_SIZE))
+        .label_style(font(TICK_SIZE))
+        .x_label_formatter(&|v| format!("{v:.0}"))
+        .y_label_formatter(&fmt_y)
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()?;
+    let alpha = if channels.len() > 1 { 0.45 } else { 1.0 };
+    for ((_, colour), env) in channels.iter().zip(envs) {
+        let band: Vec<(f64, f64)> = env
+            .iter()
+            .map(|e| (e.0, e.2))
+            .chain(env.iter().rev().map(|e| (e.0, e.1)))
+            .collect();
+        chart.draw_series(std::iter::once(Polygon::new(
+            band,
+            colour.mix(alpha).filled(),
+        )))?;
+    }
+    Ok(())
+}
+
+fn draw_displacements<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    signals: &Signals,
+    channels: &[&Channel],
+) -> PResult
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE)?;
+    let body = root
+        .titled("displacements over drum speed", font(TITLE_SIZE))?
+        .titled(
+            "raw signals (band: every sample within a speed pixel)",
+            font(SUBTITLE_SIZE).color(&RGBColor(70, 70, 70)),
+        )?;
+    let (w, _) = body.dim_in_pixel();
+    let (plot, legend) = body.split_horizontally(w.saturating_sub(LEGEND_AREA));
+    let x = rpm_range(signals.drum_rpm.iter().copied());
+    let coloured: Vec<(&Channel, RGBColor)> = channels
+        .iter()
+        .enumerate()
+        .map(|(i, c)| (*c, TRACK_COLOURS[i % TRACK_COLOURS.len()]))
+        .collect();
+    let q = Quantity::Displacement;
+    draw_raw_panel(
+        &plot,
+        &x,
+        &coloured,
+        &signals.drum_rpm,
+        &format!("displacement [{}]", q.display_unit()),
+        q.display_factor(),
+    )?;
+    let items: Vec<(String, RGBColor)> = coloured
+        .iter()
+        .map(|(c, col)| (c.name.clone(), *col))
+        .collect();
+    draw_legend(&legend, "channels:", &items, 30)
+}
+
+/// Render with both backends: `<base>.png` and `<base>.svg`. Returns the paths.
+macro_rules! render_both {
+    ($base:expr, $size:expr, $draw:ident ( $($arg:expr),* )) => {{
+        let png = $base.with_extension("png");
+        let svg = $base.with_extension("svg");
+        {
+            let root = BitMapBackend::new(&png, $size).into_drawing_area();
+            $draw(&root, $($arg),*)
+                .and_then(|_| root.present().map_err(DynErr::from))
+                .map_err(|e| AnalysisError::Plot { path: png.clone(), message: e.to_string() })?;
+        }
+        {
+            let root = SVGBackend::new(&svg, $size).into_drawing_area();
+            $draw(&root, $($arg),*)
+                .and_then(|_| root.present().map_err(DynErr::from))
+                .map_err(|e| AnalysisError::Plot { path: svg.clone(), message: e.to_string() })?;
+        }
+        vec![png, svg]
+    }};
+}
+
+/// Order plot: drum speed vs order, colour = amplitude, motor orders marked.
+/// Writes `<base>.png` and `<base>.svg` (`base` without extension).
+pub fn order_plot(
+    run: &RunUp,
+    opts: &AnalysisOptions,
+    base: &Path,
+) -> Result<Vec<std::path::PathBuf>, AnalysisError> {
+    init_fonts();
+    let p = heat_plot_order(run, opts);
+    Ok(render_both!(base, opts.plot_size, draw_heat_plot(&p)))
+}
+
+/// Cascade: drum speed vs frequency, colour = amplitude, order rays marked.
+pub fn cascade_plot(
+    run: &RunUp,
+    opts: &AnalysisOptions,
+    base: &Path,
+) -> Result<Vec<std::path::PathBuf>, AnalysisError> {
+    init_fonts();
+    let p = heat_plot_cascade(run, opts);
+    Ok(render_both!(base, opts.plot_size, draw_heat_plot(&p)))
+}
+
+/// Speed plot: order tracks over speed (top) and the raw channel over speed (bottom).
+pub fn speed_plot(
+    run: &RunUp,
+    channel: &Channel,
+    signals: &Signals,
+    opts: &AnalysisOptions,
+    base: &Path,
+) -> Result<Vec<std::path::PathBuf>, AnalysisError> {
+    init_fonts();
+    Ok(render_both!(
+        base,
+        opts.plot_size,
+        draw_speed_plot(run, channel, signals, opts)
+    ))
+}
+
+/// All displacement channels' envelopes over speed in one plot.
+pub fn displacement_plot(
+    signals: &Signals,
+    channels: &[&Channel],
+    opts: &AnalysisOptions,
+    base: &Path,
+) -> Result<Vec<std::path::PathBuf>, AnalysisError> {
+    init_fonts();
+    Ok(render_both!(
+        base,
+        opts.plot_size,
+        draw_displacements(signals, channels)
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nice_numbers() {
+        assert_eq!(nice_ceil(0.73), 1.0);
+        assert_eq!(nice_ceil(1.3), 2.0);
+        assert_eq!(nice_ceil(2.2), 2.5);
+        assert_eq!(nice_ceil(37.0), 50.0);
+        assert_eq!(fmt_number(0.05), "0.05");
+        assert_eq!(fmt_number(120.0), "120");
+        assert_eq!(fmt_number(1e-5), "1e-5");
+        let ticks: Vec<String> = nice_ticks(0.0, 1.0, 5)
+            .into_iter()
+            .map(fmt_number)
+            .collect();
+        assert_eq!(ticks, ["0", "0.2", "0.4", "0.6", "0.8", "1"]);
+    }
+
+    #[test]
+    fn decibel_axis_rounds_up_to_5_db() {
+        let a = AmplitudeAxis::new(
+            ColourScale::Decibel { range_db: 60.0 },
+            Quantity::Acceleration,
+            1.0,
+        );
+        assert_eq!((a.lo, a.hi), (60.0, 120.0));
+        assert!((a.fraction(1.0) - 1.0).abs() < 1e-12);
+        assert!((a.fraction(1e-3) - 0.0).abs() < 1e-12);
+        assert_eq!(a.ticks().len(), 7);
+    }
+
+    #[test]
+    fn colour_map_ends() {
+        assert_eq!(colour_map(0.0), RGBColor(68, 1, 84));
+        assert_eq!(colour_map(1.0), RGBColor(253, 231, 37));
+        assert_eq!(colour_map(f64::NAN), RGBColor(68, 1, 84));
+    }
+}

@@ -5,6 +5,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
+use washdyn::analysis::{AnalysisOptions, analyse_file};
 use washdyn::commands::{Backend, RunArgs, resolve_model, run_command};
 use washdyn_runtime::ode::Method;
 
@@ -49,6 +50,21 @@ enum Cmd {
         /// Sampling rate of sensors.csv, Hz.
         #[arg(long, default_value_t = 2000.0)]
         sample_rate: f64,
+        /// Skip the order plots, cascades and speed plots (DIR/analysis/).
+        #[arg(long)]
+        no_plots: bool,
+    },
+    /// Order analysis of a signal file (time_s, drum_rpm, channels...): order plots, cascades,
+    /// speed plots (PNG, SVG) and spectra (CSV).
+    Analyse {
+        /// CSV with columns time_s, drum_rpm, then one column per channel.
+        file: PathBuf,
+        /// Output directory (default: beside the file, <stem>-analysis).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Belt ratio (motor speed / drum speed) for marking the motor orders.
+        #[arg(long, default_value_t = 11.25)]
+        motor_ratio: f64,
     },
     /// Check a model file and list its scenes.
     Check { model: String },
@@ -85,6 +101,24 @@ enum Cmd {
     },
 }
 
+/// Post-processing of a run: channels that are identically zero (a fixed cabinet's) are left
+/// out, and spectra stop at 300 Hz (motor order 1 at 1400 rpm is 262.5 Hz), so a full run-up's
+/// output stays in the tens of MB.
+fn analyse_run(
+    csv: &std::path::Path,
+    dir: &std::path::Path,
+) -> Result<washdyn::analysis::AnalysisReport, washdyn::analysis::AnalysisError> {
+    let mut signals = washdyn::analysis::read_signals(csv)?;
+    signals
+        .channels
+        .retain(|c| c.data.iter().any(|v| *v != 0.0));
+    let opts = AnalysisOptions {
+        max_frequency_hz: Some(300.0),
+        ..AnalysisOptions::default()
+    };
+    washdyn::analysis::analyse_signals(&signals, dir, &opts)
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.cmd {
@@ -98,6 +132,7 @@ fn main() -> ExitCode {
             backend,
             scene,
             sample_rate,
+            no_plots,
         } => {
             let args = RunArgs {
                 model,
@@ -127,10 +162,14 @@ fn main() -> ExitCode {
             match outcome {
                 Ok(o) => {
                     let s = &o.summary;
-                    println!(
-                        "{} / {} / {}: t = {} s, {} steps ({} rejected), {} rhs evals, {:.2} s wall",
+                    // A closed stdout (e.g. `| head`) must not turn a finished run into a panic.
+                    let mut out = std::io::stdout();
+                    let _ = writeln!(
+                        out,
+                        "{} / {} / {} / {}: t = {} s, {} steps ({} rejected), {} rhs evals, {:.2} s wall",
                         s.model,
                         s.scene,
+                        s.backend,
                         s.integrator,
                         s.t_reached,
                         s.steps,
@@ -138,7 +177,22 @@ fn main() -> ExitCode {
                         s.rhs_evals,
                         s.wall_time_s
                     );
-                    println!("wrote {}/sensors.csv and summary.json", o.out_dir.display());
+                    let _ = writeln!(
+                        out,
+                        "wrote {}/sensors.csv and summary.json",
+                        o.out_dir.display()
+                    );
+                    if !no_plots && s.samples > 1 {
+                        let dir = o.out_dir.join("analysis");
+                        let csv = o.out_dir.join("sensors.csv");
+                        match analyse_run(&csv, &dir) {
+                            Ok(r) => {
+                                let _ = writeln!(out, "{r}");
+                                let _ = writeln!(out, "plots and spectra in {}", dir.display());
+                            }
+                            Err(e) => eprintln!("analysis failed: {e}"),
+                        }
+                    }
                     if let Some(e) = o.error {
                         eprintln!(
                             "error: {e}; the output up to then is in {}",
@@ -216,6 +270,36 @@ fn main() -> ExitCode {
                     } else {
                         ExitCode::SUCCESS
                     }
+                }
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    ExitCode::from(2)
+                }
+            }
+        }
+        Cmd::Analyse {
+            file,
+            out,
+            motor_ratio,
+        } => {
+            let dir = out.unwrap_or_else(|| {
+                let stem = file
+                    .file_stem()
+                    .map_or("signals".into(), |s| s.to_string_lossy().to_string());
+                file.with_file_name(format!("{stem}-analysis"))
+            });
+            let opts = AnalysisOptions {
+                motor_ratio,
+                ..AnalysisOptions::default()
+            };
+            match analyse_file(&file, &dir, &opts) {
+                Ok(r) => {
+                    let _ = writeln!(
+                        std::io::stdout(),
+                        "{r}\nplots and spectra in {}",
+                        dir.display()
+                    );
+                    ExitCode::SUCCESS
                 }
                 Err(e) => {
                     eprintln!("error: {e}");

@@ -55,6 +55,8 @@ pub struct RunArgs {
     pub backend: Option<Backend>,
     pub scene: Option<String>,
     pub sample_rate: f64,
+    /// Step budget (accepted and rejected); `None`: the integrators' default.
+    pub max_steps: Option<u64>,
 }
 
 /// Outcome of a run: where the files are, and the summary.
@@ -108,6 +110,7 @@ pub fn run_command(
             Method::Rk4 => args.step.unwrap_or(1e-4),
             _ => args.step.unwrap_or(0.0),
         },
+        max_steps: args.max_steps.unwrap_or(Options::default().max_steps),
         ..Options::default()
     };
     let mut solver = AnySolver::new(args.integrator, dim, ode);

@@ -53,6 +53,9 @@ enum Cmd {
         /// Skip the order plots, cascades and speed plots (DIR/analysis/).
         #[arg(long)]
         no_plots: bool,
+        /// Step budget; the run stops with an error (keeping its output) when it is spent.
+        #[arg(long)]
+        max_steps: Option<u64>,
     },
     /// Order analysis of a signal file (time_s, drum_rpm, channels...): order plots, cascades,
     /// speed plots (PNG, SVG) and spectra (CSV).
@@ -133,6 +136,7 @@ fn main() -> ExitCode {
             scene,
             sample_rate,
             no_plots,
+            max_steps,
         } => {
             let args = RunArgs {
                 model,
@@ -144,6 +148,7 @@ fn main() -> ExitCode {
                 backend,
                 scene,
                 sample_rate,
+                max_steps,
             };
             let bar = ProgressBar::new(1000);
             bar.set_style(

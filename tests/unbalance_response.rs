@@ -8,7 +8,7 @@ use common::*;
 use nalgebra::{Complex, DMatrix, DVector, Vector3};
 use std::f64::consts::PI;
 use washdyn_runtime::ir::{Attach, LinearDamper, Model};
-use washdyn_runtime::ode::{Dopri5, Options, Solver};
+use washdyn_runtime::ode::{Dopri5, Options, Solver, Stepper};
 use washdyn_runtime::system::{FirstOrder, Interpreter};
 
 type C = Complex<f64>;
@@ -170,7 +170,7 @@ fn simulated(m: &Model, w: f64) -> DVector<C> {
                 break;
             }
             if t >= s.t_prev() {
-                s.dense_output(t, &mut y);
+                s.interpolate(t, &mut y);
                 let ph = C::new(0.0, -w * t).exp();
                 for i in 0..6 {
                     acc[i] += ph * y[i];

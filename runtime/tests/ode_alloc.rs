@@ -6,7 +6,7 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 
 use washdyn_runtime::ode::problems::{Hires, VanDerPol};
-use washdyn_runtime::ode::{AnySolver, Method, OdeSystem, Options, Solver};
+use washdyn_runtime::ode::{AnySolver, Method, OdeSystem, Options, Solver, Stepper};
 
 struct Counting;
 
@@ -51,7 +51,7 @@ fn run<S: OdeSystem>(
             Solver::<S>::step(solver, sys, stop).unwrap();
             let (a, b) = (solver.t_prev(), solver.t());
             for k in 0..=10 {
-                Solver::<S>::interpolate(solver, a + (b - a) * k as f64 / 10.0, out);
+                solver.interpolate(a + (b - a) * k as f64 / 10.0, out);
             }
         }
         // As after a discontinuity at the stop: restart from the current state.

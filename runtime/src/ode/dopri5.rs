@@ -8,7 +8,7 @@
 
 use super::common::{all_finite, check_budget, clip_step, error_norm, initial_step, min_step};
 use super::tableau::{DOPRI5, DOPRI5_DENSE_D};
-use super::{OdeError, OdeSystem, Options, Solver, Stats};
+use super::{OdeError, OdeSystem, Options, Solver, Stats, Stepper};
 
 const SAFETY: f64 = 0.9;
 const BETA: f64 = 0.04;
@@ -66,40 +66,6 @@ impl Dopri5 {
         self.h
     }
 
-    /// Current time (inherent twin of [`Solver::t`], callable without naming the system).
-    pub fn t(&self) -> f64 {
-        self.t
-    }
-
-    /// Current state.
-    pub fn y(&self) -> &[f64] {
-        &self.y
-    }
-
-    /// Start of the last accepted step.
-    pub fn t_prev(&self) -> f64 {
-        self.t_prev
-    }
-
-    /// Work counters so far.
-    pub fn stats(&self) -> Stats {
-        self.stats
-    }
-
-    /// Dense output at t in [t_prev, t] (see [`Solver::interpolate`]).
-    pub fn dense_output(&self, t: f64, out: &mut [f64]) {
-        let theta = if self.h_last > 0.0 {
-            (t - self.t_prev) / self.h_last
-        } else {
-            0.0
-        };
-        let th1 = 1.0 - theta;
-        let [r1, r2, r3, r4, r5] = &self.dense;
-        for i in 0..out.len() {
-            out[i] = r1[i] + theta * (r2[i] + th1 * (r3[i] + theta * (r4[i] + th1 * r5[i])));
-        }
-    }
-
     /// Restart the work counters (they accumulate across `init` calls).
     pub fn reset_stats(&mut self) {
         self.stats = Stats::default();
@@ -146,11 +112,42 @@ impl Dopri5 {
     }
 }
 
-impl<S: OdeSystem + ?Sized> Solver<S> for Dopri5 {
+impl Stepper for Dopri5 {
     fn name(&self) -> &'static str {
         "dopri5"
     }
 
+    fn t(&self) -> f64 {
+        self.t
+    }
+
+    fn y(&self) -> &[f64] {
+        &self.y
+    }
+
+    fn t_prev(&self) -> f64 {
+        self.t_prev
+    }
+
+    fn interpolate(&self, t: f64, out: &mut [f64]) {
+        let theta = if self.h_last > 0.0 {
+            (t - self.t_prev) / self.h_last
+        } else {
+            0.0
+        };
+        let th1 = 1.0 - theta;
+        let [r1, r2, r3, r4, r5] = &self.dense;
+        for i in 0..out.len() {
+            out[i] = r1[i] + theta * (r2[i] + th1 * (r3[i] + theta * (r4[i] + th1 * r5[i])));
+        }
+    }
+
+    fn stats(&self) -> Stats {
+        self.stats
+    }
+}
+
+impl<S: OdeSystem + ?Sized> Solver<S> for Dopri5 {
     fn init(&mut self, sys: &mut S, t0: f64, y0: &[f64]) -> Result<(), OdeError> {
         assert_eq!(y0.len(), self.n, "state dimension");
         self.t = t0;
@@ -275,25 +272,5 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Dopri5 {
             }
             return Ok(());
         }
-    }
-
-    fn t(&self) -> f64 {
-        self.t
-    }
-
-    fn y(&self) -> &[f64] {
-        &self.y
-    }
-
-    fn t_prev(&self) -> f64 {
-        self.t_prev
-    }
-
-    fn interpolate(&self, t: f64, out: &mut [f64]) {
-        self.dense_output(t, out)
-    }
-
-    fn stats(&self) -> Stats {
-        self.stats
     }
 }

@@ -11,13 +11,13 @@
 //!   non-finite values, each tried with h / 10, at the last good time.
 //! * `StepSizeUnderflow` when the controller wants a step below `h_min`; a final step shortened
 //!   to land on `t_stop` may be smaller than `h_min`.
-//! * Each solver also has inherent `t`, `y`, `t_prev`, `stats` and `dense_output`, so callers
-//!   need not name the system type to read the state.
+//! * State, dense output and counters live in the system-independent supertrait `Stepper`, so
+//!   callers need not name the system type to read them.
 
 use std::fmt;
 use std::str::FromStr;
 
-use super::{Dopri5, OdeError, OdeSystem, Options, Rk4, Sdirk4, Solver, Stats};
+use super::{Dopri5, OdeError, OdeSystem, Options, Rk4, Sdirk4, Solver, Stats, Stepper};
 
 /// The available integrators, named `rk4`, `dopri5`, `sdirk4`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -88,31 +88,6 @@ impl AnySolver {
         }
     }
 
-    /// Current time (inherent twin of [`Solver::t`], callable without naming the system).
-    pub fn t(&self) -> f64 {
-        dispatch!(self, s => s.t())
-    }
-
-    /// Current state.
-    pub fn y(&self) -> &[f64] {
-        dispatch!(self, s => s.y())
-    }
-
-    /// Start of the last accepted step.
-    pub fn t_prev(&self) -> f64 {
-        dispatch!(self, s => s.t_prev())
-    }
-
-    /// Dense output at t in [t_prev, t].
-    pub fn dense_output(&self, t: f64, out: &mut [f64]) {
-        dispatch!(self, s => s.dense_output(t, out))
-    }
-
-    /// Work counters so far.
-    pub fn stats(&self) -> Stats {
-        dispatch!(self, s => s.stats())
-    }
-
     pub fn method(&self) -> Method {
         match self {
             AnySolver::Rk4(_) => Method::Rk4,
@@ -122,30 +97,33 @@ impl AnySolver {
     }
 }
 
-impl<S: OdeSystem + ?Sized> Solver<S> for AnySolver {
+impl Stepper for AnySolver {
     fn name(&self) -> &'static str {
         self.method().name()
     }
+    fn t(&self) -> f64 {
+        dispatch!(self, s => s.t())
+    }
+    fn y(&self) -> &[f64] {
+        dispatch!(self, s => s.y())
+    }
+    fn t_prev(&self) -> f64 {
+        dispatch!(self, s => s.t_prev())
+    }
+    fn interpolate(&self, t: f64, out: &mut [f64]) {
+        dispatch!(self, s => s.interpolate(t, out))
+    }
+    fn stats(&self) -> Stats {
+        dispatch!(self, s => s.stats())
+    }
+}
+
+impl<S: OdeSystem + ?Sized> Solver<S> for AnySolver {
     fn init(&mut self, sys: &mut S, t0: f64, y0: &[f64]) -> Result<(), OdeError> {
         dispatch!(self, s => Solver::<S>::init(s, sys, t0, y0))
     }
     fn step(&mut self, sys: &mut S, t_stop: f64) -> Result<(), OdeError> {
         dispatch!(self, s => Solver::<S>::step(s, sys, t_stop))
-    }
-    fn t(&self) -> f64 {
-        AnySolver::t(self)
-    }
-    fn y(&self) -> &[f64] {
-        AnySolver::y(self)
-    }
-    fn t_prev(&self) -> f64 {
-        AnySolver::t_prev(self)
-    }
-    fn interpolate(&self, t: f64, out: &mut [f64]) {
-        self.dense_output(t, out)
-    }
-    fn stats(&self) -> Stats {
-        AnySolver::stats(self)
     }
 }
 
@@ -179,7 +157,7 @@ mod tests {
             while solver.t() < 1.0 {
                 solver.step(sys, 1.0).unwrap();
             }
-            assert_eq!(Solver::<dyn OdeSystem>::name(&solver), name);
+            assert_eq!(Stepper::name(&solver), name);
             assert!((solver.y()[0] - 1f64.cos()).abs() < 1e-5, "{name}");
         }
     }

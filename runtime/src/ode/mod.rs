@@ -96,16 +96,11 @@ impl Default for Options {
     }
 }
 
-/// A stepping integrator. The caller owns the loop, so it can sample dense output and evaluate
-/// sensors between steps, and stop at discontinuities of the right-hand side.
-pub trait Solver<S: OdeSystem + ?Sized> {
+/// What a stepping integrator holds independent of the system it integrates: the state after
+/// the last accepted step, dense output inside that step, and its counters. A supertrait of
+/// `Solver<S>`, so `solver.t()` resolves without naming the system type.
+pub trait Stepper {
     fn name(&self) -> &'static str;
-    /// Start at (t0, y0); discards any history (call again after a discontinuity).
-    fn init(&mut self, sys: &mut S, t0: f64, y0: &[f64]) -> Result<(), OdeError>;
-    /// Take one accepted step, never past `t_stop`, landing exactly on it when it is within
-    /// reach. The right-hand side may be discontinuous at `t_stop`: the caller calls `init`
-    /// again there.
-    fn step(&mut self, sys: &mut S, t_stop: f64) -> Result<(), OdeError>;
     /// Current time and state (end of the last accepted step).
     fn t(&self) -> f64;
     fn y(&self) -> &[f64];
@@ -113,5 +108,17 @@ pub trait Solver<S: OdeSystem + ?Sized> {
     fn t_prev(&self) -> f64;
     /// Dense output: the state at `t` in [t_prev, t] into `out`.
     fn interpolate(&self, t: f64, out: &mut [f64]);
+    /// Work counters so far (they accumulate across `init` calls).
     fn stats(&self) -> Stats;
+}
+
+/// A stepping integrator. The caller owns the loop, so it can sample dense output and evaluate
+/// sensors between steps, and stop at discontinuities of the right-hand side.
+pub trait Solver<S: OdeSystem + ?Sized>: Stepper {
+    /// Start at (t0, y0); discards any history (call again after a discontinuity).
+    fn init(&mut self, sys: &mut S, t0: f64, y0: &[f64]) -> Result<(), OdeError>;
+    /// Take one accepted step, never past `t_stop`, landing exactly on it when it is within
+    /// reach. The right-hand side may be discontinuous at `t_stop`: the caller calls `init`
+    /// again there.
+    fn step(&mut self, sys: &mut S, t_stop: f64) -> Result<(), OdeError>;
 }

@@ -9,7 +9,7 @@
 
 use super::common::{all_finite, check_budget, clip_step, hermite, min_step};
 use super::tableau::RK4;
-use super::{OdeError, OdeSystem, Options, Solver, Stats};
+use super::{OdeError, OdeSystem, Options, Solver, Stats, Stepper};
 
 pub struct Rk4 {
     opts: Options,
@@ -56,28 +56,30 @@ impl Rk4 {
         self.h
     }
 
-    /// Current time (inherent twin of [`Solver::t`], callable without naming the system).
-    pub fn t(&self) -> f64 {
+    /// Restart the work counters (they accumulate across `init` calls).
+    pub fn reset_stats(&mut self) {
+        self.stats = Stats::default();
+    }
+}
+
+impl Stepper for Rk4 {
+    fn name(&self) -> &'static str {
+        "rk4"
+    }
+
+    fn t(&self) -> f64 {
         self.t
     }
 
-    /// Current state.
-    pub fn y(&self) -> &[f64] {
+    fn y(&self) -> &[f64] {
         &self.y
     }
 
-    /// Start of the last accepted step.
-    pub fn t_prev(&self) -> f64 {
+    fn t_prev(&self) -> f64 {
         self.t_prev
     }
 
-    /// Work counters so far.
-    pub fn stats(&self) -> Stats {
-        self.stats
-    }
-
-    /// Dense output at t in [t_prev, t] (see [`Solver::interpolate`]).
-    pub fn dense_output(&self, t: f64, out: &mut [f64]) {
+    fn interpolate(&self, t: f64, out: &mut [f64]) {
         hermite(
             self.t_prev,
             self.t - self.t_prev,
@@ -90,17 +92,12 @@ impl Rk4 {
         );
     }
 
-    /// Restart the work counters (they accumulate across `init` calls).
-    pub fn reset_stats(&mut self) {
-        self.stats = Stats::default();
+    fn stats(&self) -> Stats {
+        self.stats
     }
 }
 
 impl<S: OdeSystem + ?Sized> Solver<S> for Rk4 {
-    fn name(&self) -> &'static str {
-        "rk4"
-    }
-
     fn init(&mut self, sys: &mut S, t0: f64, y0: &[f64]) -> Result<(), OdeError> {
         assert_eq!(y0.len(), self.n, "state dimension");
         self.t = t0;
@@ -184,25 +181,5 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Rk4 {
             return Err(OdeError::NonFinite { t: t1 });
         }
         Ok(())
-    }
-
-    fn t(&self) -> f64 {
-        self.t
-    }
-
-    fn y(&self) -> &[f64] {
-        &self.y
-    }
-
-    fn t_prev(&self) -> f64 {
-        self.t_prev
-    }
-
-    fn interpolate(&self, t: f64, out: &mut [f64]) {
-        self.dense_output(t, out)
-    }
-
-    fn stats(&self) -> Stats {
-        self.stats
     }
 }

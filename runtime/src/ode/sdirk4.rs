@@ -27,7 +27,7 @@ use super::common::{
 };
 use super::lu::{lu_factor, lu_solve};
 use super::tableau::{SDIRK4, SDIRK4_GAMMA};
-use super::{OdeError, OdeSystem, Options, Solver, Stats};
+use super::{OdeError, OdeSystem, Options, Solver, Stats, Stepper};
 
 const STAGES: usize = 5;
 const SAFETY: f64 = 0.9;
@@ -122,40 +122,6 @@ impl Sdirk4 {
     /// The step size the controller proposes next.
     pub fn step_size(&self) -> f64 {
         self.h
-    }
-
-    /// Current time (inherent twin of [`Solver::t`], callable without naming the system).
-    pub fn t(&self) -> f64 {
-        self.t
-    }
-
-    /// Current state.
-    pub fn y(&self) -> &[f64] {
-        &self.y
-    }
-
-    /// Start of the last accepted step.
-    pub fn t_prev(&self) -> f64 {
-        self.t_prev
-    }
-
-    /// Work counters so far.
-    pub fn stats(&self) -> Stats {
-        self.stats
-    }
-
-    /// Dense output at t in [t_prev, t] (see [`Solver::interpolate`]).
-    pub fn dense_output(&self, t: f64, out: &mut [f64]) {
-        hermite(
-            self.t_prev,
-            self.t - self.t_prev,
-            &self.y_prev,
-            &self.f_prev,
-            &self.y,
-            &self.f,
-            t,
-            out,
-        );
     }
 
     /// Restart the work counters (they accumulate across `init` calls).
@@ -346,11 +312,42 @@ impl Sdirk4 {
     }
 }
 
-impl<S: OdeSystem + ?Sized> Solver<S> for Sdirk4 {
+impl Stepper for Sdirk4 {
     fn name(&self) -> &'static str {
         "sdirk4"
     }
 
+    fn t(&self) -> f64 {
+        self.t
+    }
+
+    fn y(&self) -> &[f64] {
+        &self.y
+    }
+
+    fn t_prev(&self) -> f64 {
+        self.t_prev
+    }
+
+    fn interpolate(&self, t: f64, out: &mut [f64]) {
+        hermite(
+            self.t_prev,
+            self.t - self.t_prev,
+            &self.y_prev,
+            &self.f_prev,
+            &self.y,
+            &self.f,
+            t,
+            out,
+        );
+    }
+
+    fn stats(&self) -> Stats {
+        self.stats
+    }
+}
+
+impl<S: OdeSystem + ?Sized> Solver<S> for Sdirk4 {
     fn init(&mut self, sys: &mut S, t0: f64, y0: &[f64]) -> Result<(), OdeError> {
         assert_eq!(y0.len(), self.n, "state dimension");
         self.t = t0;
@@ -482,25 +479,5 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Sdirk4 {
             }
             return Ok(());
         }
-    }
-
-    fn t(&self) -> f64 {
-        self.t
-    }
-
-    fn y(&self) -> &[f64] {
-        &self.y
-    }
-
-    fn t_prev(&self) -> f64 {
-        self.t_prev
-    }
-
-    fn interpolate(&self, t: f64, out: &mut [f64]) {
-        self.dense_output(t, out)
-    }
-
-    fn stats(&self) -> Stats {
-        self.stats
     }
 }

@@ -5,7 +5,9 @@
 use super::problems::{
     Blowup, Exponential, Harmonic, Hires, StiffDecay, VanDerPol, VanDerPolClassic,
 };
-use super::{AnySolver, Dopri5, Method, OdeError, OdeSystem, Options, Rk4, Sdirk4, Solver, Stats};
+use super::{
+    AnySolver, Dopri5, Method, OdeError, OdeSystem, Options, Rk4, Sdirk4, Solver, Stats, Stepper,
+};
 
 /// Steps `solver` from (t0, y0) to exactly t_end.
 fn integrate<S: OdeSystem, V: Solver<S>>(
@@ -160,12 +162,12 @@ fn dense_output_order_at_the_midpoint() {
             s.step(&mut sys, 10.0).unwrap();
             assert_eq!(s.t(), h);
             let mut out = [0.0; 2];
-            s.dense_output(0.5 * h, &mut out);
+            s.interpolate(0.5 * h, &mut out);
             *e = max_abs_diff(&out, &sys.exact(y0, 0.5 * h));
             // The interpolant reproduces the step's end points.
-            s.dense_output(h, &mut out);
+            s.interpolate(h, &mut out);
             assert!(max_abs_diff(&out, s.y()) < 1e-15);
-            s.dense_output(0.0, &mut out);
+            s.interpolate(0.0, &mut out);
             assert!(max_abs_diff(&out, &y0) < 1e-15);
         }
         let p2 = order(errs[1], errs[2]);
@@ -194,7 +196,7 @@ fn dense_output_along_an_adaptive_run() {
         while s.t() < 5.0 {
             s.step(&mut sys, 5.0).unwrap();
             let tm = 0.5 * (s.t_prev() + s.t());
-            s.dense_output(tm, &mut out);
+            s.interpolate(tm, &mut out);
             worst = worst.max(max_abs_diff(&out, &sys.exact(y0, tm)));
         }
         let st = s.stats();

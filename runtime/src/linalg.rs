@@ -1,17 +1,18 @@
 //! In-place dense Cholesky for the symmetric positive definite block M1, on preallocated slices
 //! (row-major). Written here because it runs every right-hand-side evaluation and must not
-//! allocate; the generated back end emits its own fixed-size version.
+//! allocate, and because the generator traces the same code into its fixed-size version.
 
-/// Factor `a` (n x n, row-major) in place into L (lower triangle). Returns false if `a` is not
-/// positive definite.
-pub fn cholesky_in_place(a: &mut [f64], n: usize) -> bool {
+use crate::scalar::Scalar;
+
+/// Factor `a` (n x n, row-major) in place into L (lower triangle), over any scalar: the
+/// interpreter runs it on f64, the generator traces it into straight-line code. Branch-free, so
+/// a matrix that is not positive definite shows as a non-positive or NaN diagonal
+/// (`cholesky_in_place` checks).
+pub fn cholesky_factor<T: Scalar>(a: &mut [T], n: usize) {
     for j in 0..n {
         let mut d = a[j * n + j];
         for k in 0..j {
             d -= a[j * n + k] * a[j * n + k];
-        }
-        if d <= 0.0 || !d.is_finite() {
-            return false;
         }
         let d = d.sqrt();
         a[j * n + j] = d;
@@ -23,11 +24,16 @@ pub fn cholesky_in_place(a: &mut [f64], n: usize) -> bool {
             a[i * n + j] = s / d;
         }
     }
-    true
 }
 
-/// Solve L L^T x = b in place (b becomes x), with L from `cholesky_in_place`.
-pub fn cholesky_solve(l: &[f64], n: usize, b: &mut [f64]) {
+/// Factor in place and report whether `a` was positive definite.
+pub fn cholesky_in_place(a: &mut [f64], n: usize) -> bool {
+    cholesky_factor(a, n);
+    (0..n).all(|j| a[j * n + j] > 0.0)
+}
+
+/// Solve L L^T x = b in place (b becomes x), with L from `cholesky_factor`.
+pub fn cholesky_solve<T: Scalar>(l: &[T], n: usize, b: &mut [T]) {
     for i in 0..n {
         let mut s = b[i];
         for k in 0..i {

@@ -10,6 +10,7 @@
 
 use crate::equations::{Drive, Equations};
 use crate::ir::Model;
+use crate::linalg::{cholesky_factor, cholesky_solve};
 use crate::scalar::Scalar;
 use crate::symbolic::{Emitter, Graph, Sym, derivative, fmt_f64, trace};
 use std::fmt::Write;
@@ -68,7 +69,9 @@ pub fn trace_equations(eq: &Equations) -> Traced {
         let mut h = vec![Sym::c(0.0); n];
         eq.eval(&d, &q, &qd, &mut m1, &mut h);
         let mut qdd = h.clone();
-        cholesky_solve_sym(&mut m1, n1, &mut qdd[..n1]);
+        // The interpreter's own factorisation, traced (a non-SPD M1 shows as NaN).
+        cholesky_factor(&mut m1, n1);
+        cholesky_solve(&m1, n1, &mut qdd[..n1]);
         // M2 = I for mass-normalised modes (the interpreter's M2): nothing to solve.
         let mut jq = vec![Sym::c(0.0); n * n];
         let mut jqd = vec![Sym::c(0.0); n * n];
@@ -96,40 +99,6 @@ pub fn trace_equations(eq: &Equations) -> Traced {
         mh: (g_mh, m1, h),
         acc: (g_acc, qdd, jq, jqd),
         sensors: (g_s, ch),
-    }
-}
-
-/// Cholesky factorisation and solve over symbols: the same algorithm as `linalg`, without the
-/// positive-definiteness branch (a non-SPD M1 shows as NaN, which the integrators report).
-fn cholesky_solve_sym(a: &mut [Sym], n: usize, b: &mut [Sym]) {
-    for j in 0..n {
-        let mut d = a[j * n + j];
-        for k in 0..j {
-            d -= a[j * n + k] * a[j * n + k];
-        }
-        let d = d.sqrt();
-        a[j * n + j] = d;
-        for i in j + 1..n {
-            let mut s = a[i * n + j];
-            for k in 0..j {
-                s -= a[i * n + k] * a[j * n + k];
-            }
-            a[i * n + j] = s / d;
-        }
-    }
-    for i in 0..n {
-        let mut s = b[i];
-        for k in 0..i {
-            s -= a[i * n + k] * b[k];
-        }
-        b[i] = s / a[i * n + i];
-    }
-    for i in (0..n).rev() {
-        let mut s = b[i];
-        for k in i + 1..n {
-            s -= a[k * n + i] * b[k];
-        }
-        b[i] = s / a[i * n + i];
     }
 }
 
@@ -367,6 +336,7 @@ pub fn generate_with_stats(model: &Model) -> Result<(String, Vec<SceneStats>), S
 mod tests {
     use super::*;
     use crate::ir::Model;
+use crate::linalg::{cholesky_factor, cholesky_solve};
     use crate::system::{Interpreter, Mechanical};
 
     fn reference() -> Model {

@@ -20,36 +20,43 @@ struct Cli {
     cmd: Cmd,
 }
 
+/// Settings of a simulation, shared by `run` and `sweep`.
+#[derive(clap::Args)]
+struct Sim {
+    /// End time, s (default: the end of the speed profile).
+    #[arg(long)]
+    t_end: Option<f64>,
+    /// rk4 (fixed step), dopri5 (adaptive, explicit), sdirk4 (adaptive, L-stable implicit).
+    #[arg(long, default_value = "dopri5")]
+    integrator: Method,
+    /// Relative tolerance of the adaptive integrators (absolute: 1e-3 x this, in m and rad).
+    #[arg(long, default_value_t = 1e-6)]
+    tol: f64,
+    /// A scene of the model (default: its first scene).
+    #[arg(long)]
+    scene: Option<String>,
+    /// Sampling rate of sensors.csv, Hz.
+    #[arg(long, default_value_t = 2000.0)]
+    sample_rate: f64,
+}
+
 #[derive(Subcommand)]
 enum Cmd {
     /// Simulate a run-up: writes DIR/sensors.csv and DIR/summary.json.
     Run {
         /// A built-in model (`reference`, `compact`) or a model file (.toml).
         model: String,
-        /// End time, s (default: the end of the speed profile).
-        #[arg(long)]
-        t_end: Option<f64>,
+        #[command(flatten)]
+        sim: Sim,
         /// Output directory (default: out/<model name>).
         #[arg(long)]
         out: Option<PathBuf>,
-        /// rk4 (fixed step), dopri5 (adaptive, explicit), sdirk4 (adaptive, L-stable implicit).
-        #[arg(long, default_value = "dopri5")]
-        integrator: Method,
-        /// Relative tolerance of the adaptive integrators (absolute: 1e-3 x this, in m and rad).
-        #[arg(long, default_value_t = 1e-6)]
-        tol: f64,
         /// Fixed step of rk4, s (default 1e-4).
         #[arg(long)]
         step: Option<f64>,
         /// generated (default for built-in models) or interpreted (default for model files).
         #[arg(long)]
         backend: Option<Backend>,
-        /// A scene of the model (default: its first scene).
-        #[arg(long)]
-        scene: Option<String>,
-        /// Sampling rate of sensors.csv, Hz.
-        #[arg(long, default_value_t = 2000.0)]
-        sample_rate: f64,
         /// Skip the order plots, cascades and speed plots (DIR/analysis/).
         #[arg(long)]
         no_plots: bool,
@@ -85,19 +92,11 @@ enum Cmd {
         /// Speed profile CSV files (time_s, rpm), comma-separated.
         #[arg(long, value_delimiter = ',')]
         profiles: Vec<PathBuf>,
-        #[arg(long)]
-        t_end: Option<f64>,
+        #[command(flatten)]
+        sim: Sim,
         /// Output directory (default: out/<model>-sweep).
         #[arg(long)]
         out: Option<PathBuf>,
-        #[arg(long, default_value = "dopri5")]
-        integrator: Method,
-        #[arg(long, default_value_t = 1e-6)]
-        tol: f64,
-        #[arg(long)]
-        scene: Option<String>,
-        #[arg(long, default_value_t = 2000.0)]
-        sample_rate: f64,
         /// Parallel runs (default: all cores).
         #[arg(long)]
         jobs: Option<usize>,
@@ -127,14 +126,17 @@ fn main() -> ExitCode {
     match cli.cmd {
         Cmd::Run {
             model,
-            t_end,
+            sim:
+                Sim {
+                    t_end,
+                    integrator,
+                    tol,
+                    scene,
+                    sample_rate,
+                },
             out,
-            integrator,
-            tol,
             step,
             backend,
-            scene,
-            sample_rate,
             no_plots,
             max_steps,
         } => {
@@ -218,12 +220,15 @@ fn main() -> ExitCode {
             positions,
             masses,
             profiles,
-            t_end,
+            sim:
+                Sim {
+                    t_end,
+                    integrator,
+                    tol,
+                    scene,
+                    sample_rate,
+                },
             out,
-            integrator,
-            tol,
-            scene,
-            sample_rate,
             jobs,
         } => {
             let result = (|| {

@@ -95,9 +95,11 @@ fn gasket_asymmetry_and_unknown_rotor_are_reported() {
     )
     .replacen("rotor = \"motor\"", "rotor = \"motr\"", 1);
     let e = errors(&src);
+    // The error sits on the row of the entry whose mirror differs ([5][1] for the edited [1][5]).
+    let row5 = line_of(&src, "[0.0, 600.0, 0.0, 0.0, 0.0, 120.0]", 0);
     assert!(
         e.iter()
-            .any(|(_, m)| m.contains("door_gasket") && m.contains("not symmetric")),
+            .any(|(l, m)| *l == row5 && m.contains("door_gasket") && m.contains("not symmetric")),
         "{e:?}"
     );
     assert!(

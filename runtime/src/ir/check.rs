@@ -407,7 +407,8 @@ fn inertia(c: &mut Ctx, p: Path, who: &str, m: &M3) {
     }
     if let Some((i, j)) = asymmetry(m) {
         c.err(
-            p,
+            // The lower entry: the one most likely mistyped.
+            p.idx(j).idx(i),
             format!(
                 "{who}: inertia tensor is not symmetric ([{i}][{j}] = {} but [{j}][{i}] = {})",
                 m[i][j], m[j][i]
@@ -438,7 +439,8 @@ fn sym_psd(c: &mut Ctx, p: Path, what: &str, m: &M6) {
     }
     if let Some((i, j)) = asymmetry(m) {
         c.err(
-            p,
+            // The lower entry: the one most likely mistyped.
+            p.idx(j).idx(i),
             format!(
                 "{what} is not symmetric ([{i}][{j}] = {} but [{j}][{i}] = {})",
                 m[i][j], m[j][i]

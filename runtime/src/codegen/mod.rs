@@ -336,7 +336,6 @@ pub fn generate_with_stats(model: &Model) -> Result<(String, Vec<SceneStats>), S
 mod tests {
     use super::*;
     use crate::ir::Model;
-    use crate::linalg::{cholesky_factor, cholesky_solve};
     use crate::system::{Interpreter, Mechanical};
 
     fn reference() -> Model {

@@ -21,10 +21,12 @@ pub enum ColourScale {
 }
 
 impl Default for ColourScale {
-    /// dB over 60 dB: a run-up spans orders from the unbalance (order 1, large)
-    /// to motor orders two or three decades smaller; a linear scale hides the latter.
+    /// dB over 80 dB: a run-up spans orders from the unbalance (order 1, large)
+    /// to motor orders two or three decades smaller; a linear scale hides the latter,
+    /// and 60 dB did too (reference run-up: motor order 1 at tub2 x sits 62 dB below
+    /// order 1's peak).
     fn default() -> Self {
-        ColourScale::Decibel { range_db: 60.0 }
+        ColourScale::Decibel { range_db: 80.0 }
     }
 }
 

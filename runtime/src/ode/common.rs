@@ -129,3 +129,32 @@ pub fn check_budget(stats: &Stats, opts: &Options, t: f64) -> Result<(), OdeErro
         Ok(())
     }
 }
+
+/// The next trial step of an adaptive method from `t` with the controller's size `h`: the step
+/// budget, then `h_max`, then the underflow check, then the landing on `t_stop`. Returns the
+/// step to try, whether it lands, and the size proposed before any cut.
+pub fn propose_step(
+    t: f64,
+    h: f64,
+    t_stop: f64,
+    opts: &Options,
+    stats: &Stats,
+) -> Result<(f64, bool, f64), OdeError> {
+    check_budget(stats, opts, t)?;
+    let h_prop = h.min(opts.h_max);
+    if h_prop < min_step(t, opts) {
+        return Err(OdeError::StepSizeUnderflow { t, h: h_prop });
+    }
+    let (h, lands) = clip_step(t, h_prop, t_stop);
+    Ok((h, lands, h_prop))
+}
+
+/// The size after an accepted step. A step cut short to reach `t_stop` says nothing against
+/// the step proposed before the cut: keep that, so stepping on without `init` is not slowed.
+pub fn after_landing(h_next: f64, h_prop: f64, lands: bool, rejected_last: bool) -> f64 {
+    if lands && !rejected_last {
+        h_next.max(h_prop)
+    } else {
+        h_next
+    }
+}

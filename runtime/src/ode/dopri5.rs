@@ -6,7 +6,7 @@
 //! rejection the step may not grow. A trial step whose stages are not finite is rejected with
 //! h / 10; ten such trials in a row end the integration with `NonFinite` at the last good time.
 
-use super::common::{all_finite, check_budget, clip_step, error_norm, initial_step, min_step};
+use super::common::{after_landing, all_finite, error_norm, initial_step, propose_step};
 use super::tableau::{DOPRI5, DOPRI5_DENSE_D};
 use super::{OdeError, OdeSystem, Options, Solver, Stats, Stepper};
 
@@ -197,15 +197,7 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Dopri5 {
         let mut rejected_last = false;
         let mut nonfinite_trials = 0;
         loop {
-            check_budget(&self.stats, &self.opts, self.t)?;
-            let h_prop = self.h.min(self.opts.h_max);
-            if h_prop < min_step(self.t, &self.opts) {
-                return Err(OdeError::StepSizeUnderflow {
-                    t: self.t,
-                    h: h_prop,
-                });
-            }
-            let (h, lands) = clip_step(self.t, h_prop, t_stop);
+            let (h, lands, h_prop) = propose_step(self.t, self.h, t_stop, &self.opts, &self.stats)?;
             let err = self.attempt(sys, h);
 
             if !err.is_finite() {
@@ -234,12 +226,7 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Dopri5 {
                 fac = fac.min(1.0);
             }
             self.err_prev = err.max(1e-4);
-            self.h = (h * fac).min(self.opts.h_max);
-            if lands && !rejected_last {
-                // A step cut short to reach t_stop says nothing against the step proposed
-                // before the cut: keep that, so stepping on without `init` is not slowed down.
-                self.h = self.h.max(h_prop);
-            }
+            self.h = after_landing((h * fac).min(self.opts.h_max), h_prop, lands, rejected_last);
 
             let t_new = if lands { t_stop } else { self.t + h };
             // Dense output coefficients (Hairer's continuous extension).

@@ -22,9 +22,7 @@
 //! * Dense output: cubic Hermite from (y0, f0, y1, f1) with f1 = k_5, the derivative at the
 //!   (stiffly accurate) last stage; third order, no extra right-hand side evaluation.
 
-use super::common::{
-    all_finite, check_budget, clip_step, error_norm, hermite, initial_step, min_step,
-};
+use super::common::{after_landing, all_finite, error_norm, hermite, initial_step, propose_step};
 use super::lu::{lu_factor, lu_solve};
 use super::tableau::{SDIRK4, SDIRK4_GAMMA};
 use super::{OdeError, OdeSystem, Options, Solver, Stats, Stepper};
@@ -393,15 +391,7 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Sdirk4 {
         let mut rejected_last = false;
         let mut nonfinite_trials = 0;
         loop {
-            check_budget(&self.stats, &self.opts, self.t)?;
-            let h_prop = self.h.min(self.opts.h_max);
-            if h_prop < min_step(self.t, &self.opts) {
-                return Err(OdeError::StepSizeUnderflow {
-                    t: self.t,
-                    h: h_prop,
-                });
-            }
-            let (h, lands) = clip_step(self.t, h_prop, t_stop);
+            let (h, lands, h_prop) = propose_step(self.t, self.h, t_stop, &self.opts, &self.stats)?;
             let err = match self.attempt(sys, h) {
                 Attempt::Done(err) => err,
                 Attempt::Singular => return Err(OdeError::Singular { t: self.t }),
@@ -453,12 +443,7 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Sdirk4 {
             if (1.0..=FREEZE).contains(&fac) && !slow {
                 fac = 1.0;
             }
-            self.h = (h * fac).min(self.opts.h_max);
-            if lands && !rejected_last {
-                // A step cut short to reach t_stop says nothing against the step proposed
-                // before the cut: keep that, so stepping on without `init` is not slowed down.
-                self.h = self.h.max(h_prop);
-            }
+            self.h = after_landing((h * fac).min(self.opts.h_max), h_prop, lands, rejected_last);
             if slow {
                 self.jac_valid = false;
             }

@@ -66,6 +66,33 @@ pub struct RunOutcome {
     pub error: Option<String>,
 }
 
+/// The integrator settings the CLI documents: relative tolerance `tol`, absolute 1e-3 x `tol`
+/// (m, rad), RK4's fixed step `step` (default 1e-4 s), an optional step budget.
+pub fn integrator_options(
+    method: Method,
+    tol: f64,
+    step: Option<f64>,
+    max_steps: Option<u64>,
+) -> Options {
+    Options {
+        rtol: tol,
+        atol: tol * 1e-3,
+        h0: match method {
+            Method::Rk4 => step.unwrap_or(1e-4),
+            _ => step.unwrap_or(0.0),
+        },
+        max_steps: max_steps.unwrap_or(Options::default().max_steps),
+        ..Options::default()
+    }
+}
+
+/// `DIR/summary.json`, written for finished and failed runs alike.
+pub fn write_summary(dir: &Path, summary: &Summary) -> Result<(), String> {
+    let json = serde_json::to_string_pretty(summary).expect("summary serialises");
+    fs::write(dir.join("summary.json"), json + "\n")
+        .map_err(|e| format!("cannot write {}/summary.json: {e}", dir.display()))
+}
+
 /// `washdyn run`: integrate, stream `sensors.csv`, write `summary.json`. A failed integration
 /// still writes both and reports the error with its time.
 pub fn run_command(
@@ -103,16 +130,7 @@ pub fn run_command(
     let t_end = args.t_end.unwrap_or_else(|| mech.speed().end());
     let mut sys = FirstOrder::new(mech);
     let dim = 2 * sys.layout().n();
-    let ode = Options {
-        rtol: args.tol,
-        atol: args.tol * 1e-3,
-        h0: match args.integrator {
-            Method::Rk4 => args.step.unwrap_or(1e-4),
-            _ => args.step.unwrap_or(0.0),
-        },
-        max_steps: args.max_steps.unwrap_or(Options::default().max_steps),
-        ..Options::default()
-    };
+    let ode = integrator_options(args.integrator, args.tol, args.step, args.max_steps);
     let mut solver = AnySolver::new(args.integrator, dim, ode);
     let csv = out_dir.join("sensors.csv");
     let mut sink =
@@ -143,9 +161,7 @@ pub fn run_command(
         Ok(s) => (s, None),
         Err((e, s)) => (s, Some(e.to_string())),
     };
-    let json = serde_json::to_string_pretty(&summary).expect("summary serialises");
-    fs::write(out_dir.join("summary.json"), json + "\n")
-        .map_err(|e| format!("cannot write summary.json: {e}"))?;
+    write_summary(&out_dir, &summary)?;
     Ok(RunOutcome {
         out_dir,
         summary,

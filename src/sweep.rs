@@ -2,13 +2,14 @@
 //! of the model's IR with those fields changed, checked by the one checker and run by the
 //! interpreter (generated code bakes the base model's numbers in), on all cores.
 
+use crate::commands::{integrator_options, write_summary};
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use washdyn_runtime::ir::Model;
 use washdyn_runtime::ir::check::check;
 use washdyn_runtime::ir::toml_file::read_speed_csv;
-use washdyn_runtime::ode::{AnySolver, Method, Options};
+use washdyn_runtime::ode::{AnySolver, Method};
 use washdyn_runtime::output::CsvSink;
 use washdyn_runtime::run::{Labels, RunOptions, Start, Summary, run};
 use washdyn_runtime::system::{FirstOrder, Interpreter};
@@ -176,12 +177,7 @@ fn run_one(v: &Variant, cfg: &SweepRun) -> Result<VariantResult, String> {
     let interp = Interpreter::new(&v.model, &scene);
     let t_end = cfg.t_end.unwrap_or_else(|| interp.speed.end());
     let mut sys = FirstOrder::new(interp);
-    let opts = Options {
-        rtol: cfg.tol,
-        atol: cfg.tol * 1e-3,
-        h0: if cfg.method == Method::Rk4 { 1e-4 } else { 0.0 },
-        ..Options::default()
-    };
+    let opts = integrator_options(cfg.method, cfg.tol, None, None);
     let mut solver = AnySolver::new(cfg.method, 2 * sys.layout().n(), opts);
     let csv = dir.join("sensors.csv");
     let mut sink = CsvSink::create(&csv).map_err(|e| format!("{}: {e}", csv.display()))?;
@@ -208,8 +204,7 @@ fn run_one(v: &Variant, cfg: &SweepRun) -> Result<VariantResult, String> {
         Ok(s) => s,
         Err((_, s)) => s,
     };
-    let json = serde_json::to_string_pretty(&summary).expect("serialises");
-    fs::write(dir.join("summary.json"), json + "\n").map_err(|e| e.to_string())?;
+    write_summary(&dir, &summary)?;
     let peaks = peaks(&csv)?;
     Ok(VariantResult {
         name: v.name.clone(),

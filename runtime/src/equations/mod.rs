@@ -252,7 +252,6 @@ impl Equations {
     /// global components (first order in the small quantities, like the equations).
     pub fn sensor<T: Scalar>(&self, i: usize, q: &[T], qd: &[T], qdd: &[T]) -> [T; 3] {
         let s = &self.sensors[i];
-        let _ = qd;
         match (s.at.body, s.kind) {
             (BodyRef::Cabinet, _) => [T::zero(); 3],
             (BodyRef::Tub, SensorKind::Displacement) => {

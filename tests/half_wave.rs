@@ -116,7 +116,8 @@ fn friction_alone_excites_only_odd_orders() {
         third > 1e-3,
         "the friction damper must excite odd higher orders"
     );
-    assert!(r < 1e-4, "even orders {r:e} of the odd ones");
+    // Measured 1.6e-6: the bound leaves a factor 6 for round-off and settling.
+    assert!(r < 1e-5, "even orders {r:e} of the odd ones");
 }
 
 #[test]
@@ -133,8 +134,10 @@ fn asymmetric_characteristic_brings_even_orders() {
 
 #[test]
 fn even_orders_of_the_full_model_and_their_sources() {
-    // Report (not a bound): how large the even orders are with the full kinematics, and which
-    // effect brings them.
+    // How large the even orders are with the full kinematics, and which effect brings them.
+    // Measured: 0.108 (element geometry), 0.021 (unbalance inertia), 0.114 (both). Each effect
+    // alone must lift them at least 1e3 times above the friction-only level (< 1e-5), and they
+    // stay below the odd orders.
     for (label, extra) in [
         ("+ element geometry", &["element_geometry"][..]),
         ("+ unbalance inertia", &["unbalance_inertia"][..]),
@@ -150,6 +153,6 @@ fn even_orders_of_the_full_model_and_their_sources() {
             "{label}: even/odd = {r:.2e}; largest 2nd order on {ch}: {:.3e} (1st {:.3e})",
             a[1], a[0]
         );
-        assert!(r.is_finite());
+        assert!(r > 1e-2 && r < 0.5, "{label}: even/odd = {r:e}");
     }
 }

@@ -213,8 +213,9 @@ fn unbalance_response_matches_linear_frequency_response() {
     // time-invariant apart from the springs' and dampers' geometry (second order at 1e-4 m).
     // Measured: 2.4e-6 below, 1.8e-6 near, 2.7e-7 above the first resonance (the prescribed
     // force lacks the weight's own load stiffness that the hand K's equilibrium has: ~1e-6).
-    for (label, err) in errors(false) {
-        assert!(err < 1e-4, "{label}: relative error {err:e}");
+    // Bounds: about 4x the measured errors, so a regression of the linear path shows.
+    for ((label, err), bound) in errors(false).into_iter().zip([1e-5, 1e-5, 1e-6]) {
+        assert!(err < bound, "{label}: relative error {err:e} >= {bound:e}");
     }
 }
 
@@ -223,7 +224,9 @@ fn unbalance_inertia_adds_only_a_small_parametric_term() {
     // With the 1 g unbalance as a mass, M1 fluctuates at 2 W; fed by the W response it adds a
     // first harmonic of relative order m r^2 / I ~ 1e-5 (x the resonance's amplification),
     // which no LTI frequency response holds. Measured here: 2e-7, 3e-5, 5e-5.
-    for (label, err) in errors(true) {
-        assert!(err < 1e-4, "{label}: relative error {err:e}");
+    // Bounds: 2 to 6x the measured errors (the parametric term is the test's subject, its size
+    // the claim).
+    for ((label, err), bound) in errors(true).into_iter().zip([1e-6, 1e-4, 1e-4]) {
+        assert!(err < bound, "{label}: relative error {err:e} >= {bound:e}");
     }
 }

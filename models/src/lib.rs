@@ -1,4 +1,4 @@
-//! Built-in machine models: the reference machine as TOML data (shared/reference-machine.md),
+//! Built-in machine models: the reference machine as TOML data (docs/reference-machine.md),
 //! and the same machine and a variant of it declared with `machine!` (compiled at build time).
 
 #[path = "compact.rs"]

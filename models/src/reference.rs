@@ -1,5 +1,5 @@
 //! The reference machine declared with `machine!`: the same numbers as `data/reference.toml`
-//! (a test holds the two equal). Sources: shared/reference-machine.md; "estimate" there means an
+//! (a test holds the two equal). Sources: docs/reference-machine.md; "estimate" there means an
 //! engineering estimate, not a measurement.
 
 washdyn_macros::machine! {

@@ -1,11 +1,11 @@
 //! The CLI's commands as library functions, so tests drive them without a subprocess.
 
+use crate::results::{Format, SensorRecorder};
 use std::fs;
 use std::path::{Path, PathBuf};
 use washdyn_runtime::ir::Model;
 use washdyn_runtime::ir::toml_file::load_file;
 use washdyn_runtime::ode::{AnySolver, Method, Options};
-use washdyn_runtime::output::CsvSink;
 use washdyn_runtime::run::{Labels, Progress, RunOptions, Start, Summary, run};
 use washdyn_runtime::system::{FirstOrder, Interpreter, Mechanical};
 
@@ -57,13 +57,45 @@ pub struct RunArgs {
     pub sample_rate: f64,
     /// Step budget (accepted and rejected); `None`: the integrators' default.
     pub max_steps: Option<u64>,
+    /// Format of the sensor file.
+    pub format: Format,
+    /// Keep the samples in memory for the analysis.
+    pub keep_samples: bool,
 }
 
 /// Outcome of a run: where the files are, and the summary.
 pub struct RunOutcome {
     pub out_dir: PathBuf,
+    /// The sensor file written.
+    pub sensors: PathBuf,
     pub summary: Summary,
     pub error: Option<String>,
+    /// Column names and columns (time_s, drum_rpm, channels) when kept in memory.
+    pub samples: Option<(Vec<String>, Vec<Vec<f64>>)>,
+    /// The model's belt ratio (motor rotor speed / drum speed), for marking motor orders.
+    pub motor_ratio: Option<f64>,
+}
+
+/// Motor speed / drum speed: the ratio of a rotor named `motor`, else of the fastest rotor
+/// that is not the drum.
+pub fn motor_ratio(model: &Model) -> Option<f64> {
+    let drum = model
+        .rotors
+        .iter()
+        .find(|r| r.name == "drum")
+        .map_or(1.0, |r| r.ratio);
+    model
+        .rotors
+        .iter()
+        .find(|r| r.name == "motor")
+        .or_else(|| {
+            model
+                .rotors
+                .iter()
+                .filter(|r| r.name != "drum")
+                .max_by(|a, b| a.ratio.total_cmp(&b.ratio))
+        })
+        .map(|r| r.ratio / drum)
 }
 
 /// The integrator settings the CLI documents: relative tolerance `tol`, absolute 1e-3 x `tol`
@@ -93,7 +125,7 @@ pub fn write_summary(dir: &Path, summary: &Summary) -> Result<(), String> {
         .map_err(|e| format!("cannot write {}/summary.json: {e}", dir.display()))
 }
 
-/// `washdyn run`: integrate, stream `sensors.csv`, write `summary.json`. A failed integration
+/// `washdyn run`: integrate, stream `sensors.parquet` (or `.csv`), write `summary.json`. A failed integration
 /// still writes both and reports the error with its time.
 pub fn run_command(
     args: &RunArgs,
@@ -132,9 +164,7 @@ pub fn run_command(
     let dim = 2 * sys.layout().n();
     let ode = integrator_options(args.integrator, args.tol, args.step, args.max_steps);
     let mut solver = AnySolver::new(args.integrator, dim, ode);
-    let csv = out_dir.join("sensors.csv");
-    let mut sink =
-        CsvSink::create(&csv).map_err(|e| format!("cannot create {}: {e}", csv.display()))?;
+    let mut sink = SensorRecorder::new(&out_dir, args.format, args.keep_samples);
     let opts = RunOptions {
         t_start: 0.0,
         t_end,
@@ -161,10 +191,18 @@ pub fn run_command(
         Ok(s) => (s, None),
         Err((e, s)) => (s, Some(e.to_string())),
     };
+    let finished = sink.finish();
     write_summary(&out_dir, &summary)?;
+    finished.map_err(|e| format!("cannot write {}: {e}", sink.path().display()))?;
+    let samples = args
+        .keep_samples
+        .then(|| (sink.names.clone(), std::mem::take(&mut sink.memory)));
     Ok(RunOutcome {
         out_dir,
+        sensors: sink.path().to_path_buf(),
         summary,
         error,
+        samples,
+        motor_ratio: motor_ratio(&model),
     })
 }

@@ -2,4 +2,5 @@
 //! post-processing.
 pub mod analysis;
 pub mod commands;
+pub mod results;
 pub mod sweep;

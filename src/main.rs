@@ -7,6 +7,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use washdyn::analysis::{AnalysisOptions, analyse_file};
 use washdyn::commands::{Backend, RunArgs, resolve_model, run_command};
+use washdyn::results::Format;
 use washdyn_runtime::ode::Method;
 
 #[derive(Parser)]
@@ -35,9 +36,12 @@ struct Sim {
     /// A scene of the model (default: its first scene).
     #[arg(long)]
     scene: Option<String>,
-    /// Sampling rate of sensors.csv, Hz.
+    /// Sampling rate of the sensor file, Hz.
     #[arg(long, default_value_t = 2000.0)]
     sample_rate: f64,
+    /// Format of the result files: parquet (columnar, compact) or csv.
+    #[arg(long, default_value = "parquet")]
+    format: Format,
 }
 
 #[derive(Subcommand)]
@@ -57,17 +61,21 @@ enum Cmd {
         /// generated (default for built-in models) or interpreted (default for model files).
         #[arg(long)]
         backend: Option<Backend>,
-        /// Skip the order plots, cascades and speed plots (DIR/analysis/).
+        /// Skip the analysis: order plots, cascades, speed plots, spectra and order tracks
+        /// (DIR/analysis/).
         #[arg(long)]
         no_plots: bool,
+        /// Also write every plot as SVG (PNG always).
+        #[arg(long)]
+        svg: bool,
         /// Step budget; the run stops with an error (keeping its output) when it is spent.
         #[arg(long)]
         max_steps: Option<u64>,
     },
     /// Order analysis of a signal file (time_s, drum_rpm, channels...): order plots, cascades,
-    /// speed plots (PNG, SVG) and spectra (CSV).
+    /// speed plots, spectra and order tracks.
     Analyse {
-        /// CSV with columns time_s, drum_rpm, then one column per channel.
+        /// Parquet or CSV with columns time_s, drum_rpm, then one column per channel.
         file: PathBuf,
         /// Output directory (default: beside the file, <stem>-analysis).
         #[arg(long)]
@@ -75,6 +83,12 @@ enum Cmd {
         /// Belt ratio (motor speed / drum speed) for marking the motor orders.
         #[arg(long, default_value_t = 11.25)]
         motor_ratio: f64,
+        /// Format of the spectra and order-track tables: parquet or csv.
+        #[arg(long, default_value = "parquet")]
+        format: Format,
+        /// Also write every plot as SVG (PNG always).
+        #[arg(long)]
+        svg: bool,
     },
     /// Check a model file and list its scenes.
     Check { model: String },
@@ -103,20 +117,30 @@ enum Cmd {
     },
 }
 
-/// Post-processing of a run: channels that are identically zero (a fixed cabinet's) are left
-/// out, and spectra stop at 300 Hz (motor order 1 at 1400 rpm is 262.5 Hz), so a full run-up's
-/// output stays in the tens of MB.
+/// Post-processing of a run from the samples it kept in memory: channels that are identically
+/// zero (a fixed cabinet's) are left out, and spectra stop at 300 Hz (motor order 1 at 1400 rpm
+/// is 262.5 Hz), so a full run-up's output stays small.
 fn analyse_run(
-    csv: &std::path::Path,
+    samples: (Vec<String>, Vec<Vec<f64>>),
+    sample_rate: f64,
     dir: &std::path::Path,
+    opts: AnalysisOptions,
 ) -> Result<washdyn::analysis::AnalysisReport, washdyn::analysis::AnalysisError> {
-    let mut signals = washdyn::analysis::read_signals(csv)?;
-    signals
-        .channels
-        .retain(|c| c.data.iter().any(|v| *v != 0.0));
+    let (names, mut cols) = samples;
+    let data = cols.split_off(2.min(cols.len()));
+    let rpm = cols.pop().unwrap_or_default();
+    let t0 = cols.first().and_then(|t| t.first()).copied().unwrap_or(0.0);
+    let channels = names
+        .into_iter()
+        .skip(2)
+        .zip(data)
+        .filter(|(_, d)| d.iter().any(|v| *v != 0.0))
+        .map(|(n, d)| washdyn::analysis::Channel::new(n, d))
+        .collect();
+    let signals = washdyn::analysis::Signals::from_uniform(t0, sample_rate, rpm, channels)?;
     let opts = AnalysisOptions {
         max_frequency_hz: Some(300.0),
-        ..AnalysisOptions::default()
+        ..opts
     };
     washdyn::analysis::analyse_signals(&signals, dir, &opts)
 }
@@ -133,11 +157,13 @@ fn main() -> ExitCode {
                     tol,
                     scene,
                     sample_rate,
+                    format,
                 },
             out,
             step,
             backend,
             no_plots,
+            svg,
             max_steps,
         } => {
             let args = RunArgs {
@@ -151,6 +177,8 @@ fn main() -> ExitCode {
                 scene,
                 sample_rate,
                 max_steps,
+                format,
+                keep_samples: !no_plots,
             };
             let bar = ProgressBar::new(1000);
             bar.set_style(
@@ -184,20 +212,22 @@ fn main() -> ExitCode {
                         s.rhs_evals,
                         s.wall_time_s
                     );
-                    let _ = writeln!(
-                        out,
-                        "wrote {}/sensors.csv and summary.json",
-                        o.out_dir.display()
-                    );
-                    if !no_plots && s.samples > 1 {
+                    let _ = writeln!(out, "wrote {} and summary.json", o.sensors.display());
+                    let mut failed_analysis = None;
+                    if let Some(samples) = o.samples.filter(|_| s.samples > 1) {
                         let dir = o.out_dir.join("analysis");
-                        let csv = o.out_dir.join("sensors.csv");
-                        match analyse_run(&csv, &dir) {
+                        let opts = AnalysisOptions {
+                            motor_ratio: o.motor_ratio.unwrap_or(11.25),
+                            format,
+                            svg,
+                            ..AnalysisOptions::default()
+                        };
+                        match analyse_run(samples, sample_rate, &dir, opts) {
                             Ok(r) => {
                                 let _ = writeln!(out, "{r}");
-                                let _ = writeln!(out, "plots and spectra in {}", dir.display());
+                                let _ = writeln!(out, "plots and tables in {}", dir.display());
                             }
-                            Err(e) => eprintln!("analysis failed: {e}"),
+                            Err(e) => failed_analysis = Some(e),
                         }
                     }
                     if let Some(e) = o.error {
@@ -205,6 +235,10 @@ fn main() -> ExitCode {
                             "error: {e}; the output up to then is in {}",
                             o.out_dir.display()
                         );
+                        return ExitCode::FAILURE;
+                    }
+                    if let Some(e) = failed_analysis {
+                        eprintln!("error: analysis failed: {e}");
                         return ExitCode::FAILURE;
                     }
                     ExitCode::SUCCESS
@@ -227,6 +261,7 @@ fn main() -> ExitCode {
                     tol,
                     scene,
                     sample_rate,
+                    format,
                 },
             out,
             jobs,
@@ -247,6 +282,7 @@ fn main() -> ExitCode {
                     tol,
                     scene,
                     sample_rate,
+                    format,
                     jobs: jobs.unwrap_or_else(|| {
                         std::thread::available_parallelism().map_or(2, |n| n.get())
                     }),
@@ -291,6 +327,8 @@ fn main() -> ExitCode {
             file,
             out,
             motor_ratio,
+            format,
+            svg,
         } => {
             let dir = out.unwrap_or_else(|| {
                 let stem = file
@@ -300,6 +338,8 @@ fn main() -> ExitCode {
             });
             let opts = AnalysisOptions {
                 motor_ratio,
+                format,
+                svg,
                 ..AnalysisOptions::default()
             };
             match analyse_file(&file, &dir, &opts) {

@@ -1,27 +1,34 @@
 //! Parallel variant studies: unbalance position and mass, speed profile. Each variant is a copy
 //! of the model's IR with those fields changed, checked by the one checker and run by the
-//! interpreter (generated code bakes the base model's numbers in), on all cores.
+//! interpreter (generated code bakes the base model's numbers in), on all cores (rayon).
+//! A variant that fails its check or its run gets a row with the reason; the others go on.
 
-use crate::commands::{integrator_options, write_summary};
+use crate::analysis::{AnalysisOptions, Channel, RunUp, Signals};
+use crate::commands::{integrator_options, motor_ratio, write_summary};
+use crate::results::{Format, SensorRecorder};
+use std::collections::HashSet;
 use std::fs;
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
 use washdyn_runtime::ir::Model;
 use washdyn_runtime::ir::check::check;
 use washdyn_runtime::ir::toml_file::read_speed_csv;
 use washdyn_runtime::ode::{AnySolver, Method};
-use washdyn_runtime::output::CsvSink;
 use washdyn_runtime::run::{Labels, RunOptions, Start, Summary, run};
 use washdyn_runtime::system::{FirstOrder, Interpreter};
 
-/// Axial unbalance positions in the drum (shared/reference-machine.md): front, middle, rear.
+/// Named axial unbalance positions (x, m) of the built-in machines' drum
+/// (docs/reference-machine.md): front, middle, rear. Other models have other drums: give them
+/// positions in m.
 pub const POSITIONS: &[(&str, f64)] = &[("front", 0.15), ("middle", 0.0), ("rear", -0.12)];
 
-/// One variant of a sweep.
+/// Models whose drum the named positions describe.
+const NAMED_POSITION_MODELS: &[&str] = &["reference", "compact"];
+
+/// One variant of a sweep: its model, or why it cannot run.
 #[derive(Clone, Debug)]
 pub struct Variant {
     pub name: String,
-    pub model: Model,
+    pub model: Result<Model, String>,
 }
 
 /// What to vary; an empty list keeps the model's own value.
@@ -46,17 +53,30 @@ pub fn variants(base: &Model, spec: &SweepSpec) -> Result<Vec<Variant>, String> 
                 .any(|r| r.name == u.rotor && r.name == "drum")
         })
         .ok_or("the model has no unbalance on a rotor named `drum` to vary")?;
-    let positions: Vec<Option<(&str, f64)>> = if spec.positions.is_empty() {
+    let positions: Vec<Option<(String, f64)>> = if spec.positions.is_empty() {
         vec![None]
     } else {
         spec.positions
             .iter()
             .map(|p| {
-                POSITIONS
-                    .iter()
-                    .find(|(n, _)| n == p)
-                    .map(|&(n, x)| Some((n, x)))
-                    .ok_or_else(|| format!("unknown position `{p}` (front, middle, rear)"))
+                if let Ok(x) = p.parse::<f64>() {
+                    return if x.is_finite() {
+                        Ok(Some((format!("x{x}"), x)))
+                    } else {
+                        Err(format!("position `{p}` must be a finite x in m"))
+                    };
+                }
+                let &(n, x) = POSITIONS.iter().find(|(n, _)| n == p).ok_or_else(|| {
+                    format!("unknown position `{p}` (front, middle, rear, or an axial x in m)")
+                })?;
+                if !NAMED_POSITION_MODELS.contains(&base.name.as_str()) {
+                    return Err(format!(
+                        "position `{p}` is defined for the built-in drums ({}) only; give model                          `{}` its axial unbalance position in m, e.g. --positions 0.1,-0.1",
+                        NAMED_POSITION_MODELS.join(", "),
+                        base.name
+                    ));
+                }
+                Ok(Some((n.to_string(), x)))
             })
             .collect::<Result<_, _>>()?
     };
@@ -81,6 +101,7 @@ pub fn variants(base: &Model, spec: &SweepSpec) -> Result<Vec<Variant>, String> 
             .collect::<Result<_, _>>()?
     };
     let mut out = Vec::new();
+    let mut used = HashSet::new();
     for pos in &positions {
         for mass in &masses {
             for prof in &profiles {
@@ -99,23 +120,31 @@ pub fn variants(base: &Model, spec: &SweepSpec) -> Result<Vec<Variant>, String> 
                     m.speed.csv = None;
                     parts.push(stem.clone());
                 }
-                let name = if parts.is_empty() {
+                let stem = if parts.is_empty() {
                     "base".into()
                 } else {
                     parts.join("_")
                 };
-                check(&m).map_err(|e| {
+                // Every variant its own folder, even where two are given alike.
+                let mut name = stem.clone();
+                let mut k = 2;
+                while !used.insert(name.clone()) {
+                    name = format!("{stem}_{k}");
+                    k += 1;
+                }
+                let model = check(&m).map(|_| m).map_err(|e| {
                     let msgs: Vec<String> = e.iter().map(|e| e.to_string()).collect();
-                    format!("variant {name}: {}", msgs.join("; "))
-                })?;
-                out.push(Variant { name, model: m });
+                    msgs.join("; ")
+                });
+                out.push(Variant { name, model });
             }
         }
     }
     Ok(out)
 }
 
-/// A finished variant: its summary and the peak of each channel with the drum speed there.
+/// A finished (or failed) variant: its summary and, per channel, the largest amplitude of
+/// drum order 1 over the run (its run-up envelope) with the drum speed where it occurs.
 #[derive(Clone, Debug)]
 pub struct VariantResult {
     pub name: String,
@@ -133,54 +162,77 @@ pub struct SweepRun {
     pub scene: Option<String>,
     pub sample_rate: f64,
     pub jobs: usize,
+    pub format: Format,
 }
 
 /// Run every variant on `jobs` threads; `done` is called as each finishes. Writes
-/// `<out>/<variant>/{sensors.csv, summary.json}` and `<out>/sweep.csv`.
+/// `<out>/<variant>/{sensors.<format>, summary.json}` and `<out>/sweep.csv`.
 pub fn run_sweep(
     vars: Vec<Variant>,
     cfg: &SweepRun,
     done: &(dyn Fn(&VariantResult) + Sync),
 ) -> Result<Vec<VariantResult>, String> {
+    use rayon::prelude::*;
     fs::create_dir_all(&cfg.out).map_err(|e| format!("{}: {e}", cfg.out.display()))?;
-    let queue = Mutex::new(vars.into_iter().enumerate());
-    let results = Mutex::new(Vec::new());
-    std::thread::scope(|s| {
-        for _ in 0..cfg.jobs.max(1) {
-            s.spawn(|| {
-                loop {
-                    let next = queue.lock().expect("queue").next();
-                    let Some((i, v)) = next else { break };
-                    let r = run_one(&v, cfg);
-                    if let Ok(r) = &r {
-                        done(r);
-                    }
-                    results.lock().expect("results").push((i, r));
-                }
-            });
-        }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(cfg.jobs.max(1))
+        .build()
+        .map_err(|e| e.to_string())?;
+    let results: Vec<VariantResult> = pool.install(|| {
+        vars.par_iter()
+            .map(|v| {
+                let r = run_one(v, cfg).unwrap_or_else(|e| failed(v, cfg, e));
+                done(&r);
+                r
+            })
+            .collect()
     });
-    let mut results = results.into_inner().expect("results");
-    results.sort_by_key(|(i, _)| *i);
-    let results: Vec<VariantResult> = results
-        .into_iter()
-        .map(|(_, r)| r)
-        .collect::<Result<_, _>>()?;
     write_table(&cfg.out.join("sweep.csv"), &results)?;
     Ok(results)
 }
 
+/// The row of a variant that could not run.
+fn failed(v: &Variant, cfg: &SweepRun, error: String) -> VariantResult {
+    let model = v.model.as_ref().map_or("?".to_string(), |m| m.name.clone());
+    VariantResult {
+        name: v.name.clone(),
+        summary: Summary {
+            model: format!("{model}/{}", v.name),
+            scene: cfg.scene.clone().unwrap_or_default(),
+            backend: "interpreted".into(),
+            integrator: format!("{:?}", cfg.method).to_lowercase(),
+            rtol: cfg.tol,
+            atol: cfg.tol * 1e-3,
+            t_start: 0.0,
+            t_end: cfg.t_end.unwrap_or(f64::NAN),
+            t_reached: 0.0,
+            steps: 0,
+            rejected_steps: 0,
+            rhs_evals: 0,
+            sample_evals: 0,
+            jacobian_evals: 0,
+            lu_decompositions: 0,
+            newton_iterations: 0,
+            samples: 0,
+            wall_time_s: 0.0,
+            status: "failed".into(),
+            error: Some(error),
+        },
+        peaks: Vec::new(),
+    }
+}
+
 fn run_one(v: &Variant, cfg: &SweepRun) -> Result<VariantResult, String> {
-    let scene = v.model.scene(cfg.scene.as_deref())?;
+    let model = v.model.as_ref().map_err(|e| format!("model check: {e}"))?;
+    let scene = model.scene(cfg.scene.as_deref())?;
     let dir = cfg.out.join(&v.name);
     fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    let interp = Interpreter::new(&v.model, &scene);
+    let interp = Interpreter::new(model, &scene);
     let t_end = cfg.t_end.unwrap_or_else(|| interp.speed.end());
     let mut sys = FirstOrder::new(interp);
     let opts = integrator_options(cfg.method, cfg.tol, None, None);
     let mut solver = AnySolver::new(cfg.method, 2 * sys.layout().n(), opts);
-    let csv = dir.join("sensors.csv");
-    let mut sink = CsvSink::create(&csv).map_err(|e| format!("{}: {e}", csv.display()))?;
+    let mut sink = SensorRecorder::new(&dir, cfg.format, true);
     let ro = RunOptions {
         t_start: 0.0,
         t_end,
@@ -188,7 +240,7 @@ fn run_one(v: &Variant, cfg: &SweepRun) -> Result<VariantResult, String> {
         start: Start::Static,
     };
     let labels = Labels {
-        model: format!("{}/{}", v.model.name, v.name),
+        model: format!("{}/{}", model.name, v.name),
         scene: scene.name.clone(),
         backend: "interpreted".into(),
     };
@@ -204,8 +256,15 @@ fn run_one(v: &Variant, cfg: &SweepRun) -> Result<VariantResult, String> {
         Ok(s) => s,
         Err((_, s)) => s,
     };
+    let finished = sink.finish();
     write_summary(&dir, &summary)?;
-    let peaks = peaks(&csv)?;
+    finished.map_err(|e| format!("{}: {e}", sink.path().display()))?;
+    let peaks = order_one_peaks(
+        std::mem::take(&mut sink.memory),
+        &sink.names,
+        cfg.sample_rate,
+        motor_ratio(model),
+    )?;
     Ok(VariantResult {
         name: v.name.clone(),
         summary,
@@ -213,51 +272,109 @@ fn run_one(v: &Variant, cfg: &SweepRun) -> Result<VariantResult, String> {
     })
 }
 
-/// Largest |value| of each channel and the drum rpm where it occurs, read back from the CSV.
-fn peaks(csv: &Path) -> Result<Vec<(String, f64, f64)>, String> {
-    let text = fs::read_to_string(csv).map_err(|e| e.to_string())?;
-    let mut lines = text.lines();
-    let header: Vec<String> = lines
-        .next()
-        .ok_or("empty sensors.csv")?
-        .split(',')
-        .map(str::to_string)
+/// Per channel, the largest drum-order-1 amplitude over the run from the order tracks, and the
+/// drum speed there. Unlike a raw maximum it does not catch start-up transients or other
+/// orders. Channels that are zero throughout (a fixed cabinet) and runs too short for one
+/// analysis block give none.
+fn order_one_peaks(
+    mut cols: Vec<Vec<f64>>,
+    names: &[String],
+    sample_rate: f64,
+    motor: Option<f64>,
+) -> Result<Vec<(String, f64, f64)>, String> {
+    if cols.len() < 3 || cols[0].len() < 2 {
+        return Ok(Vec::new());
+    }
+    let data = cols.split_off(2);
+    let rpm = cols.pop().unwrap_or_default();
+    let t0 = cols[0][0];
+    let channels: Vec<Channel> = names
+        .iter()
+        .skip(2)
+        .zip(data)
+        .map(|(n, d)| Channel::new(n.clone(), d))
         .collect();
-    let mut best: Vec<(f64, f64)> = vec![(0.0, 0.0); header.len()];
-    for l in lines {
-        let v: Vec<f64> = l.split(',').filter_map(|c| c.parse().ok()).collect();
-        if v.len() != header.len() {
+    let signals =
+        Signals::from_uniform(t0, sample_rate, rpm, channels).map_err(|e| e.to_string())?;
+    // 4 s blocks: 6 revolutions at the 93 rpm distribution speed, so order 1 is resolved from
+    // there on (the tracks follow the drum angle and do not smear at higher speed).
+    let opts = AnalysisOptions {
+        motor_ratio: motor.unwrap_or(11.25),
+        block_length_s: 4.0,
+        track_orders: vec![1.0],
+        ..AnalysisOptions::default()
+    };
+    let mut out = Vec::new();
+    for c in &signals.channels {
+        if c.data.iter().all(|v| *v == 0.0) {
             continue;
         }
-        for c in 2..v.len() {
-            if v[c].abs() > best[c].0 {
-                best[c] = (v[c].abs(), v[1]);
-            }
+        let Ok(run) = RunUp::analyse(&signals, c, &opts) else {
+            continue;
+        };
+        let best = run
+            .tracks
+            .iter()
+            .find(|t| t.order == 1.0)
+            .and_then(|t| t.max(&run.blocks));
+        if let Some((a, r)) = best {
+            out.push((c.name.clone(), a, r));
         }
     }
-    Ok((2..header.len())
-        .map(|c| (header[c].clone(), best[c].0, best[c].1))
-        .collect())
+    Ok(out)
 }
 
 fn write_table(path: &Path, results: &[VariantResult]) -> Result<(), String> {
-    let mut s = String::from("variant,status,t_reached_s,steps,rhs_evals,wall_time_s");
-    if let Some(r) = results.first() {
+    let mut w = csv::Writer::from_path(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let mut channels: Vec<String> = Vec::new();
+    for r in results {
         for (c, _, _) in &r.peaks {
-            s.push_str(&format!(",{c}_peak,{c}_peak_rpm"));
+            if !channels.contains(c) {
+                channels.push(c.clone());
+            }
         }
     }
-    s.push('\n');
+    let mut header: Vec<String> = [
+        "variant",
+        "status",
+        "t_reached_s",
+        "steps",
+        "rhs_evals",
+        "wall_time_s",
+        "error",
+    ]
+    .map(String::from)
+    .to_vec();
+    for c in &channels {
+        header.push(format!("{c}_order1_peak"));
+        header.push(format!("{c}_order1_peak_rpm"));
+    }
+    let e = |e: csv::Error| format!("{}: {e}", path.display());
+    w.write_record(&header).map_err(e)?;
     for r in results {
         let m = &r.summary;
-        s.push_str(&format!(
-            "{},{},{},{},{},{:.3}",
-            r.name, m.status, m.t_reached, m.steps, m.rhs_evals, m.wall_time_s
-        ));
-        for (_, p, rpm) in &r.peaks {
-            s.push_str(&format!(",{p:.6e},{rpm:.1}"));
+        let mut row = vec![
+            r.name.clone(),
+            m.status.clone(),
+            m.t_reached.to_string(),
+            m.steps.to_string(),
+            m.rhs_evals.to_string(),
+            format!("{:.3}", m.wall_time_s),
+            m.error.clone().unwrap_or_default(),
+        ];
+        for c in &channels {
+            match r.peaks.iter().find(|p| &p.0 == c) {
+                Some((_, p, rpm)) => {
+                    row.push(format!("{p:.6e}"));
+                    row.push(format!("{rpm:.1}"));
+                }
+                None => {
+                    row.push(String::new());
+                    row.push(String::new());
+                }
+            }
         }
-        s.push('\n');
+        w.write_record(&row).map_err(e)?;
     }
-    fs::write(path, s).map_err(|e| format!("{}: {e}", path.display()))
+    w.flush().map_err(|e| format!("{}: {e}", path.display()))
 }

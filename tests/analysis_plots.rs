@@ -7,6 +7,7 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use washdyn::analysis::{AnalysisOptions, ColourScale, analyse_file, plot};
+use washdyn::results::Format;
 
 /// Linear run-up `r0 -> r1` rpm over `duration` s at `fs` Hz, phase integrated from
 /// the speed so the orders are exact:
@@ -73,7 +74,10 @@ fn analyse_file_writes_all_plots_and_csvs() {
         std::fs::create_dir_all(&out).unwrap();
         std::fs::copy(&csv, out.join("input_runup.csv")).unwrap();
     }
-    let opts = AnalysisOptions::default();
+    let opts = AnalysisOptions {
+        format: Format::Csv,
+        ..AnalysisOptions::default()
+    };
     let report = analyse_file(&csv, &out, &opts).unwrap();
     println!("{report}");
 
@@ -92,15 +96,25 @@ fn analyse_file_writes_all_plots_and_csvs() {
                 assert!(len > 20_000, "{p:?} only {len} bytes");
             }
         }
-        let spectra = out.join(format!("{ch}_spectra.csv"));
-        let text = std::fs::read_to_string(&spectra).unwrap();
+    }
+    // One table each for all channels (CSV here; Parquet by default, read back by pyarrow in
+    // tests/parquet_roundtrip.rs).
+    let text = std::fs::read_to_string(out.join("spectra.csv")).unwrap();
+    assert!(
+        text.starts_with("channel,time_s,drum_rpm,frequency_hz,order,amplitude,amplitude_energy\n")
+    );
+    let orders = std::fs::read_to_string(out.join("orders.csv")).unwrap();
+    assert!(orders.starts_with("channel,order,time_s,drum_rpm,amplitude\n"));
+    for ch in ["tub1_ax", "drum_front_uy"] {
+        let rows = text
+            .lines()
+            .filter(|l| l.starts_with(&format!("{ch},")))
+            .count();
+        assert!(rows > 1000, "{ch}: {rows} spectra rows");
         assert!(
-            text.starts_with(
-                "block,time_s,drum_rpm,order,frequency_hz,amplitude,amplitude_energy\n"
-            )
+            orders.lines().any(|l| l.starts_with(&format!("{ch},1.0,"))),
+            "{ch}"
         );
-        assert!(text.lines().count() > 1000);
-        assert!(out.join(format!("{ch}_orders.csv")).exists());
     }
     assert!(out.join("displacements_speed.png").exists());
 
@@ -135,11 +149,12 @@ fn every_colour_scale_renders() {
         };
         let out = tmp.path().join(format!("out{i}"));
         let report = analyse_file(&csv, &out, &opts).unwrap();
-        assert_eq!(report.files.len(), 5 * 8 + 2);
+        // 6 plots per channel (PNG, SVG), 2 tables, the displacement overview (PNG, SVG).
+        assert_eq!(report.files.len(), 5 * 6 + 2 + 2);
         for f in report
             .files
             .iter()
-            .filter(|f| f.extension().unwrap() != "csv")
+            .filter(|f| f.extension().unwrap() != "parquet")
         {
             assert!(std::fs::metadata(f).unwrap().len() > 2_000, "{f:?}");
         }
@@ -171,7 +186,7 @@ fn analyse_signals_in_memory_with_awkward_names() {
         ..AnalysisOptions::default()
     };
     let report = analyse_signals(&s, tmp.path(), &opts).unwrap();
-    assert_eq!(report.files.len(), 3 * 8);
+    assert_eq!(report.files.len(), 3 * 6 + 2);
     let mut names: Vec<String> = report
         .files
         .iter()
@@ -179,7 +194,7 @@ fn analyse_signals_in_memory_with_awkward_names() {
         .collect();
     names.sort();
     names.dedup();
-    assert_eq!(names.len(), 24, "file names collide: {names:?}");
+    assert_eq!(names.len(), 20, "file names collide: {names:?}");
     assert!(names.contains(&"left_front_order.png".to_string()));
     assert!(names.contains(&"left_front_4_order.png".to_string()));
     assert!(names.contains(&"displacements_5_speed.svg".to_string()));
@@ -209,7 +224,7 @@ fn degenerate_signals_still_render() {
         ..AnalysisOptions::default()
     };
     let report = analyse_signals(&s, tmp.path(), &opts).unwrap();
-    assert_eq!(report.files.len(), 2 * 8 + 2);
+    assert_eq!(report.files.len(), 2 * 6 + 2 + 2);
     for c in &report.channels {
         assert!(c.orders.iter().all(|o| o.max_amplitude.is_none()), "{c:?}");
     }

@@ -220,3 +220,22 @@ fn empty_file() {
     let (e, _) = err("# only a comment\n\n");
     assert!(matches!(e, AnalysisError::EmptyFile { .. }), "{e:?}");
 }
+
+#[test]
+fn quoted_names_with_commas() {
+    // A measured file whose channel names hold commas: the csv crate reads the quoted field.
+    let dir = tempfile::tempdir().unwrap();
+    let text = format!(
+        "time_s,drum_rpm,\"mic, left\",tub1_ax\n{}",
+        good_rows(12)
+            .lines()
+            .map(|l| {
+                let f: Vec<&str> = l.split(',').collect();
+                format!("{},{},{},{}\n", f[0], f[1], f[2], f[3])
+            })
+            .collect::<String>()
+    );
+    let s = read_signals(write(&dir, "q.csv", &text)).unwrap();
+    let names: Vec<_> = s.channels.iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(names, ["mic, left", "tub1_ax"]);
+}

@@ -1,7 +1,8 @@
 //! A failing integration stops with a typed error carrying the time, and keeps what it wrote:
-//! the CSV up to the failure and a summary that says why.
+//! the sensor file up to the failure and a summary that says why.
 
 use washdyn::commands::{Backend, RunArgs, run_command};
+use washdyn::results::{Format, read_parquet_f64};
 use washdyn_runtime::ode::Method;
 
 #[test]
@@ -21,6 +22,8 @@ fn spent_step_budget_fails_with_time_and_keeps_output() {
         scene: None,
         sample_rate: 100.0,
         max_steps: Some(5000),
+        format: Format::Parquet,
+        keep_samples: false,
     };
     let o = run_command(&args, &mut |_| {}).expect("the run starts");
     let err = o.error.expect("the run must fail");
@@ -33,19 +36,14 @@ fn spent_step_budget_fails_with_time_and_keeps_output() {
         summary.contains("\"failed\"") && summary.contains("budget"),
         "{summary}"
     );
-    // The CSV holds every sample up to the failure, all finite, and nothing after it.
-    let csv = std::fs::read_to_string(out.join("sensors.csv")).unwrap();
-    let rows: Vec<&str> = csv.lines().skip(1).collect();
-    assert_eq!(rows.len() as u64, s.samples);
-    assert!(rows.len() > 10);
-    let last_t: f64 = rows
-        .last()
-        .unwrap()
-        .split(',')
-        .next()
-        .unwrap()
-        .parse()
-        .unwrap();
+    // The Parquet file is complete (footer written on the failure path) and holds every sample
+    // up to the failure, all finite, and nothing after it.
+    let (names, cols) = read_parquet_f64(&out.join("sensors.parquet")).unwrap();
+    assert_eq!(names[0], "time_s");
+    assert_eq!(cols[0].len() as u64, s.samples);
+    assert!(cols[0].len() > 10);
+    assert!(cols.iter().flatten().all(|v| v.is_finite()));
+    let last_t = *cols[0].last().unwrap();
     assert!(
         last_t <= s.t_reached && last_t > s.t_reached - 0.02,
         "{last_t} vs {}",

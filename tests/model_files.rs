@@ -135,6 +135,17 @@ fn speed_csv_errors_have_lines() {
         read_speed_csv(&p).unwrap(),
         vec![[0.0, 0.0], [5.0, 93.0], [10.0, 400.0]]
     );
+    // A comment and a blank line before the header (an exported file's preamble): the header is
+    // the first row that is not a comment, and errors still name the physical line.
+    let q = dir.join("bench.csv");
+    std::fs::write(
+        &q,
+        "# from the test bench\n\n\"time_s\",rpm\n0,0\n5,93\n7,x\n",
+    )
+    .unwrap();
+    assert_eq!(read_speed_csv(&q).unwrap_err().line, 6);
+    std::fs::write(&q, "# from the test bench\n\ntime_s,rpm\n0,0\n5,93\n").unwrap();
+    assert_eq!(read_speed_csv(&q).unwrap(), vec![[0.0, 0.0], [5.0, 93.0]]);
     // A model that takes its profile from that file.
     let src = REF.replacen(
         "table = [[0.0, 0.0], [5.0, 93.0], [15.0, 93.0], [178.375, 1400.0]]",

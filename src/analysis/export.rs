@@ -1,103 +1,143 @@
-//! Spectra and order tracks as CSV.
+//! Spectra and order tracks of all channels, one table each (`spectra.parquet`,
+//! `orders.parquet`, or `.csv`), in long format: one row per channel, block and bin (or order),
+//! because the order of a bin differs from block to block (`f / (rpm/60)`); a pivot (rows
+//! `drum_rpm`, columns `order` or `frequency_hz`) gives the map.
 //!
-//! `<channel>_spectra.csv` is in long format, one row per block and bin, because
-//! the order of a bin differs from block to block (it is `f / (rpm/60)`): a wide
-//! table would need interpolation onto a common order grid. A spreadsheet loads it
-//! as it is and a pivot table (rows `drum_rpm`, columns `order` or `frequency_hz`)
-//! gives the map. Columns:
-//!
-//! `block,time_s,drum_rpm,order,frequency_hz,amplitude,amplitude_energy`
-//!
-//! * `time_s`: block centre; `drum_rpm`: mean drum speed of the block;
-//! * `order`: drum order of the bin (empty below the minimum speed);
+//! `spectra`: `channel, time_s, drum_rpm, frequency_hz, order, amplitude, amplitude_energy`
+//! * `time_s`: block centre (s); `drum_rpm`: mean drum speed of the block;
+//! * `order`: drum order of the bin (null below the minimum speed);
 //! * `amplitude`: amplitude-corrected peak amplitude (read peaks of sines here);
-//! * `amplitude_energy`: energy-corrected peak amplitude (sum `amplitude_energy²/2`
-//!   over a band for its mean square);
-//! * amplitudes in the channel's SI unit (m/s², m; as in the input).
+//! * `amplitude_energy`: energy-corrected peak amplitude (sum `amplitude_energy^2 / 2` over a
+//!   band for its mean square);
+//! * amplitudes in the channel's SI unit (m/s^2 for `*_a?`, m for `*_u?`).
 //!
-//! Bins run from 0 Hz to the cascade's upper frequency (default Nyquist).
-//!
-//! `<channel>_orders.csv` is wide: one row per block, one column per tracked order
-//! (`order_1`, `order_11.25`, ...), the energy-based order amplitudes of the speed plot.
+//! `orders`: `channel, order, time_s, drum_rpm, amplitude`: the order tracks (peak amplitude,
+//! SI unit); null where the order is not resolved in that block.
 
-use std::io::{BufWriter, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use super::error::AnalysisError;
-use super::options::fmt_order;
 use super::orders::RunUp;
+use crate::results::{Column, Format, Schema, TableWriter};
 
-fn create(path: &Path) -> Result<BufWriter<std::fs::File>, AnalysisError> {
-    std::fs::File::create(path)
-        .map(BufWriter::new)
-        .map_err(|source| AnalysisError::Write {
-            path: path.to_path_buf(),
-            source,
-        })
+fn table(
+    path: &Path,
+    format: Format,
+    names: &[&str],
+    text: &[bool],
+    nullable: &[bool],
+    what: &str,
+) -> Result<TableWriter, AnalysisError> {
+    let names: Vec<String> = names.iter().map(|s| s.to_string()).collect();
+    let metadata = vec![(
+        "washdyn".to_string(),
+        format!(
+            "{what}; amplitudes in SI units of the channel (m/s^2 for *_a?, m for *_u?), time in s, speed in rpm"
+        ),
+    )];
+    TableWriter::create(
+        path,
+        format,
+        &Schema {
+            names: &names,
+            text,
+            nullable,
+            metadata: &metadata,
+        },
+    )
+    .map_err(|source| AnalysisError::Write {
+        path: path.to_path_buf(),
+        source,
+    })
 }
 
-fn io_err(path: &Path) -> impl Fn(std::io::Error) -> AnalysisError + '_ {
+fn write_err(path: &Path) -> impl Fn(std::io::Error) -> AnalysisError + '_ {
     move |source| AnalysisError::Write {
         path: path.to_path_buf(),
         source,
     }
 }
 
-/// Write the long-format spectra CSV of one channel, bins up to `max_frequency_hz`.
-pub fn write_spectra_csv(
-    run: &RunUp,
+/// Write the spectra of all channels, bins up to `max_frequency_hz`; one row group per channel.
+pub fn write_spectra(
+    runs: &[RunUp],
     max_frequency_hz: f64,
-    path: &Path,
-) -> Result<(), AnalysisError> {
-    let mut w = create(path)?;
-    let e = io_err(path);
-    writeln!(
-        w,
-        "block,time_s,drum_rpm,order,frequency_hz,amplitude,amplitude_energy"
-    )
-    .map_err(&e)?;
-    for (i, b) in run.blocks.iter().enumerate() {
-        let with_order = b.rpm >= run.min_rpm;
-        for k in 0..b.spectrum.amplitude.len() {
-            let f = b.spectrum.frequency(k);
-            if f > max_frequency_hz + 1e-9 {
-                break;
+    dir: &Path,
+    format: Format,
+) -> Result<PathBuf, AnalysisError> {
+    let path = dir.join(format!("spectra.{}", format.extension()));
+    let mut w = table(
+        &path,
+        format,
+        &[
+            "channel",
+            "time_s",
+            "drum_rpm",
+            "frequency_hz",
+            "order",
+            "amplitude",
+            "amplitude_energy",
+        ],
+        &[true, false, false, false, false, false, false],
+        &[false, false, false, false, true, false, false],
+        "block spectra (Hann window) of every channel",
+    )?;
+    for run in runs {
+        let mut cols: Vec<Vec<f64>> = vec![Vec::new(); 6];
+        for b in &run.blocks {
+            let with_order = b.rpm >= run.min_rpm;
+            for k in 0..b.spectrum.amplitude.len() {
+                let f = b.spectrum.frequency(k);
+                if f > max_frequency_hz + 1e-9 {
+                    break;
+                }
+                cols[0].push(b.time_s);
+                cols[1].push(b.rpm);
+                cols[2].push(f);
+                cols[3].push(if with_order {
+                    b.order_of_bin(k)
+                } else {
+                    f64::NAN
+                });
+                cols[4].push(b.spectrum.amplitude[k]);
+                cols[5].push(b.spectrum.energy[k]);
             }
-            let order = if with_order {
-                format!("{:.5}", b.order_of_bin(k))
-            } else {
-                String::new()
-            };
-            writeln!(
-                w,
-                "{i},{:.4},{:.3},{order},{f:.4},{:.6e},{:.6e}",
-                b.time_s, b.rpm, b.spectrum.amplitude[k], b.spectrum.energy[k]
-            )
-            .map_err(&e)?;
         }
+        let n = cols[0].len();
+        let mut all = vec![Column::Text(vec![run.channel.clone(); n])];
+        all.extend(cols.into_iter().map(Column::F64));
+        w.append(&all).map_err(write_err(&path))?;
     }
-    w.flush().map_err(&e)
+    w.finish().map_err(write_err(&path))?;
+    Ok(path)
 }
 
-/// Write the wide order-track CSV of one channel.
-pub fn write_orders_csv(run: &RunUp, path: &Path) -> Result<(), AnalysisError> {
-    let mut w = create(path)?;
-    let e = io_err(path);
-    let mut header = String::from("block,time_s,drum_rpm");
-    for t in &run.tracks {
-        header.push_str(&format!(",order_{}", fmt_order(t.order)));
-    }
-    writeln!(w, "{header}").map_err(&e)?;
-    for (i, b) in run.blocks.iter().enumerate() {
-        write!(w, "{i},{:.4},{:.3}", b.time_s, b.rpm).map_err(&e)?;
+/// Write the order tracks of all channels.
+pub fn write_orders(runs: &[RunUp], dir: &Path, format: Format) -> Result<PathBuf, AnalysisError> {
+    let path = dir.join(format!("orders.{}", format.extension()));
+    let mut w = table(
+        &path,
+        format,
+        &["channel", "order", "time_s", "drum_rpm", "amplitude"],
+        &[true, false, false, false, false],
+        &[false, false, false, false, true],
+        "order tracks of every channel (peak amplitude; null where unresolved)",
+    )?;
+    for run in runs {
+        let mut cols: Vec<Vec<f64>> = vec![Vec::new(); 4];
         for t in &run.tracks {
-            match t.amplitude[i] {
-                Some(a) => write!(w, ",{a:.6e}"),
-                None => write!(w, ","),
+            for (b, a) in run.blocks.iter().zip(&t.amplitude) {
+                cols[0].push(t.order);
+                cols[1].push(b.time_s);
+                cols[2].push(b.rpm);
+                cols[3].push(a.unwrap_or(f64::NAN));
             }
-            .map_err(&e)?;
         }
-        writeln!(w).map_err(&e)?;
+        let n = cols[0].len();
+        let mut all = vec![Column::Text(vec![run.channel.clone(); n])];
+        all.extend(cols.into_iter().map(Column::F64));
+        w.append(&all).map_err(write_err(&path))?;
     }
-    w.flush().map_err(&e)
+    w.finish().map_err(write_err(&path))?;
+    Ok(path)
 }

@@ -5,11 +5,12 @@
 //! each block's spectrum is tagged with its mean drum speed, and frequency becomes
 //! drum order `f / (rpm/60)`. Motor orders sit at `motor_ratio * n` drum orders.
 //!
-//! Entry points: [`analyse_file`] (CSV in, files out) and [`analyse_signals`]
+//! Entry points: [`analyse_file`] (Parquet or CSV in, files out) and [`analyse_signals`]
 //! (in-memory signals from the simulator). For every channel they write
-//! `<channel>_order.{png,svg}`, `<channel>_cascade.{png,svg}`,
-//! `<channel>_speed.{png,svg}`, `<channel>_spectra.csv` and `<channel>_orders.csv`,
-//! plus `displacements_speed.{png,svg}` if there are displacement channels.
+//! `<channel>_order`, `<channel>_cascade` and `<channel>_speed` plots (PNG, and SVG unless
+//! turned off), plus `displacements_speed` if there are displacement channels; the spectra
+//! and order tracks of all channels go to one table each (`spectra`, `orders`: see
+//! [`export`]).
 
 pub mod error;
 pub mod export;
@@ -120,59 +121,32 @@ pub fn analyse_signals(
     let stems = unique_stems(&signals.channels);
 
     // Channels are independent: spread them over the cores (plot encoding dominates).
-    let workers = std::thread::available_parallelism()
-        .map(|n| n.get())
-        .unwrap_or(1)
-        .min(signals.channels.len())
-        .max(1);
-    let results: Vec<Result<ChannelOutput, AnalysisError>> = if workers == 1 {
-        signals
-            .channels
-            .iter()
-            .zip(&stems)
-            .map(|(c, stem)| analyse_channel(signals, c, stem, out_dir, opts))
-            .collect()
-    } else {
-        let next = std::sync::atomic::AtomicUsize::new(0);
-        let mut slots: Vec<Option<_>> = (0..signals.channels.len()).map(|_| None).collect();
-        std::thread::scope(|s| {
-            let handles: Vec<_> = (0..workers)
-                .map(|_| {
-                    s.spawn(|| {
-                        let mut done = Vec::new();
-                        loop {
-                            let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                            let Some(c) = signals.channels.get(i) else {
-                                break;
-                            };
-                            let r = analyse_channel(signals, c, &stems[i], out_dir, opts);
-                            done.push((i, r));
-                        }
-                        done
-                    })
-                })
-                .collect();
-            for h in handles {
-                for (i, r) in h.join().expect("analysis worker panicked") {
-                    slots[i] = Some(r);
-                }
-            }
-        });
-        slots
-            .into_iter()
-            .map(|r| r.expect("every channel analysed"))
-            .collect()
-    };
+    use rayon::prelude::*;
+    let results: Vec<Result<ChannelOutput, AnalysisError>> = signals
+        .channels
+        .par_iter()
+        .zip(&stems)
+        .map(|(c, stem)| analyse_channel(signals, c, stem, out_dir, opts))
+        .collect();
 
     let mut files = Vec::new();
     let mut channels = Vec::new();
-    let mut blocks = 0;
+    let mut runs = Vec::new();
     for r in results {
-        let (f, c, n) = r?;
+        let (f, c, run) = r?;
         files.extend(f);
         channels.push(c);
-        blocks = n;
+        runs.push(run);
     }
+    let blocks = runs.first().map_or(0, |r| r.blocks.len());
+    let nyquist = signals.sample_rate / 2.0;
+    let max_f = opts.max_frequency_hz.unwrap_or(nyquist).min(nyquist);
+    let (spectra, orders) = rayon::join(
+        || export::write_spectra(&runs, max_f, out_dir, opts.format),
+        || export::write_orders(&runs, out_dir, opts.format),
+    );
+    files.push(spectra?);
+    files.push(orders?);
     let displacements: Vec<&Channel> = signals
         .channels
         .iter()
@@ -194,10 +168,10 @@ pub fn analyse_signals(
     })
 }
 
-/// Files written for a channel, its report and its number of blocks.
-type ChannelOutput = (Vec<PathBuf>, ChannelReport, usize);
+/// Plots written for a channel, its report and its analysis (for the tables).
+type ChannelOutput = (Vec<PathBuf>, ChannelReport, RunUp);
 
-/// Analyse one channel and write its files.
+/// Analyse one channel and write its plots.
 fn analyse_channel(
     signals: &Signals,
     channel: &Channel,
@@ -224,17 +198,6 @@ fn analyse_channel(
         opts,
         &out_dir.join(format!("{stem}_speed")),
     )?);
-    let nyquist = signals.sample_rate / 2.0;
-    let spectra = out_dir.join(format!("{stem}_spectra.csv"));
-    export::write_spectra_csv(
-        &run,
-        opts.max_frequency_hz.unwrap_or(nyquist).min(nyquist),
-        &spectra,
-    )?;
-    files.push(spectra);
-    let orders_csv = out_dir.join(format!("{stem}_orders.csv"));
-    export::write_orders_csv(&run, &orders_csv)?;
-    files.push(orders_csv);
     let report = ChannelReport {
         name: channel.name.clone(),
         quantity: channel.quantity,
@@ -252,7 +215,7 @@ fn analyse_channel(
             })
             .collect(),
     };
-    Ok((files, report, run.blocks.len()))
+    Ok((files, report, run))
 }
 
 /// Base name of the all-displacements plot; no channel may get it as its stem.

@@ -70,6 +70,10 @@ pub struct AnalysisOptions {
     pub colour_scale: ColourScale,
     /// Pixel size of the PNG plots (the SVGs use the same layout).
     pub plot_size: (u32, u32),
+    /// Format of the spectra and order-track tables.
+    pub format: crate::results::Format,
+    /// Also write each plot as SVG (PNG is always written).
+    pub svg: bool,
 }
 
 impl Default for AnalysisOptions {
@@ -86,6 +90,8 @@ impl Default for AnalysisOptions {
             min_rpm: 30.0,
             colour_scale: ColourScale::default(),
             plot_size: (1280, 800),
+            format: crate::results::Format::Parquet,
+            svg: true,
         }
     }
 }

@@ -965,24 +965,29 @@ where
     draw_legend(&legend, "channels:", &items, 30)
 }
 
-/// Render with both backends: `<base>.png` and `<base>.svg`. Returns the paths.
+/// Render `<base>.png`, and `<base>.svg` where `opts.svg`. Returns the paths.
 macro_rules! render_both {
-    ($base:expr, $size:expr, $draw:ident ( $($arg:expr),* )) => {{
+    ($base:expr, $opts:expr, $draw:ident ( $($arg:expr),* )) => {{
+        let size = $opts.plot_size;
         let png = $base.with_extension("png");
         let svg = $base.with_extension("svg");
         {
-            let root = BitMapBackend::new(&png, $size).into_drawing_area();
+            let root = BitMapBackend::new(&png, size).into_drawing_area();
             $draw(&root, $($arg),*)
                 .and_then(|_| root.present().map_err(DynErr::from))
                 .map_err(|e| AnalysisError::Plot { path: png.clone(), message: e.to_string() })?;
         }
-        {
-            let root = SVGBackend::new(&svg, $size).into_drawing_area();
-            $draw(&root, $($arg),*)
-                .and_then(|_| root.present().map_err(DynErr::from))
-                .map_err(|e| AnalysisError::Plot { path: svg.clone(), message: e.to_string() })?;
+        if $opts.svg {
+            {
+                let root = SVGBackend::new(&svg, size).into_drawing_area();
+                $draw(&root, $($arg),*)
+                    .and_then(|_| root.present().map_err(DynErr::from))
+                    .map_err(|e| AnalysisError::Plot { path: svg.clone(), message: e.to_string() })?;
+            }
+            vec![png, svg]
+        } else {
+            vec![png]
         }
-        vec![png, svg]
     }};
 }
 
@@ -995,7 +1000,7 @@ pub fn order_plot(
 ) -> Result<Vec<std::path::PathBuf>, AnalysisError> {
     init_fonts();
     let p = heat_plot_order(run, opts);
-    Ok(render_both!(base, opts.plot_size, draw_heat_plot(&p)))
+    Ok(render_both!(base, opts, draw_heat_plot(&p)))
 }
 
 /// Cascade: drum speed vs frequency, colour = amplitude, order rays marked.
@@ -1006,7 +1011,7 @@ pub fn cascade_plot(
 ) -> Result<Vec<std::path::PathBuf>, AnalysisError> {
     init_fonts();
     let p = heat_plot_cascade(run, opts);
-    Ok(render_both!(base, opts.plot_size, draw_heat_plot(&p)))
+    Ok(render_both!(base, opts, draw_heat_plot(&p)))
 }
 
 /// Speed plot: order tracks over speed (top) and the raw channel over speed (bottom).
@@ -1020,7 +1025,7 @@ pub fn speed_plot(
     init_fonts();
     Ok(render_both!(
         base,
-        opts.plot_size,
+        opts,
         draw_speed_plot(run, channel, signals, opts)
     ))
 }
@@ -1035,7 +1040,7 @@ pub fn displacement_plot(
     init_fonts();
     Ok(render_both!(
         base,
-        opts.plot_size,
+        opts,
         draw_displacements(signals, channels)
     ))
 }

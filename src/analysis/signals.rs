@@ -1,4 +1,5 @@
-//! Sensor signals of a run-up and the CSV reader for them.
+//! Sensor signals of a run-up and the readers for them (Parquet as `washdyn run` writes it, and
+//! CSV through the `csv` crate, so quoted fields work).
 //!
 //! Format (written by the simulator, measured data looks the same): a header line
 //! `time_s,drum_rpm,<channel>,...`, then one row per sample, uniformly sampled.
@@ -224,14 +225,46 @@ impl Signals {
     }
 }
 
-/// Read a run-up CSV file (see the module docs for the format).
+/// Read a run-up file: Parquet (`.parquet`, as `washdyn run` writes it) or CSV (see the module
+/// docs for the format).
 pub fn read_signals(path: impl AsRef<Path>) -> Result<Signals, AnalysisError> {
     let path = path.as_ref();
+    if crate::results::Format::of_path(path) == crate::results::Format::Parquet {
+        return read_parquet(path);
+    }
     let file = std::fs::File::open(path).map_err(|source| AnalysisError::Io {
         path: path.to_path_buf(),
         source,
     })?;
     parse_signals(std::io::BufReader::new(file), path)
+}
+
+/// A Parquet signal file: float64 columns `time_s`, `drum_rpm`, then channels. Errors name
+/// the row (1-based) instead of a line.
+fn read_parquet(path: &Path) -> Result<Signals, AnalysisError> {
+    let (names, mut cols) =
+        crate::results::read_parquet_f64(path).map_err(|message| AnalysisError::Header {
+            path: path.to_path_buf(),
+            line: 0,
+            message,
+        })?;
+    let refs: Vec<&str> = names.iter().map(String::as_str).collect();
+    let names = parse_header(&refs, 0, path)?;
+    let n = cols.first().map_or(0, Vec::len);
+    for (c, name) in cols.iter().zip(&names) {
+        if let Some(i) = c.iter().position(|v| !v.is_finite()) {
+            return Err(AnalysisError::NotANumber {
+                path: path.to_path_buf(),
+                line: i + 1,
+                column: name.clone(),
+                value: c[i].to_string(),
+            });
+        }
+    }
+    let data = cols.split_off(2);
+    let rpm = cols.pop().unwrap_or_default();
+    let time = cols.pop().unwrap_or_default();
+    finish(path, names, time, rpm, data, (1..=n).collect())
 }
 
 /// Parse run-up CSV text from any reader; `path` only names the source in errors.
@@ -243,15 +276,43 @@ pub fn parse_signals(reader: impl BufRead, path: &Path) -> Result<Signals, Analy
     let mut data: Vec<Vec<f64>> = Vec::new();
     // Line number of each sample, to point at the offending row in the uniformity check.
     let mut sample_lines: Vec<usize> = Vec::new();
-
-    for (idx, line) in reader.lines().enumerate() {
-        let line_no = idx + 1;
-        let line = line.map_err(|source| AnalysisError::Io { path: p(), source })?;
-        let line = line.trim();
-        if line.is_empty() || line.starts_with('#') {
+    let lines = std::rc::Rc::new(std::cell::RefCell::new(Vec::new()));
+    let mut csv = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .trim(csv::Trim::All)
+        .flexible(true)
+        .from_reader(LineIndex {
+            inner: reader,
+            offset: 0,
+            blank: true,
+            lines: lines.clone(),
+        });
+    // The csv crate's line counter skips blank lines; count physical lines from byte offsets.
+    let line_of = |byte: u64| line_of(&lines.borrow(), byte);
+    let mut record = csv::StringRecord::new();
+    loop {
+        match csv.read_record(&mut record) {
+            Ok(false) => break,
+            Ok(true) => {}
+            Err(e) => {
+                let line = e.position().map_or(0, |p| line_of(p.byte()));
+                return Err(match e.into_kind() {
+                    csv::ErrorKind::Io(source) => AnalysisError::Io { path: p(), source },
+                    k => AnalysisError::Header {
+                        path: p(),
+                        line,
+                        message: format!("{k:?}"),
+                    },
+                });
+            }
+        }
+        let line_no = record.position().map_or(0, |p| line_of(p.byte()));
+        // Comment lines (`#`, so a preamble of an exported file loads as it is) and blank lines.
+        if record.iter().all(str::is_empty) || record.get(0).is_some_and(|f| f.starts_with('#')) {
             continue;
         }
-        let fields: Vec<&str> = line.split(',').map(str::trim).collect();
+        // A quote after blanks is not a CSV quote; take it off too (`a, "b"`).
+        let fields: Vec<&str> = record.iter().map(unquote).collect();
         let Some(names) = &header else {
             let names = parse_header(&fields, line_no, path)?;
             data = vec![Vec::new(); names.len() - 2];
@@ -267,7 +328,7 @@ pub fn parse_signals(reader: impl BufRead, path: &Path) -> Result<Signals, Analy
             });
         }
         let mut values = fields.iter().zip(names).map(|(cell, name)| {
-            let v = unquote(cell).parse::<f64>().ok().filter(|v| v.is_finite());
+            let v = cell.parse::<f64>().ok().filter(|v| v.is_finite());
             v.ok_or_else(|| AnalysisError::NotANumber {
                 path: p(),
                 line: line_no,
@@ -296,12 +357,33 @@ pub fn parse_signals(reader: impl BufRead, path: &Path) -> Result<Signals, Analy
     let Some(names) = header else {
         return Err(AnalysisError::EmptyFile { path: p() });
     };
+    finish(path, names, time, rpm, data, sample_lines)
+}
+
+/// Checks shared by both formats (enough samples, uniform time), then the signals.
+fn finish(
+    path: &Path,
+    names: Vec<String>,
+    time: Vec<f64>,
+    rpm: Vec<f64>,
+    data: Vec<Vec<f64>>,
+    sample_lines: Vec<usize>,
+) -> Result<Signals, AnalysisError> {
+    let p = || path.to_path_buf();
     let n = time.len();
     if n < MIN_SAMPLES {
         return Err(AnalysisError::TooFewSamples {
             context: path.display().to_string(),
             found: n,
             needed: MIN_SAMPLES,
+        });
+    }
+    if let Some(i) = (1..n).find(|&i| time[i] <= time[i - 1]) {
+        return Err(AnalysisError::TimeNotIncreasing {
+            path: p(),
+            line: sample_lines[i],
+            time: time[i],
+            previous: time[i - 1],
         });
     }
     // Judge steps against the median step: one dropped sample shifts the mean of a
@@ -336,6 +418,44 @@ pub fn parse_signals(reader: impl BufRead, path: &Path) -> Result<Signals, Analy
     })
 }
 
+/// A reader that notes, for every line it passes on, the byte offset of its newline and whether
+/// it was blank.
+struct LineIndex<R> {
+    inner: R,
+    offset: u64,
+    blank: bool,
+    lines: std::rc::Rc<std::cell::RefCell<Vec<(u64, bool)>>>,
+}
+
+impl<R: std::io::Read> std::io::Read for LineIndex<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        let mut lines = self.lines.borrow_mut();
+        for (i, b) in buf[..n].iter().enumerate() {
+            match b {
+                b'\n' => {
+                    lines.push((self.offset + i as u64, self.blank));
+                    self.blank = true;
+                }
+                b' ' | b'\t' | b'\r' => {}
+                _ => self.blank = false,
+            }
+        }
+        self.offset += n as u64;
+        Ok(n)
+    }
+}
+
+/// 1-based line of the first non-blank line at or after byte `byte` (a csv record's position
+/// can be the start of blank lines before it).
+fn line_of(lines: &[(u64, bool)], byte: u64) -> usize {
+    let mut i = lines.partition_point(|&(end, _)| end < byte);
+    while i < lines.len() && lines[i].1 {
+        i += 1;
+    }
+    i + 1
+}
+
 fn unquote(s: &str) -> &str {
     s.strip_prefix('"')
         .and_then(|s| s.strip_suffix('"'))
@@ -348,7 +468,7 @@ fn parse_header(fields: &[&str], line: usize, path: &Path) -> Result<Vec<String>
         line,
         message,
     };
-    let names: Vec<String> = fields.iter().map(|f| unquote(f).to_string()).collect();
+    let names: Vec<String> = fields.iter().map(|f| f.to_string()).collect();
     let expect = |i: usize, want: &str, what: &str| -> Result<(), AnalysisError> {
         match names.get(i) {
             Some(n) if n.eq_ignore_ascii_case(want) => Ok(()),

@@ -106,24 +106,44 @@ pub fn read_speed_csv(path: &FsPath) -> Result<Vec<[f64; 2]>, Located> {
         message,
     };
     let text = std::fs::read_to_string(path).map_err(|e| err(0, format!("cannot read: {e}")))?;
+    let line_at = |byte: u64| line_col(&text, byte as usize).0;
+    let mut rd = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .trim(csv::Trim::All)
+        .flexible(true)
+        .from_reader(text.as_bytes());
     let mut rows = Vec::new();
-    for (i, raw) in text.lines().enumerate() {
-        let line = raw.trim();
-        if line.is_empty() || line.starts_with('#') {
+    let mut header_seen = false;
+    for rec in rd.records() {
+        let rec = rec.map_err(|e| {
+            let line = e.position().map_or(0, |p| line_at(p.byte()));
+            err(line, e.to_string())
+        })?;
+        // The record may start at blank lines before it: name the line of its first field.
+        let start = rec.position().map_or(0, |p| p.byte() as usize);
+        let skip = text[start..].len() - text[start..].trim_start().len();
+        let line = line_at((start + skip) as u64);
+        if rec.iter().all(str::is_empty) || rec.get(0).is_some_and(|c| c.starts_with('#')) {
             continue;
         }
-        let cells: Vec<&str> = line.split(',').map(str::trim).collect();
-        let nums: Result<Vec<f64>, _> = cells.iter().map(|c| c.parse::<f64>()).collect();
+        let nums: Result<Vec<f64>, _> = rec.iter().map(|c| c.parse::<f64>()).collect();
         match nums {
             Ok(v) if v.len() == 2 => rows.push([v[0], v[1]]),
             Ok(v) => {
                 return Err(err(
-                    i + 1,
+                    line,
                     format!("expected 2 columns (time_s, rpm), found {}", v.len()),
                 ));
             }
-            Err(_) if rows.is_empty() && i == 0 => continue, // header
-            Err(e) => return Err(err(i + 1, format!("not a number: {e} in `{line}`"))),
+            // The first row that is not a comment may name the columns.
+            Err(_) if rows.is_empty() && !header_seen => header_seen = true,
+            Err(e) => {
+                let row: Vec<&str> = rec.iter().collect();
+                return Err(err(
+                    line,
+                    format!("not a number: {e} in `{}`", row.join(",")),
+                ));
+            }
         }
     }
     if rows.is_empty() {

@@ -6,7 +6,7 @@ use washdyn_runtime::ir::Model;
 use washdyn_runtime::ir::toml_file::load_file;
 use washdyn_runtime::ode::{AnySolver, Method, Options};
 use washdyn_runtime::output::CsvSink;
-use washdyn_runtime::run::{Labels, Progress, RunOptions, Start, Summary, run};
+use washdyn_runtime::run::{Guard, Labels, Progress, RunOptions, Start, Summary, run_guarded};
 use washdyn_runtime::system::{FirstOrder, Interpreter, Mechanical};
 
 /// Which evaluator of the equations runs.
@@ -93,10 +93,30 @@ pub fn write_summary(dir: &Path, summary: &Summary) -> Result<(), String> {
         .map_err(|e| format!("cannot write {}/summary.json: {e}", dir.display()))
 }
 
-/// `washdyn run`: integrate, stream `sensors.csv`, write `summary.json`. A failed integration
-/// still writes both and reports the error with its time.
+/// What `run` watches and allows beyond [`RunArgs`].
+#[derive(Clone, Debug, Default)]
+pub struct RunControl {
+    /// Validity bounds, interrupt flag, progress budget.
+    pub guard: Guard,
+    pub allow_large_output: bool,
+    /// Band of the analysis that follows the run, Hz (the sample rate must resolve it).
+    pub analysis_band_hz: Option<f64>,
+}
+
+/// [`run_command_with`] with the default [`RunControl`].
 pub fn run_command(
     args: &RunArgs,
+    progress: &mut dyn FnMut(Progress),
+) -> Result<RunOutcome, String> {
+    run_command_with(args, &RunControl::default(), progress)
+}
+
+/// `washdyn run`: validate every setting (nothing is written before), integrate, stream
+/// `sensors.csv`, write `summary.json`. A failed integration still writes both and reports the
+/// error with its time.
+pub fn run_command_with(
+    args: &RunArgs,
+    ctl: &RunControl,
     progress: &mut dyn FnMut(Progress),
 ) -> Result<RunOutcome, String> {
     let (model, built_in) = resolve_model(&args.model)?;
@@ -120,6 +140,18 @@ pub fn run_command(
             ));
         }
     };
+    crate::validate::check(&crate::validate::Settings {
+        method: args.integrator,
+        t_end: args.t_end,
+        profile_end: mech.speed().end(),
+        tol: args.tol,
+        step: args.step,
+        sample_rate: args.sample_rate,
+        max_steps: args.max_steps,
+        channels: Some(mech.channel_names().len()),
+        analysis_band_hz: ctl.analysis_band_hz,
+        allow_large_output: ctl.allow_large_output,
+    })?;
     let out_dir = args
         .out
         .clone()
@@ -149,7 +181,7 @@ pub fn run_command(
             Backend::Generated => "generated".into(),
         },
     };
-    let (summary, error) = match run(
+    let (summary, error) = match run_guarded(
         &mut sys,
         &mut solver,
         &opts,
@@ -157,6 +189,7 @@ pub fn run_command(
         (ode.rtol, ode.atol),
         &mut sink,
         progress,
+        &ctl.guard,
     ) {
         Ok(s) => (s, None),
         Err((e, s)) => (s, Some(e.to_string())),

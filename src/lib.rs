@@ -3,3 +3,4 @@
 pub mod analysis;
 pub mod commands;
 pub mod sweep;
+pub mod validate;

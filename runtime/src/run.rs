@@ -7,6 +7,8 @@ use crate::output::SampleSink;
 use crate::statics::static_equilibrium;
 use crate::system::{FirstOrder, Mechanical};
 use serde::Serialize;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 use thiserror::Error;
 
@@ -39,6 +41,56 @@ impl Default for RunOptions {
     }
 }
 
+/// Bounds of the small-motion linearisation the equations rest on (equations/mod.rs: tub
+/// positions p0 + s + u + alpha x s). Rotation: at 0.05 rad, sin a and tan a differ from a by
+/// 4e-4 and 8e-4 relative and cos a from 1 by 1.2e-3, so dropped second-order terms stay near
+/// 1e-3. Translation: the tub-cabinet clearance of the reference machine, 0.30 m cabinet
+/// half-width - 0.27 m tub radius = 30 mm; beyond it the tub would hit the cabinet, which the
+/// model does not contain.
+#[derive(Clone, Debug)]
+pub struct Guard {
+    /// Largest tub rotation |alpha| without a warning, rad.
+    pub rotation_rad: f64,
+    /// Largest tub translation |u| (from the reference position) without a warning, m.
+    pub translation_m: f64,
+    /// The run stops with [`RunError::Validity`] at this multiple of a bound; `None`: never.
+    pub stop_factor: Option<f64>,
+    /// Polled between steps: when set, the run stops with [`RunError::Interrupted`].
+    pub interrupt: Option<Arc<AtomicBool>>,
+    /// Wall-clock window over which progress is measured, s.
+    pub stall_window_s: f64,
+    /// A run whose simulated-time rate over a window projects the remaining time to more than
+    /// this (wall-clock seconds) stops with [`RunError::Stalled`].
+    pub max_projected_s: f64,
+}
+
+impl Default for Guard {
+    fn default() -> Self {
+        Guard {
+            rotation_rad: 0.05,
+            translation_m: 0.03,
+            stop_factor: Some(5.0),
+            interrupt: None,
+            stall_window_s: 10.0,
+            max_projected_s: 3600.0,
+        }
+    }
+}
+
+/// The largest tub motion of a run, with when it happened.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Extremes {
+    /// max |u| over the run, m, and its time, s.
+    pub max_translation_m: f64,
+    pub max_translation_t: f64,
+    /// max |alpha| over the run, rad, and its time, s.
+    pub max_rotation_rad: f64,
+    pub max_rotation_t: f64,
+    /// The bounds the run was checked against.
+    pub translation_bound_m: f64,
+    pub rotation_bound_rad: f64,
+}
+
 /// What a run did; written as `summary.json`.
 #[derive(Clone, Debug, Serialize)]
 pub struct Summary {
@@ -63,8 +115,12 @@ pub struct Summary {
     pub newton_iterations: u64,
     pub samples: u64,
     pub wall_time_s: f64,
-    /// "ok" or "failed".
+    /// "ok", "failed" or "interrupted".
     pub status: String,
+    /// Largest tub motion against the linearisation's bounds.
+    pub validity: Extremes,
+    /// Times the motion left the linearisation's range (one message per quantity).
+    pub warnings: Vec<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub error: Option<String>,
 }
@@ -86,8 +142,34 @@ pub enum RunError {
     Ode(#[from] OdeError),
     #[error("writing samples failed at t = {t} s: {source}")]
     Io { t: f64, source: std::io::Error },
-    #[error("{0}")]
-    Setup(String),
+    /// The run could not start (e.g. no static equilibrium); `t` is the start time.
+    #[error("{reason} (at t = {t} s)")]
+    Setup { t: f64, reason: String },
+    #[error(
+        "{what} {value:.4e} {unit} at t = {t} s is more than {factor} x the {bound} {unit} bound \
+         of the small-motion linearisation: the result would be meaningless (see --no-validity-stop)"
+    )]
+    Validity {
+        t: f64,
+        what: &'static str,
+        value: f64,
+        bound: f64,
+        factor: f64,
+        unit: &'static str,
+    },
+    #[error("interrupted at t = {t} s")]
+    Interrupted { t: f64 },
+    #[error(
+        "no progress: at t = {t} s the last {window_s:.0} s of wall time gained {gained:.3e} s \
+         of simulated time; the remaining {remaining:.3e} s would take about {projected_s:.2e} s"
+    )]
+    Stalled {
+        t: f64,
+        window_s: f64,
+        gained: f64,
+        remaining: f64,
+        projected_s: f64,
+    },
 }
 
 impl RunError {
@@ -95,8 +177,11 @@ impl RunError {
     pub fn time(&self) -> Option<f64> {
         match self {
             RunError::Ode(e) => Some(e.time()),
-            RunError::Io { t, .. } => Some(*t),
-            RunError::Setup(_) => None,
+            RunError::Io { t, .. }
+            | RunError::Setup { t, .. }
+            | RunError::Validity { t, .. }
+            | RunError::Interrupted { t }
+            | RunError::Stalled { t, .. } => Some(*t),
         }
     }
 }
@@ -117,8 +202,7 @@ pub struct Labels {
     pub backend: String,
 }
 
-/// Integrate `sys` with `solver`, streaming samples into `sink`. Returns the summary either way;
-/// on failure together with the error (the sink has been flushed).
+/// [`run_guarded`] with the default [`Guard`].
 #[allow(clippy::result_large_err)]
 pub fn run<S, V>(
     sys: &mut FirstOrder<S>,
@@ -128,6 +212,27 @@ pub fn run<S, V>(
     tol: (f64, f64),
     sink: &mut dyn SampleSink,
     progress: &mut dyn FnMut(Progress),
+) -> Result<Summary, (RunError, Summary)>
+where
+    S: Mechanical,
+    V: Solver<FirstOrder<S>>,
+{
+    run_guarded(sys, solver, opts, labels, tol, sink, progress, &Guard::default())
+}
+
+/// Integrate `sys` with `solver`, streaming samples into `sink`, watching the tub motion, the
+/// progress and the interrupt flag of `guard`. Returns the summary either way; on failure
+/// together with the error (the sink has been flushed).
+#[allow(clippy::result_large_err, clippy::too_many_arguments)]
+pub fn run_guarded<S, V>(
+    sys: &mut FirstOrder<S>,
+    solver: &mut V,
+    opts: &RunOptions,
+    labels: &Labels,
+    tol: (f64, f64),
+    sink: &mut dyn SampleSink,
+    progress: &mut dyn FnMut(Progress),
+    guard: &Guard,
 ) -> Result<Summary, (RunError, Summary)>
 where
     S: Mechanical,
@@ -154,16 +259,26 @@ where
         samples: 0,
         wall_time_s: 0.0,
         status: "ok".into(),
+        validity: Extremes {
+            translation_bound_m: guard.translation_m,
+            rotation_bound_rad: guard.rotation_rad,
+            ..Extremes::default()
+        },
+        warnings: Vec::new(),
         error: None,
     };
-    let result = drive(sys, solver, opts, sink, progress, &mut summary);
+    let result = drive(sys, solver, opts, sink, progress, &mut summary, guard);
     let _ = sink.flush();
     summary.take_stats(solver.stats());
     summary.wall_time_s = wall.elapsed().as_secs_f64();
     match result {
         Ok(()) => Ok(summary),
         Err(e) => {
-            summary.status = "failed".into();
+            summary.status = match e {
+                RunError::Interrupted { .. } => "interrupted",
+                _ => "failed",
+            }
+            .into();
             summary.error = Some(e.to_string());
             if let Some(t) = e.time() {
                 summary.t_reached = t;
@@ -180,6 +295,7 @@ fn drive<S, V>(
     sink: &mut dyn SampleSink,
     progress: &mut dyn FnMut(Progress),
     summary: &mut Summary,
+    guard: &Guard,
 ) -> Result<(), RunError>
 where
     S: Mechanical,
@@ -192,13 +308,17 @@ where
     // Written to reject NaN too.
     let ordered = |a: f64, b: f64| a.partial_cmp(&b) == Some(std::cmp::Ordering::Greater);
     if !ordered(t_end, t0) || !ordered(opts.sample_rate, 0.0) {
-        return Err(RunError::Setup(format!(
-            "need t_end > t_start and a positive sample rate (t_start {t0}, t_end {t_end}, rate {})",
-            opts.sample_rate
-        )));
+        return Err(RunError::Setup {
+            t: t0,
+            reason: format!(
+                "need t_end > t_start and a positive sample rate (t_start {t0}, t_end {t_end}, rate {})",
+                opts.sample_rate
+            ),
+        });
     }
     let q0 = match opts.start {
-        Start::Static => static_equilibrium(&mut sys.sys, t0).map_err(RunError::Setup)?,
+        Start::Static => static_equilibrium(&mut sys.sys, t0)
+            .map_err(|reason| RunError::Setup { t: t0, reason })?,
         Start::Reference => vec![0.0; n],
     };
     let mut y = vec![0.0; 2 * n];
@@ -232,6 +352,8 @@ where
         sink.sample(t, rpm, &vals).map_err(io(t))
     };
 
+    let mut monitor = Monitor::new(guard, t0, Instant::now());
+    monitor.check(t0, &y[..n], summary)?;
     solver.init(sys, t0, &y)?;
     emit(sys, t0, &y, summary)?;
     k += 1;
@@ -241,6 +363,8 @@ where
             solver.step(sys, stop)?;
             let t = solver.t();
             summary.t_reached = t;
+            monitor.check(t, &solver.y()[..n], summary)?;
+            monitor.progress(t, t_end)?;
             while k < n_samples {
                 let ts = t0 + k as f64 * dt;
                 if ts > t {
@@ -271,4 +395,105 @@ where
         rpm: sys.sys.speed().rpm(t_end),
     });
     Ok(())
+}
+
+/// Watches a run between steps: the tub motion against the linearisation's bounds, the
+/// interrupt flag, and the simulated time gained per wall-clock window.
+struct Monitor<'a> {
+    guard: &'a Guard,
+    warned_translation: bool,
+    warned_rotation: bool,
+    window_start: Instant,
+    window_t: f64,
+    calls: u32,
+}
+
+impl<'a> Monitor<'a> {
+    fn new(guard: &'a Guard, t0: f64, now: Instant) -> Self {
+        Monitor {
+            guard,
+            warned_translation: false,
+            warned_rotation: false,
+            window_start: now,
+            window_t: t0,
+            calls: 0,
+        }
+    }
+
+    /// q[0..3] = tub translation u, q[3..6] = tub rotation alpha (equations/mod.rs).
+    fn check(&mut self, t: f64, q: &[f64], summary: &mut Summary) -> Result<(), RunError> {
+        if q.len() < 6 {
+            return Ok(());
+        }
+        let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let (u, a) = (norm(&q[..3]), norm(&q[3..6]));
+        let ex = &mut summary.validity;
+        if u > ex.max_translation_m {
+            ex.max_translation_m = u;
+            ex.max_translation_t = t;
+        }
+        if a > ex.max_rotation_rad {
+            ex.max_rotation_rad = a;
+            ex.max_rotation_t = t;
+        }
+        let g = self.guard;
+        for (value, bound, what, unit, warned) in [
+            (u, g.translation_m, "tub translation", "m", &mut self.warned_translation),
+            (a, g.rotation_rad, "tub rotation", "rad", &mut self.warned_rotation),
+        ] {
+            if value > bound && !*warned {
+                *warned = true;
+                summary.warnings.push(format!(
+                    "{what} {value:.4e} {unit} at t = {t} s exceeds the {bound} {unit} bound of \
+                     the small-motion linearisation"
+                ));
+            }
+            if let Some(factor) = g.stop_factor
+                && value > factor * bound
+            {
+                return Err(RunError::Validity {
+                    t,
+                    what,
+                    value,
+                    bound,
+                    factor,
+                    unit,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The interrupt flag, every step; the wall clock, every 64th step.
+    fn progress(&mut self, t: f64, t_end: f64) -> Result<(), RunError> {
+        if let Some(flag) = &self.guard.interrupt
+            && flag.load(Ordering::Relaxed)
+        {
+            return Err(RunError::Interrupted { t });
+        }
+        self.calls = self.calls.wrapping_add(1);
+        if self.calls % 64 != 0 {
+            return Ok(());
+        }
+        let window_s = self.window_start.elapsed().as_secs_f64();
+        if window_s < self.guard.stall_window_s {
+            return Ok(());
+        }
+        let gained = t - self.window_t;
+        let remaining = t_end - t;
+        let projected_s = remaining / gained * window_s;
+        // Written to catch gained = 0 (projected inf) and NaN alike.
+        if !(projected_s <= self.guard.max_projected_s) {
+            return Err(RunError::Stalled {
+                t,
+                window_s,
+                gained,
+                remaining,
+                projected_s,
+            });
+        }
+        self.window_start = Instant::now();
+        self.window_t = t;
+        Ok(())
+    }
 }

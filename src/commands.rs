@@ -201,3 +201,74 @@ pub fn run_command_with(
         error,
     })
 }
+
+/// `washdyn check`: the model's own checks (done on loading), then what a run needs of each
+/// scene: a static equilibrium at t = 0 (a model without springs has none) and a rest position
+/// inside the small-motion bounds of [`Guard`].
+pub fn check_model(model: &Model) -> Result<String, String> {
+    let guard = Guard::default();
+    let mut lines = vec![format!(
+        "{}: ok; scenes: {}",
+        model.name,
+        model.scene_names().join(", ")
+    )];
+    let mut errors = Vec::new();
+    for name in model.scene_names() {
+        let scene = model.scene(Some(&name))?;
+        let mut sys = Interpreter::new(model, &scene);
+        match washdyn_runtime::statics::static_equilibrium(&mut sys, 0.0) {
+            Ok(q) if q.len() >= 6 => {
+                let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+                let (u, a) = (norm(&q[..3]), norm(&q[3..6]));
+                let msg = format!(
+                    "scene `{name}`: static rest position at t = 0: tub translation {:.2} mm, \
+                     rotation {a:.2e} rad",
+                    u * 1e3
+                );
+                if u > guard.translation_m || a > guard.rotation_rad {
+                    errors.push(format!(
+                        "{msg}: beyond the small-motion bounds ({} mm, {} rad); a spring pulling \
+                         the wrong way or too soft?",
+                        guard.translation_m * 1e3,
+                        guard.rotation_rad
+                    ));
+                } else {
+                    lines.push(msg);
+                }
+            }
+            Ok(_) => {}
+            Err(e) => errors.push(format!("scene `{name}` cannot run: {e}")),
+        }
+    }
+    if errors.is_empty() {
+        Ok(lines.join("\n"))
+    } else {
+        Err(format!("{}: {}", model.name, errors.join("\n")))
+    }
+}
+
+/// The rules of [`crate::validate`] for the settings a sweep shares across its variants (the
+/// output size is checked per variant by `run`'s rule only when the sweep calls it).
+pub fn validate_sweep(
+    model: &Model,
+    scene: Option<&str>,
+    method: Method,
+    tol: f64,
+    t_end: Option<f64>,
+    sample_rate: f64,
+) -> Result<(), String> {
+    let scene = model.scene(scene)?;
+    let sys = Interpreter::new(model, &scene);
+    crate::validate::check(&crate::validate::Settings {
+        method,
+        t_end,
+        profile_end: sys.speed().end(),
+        tol,
+        step: None,
+        sample_rate,
+        max_steps: None,
+        channels: Some(sys.channel_names().len()),
+        analysis_band_hz: None,
+        allow_large_output: false,
+    })
+}

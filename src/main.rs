@@ -6,7 +6,10 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use washdyn::analysis::{AnalysisOptions, analyse_file};
-use washdyn::commands::{Backend, RunArgs, resolve_model, run_command};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use washdyn::commands::{Backend, RunArgs, RunControl, check_model, resolve_model, run_command_with};
+use washdyn_runtime::run::Guard;
 use washdyn_runtime::ode::Method;
 
 #[derive(Parser)]
@@ -63,6 +66,12 @@ enum Cmd {
         /// Step budget; the run stops with an error (keeping its output) when it is spent.
         #[arg(long)]
         max_steps: Option<u64>,
+        /// Keep running when the tub motion exceeds 5 x the small-motion bounds (30 mm, 0.05 rad).
+        #[arg(long)]
+        no_validity_stop: bool,
+        /// Write sensor output beyond the 2 GB limit.
+        #[arg(long)]
+        allow_large_output: bool,
     },
     /// Order analysis of a signal file (time_s, drum_rpm, channels...): order plots, cascades,
     /// speed plots (PNG, SVG) and spectra (CSV).
@@ -106,6 +115,8 @@ enum Cmd {
 /// Post-processing of a run: channels that are identically zero (a fixed cabinet's) are left
 /// out, and spectra stop at 300 Hz (motor order 1 at 1400 rpm is 262.5 Hz), so a full run-up's
 /// output stays in the tens of MB.
+const ANALYSIS_BAND_HZ: f64 = 300.0;
+
 fn analyse_run(
     csv: &std::path::Path,
     dir: &std::path::Path,
@@ -115,7 +126,7 @@ fn analyse_run(
         .channels
         .retain(|c| c.data.iter().any(|v| *v != 0.0));
     let opts = AnalysisOptions {
-        max_frequency_hz: Some(300.0),
+        max_frequency_hz: Some(ANALYSIS_BAND_HZ),
         ..AnalysisOptions::default()
     };
     washdyn::analysis::analyse_signals(&signals, dir, &opts)
@@ -139,6 +150,8 @@ fn main() -> ExitCode {
             backend,
             no_plots,
             max_steps,
+            no_validity_stop,
+            allow_large_output,
         } => {
             let args = RunArgs {
                 model,
@@ -164,7 +177,23 @@ fn main() -> ExitCode {
                     p.t, p.t_end, p.rpm
                 ));
             };
-            let outcome = run_command(&args, &mut progress);
+            // Ctrl-C stops the run between steps; the normal failure path then flushes the
+            // samples and writes summary.json with status "interrupted".
+            let interrupt = Arc::new(AtomicBool::new(false));
+            let flag = interrupt.clone();
+            if let Err(e) = ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed)) {
+                eprintln!("warning: Ctrl-C will not write a summary: {e}");
+            }
+            let ctl = RunControl {
+                guard: Guard {
+                    stop_factor: if no_validity_stop { None } else { Guard::default().stop_factor },
+                    interrupt: Some(interrupt),
+                    ..Guard::default()
+                },
+                allow_large_output,
+                analysis_band_hz: (!no_plots).then_some(ANALYSIS_BAND_HZ),
+            };
+            let outcome = run_command_with(&args, &ctl, &mut progress);
             bar.finish_and_clear();
             match outcome {
                 Ok(o) => {
@@ -189,7 +218,10 @@ fn main() -> ExitCode {
                         "wrote {}/sensors.csv and summary.json",
                         o.out_dir.display()
                     );
-                    if !no_plots && s.samples > 1 {
+                    for w in &s.warnings {
+                        eprintln!("warning: {w}");
+                    }
+                    if !no_plots && s.samples > 1 && o.error.is_none() {
                         let dir = o.out_dir.join("analysis");
                         let csv = o.out_dir.join("sensors.csv");
                         match analyse_run(&csv, &dir) {
@@ -233,6 +265,7 @@ fn main() -> ExitCode {
         } => {
             let result = (|| {
                 let (m, _) = resolve_model(&model)?;
+                washdyn::commands::validate_sweep(&m, scene.as_deref(), integrator, tol, t_end, sample_rate)?;
                 let spec = washdyn::sweep::SweepSpec {
                     positions,
                     masses,
@@ -317,14 +350,9 @@ fn main() -> ExitCode {
                 }
             }
         }
-        Cmd::Check { model } => match resolve_model(&model) {
-            Ok((m, _)) => {
-                let _ = writeln!(
-                    std::io::stdout(),
-                    "{}: ok; scenes: {}",
-                    m.name,
-                    m.scene_names().join(", ")
-                );
+        Cmd::Check { model } => match resolve_model(&model).and_then(|(m, _)| check_model(&m)) {
+            Ok(report) => {
+                let _ = writeln!(std::io::stdout(), "{report}");
                 ExitCode::SUCCESS
             }
             Err(e) => {

@@ -97,6 +97,18 @@ impl Ctx {
     }
 }
 
+/// Highest drum speed a profile may ask for, rpm: household spin speeds end near 1800 rpm; the
+/// bound leaves room for studies beyond, but not for a typo (a profile to 1e6 rpm displaced the
+/// drum front by metres).
+pub const MAX_RPM: f64 = 3000.0;
+/// Steepest friction characteristic, s/m: 90 % of f_max at 64 um/s already. The damper's
+/// regularised damping f_max * slope * 2/pi makes the problem stiff in proportion; at 1e12 s/m
+/// the explicit methods' stable step falls below 1e-12 s and a run never ends.
+pub const MAX_FRICTION_SLOPE: f64 = 1e5;
+/// Largest unbalance as a fraction of the tub mass: the equations treat the unbalance as a small
+/// addition to the suspended body (test loads are 0.3-1 kg on a 55 kg tub).
+pub const MAX_UNBALANCE_FRACTION: f64 = 0.1;
+
 /// Check a model. `Ok` means both back ends may evaluate it.
 pub fn check(m: &Model) -> Result<(), Vec<CheckError>> {
     let mut c = Ctx::default();
@@ -157,6 +169,16 @@ pub fn check(m: &Model) -> Result<(), Vec<CheckError>> {
             );
         }
         c.positive(p.clone().key("mass"), &format!("{w}: mass"), u.mass);
+        if u.mass > MAX_UNBALANCE_FRACTION * m.tub.mass {
+            c.err(
+                p.clone().key("mass"),
+                format!(
+                    "{w}: mass {} kg exceeds {MAX_UNBALANCE_FRACTION} x the tub mass ({} kg): the \
+                     small-motion model does not hold for such a load",
+                    u.mass, m.tub.mass
+                ),
+            );
+        }
         c.vec3(p.key("position"), &w, &u.position);
     }
 
@@ -182,6 +204,14 @@ pub fn check(m: &Model) -> Result<(), Vec<CheckError>> {
         }
         if row[1] < 0.0 {
             c.err(p, format!("speed: negative rpm {} at row {i}", row[1]));
+        } else if row[1] > MAX_RPM {
+            c.err(
+                p,
+                format!(
+                    "speed: {} rpm at row {i} exceeds the limit of {MAX_RPM} rpm",
+                    row[1]
+                ),
+            );
         }
     }
 
@@ -216,6 +246,16 @@ pub fn check(m: &Model) -> Result<(), Vec<CheckError>> {
         two_points(&mut c, &p, &w, &d.a, &d.b);
         c.non_negative(p.clone().key("f_max"), &format!("{w}: f_max"), d.f_max);
         c.positive(p.clone().key("slope"), &format!("{w}: slope"), d.slope);
+        if d.slope > MAX_FRICTION_SLOPE {
+            c.err(
+                p.clone().key("slope"),
+                format!(
+                    "{w}: slope {} s/m exceeds {MAX_FRICTION_SLOPE:e} s/m (the run would be too \
+                     stiff to integrate)",
+                    d.slope
+                ),
+            );
+        }
         c.non_negative(
             p.clone().key("bearing_stiffness"),
             &format!("{w}: bearing_stiffness"),

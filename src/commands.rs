@@ -181,6 +181,10 @@ pub fn run_command_with(
             Backend::Generated => "generated".into(),
         },
     };
+    let guard = Guard {
+        fixed_step: (args.integrator == Method::Rk4).then_some(ode.h0),
+        ..ctl.guard.clone()
+    };
     let (summary, error) = match run_guarded(
         &mut sys,
         &mut solver,
@@ -189,7 +193,7 @@ pub fn run_command_with(
         (ode.rtol, ode.atol),
         &mut sink,
         progress,
-        &ctl.guard,
+        &guard,
     ) {
         Ok(s) => (s, None),
         Err((e, s)) => (s, Some(e.to_string())),

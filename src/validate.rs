@@ -53,7 +53,8 @@ impl Ctxt {
     fn range(&mut self, option: &str, value: f64, (lo, hi): (f64, f64), unit: &str, why: &str) {
         if !(value.is_finite() && value >= lo && value <= hi) {
             self.error(format!(
-                "{option} must be in [{lo:e}, {hi:e}] {unit}{why}, got {value}"
+                "{option} must be in [{lo:e}, {hi:e}]{}{unit}{why}, got {value}",
+                if unit.is_empty() { "" } else { " " }
             ));
         }
     }
@@ -87,7 +88,8 @@ fn check_step(cx: &mut Ctxt, s: &Settings) {
         (Method::Rk4, Some(h)) => cx.range("--step", h, RK4_STEP, "s", " for rk4"),
         (Method::Rk4, None) => {}
         (m, Some(h)) => cx.error(format!(
-            "--step applies to rk4 only: {m:?} chooses its own steps from --tol, got --step {h}"
+            "--step applies to rk4 only: {} chooses its own steps from --tol, got --step {h}",
+            format!("{m:?}").to_lowercase()
         )),
         (_, None) => {}
     }

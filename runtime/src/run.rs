@@ -2,7 +2,7 @@
 //! breakpoints, uniform sampling of the sensors by dense output, and a summary. A failure returns
 //! a typed error with the time reached; the samples written up to then stay written.
 
-use crate::ode::{OdeError, Solver, Stats};
+use crate::ode::{OdeError, OdeSystem, Solver, Stats};
 use crate::output::SampleSink;
 use crate::statics::static_equilibrium;
 use crate::system::{FirstOrder, Mechanical};
@@ -62,7 +62,15 @@ pub struct Guard {
     /// A run whose simulated-time rate over a window projects the remaining time to more than
     /// this (wall-clock seconds) stops with [`RunError::Stalled`].
     pub max_projected_s: f64,
+    /// The fixed step of an explicit fixed-step method (rk4), s: checked at the start against
+    /// the stability limit [`RK4_STABILITY`] / spectral radius of the Jacobian.
+    pub fixed_step: Option<f64>,
 }
+
+/// RK4's stability interval on the negative real axis, |h lambda| <= 2.785 (Hairer & Wanner,
+/// Solving ODEs II, Fig. IV.2.1; on the imaginary axis 2.828). 2.78 covers both directions
+/// up to the last digit that matters here.
+pub const RK4_STABILITY: f64 = 2.78;
 
 impl Default for Guard {
     fn default() -> Self {
@@ -73,6 +81,7 @@ impl Default for Guard {
             interrupt: None,
             stall_window_s: 10.0,
             max_projected_s: 3600.0,
+            fixed_step: None,
         }
     }
 }
@@ -157,6 +166,17 @@ pub enum RunError {
         factor: f64,
         unit: &'static str,
     },
+    #[error(
+        "the fixed step {h:e} s exceeds the stability limit {limit:.3e} s of rk4 for this model \
+         (spectral radius of the Jacobian {radius:.3e} 1/s at t = {t} s): use a step below it or \
+         an adaptive integrator"
+    )]
+    Unstable {
+        t: f64,
+        h: f64,
+        limit: f64,
+        radius: f64,
+    },
     #[error("interrupted at t = {t} s")]
     Interrupted { t: f64 },
     #[error(
@@ -181,6 +201,7 @@ impl RunError {
             | RunError::Setup { t, .. }
             | RunError::Validity { t, .. }
             | RunError::Interrupted { t }
+            | RunError::Unstable { t, .. }
             | RunError::Stalled { t, .. } => Some(*t),
         }
     }
@@ -354,6 +375,18 @@ where
 
     let mut monitor = Monitor::new(guard, t0, Instant::now());
     monitor.check(t0, &y[..n], summary)?;
+    if let Some(h) = guard.fixed_step {
+        let radius = spectral_radius(sys, t0, &y);
+        let limit = RK4_STABILITY / radius;
+        if h > limit {
+            return Err(RunError::Unstable {
+                t: t0,
+                h,
+                limit,
+                radius,
+            });
+        }
+    }
     solver.init(sys, t0, &y)?;
     emit(sys, t0, &y, summary)?;
     k += 1;
@@ -495,5 +528,51 @@ impl<'a> Monitor<'a> {
         self.window_start = Instant::now();
         self.window_t = t;
         Ok(())
+    }
+}
+
+/// Largest |eigenvalue| of df/dy at (t, y), by power iteration on finite-difference products
+/// J v: the mean growth of |J^k v| over the iterations after a transient of 20. A dominant
+/// complex pair makes v rotate, not converge; the growth rate still tends to |lambda|. Set-up
+/// code: it allocates.
+pub fn spectral_radius<S: OdeSystem>(sys: &mut S, t: f64, y: &[f64]) -> f64 {
+    let m = y.len();
+    let mut f0 = vec![0.0; m];
+    let mut f1 = vec![0.0; m];
+    let mut yp = vec![0.0; m];
+    sys.rhs(t, y, &mut f0);
+    let ynorm = y.iter().map(|v| v * v).sum::<f64>().sqrt();
+    // A fixed pseudo-random start, so every mode has a share.
+    let mut v: Vec<f64> = (0..m)
+        .map(|i| ((i as f64 + 1.0) * 0.618_034).fract() - 0.5)
+        .collect();
+    let (mut log_sum, mut count) = (0.0, 0);
+    for k in 0..120 {
+        let vn = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if !(vn > 0.0 && vn.is_finite()) {
+            break;
+        }
+        let eps = 1e-7 * (1.0 + ynorm) / vn;
+        for i in 0..m {
+            yp[i] = y[i] + eps * v[i];
+        }
+        sys.rhs(t, &yp, &mut f1);
+        for i in 0..m {
+            v[i] = (f1[i] - f0[i]) / eps;
+        }
+        let jn = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if !(jn > 0.0 && jn.is_finite()) {
+            break;
+        }
+        if k >= 20 {
+            log_sum += (jn / vn).ln();
+            count += 1;
+        }
+        v.iter_mut().for_each(|x| *x /= jn);
+    }
+    if count == 0 {
+        0.0
+    } else {
+        (log_sum / count as f64).exp()
     }
 }

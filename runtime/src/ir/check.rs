@@ -227,10 +227,11 @@ pub fn check(m: &Model) -> Result<(), Vec<CheckError>> {
             s.stiffness,
         );
         c.positive(
-            p.key("free_length"),
+            p.clone().key("free_length"),
             &format!("{w}: free_length"),
             s.free_length,
         );
+        spring_carries(&mut c, p, &w, s, &m.gravity);
     }
     for (i, d) in m.dampers.iter().enumerate() {
         let p = Path::of(&["dampers"]).idx(i);
@@ -351,6 +352,43 @@ impl<'a> Names<'a> {
         } else if !self.seen.insert(name) {
             c.err(p.key("name"), format!("duplicate name `{name}` ({kind})"));
         }
+    }
+}
+
+/// A suspension spring carries the tub: hanging in tension above it or compressed below it,
+/// its force on the tub at the reference position has no large component along gravity. One
+/// that pulls the tub down (a tension spring whose cabinet end lies below the tub end, e.g. a
+/// mirrored coordinate) adds to the weight instead; the static start then sits far off and a
+/// run drifts. Refused when the force on the tub points within 60 degrees of gravity.
+fn spring_carries(c: &mut Ctx, p: Path, what: &str, s: &crate::ir::Spring, g: &V3) {
+    let all = [s.a.point, s.b.point, *g];
+    if !all.iter().flatten().all(|v| v.is_finite()) || s.a.body == s.b.body || norm(g) == 0.0 {
+        return;
+    }
+    // From the tub end to the other end.
+    let (tub, other, other_key) = if s.a.body == BodyRef::Tub {
+        (s.a.point, s.b.point, "b")
+    } else {
+        (s.b.point, s.a.point, "a")
+    };
+    let d = [other[0] - tub[0], other[1] - tub[1], other[2] - tub[2]];
+    let len = norm(&d);
+    if len < 1e-9 {
+        return;
+    }
+    // Tension (len > free length) pulls the tub end towards the other end.
+    let f = s.stiffness * (len - s.free_length);
+    let along_g = f * (d[0] * g[0] + d[1] * g[1] + d[2] * g[2]) / (len * norm(g));
+    if along_g > 0.5 * f.abs() {
+        c.err(
+            p.key(other_key).key("point"),
+            format!(
+                "{what}: at the reference position it pulls the tub along gravity ({along_g:.1} N \
+                 of its {:.1} N); a suspension spring hangs the tub in tension from above or \
+                 supports it in compression from below (an end mirrored?)",
+                f.abs()
+            ),
+        );
     }
 }
 

@@ -5,12 +5,14 @@ use indicatif::{ProgressBar, ProgressStyle};
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
-use washdyn::analysis::{AnalysisOptions, analyse_file};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use washdyn::commands::{Backend, RunArgs, RunControl, check_model, resolve_model, run_command_with};
-use washdyn_runtime::run::Guard;
+use washdyn::analysis::{AnalysisOptions, analyse_file};
+use washdyn::commands::{
+    Backend, RunArgs, RunControl, check_model, resolve_model, run_command_with,
+};
 use washdyn_runtime::ode::Method;
+use washdyn_runtime::run::Guard;
 
 #[derive(Parser)]
 #[command(
@@ -186,7 +188,11 @@ fn main() -> ExitCode {
             }
             let ctl = RunControl {
                 guard: Guard {
-                    stop_factor: if no_validity_stop { None } else { Guard::default().stop_factor },
+                    stop_factor: if no_validity_stop {
+                        None
+                    } else {
+                        Guard::default().stop_factor
+                    },
                     interrupt: Some(interrupt),
                     ..Guard::default()
                 },
@@ -265,7 +271,14 @@ fn main() -> ExitCode {
         } => {
             let result = (|| {
                 let (m, _) = resolve_model(&model)?;
-                washdyn::commands::validate_sweep(&m, scene.as_deref(), integrator, tol, t_end, sample_rate)?;
+                washdyn::commands::validate_sweep(
+                    &m,
+                    scene.as_deref(),
+                    integrator,
+                    tol,
+                    t_end,
+                    sample_rate,
+                )?;
                 let spec = washdyn::sweep::SweepSpec {
                     positions,
                     masses,

@@ -6,7 +6,9 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use washdyn::commands::{Backend, RunArgs, RunControl, check_model, resolve_model, run_command_with};
+use washdyn::commands::{
+    Backend, RunArgs, RunControl, check_model, resolve_model, run_command_with,
+};
 use washdyn_runtime::ode::Method;
 use washdyn_runtime::run::Guard;
 
@@ -42,13 +44,20 @@ fn refused(a: &RunArgs, ctl: &RunControl, want: &str) {
 
 #[test]
 fn rk4_step_out_of_range_or_not_a_number() {
-    for (i, h) in [1.0, f64::INFINITY, 0.0, -1.0, f64::NAN, 1e-12].into_iter().enumerate() {
+    for (i, h) in [1.0, f64::INFINITY, 0.0, -1.0, f64::NAN, 1e-12]
+        .into_iter()
+        .enumerate()
+    {
         let a = RunArgs {
             integrator: Method::Rk4,
             step: Some(h),
             ..args(&format!("step{i}"))
         };
-        refused(&a, &RunControl::default(), "--step must be in [1e-7, 1e-2] s for rk4, got");
+        refused(
+            &a,
+            &RunControl::default(),
+            "--step must be in [1e-7, 1e-2] s for rk4, got",
+        );
     }
 }
 
@@ -58,39 +67,64 @@ fn step_with_an_adaptive_integrator() {
         step: Some(1.0),
         ..args("step-dopri5")
     };
-    refused(&a, &RunControl::default(), "--step applies to rk4 only: dopri5");
+    refused(
+        &a,
+        &RunControl::default(),
+        "--step applies to rk4 only: dopri5",
+    );
 }
 
 #[test]
 fn tolerance_out_of_range() {
-    for (i, tol) in [f64::INFINITY, 0.0, f64::NAN, -1.0, 0.5, 1e-13].into_iter().enumerate() {
+    for (i, tol) in [f64::INFINITY, 0.0, f64::NAN, -1.0, 0.5, 1e-13]
+        .into_iter()
+        .enumerate()
+    {
         let a = RunArgs {
             tol,
             ..args(&format!("tol{i}"))
         };
-        refused(&a, &RunControl::default(), "--tol must be in [1e-12, 1e-1], got");
+        refused(
+            &a,
+            &RunControl::default(),
+            "--tol must be in [1e-12, 1e-1], got",
+        );
     }
 }
 
 #[test]
 fn end_time_out_of_range() {
-    for (i, t) in [f64::INFINITY, 1e9, 0.0, f64::NAN, -1.0].into_iter().enumerate() {
+    for (i, t) in [f64::INFINITY, 1e9, 0.0, f64::NAN, -1.0]
+        .into_iter()
+        .enumerate()
+    {
         let a = RunArgs {
             t_end: Some(t),
             ..args(&format!("tend{i}"))
         };
-        refused(&a, &RunControl::default(), "--t-end must be > 0 and at most 3600 s, got");
+        refused(
+            &a,
+            &RunControl::default(),
+            "--t-end must be > 0 and at most 3600 s, got",
+        );
     }
 }
 
 #[test]
 fn sample_rate_out_of_range_or_below_the_analysis_band() {
-    for (i, r) in [1e9, f64::INFINITY, f64::NAN, 0.0, -5.0].into_iter().enumerate() {
+    for (i, r) in [1e9, f64::INFINITY, f64::NAN, 0.0, -5.0]
+        .into_iter()
+        .enumerate()
+    {
         let a = RunArgs {
             sample_rate: r,
             ..args(&format!("rate{i}"))
         };
-        refused(&a, &RunControl::default(), "--sample-rate must be in [1e0, 1e5] Hz, got");
+        refused(
+            &a,
+            &RunControl::default(),
+            "--sample-rate must be in [1e0, 1e5] Hz, got",
+        );
     }
     // With plots, the 300 Hz analysis band needs 600 Hz.
     let ctl = RunControl {
@@ -101,14 +135,21 @@ fn sample_rate_out_of_range_or_below_the_analysis_band() {
         sample_rate: 1.0,
         ..args("rate-analysis")
     };
-    refused(&a, &ctl, "--sample-rate must be at least 600 Hz for the analysis");
+    refused(
+        &a,
+        &ctl,
+        "--sample-rate must be at least 600 Hz for the analysis",
+    );
 }
 
 #[test]
 fn output_beyond_the_size_limit_names_its_size() {
     // 3600 s x 1e5 Hz + 1 samples x (time, rpm, 3 per sensor of reference.toml) x 8 bytes.
     let src = concat!(env!("CARGO_MANIFEST_DIR"), "/models/data/reference.toml");
-    let sensors = std::fs::read_to_string(src).unwrap().matches("[[sensors]]").count();
+    let sensors = std::fs::read_to_string(src)
+        .unwrap()
+        .matches("[[sensors]]")
+        .count();
     let cols = 2 + 3 * sensors;
     let gb = (3600.0 * 1e5 + 1.0) * cols as f64 * 8.0 / 1e9;
     let a = RunArgs {
@@ -152,7 +193,9 @@ fn every_violation_is_listed_at_once() {
         t_end: Some(0.0),
         ..args("many")
     };
-    let e = run_command_with(&a, &RunControl::default(), &mut |_| {}).err().unwrap();
+    let e = run_command_with(&a, &RunControl::default(), &mut |_| {})
+        .err()
+        .unwrap();
     assert_eq!(e.lines().count(), 3, "{e}");
 }
 
@@ -168,7 +211,10 @@ fn rk4_step_beyond_the_stability_limit_stops_at_the_start() {
     };
     let o = run_command_with(&a, &RunControl::default(), &mut |_| {}).unwrap();
     let e = o.error.expect("must fail");
-    assert!(e.contains("exceeds the stability limit") && e.contains("at t = 0 s"), "{e}");
+    assert!(
+        e.contains("exceeds the stability limit") && e.contains("at t = 0 s"),
+        "{e}"
+    );
     assert_eq!(o.summary.status, "failed");
     assert_eq!(o.summary.steps, 0);
     let ok = RunArgs {
@@ -194,7 +240,9 @@ fn variant(tag: &str, from: &str, to: &str) -> PathBuf {
 }
 
 fn model_refused(path: &PathBuf, want: &str) {
-    let e = resolve_model(path.to_str().unwrap()).err().expect("must be refused");
+    let e = resolve_model(path.to_str().unwrap())
+        .err()
+        .expect("must be refused");
     assert!(e.contains(want), "`{e}` lacks `{want}`");
     let a = RunArgs {
         model: path.to_str().unwrap().into(),
@@ -208,7 +256,10 @@ fn model_refused(path: &PathBuf, want: &str) {
 #[test]
 fn speed_profile_to_a_million_rpm() {
     let p = variant("rpm", "[178.375, 1400.0]", "[178.375, 1000000.0]");
-    model_refused(&p, "speed: 1000000 rpm at row 3 exceeds the limit of 3000 rpm");
+    model_refused(
+        &p,
+        "speed: 1000000 rpm at row 3 exceeds the limit of 3000 rpm",
+    );
 }
 
 #[test]
@@ -233,7 +284,10 @@ fn spring_mirrored_below_the_tub() {
         "point = [0.12, 0.0, 0.82]",
         "point = [0.12, 0.0, 0.42]",
     );
-    model_refused(&p, "spring `spring_front`: at the reference position it pulls the tub along gravity (245.3 N of its 245.3 N)");
+    model_refused(
+        &p,
+        "spring `spring_front`: at the reference position it pulls the tub along gravity (245.3 N of its 245.3 N)",
+    );
 }
 
 #[test]
@@ -245,7 +299,10 @@ fn model_without_springs_fails_check() {
     std::fs::write(&p, &text[..cut]).unwrap();
     let (m, _) = resolve_model(p.to_str().unwrap()).expect("loads: the checker's rules pass");
     let e = check_model(&m).unwrap_err();
-    assert!(e.contains("cannot run: static equilibrium: singular stiffness"), "{e}");
+    assert!(
+        e.contains("cannot run: static equilibrium: singular stiffness"),
+        "{e}"
+    );
     // The full model passes and reports its rest position.
     let (r, _) = resolve_model("reference").unwrap();
     let ok = check_model(&r).unwrap();
@@ -272,12 +329,17 @@ fn large_motion_warns_then_stops_with_its_time() {
     assert!(s.t_reached > 0.0 && s.t_reached < 40.0, "{}", s.t_reached);
     assert!(s.validity.max_rotation_rad > 0.25);
     assert!(
-        s.warnings.iter().any(|w| w.contains("exceeds the 0.03 m bound")),
+        s.warnings
+            .iter()
+            .any(|w| w.contains("exceeds the 0.03 m bound")),
         "{:?}",
         s.warnings
     );
     let json = std::fs::read_to_string(out_dir("validity").join("summary.json")).unwrap();
-    assert!(json.contains("max_rotation_rad") && json.contains("warnings"), "{json}");
+    assert!(
+        json.contains("max_rotation_rad") && json.contains("warnings"),
+        "{json}"
+    );
     // The override runs on past the same time.
     let ctl = RunControl {
         guard: Guard {

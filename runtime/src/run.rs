@@ -193,16 +193,16 @@ pub enum RunError {
 }
 
 impl RunError {
-    /// Time at which the run stopped, where known.
-    pub fn time(&self) -> Option<f64> {
+    /// Time at which the run stopped (the start time for a run that could not start).
+    pub fn time(&self) -> f64 {
         match self {
-            RunError::Ode(e) => Some(e.time()),
+            RunError::Ode(e) => e.time(),
             RunError::Io { t, .. }
             | RunError::Setup { t, .. }
             | RunError::Validity { t, .. }
             | RunError::Interrupted { t }
             | RunError::Unstable { t, .. }
-            | RunError::Stalled { t, .. } => Some(*t),
+            | RunError::Stalled { t, .. } => *t,
         }
     }
 }
@@ -238,7 +238,16 @@ where
     S: Mechanical,
     V: Solver<FirstOrder<S>>,
 {
-    run_guarded(sys, solver, opts, labels, tol, sink, progress, &Guard::default())
+    run_guarded(
+        sys,
+        solver,
+        opts,
+        labels,
+        tol,
+        sink,
+        progress,
+        &Guard::default(),
+    )
 }
 
 /// Integrate `sys` with `solver`, streaming samples into `sink`, watching the tub motion, the
@@ -301,9 +310,7 @@ where
             }
             .into();
             summary.error = Some(e.to_string());
-            if let Some(t) = e.time() {
-                summary.t_reached = t;
-            }
+            summary.t_reached = e.time();
             Err((e, summary))
         }
     }
@@ -471,8 +478,20 @@ impl<'a> Monitor<'a> {
         }
         let g = self.guard;
         for (value, bound, what, unit, warned) in [
-            (u, g.translation_m, "tub translation", "m", &mut self.warned_translation),
-            (a, g.rotation_rad, "tub rotation", "rad", &mut self.warned_rotation),
+            (
+                u,
+                g.translation_m,
+                "tub translation",
+                "m",
+                &mut self.warned_translation,
+            ),
+            (
+                a,
+                g.rotation_rad,
+                "tub rotation",
+                "rad",
+                &mut self.warned_rotation,
+            ),
         ] {
             if value > bound && !*warned {
                 *warned = true;
@@ -574,5 +593,31 @@ pub fn spectral_radius<S: OdeSystem>(sys: &mut S, t: f64, y: &[f64]) -> f64 {
         0.0
     } else {
         (log_sum / count as f64).exp()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// y' = A y, A block-diagonal with the eigenvalues -1, -4000 and the pair -10 +- 3000 i.
+    struct Linear;
+    impl OdeSystem for Linear {
+        fn dim(&self) -> usize {
+            4
+        }
+        fn rhs(&mut self, _t: f64, y: &[f64], dy: &mut [f64]) {
+            dy[0] = -y[0];
+            dy[1] = -4000.0 * y[1];
+            dy[2] = -10.0 * y[2] - 3000.0 * y[3];
+            dy[3] = 3000.0 * y[2] - 10.0 * y[3];
+        }
+    }
+
+    #[test]
+    fn spectral_radius_of_a_known_spectrum() {
+        // The largest |lambda| is 4000 by construction; the pair's modulus is 3000.02.
+        let r = spectral_radius(&mut Linear, 0.0, &[0.1, 0.2, 0.3, 0.4]);
+        assert!((r / 4000.0 - 1.0).abs() < 1e-3, "{r}");
     }
 }

@@ -100,12 +100,12 @@ fn check_tol(cx: &mut Ctxt, s: &Settings) {
 }
 
 fn check_t_end(cx: &mut Ctxt, s: &Settings) {
-    if let Some(t) = s.t_end {
-        if !(t > 0.0 && t <= T_END_MAX) {
-            cx.error(format!(
-                "--t-end must be > 0 and at most {T_END_MAX} s, got {t}"
-            ));
-        }
+    if let Some(t) = s.t_end
+        && !(t > 0.0 && t <= T_END_MAX)
+    {
+        cx.error(format!(
+            "--t-end must be > 0 and at most {T_END_MAX} s, got {t}"
+        ));
     }
 }
 

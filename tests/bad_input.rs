@@ -240,9 +240,9 @@ fn variant(tag: &str, from: &str, to: &str) -> PathBuf {
 }
 
 fn model_refused(path: &PathBuf, want: &str) {
-    let e = resolve_model(path.to_str().unwrap())
-        .err()
-        .expect("must be refused");
+    let Err(e) = resolve_model(path.to_str().unwrap()) else {
+        panic!("{} must be refused", path.display())
+    };
     assert!(e.contains(want), "`{e}` lacks `{want}`");
     let a = RunArgs {
         model: path.to_str().unwrap().into(),

@@ -524,7 +524,7 @@ impl<'a> Monitor<'a> {
             return Err(RunError::Interrupted { t });
         }
         self.calls = self.calls.wrapping_add(1);
-        if self.calls % 64 != 0 {
+        if !self.calls.is_multiple_of(64) {
             return Ok(());
         }
         let window_s = self.window_start.elapsed().as_secs_f64();
@@ -535,7 +535,7 @@ impl<'a> Monitor<'a> {
         let remaining = t_end - t;
         let projected_s = remaining / gained * window_s;
         // Written to catch gained = 0 (projected inf) and NaN alike.
-        if !(projected_s <= self.guard.max_projected_s) {
+        if projected_s.is_nan() || projected_s > self.guard.max_projected_s {
             return Err(RunError::Stalled {
                 t,
                 window_s,

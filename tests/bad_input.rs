@@ -373,11 +373,17 @@ fn interrupt_writes_an_interrupted_summary() {
         t_end: Some(170.0),
         ..args("interrupt")
     };
+    // Another thread sets the flag once the run has reported progress (every 100 ms of wall
+    // time), so the run is under way however fast the machine.
+    let (tx, rx) = std::sync::mpsc::channel::<f64>();
     let setter = std::thread::spawn(move || {
-        std::thread::sleep(std::time::Duration::from_millis(300));
+        rx.recv().unwrap();
         flag.store(true, Ordering::Relaxed);
     });
-    let o = run_command_with(&a, &ctl, &mut |_| {}).unwrap();
+    let o = run_command_with(&a, &ctl, &mut |p| {
+        let _ = tx.send(p.t);
+    })
+    .unwrap();
     setter.join().unwrap();
     assert_eq!(o.summary.status, "interrupted");
     let e = o.error.unwrap();

@@ -362,7 +362,13 @@ impl<'a> Names<'a> {
 /// run drifts. Refused when the force on the tub points within 60 degrees of gravity.
 fn spring_carries(c: &mut Ctx, p: Path, what: &str, s: &crate::ir::Spring, g: &V3) {
     let all = [s.a.point, s.b.point, *g];
-    if !all.iter().flatten().all(|v| v.is_finite()) || s.a.body == s.b.body || norm(g) == 0.0 {
+    // Other rules report non-finite or non-positive numbers; this one needs sane ones.
+    let sane = all.iter().flatten().all(|v| v.is_finite())
+        && s.stiffness > 0.0
+        && s.free_length > 0.0
+        && s.a.body != s.b.body
+        && norm(g) > 0.0;
+    if !sane {
         return;
     }
     // From the tub end to the other end.

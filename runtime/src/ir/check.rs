@@ -169,7 +169,8 @@ pub fn check(m: &Model) -> Result<(), Vec<CheckError>> {
             );
         }
         c.positive(p.clone().key("mass"), &format!("{w}: mass"), u.mass);
-        if u.mass > MAX_UNBALANCE_FRACTION * m.tub.mass {
+        // Against a valid tub mass only (an invalid one is reported on its own).
+        if m.tub.mass > 0.0 && u.mass > MAX_UNBALANCE_FRACTION * m.tub.mass {
             c.err(
                 p.clone().key("mass"),
                 format!(

@@ -416,3 +416,68 @@ fn a_run_without_progress_stops() {
     assert_eq!(o.summary.status, "failed");
     std::fs::remove_dir_all(out_dir("stall")).ok();
 }
+
+#[test]
+fn sweep_settings_are_validated() {
+    let (m, _) = resolve_model("reference").unwrap();
+    let e =
+        washdyn::commands::validate_sweep(&m, None, Method::Dopri5, f64::INFINITY, Some(0.0), 1e9)
+            .unwrap_err();
+    for want in [
+        "--tol must be in",
+        "--t-end must be > 0",
+        "--sample-rate must be in",
+    ] {
+        assert!(e.contains(want), "`{e}` lacks `{want}`");
+    }
+    assert!(
+        washdyn::commands::validate_sweep(&m, None, Method::Dopri5, 1e-6, None, 2000.0).is_ok()
+    );
+}
+
+/// SIGINT to the real binary: the ctrlc handler sets the flag, the run stops between steps and
+/// summary.json says "interrupted"; the exit code is a failure.
+#[cfg(unix)]
+#[test]
+fn sigint_to_the_binary_writes_an_interrupted_summary() {
+    use std::process::{Command, Stdio};
+    let dir = out_dir("sigint");
+    std::fs::remove_dir_all(&dir).ok();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_washdyn"))
+        .args([
+            "run",
+            "reference",
+            "--no-plots",
+            "--backend",
+            "interpreted",
+            "--out",
+        ])
+        .arg(&dir)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The output folder appears once the settings passed and the run starts (the 178 s run-up
+    // takes seconds); interrupt it shortly after.
+    let start = std::time::Instant::now();
+    while !dir.exists() {
+        assert!(
+            start.elapsed().as_secs() < 60,
+            "no output folder after 60 s"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    std::thread::sleep(std::time::Duration::from_millis(100));
+    let killed = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{stderr}");
+    assert!(stderr.contains("interrupted at t = "), "{stderr}");
+    let json = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+    assert!(json.contains("\"status\": \"interrupted\""), "{json}");
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -183,6 +183,7 @@ pub fn run_command_with(
     };
     let guard = Guard {
         fixed_step: (args.integrator == Method::Rk4).then_some(ode.h0),
+        elements: element_tub_ends(&model),
         ..ctl.guard.clone()
     };
     let (summary, error) = match run_guarded(
@@ -275,4 +276,33 @@ pub fn validate_sweep(
         analysis_band_hz: None,
         allow_large_output: false,
     })
+}
+
+/// Every force element's tub end relative to the tub's rest CoG, for the validity monitor.
+pub fn element_tub_ends(m: &Model) -> Vec<(String, [f64; 3])> {
+    use washdyn_runtime::ir::{Attach, BodyRef};
+    let c = m.tub.cog;
+    let rel = |p: [f64; 3]| [p[0] - c[0], p[1] - c[1], p[2] - c[2]];
+    let tub_end = |a: &Attach, b: &Attach| {
+        [a, b]
+            .into_iter()
+            .find(|e| e.body == BodyRef::Tub)
+            .map(|e| rel(e.point))
+    };
+    let mut out = Vec::new();
+    for s in &m.springs {
+        out.extend(tub_end(&s.a, &s.b).map(|p| (s.name.clone(), p)));
+    }
+    for d in &m.dampers {
+        out.extend(tub_end(&d.a, &d.b).map(|p| (d.name.clone(), p)));
+    }
+    for d in &m.friction_dampers {
+        out.extend(tub_end(&d.a, &d.b).map(|p| (d.name.clone(), p)));
+    }
+    for g in &m.gaskets {
+        if g.a == BodyRef::Tub || g.b == BodyRef::Tub {
+            out.push((g.name.clone(), rel(g.point)));
+        }
+    }
+    out
 }

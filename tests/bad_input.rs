@@ -328,6 +328,19 @@ fn large_motion_warns_then_stops_with_its_time() {
     assert_eq!(s.status, "failed");
     assert!(s.t_reached > 0.0 && s.t_reached < 40.0, "{}", s.t_reached);
     assert!(s.validity.max_rotation_rad > 0.25);
+    // The elements' tub ends lie 0.21-0.31 m from the CoG (reference.toml), so 0.25 rad of
+    // rotation alone moves them by several cm: past the 30 mm clearance.
+    assert!(
+        s.validity.max_element_deflection_m > 0.04,
+        "{:?}",
+        s.validity
+    );
+    assert!(!s.validity.max_element.is_empty());
+    assert!(
+        s.warnings.iter().any(|w| w.starts_with("element `")),
+        "{:?}",
+        s.warnings
+    );
     assert!(
         s.warnings
             .iter()
@@ -443,7 +456,7 @@ fn sigint_to_the_binary_writes_an_interrupted_summary() {
     use std::process::{Command, Stdio};
     let dir = out_dir("sigint");
     std::fs::remove_dir_all(&dir).ok();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_washdyn"))
+    let child = Command::new(env!("CARGO_BIN_EXE_washdyn"))
         .args([
             "run",
             "reference",

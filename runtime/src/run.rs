@@ -62,6 +62,10 @@ pub struct Guard {
     /// A run whose simulated-time rate over a window projects the remaining time to more than
     /// this (wall-clock seconds) stops with [`RunError::Stalled`].
     pub max_projected_s: f64,
+    /// Force elements' tub ends (name, position relative to the tub's rest CoG, m): their
+    /// displacement u + alpha x s is the element's deflection (the cabinet is fixed), reported
+    /// and warned about at the translation bound (the tub wall's clearance), never a stop.
+    pub elements: Vec<(String, [f64; 3])>,
     /// The fixed step of an explicit fixed-step method (rk4), s: checked at the start against
     /// the stability limit [`RK4_STABILITY`] / spectral radius of the Jacobian.
     pub fixed_step: Option<f64>,
@@ -82,6 +86,7 @@ impl Default for Guard {
             stall_window_s: 10.0,
             max_projected_s: 3600.0,
             fixed_step: None,
+            elements: Vec::new(),
         }
     }
 }
@@ -95,6 +100,10 @@ pub struct Extremes {
     /// max |alpha| over the run, rad, and its time, s.
     pub max_rotation_rad: f64,
     pub max_rotation_t: f64,
+    /// max over the force elements' tub ends of |u + alpha x s|, m, its time, s, and element.
+    pub max_element_deflection_m: f64,
+    pub max_element_deflection_t: f64,
+    pub max_element: String,
     /// The bounds the run was checked against.
     pub translation_bound_m: f64,
     pub rotation_bound_rad: f64,
@@ -297,7 +306,20 @@ where
         warnings: Vec::new(),
         error: None,
     };
-    let result = drive(sys, solver, opts, sink, progress, &mut summary, guard);
+    let mut worst_element = None;
+    let result = drive(
+        sys,
+        solver,
+        opts,
+        sink,
+        progress,
+        &mut summary,
+        guard,
+        &mut worst_element,
+    );
+    if let Some(i) = worst_element {
+        summary.validity.max_element = guard.elements[i].0.clone();
+    }
     let _ = sink.flush();
     summary.take_stats(solver.stats());
     summary.wall_time_s = wall.elapsed().as_secs_f64();
@@ -316,6 +338,7 @@ where
     }
 }
 
+#[allow(clippy::too_many_arguments)]
 fn drive<S, V>(
     sys: &mut FirstOrder<S>,
     solver: &mut V,
@@ -324,6 +347,7 @@ fn drive<S, V>(
     progress: &mut dyn FnMut(Progress),
     summary: &mut Summary,
     guard: &Guard,
+    worst_element: &mut Option<usize>,
 ) -> Result<(), RunError>
 where
     S: Mechanical,
@@ -382,6 +406,7 @@ where
 
     let mut monitor = Monitor::new(guard, t0, Instant::now());
     monitor.check(t0, &y[..n], summary)?;
+    monitor.elements(t0, &y[..n], summary, worst_element);
     if let Some(h) = guard.fixed_step {
         let radius = spectral_radius(sys, t0, &y);
         let limit = RK4_STABILITY / radius;
@@ -404,6 +429,7 @@ where
             let t = solver.t();
             summary.t_reached = t;
             monitor.check(t, &solver.y()[..n], summary)?;
+            monitor.elements(t, &solver.y()[..n], summary, worst_element);
             monitor.progress(t, t_end)?;
             while k < n_samples {
                 let ts = t0 + k as f64 * dt;
@@ -443,6 +469,7 @@ struct Monitor<'a> {
     guard: &'a Guard,
     warned_translation: bool,
     warned_rotation: bool,
+    warned_element: bool,
     window_start: Instant,
     window_t: f64,
     calls: u32,
@@ -454,6 +481,7 @@ impl<'a> Monitor<'a> {
             guard,
             warned_translation: false,
             warned_rotation: false,
+            warned_element: false,
             window_start: now,
             window_t: t0,
             calls: 0,
@@ -514,6 +542,40 @@ impl<'a> Monitor<'a> {
             }
         }
         Ok(())
+    }
+
+    /// The largest deflection of an element's tub end, and a warning past the translation bound.
+    fn elements(&mut self, t: f64, q: &[f64], summary: &mut Summary, worst: &mut Option<usize>) {
+        if q.len() < 6 {
+            return;
+        }
+        let (u, a) = (&q[..3], &q[3..6]);
+        let ex = &mut summary.validity;
+        for (i, (_, s)) in self.guard.elements.iter().enumerate() {
+            let d = [
+                u[0] + a[1] * s[2] - a[2] * s[1],
+                u[1] + a[2] * s[0] - a[0] * s[2],
+                u[2] + a[0] * s[1] - a[1] * s[0],
+            ];
+            let v = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            if v > ex.max_element_deflection_m {
+                ex.max_element_deflection_m = v;
+                ex.max_element_deflection_t = t;
+                *worst = Some(i);
+            }
+        }
+        let bound = self.guard.translation_m;
+        if !self.warned_element && ex.max_element_deflection_m > bound {
+            self.warned_element = true;
+            let (v, name) = (
+                ex.max_element_deflection_m,
+                worst.map_or("", |i| self.guard.elements[i].0.as_str()),
+            );
+            summary.warnings.push(format!(
+                "element `{name}` deflected {v:.4e} m at t = {t} s, beyond the {bound} m \
+                 tub-cabinet clearance"
+            ));
+        }
     }
 
     /// The interrupt flag, every step; the wall clock, every 64th step.

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use washdyn_runtime::ir::Model;
 use washdyn_runtime::ir::toml_file::load_file;
 use washdyn_runtime::ode::{AnySolver, Method, Options};
-use washdyn_runtime::run::{Labels, Progress, RunOptions, Start, Summary, run};
+use washdyn_runtime::run::{Guard, Labels, Progress, RunOptions, Start, Summary, run_guarded};
 use washdyn_runtime::system::{FirstOrder, Interpreter, Mechanical};
 
 /// Which evaluator of the equations runs.
@@ -125,10 +125,30 @@ pub fn write_summary(dir: &Path, summary: &Summary) -> Result<(), String> {
         .map_err(|e| format!("cannot write {}/summary.json: {e}", dir.display()))
 }
 
-/// `washdyn run`: integrate, stream `sensors.parquet` (or `.csv`), write `summary.json`. A failed integration
-/// still writes both and reports the error with its time.
+/// What `run` watches and allows beyond [`RunArgs`].
+#[derive(Clone, Debug, Default)]
+pub struct RunControl {
+    /// Validity bounds, interrupt flag, progress budget.
+    pub guard: Guard,
+    pub allow_large_output: bool,
+    /// Band of the analysis that follows the run, Hz (the sample rate must resolve it).
+    pub analysis_band_hz: Option<f64>,
+}
+
+/// [`run_command_with`] with the default [`RunControl`].
 pub fn run_command(
     args: &RunArgs,
+    progress: &mut dyn FnMut(Progress),
+) -> Result<RunOutcome, String> {
+    run_command_with(args, &RunControl::default(), progress)
+}
+
+/// `washdyn run`: validate every setting (nothing is written before), integrate, stream
+/// `sensors.parquet` (or `.csv`), write `summary.json`. A failed integration still writes both and reports the
+/// error with its time.
+pub fn run_command_with(
+    args: &RunArgs,
+    ctl: &RunControl,
     progress: &mut dyn FnMut(Progress),
 ) -> Result<RunOutcome, String> {
     let (model, built_in) = resolve_model(&args.model)?;
@@ -152,6 +172,18 @@ pub fn run_command(
             ));
         }
     };
+    crate::validate::check(&crate::validate::Settings {
+        method: args.integrator,
+        t_end: args.t_end,
+        profile_end: mech.speed().end(),
+        tol: args.tol,
+        step: args.step,
+        sample_rate: args.sample_rate,
+        max_steps: args.max_steps,
+        channels: Some(mech.channel_names().len()),
+        analysis_band_hz: ctl.analysis_band_hz,
+        allow_large_output: ctl.allow_large_output,
+    })?;
     let out_dir = args
         .out
         .clone()
@@ -179,7 +211,12 @@ pub fn run_command(
             Backend::Generated => "generated".into(),
         },
     };
-    let (summary, error) = match run(
+    let guard = Guard {
+        fixed_step: (args.integrator == Method::Rk4).then_some(ode.h0),
+        elements: element_tub_ends(&model),
+        ..ctl.guard.clone()
+    };
+    let (summary, error) = match run_guarded(
         &mut sys,
         &mut solver,
         &opts,
@@ -187,6 +224,7 @@ pub fn run_command(
         (ode.rtol, ode.atol),
         &mut sink,
         progress,
+        &guard,
     ) {
         Ok(s) => (s, None),
         Err((e, s)) => (s, Some(e.to_string())),
@@ -205,4 +243,104 @@ pub fn run_command(
         samples,
         motor_ratio: motor_ratio(&model),
     })
+}
+
+/// `washdyn check`: the model's own checks (done on loading), then what a run needs of each
+/// scene: a static equilibrium at t = 0 (a model without springs has none) and a rest position
+/// inside the small-motion bounds of [`Guard`].
+pub fn check_model(model: &Model) -> Result<String, String> {
+    let guard = Guard::default();
+    let mut lines = vec![format!(
+        "{}: ok; scenes: {}",
+        model.name,
+        model.scene_names().join(", ")
+    )];
+    let mut errors = Vec::new();
+    for name in model.scene_names() {
+        let scene = model.scene(Some(&name))?;
+        let mut sys = Interpreter::new(model, &scene);
+        match washdyn_runtime::statics::static_equilibrium(&mut sys, 0.0) {
+            Ok(q) if q.len() >= 6 => {
+                let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+                let (u, a) = (norm(&q[..3]), norm(&q[3..6]));
+                let msg = format!(
+                    "scene `{name}`: static rest position at t = 0: tub translation {:.2} mm, \
+                     rotation {a:.2e} rad",
+                    u * 1e3
+                );
+                if u > guard.translation_m || a > guard.rotation_rad {
+                    errors.push(format!(
+                        "{msg}: beyond the small-motion bounds ({} mm, {} rad); a spring pulling \
+                         the wrong way or too soft?",
+                        guard.translation_m * 1e3,
+                        guard.rotation_rad
+                    ));
+                } else {
+                    lines.push(msg);
+                }
+            }
+            Ok(_) => {}
+            Err(e) => errors.push(format!("scene `{name}` cannot run: {e}")),
+        }
+    }
+    if errors.is_empty() {
+        Ok(lines.join("\n"))
+    } else {
+        Err(format!("{}: {}", model.name, errors.join("\n")))
+    }
+}
+
+/// The rules of [`crate::validate`] for the settings a sweep shares across its variants (the
+/// output size is checked per variant by `run`'s rule only when the sweep calls it).
+pub fn validate_sweep(
+    model: &Model,
+    scene: Option<&str>,
+    method: Method,
+    tol: f64,
+    t_end: Option<f64>,
+    sample_rate: f64,
+) -> Result<(), String> {
+    let scene = model.scene(scene)?;
+    let sys = Interpreter::new(model, &scene);
+    crate::validate::check(&crate::validate::Settings {
+        method,
+        t_end,
+        profile_end: sys.speed().end(),
+        tol,
+        step: None,
+        sample_rate,
+        max_steps: None,
+        channels: Some(sys.channel_names().len()),
+        analysis_band_hz: None,
+        allow_large_output: false,
+    })
+}
+
+/// Every force element's tub end relative to the tub's rest CoG, for the validity monitor.
+pub fn element_tub_ends(m: &Model) -> Vec<(String, [f64; 3])> {
+    use washdyn_runtime::ir::{Attach, BodyRef};
+    let c = m.tub.cog;
+    let rel = |p: [f64; 3]| [p[0] - c[0], p[1] - c[1], p[2] - c[2]];
+    let tub_end = |a: &Attach, b: &Attach| {
+        [a, b]
+            .into_iter()
+            .find(|e| e.body == BodyRef::Tub)
+            .map(|e| rel(e.point))
+    };
+    let mut out = Vec::new();
+    for s in &m.springs {
+        out.extend(tub_end(&s.a, &s.b).map(|p| (s.name.clone(), p)));
+    }
+    for d in &m.dampers {
+        out.extend(tub_end(&d.a, &d.b).map(|p| (d.name.clone(), p)));
+    }
+    for d in &m.friction_dampers {
+        out.extend(tub_end(&d.a, &d.b).map(|p| (d.name.clone(), p)));
+    }
+    for g in &m.gaskets {
+        if g.a == BodyRef::Tub || g.b == BodyRef::Tub {
+            out.push((g.name.clone(), rel(g.point)));
+        }
+    }
+    out
 }

@@ -4,3 +4,4 @@ pub mod analysis;
 pub mod commands;
 pub mod results;
 pub mod sweep;
+pub mod validate;

@@ -5,10 +5,15 @@ use indicatif::{ProgressBar, ProgressStyle};
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use washdyn::analysis::{AnalysisOptions, analyse_file};
-use washdyn::commands::{Backend, RunArgs, resolve_model, run_command};
+use washdyn::commands::{
+    Backend, RunArgs, RunControl, check_model, resolve_model, run_command_with,
+};
 use washdyn::results::Format;
 use washdyn_runtime::ode::Method;
+use washdyn_runtime::run::Guard;
 
 #[derive(Parser)]
 #[command(
@@ -71,6 +76,12 @@ enum Cmd {
         /// Step budget; the run stops with an error (keeping its output) when it is spent.
         #[arg(long)]
         max_steps: Option<u64>,
+        /// Keep running when the tub motion exceeds 5 x the small-motion bounds (30 mm, 0.05 rad).
+        #[arg(long)]
+        no_validity_stop: bool,
+        /// Write sensor output beyond the 2 GB limit.
+        #[arg(long)]
+        allow_large_output: bool,
     },
     /// Order analysis of a signal file (time_s, drum_rpm, channels...): order plots, cascades,
     /// speed plots, spectra and order tracks.
@@ -120,6 +131,8 @@ enum Cmd {
 /// Post-processing of a run from the samples it kept in memory: channels that are identically
 /// zero (a fixed cabinet's) are left out, and spectra stop at 300 Hz (motor order 1 at 1400 rpm
 /// is 262.5 Hz), so a full run-up's output stays small.
+const ANALYSIS_BAND_HZ: f64 = 300.0;
+
 fn analyse_run(
     samples: (Vec<String>, Vec<Vec<f64>>),
     sample_rate: f64,
@@ -139,7 +152,7 @@ fn analyse_run(
         .collect();
     let signals = washdyn::analysis::Signals::from_uniform(t0, sample_rate, rpm, channels)?;
     let opts = AnalysisOptions {
-        max_frequency_hz: Some(300.0),
+        max_frequency_hz: Some(ANALYSIS_BAND_HZ),
         ..opts
     };
     washdyn::analysis::analyse_signals(&signals, dir, &opts)
@@ -165,6 +178,8 @@ fn main() -> ExitCode {
             no_plots,
             svg,
             max_steps,
+            no_validity_stop,
+            allow_large_output,
         } => {
             let args = RunArgs {
                 model,
@@ -192,7 +207,27 @@ fn main() -> ExitCode {
                     p.t, p.t_end, p.rpm
                 ));
             };
-            let outcome = run_command(&args, &mut progress);
+            // Ctrl-C stops the run between steps; the normal failure path then flushes the
+            // samples and writes summary.json with status "interrupted".
+            let interrupt = Arc::new(AtomicBool::new(false));
+            let flag = interrupt.clone();
+            if let Err(e) = ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed)) {
+                eprintln!("warning: Ctrl-C will not write a summary: {e}");
+            }
+            let ctl = RunControl {
+                guard: Guard {
+                    stop_factor: if no_validity_stop {
+                        None
+                    } else {
+                        Guard::default().stop_factor
+                    },
+                    interrupt: Some(interrupt),
+                    ..Guard::default()
+                },
+                allow_large_output,
+                analysis_band_hz: (!no_plots).then_some(ANALYSIS_BAND_HZ),
+            };
+            let outcome = run_command_with(&args, &ctl, &mut progress);
             bar.finish_and_clear();
             match outcome {
                 Ok(o) => {
@@ -213,8 +248,12 @@ fn main() -> ExitCode {
                         s.wall_time_s
                     );
                     let _ = writeln!(out, "wrote {} and summary.json", o.sensors.display());
+                    for w in &s.warnings {
+                        eprintln!("warning: {w}");
+                    }
                     let mut failed_analysis = None;
-                    if let Some(samples) = o.samples.filter(|_| s.samples > 1) {
+                    if let Some(samples) = o.samples.filter(|_| s.samples > 1 && o.error.is_none())
+                    {
                         let dir = o.out_dir.join("analysis");
                         let opts = AnalysisOptions {
                             motor_ratio: o.motor_ratio.unwrap_or(11.25),
@@ -268,6 +307,14 @@ fn main() -> ExitCode {
         } => {
             let result = (|| {
                 let (m, _) = resolve_model(&model)?;
+                washdyn::commands::validate_sweep(
+                    &m,
+                    scene.as_deref(),
+                    integrator,
+                    tol,
+                    t_end,
+                    sample_rate,
+                )?;
                 let spec = washdyn::sweep::SweepSpec {
                     positions,
                     masses,
@@ -357,14 +404,9 @@ fn main() -> ExitCode {
                 }
             }
         }
-        Cmd::Check { model } => match resolve_model(&model) {
-            Ok((m, _)) => {
-                let _ = writeln!(
-                    std::io::stdout(),
-                    "{}: ok; scenes: {}",
-                    m.name,
-                    m.scene_names().join(", ")
-                );
+        Cmd::Check { model } => match resolve_model(&model).and_then(|(m, _)| check_model(&m)) {
+            Ok(report) => {
+                let _ = writeln!(std::io::stdout(), "{report}");
                 ExitCode::SUCCESS
             }
             Err(e) => {

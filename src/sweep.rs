@@ -216,6 +216,8 @@ fn failed(v: &Variant, cfg: &SweepRun, error: String) -> VariantResult {
             samples: 0,
             wall_time_s: 0.0,
             status: "failed".into(),
+            validity: Default::default(),
+            warnings: Vec::new(),
             error: Some(error),
         },
         peaks: Vec::new(),

@@ -252,9 +252,9 @@ fn run_up_orders_and_amplitudes() {
             "order {order}: {}",
             c.worst_above_300
         );
-        // Two revolutions per 1 s block from 120 rpm: resolved from the second block on.
+        // The 8-revolution angle blocks fit into the signal from t = 2.4 s on (~150 rpm).
         assert!(
-            c.first_rpm < 135.0,
+            c.first_rpm < 152.0,
             "order {order} first resolved at {}",
             c.first_rpm
         );
@@ -329,4 +329,96 @@ fn invalid_options_are_rejected() {
             "{opts:?}"
         );
     }
+}
+
+/// Phantom content of absent orders on a run-up like the reference's (0 -> 93 rpm in 5 s, hold
+/// to 15 s, 8 rpm/s to 1400 rpm, 2 kHz): orders 1, 3, 5 and motor order 1 (11.25) present,
+/// orders 2 and 4 and motor order 2 (22.5) absent. Crosstalk = largest absent-order amplitude
+/// over the amplitude of its present neighbour, per speed range. Expected: nothing (the signal
+/// holds no such content); the bound -100 dB is issue 7's, met wherever an 8-revolution block
+/// fits (blocks below the 30 rpm minimum speed are left out).
+#[test]
+fn crosstalk_below_minus_100_db_on_a_synthetic_run_up() {
+    let fs = 2000.0;
+    let (t1, t2, t3) = (5.0, 15.0, 178.375);
+    let rpm = |t: f64| {
+        if t < t1 {
+            93.0 * t / t1
+        } else if t < t2 {
+            93.0
+        } else {
+            93.0 + 8.0 * (t - t2)
+        }
+    };
+    let c = 2.0 * PI / 60.0;
+    let phi = |t: f64| {
+        if t < t1 {
+            c * 93.0 * t * t / (2.0 * t1)
+        } else if t < t2 {
+            c * (93.0 * t1 / 2.0 + 93.0 * (t - t1))
+        } else {
+            let d = t - t2;
+            c * (93.0 * t1 / 2.0 + 93.0 * (t2 - t1) + 93.0 * d + 4.0 * d * d)
+        }
+    };
+    let present = [(1.0, 1.0), (3.0, 0.3), (5.0, 0.1), (11.25, 0.05)];
+    let n = (t3 * fs) as usize;
+    let x: Vec<f64> = (0..n)
+        .map(|i| {
+            let t = i as f64 / fs;
+            present.iter().map(|(o, a)| a * (o * phi(t)).sin()).sum()
+        })
+        .collect();
+    let s = Signals::from_uniform(
+        0.0,
+        fs,
+        (0..n).map(|i| rpm(i as f64 / fs)).collect(),
+        vec![Channel::new("tub1_ax", x)],
+    )
+    .unwrap();
+    let opts = AnalysisOptions {
+        track_orders: vec![1.0, 2.0, 3.0, 4.0, 5.0],
+        ..AnalysisOptions::default()
+    };
+    let run = RunUp::analyse(&s, &s.channels[0], &opts).unwrap();
+    let track = |o: f64| run.tracks.iter().find(|t| t.order == o).unwrap();
+    // (absent order, present neighbour, its amplitude)
+    let pairs = [(2.0, 1.0, 1.0), (4.0, 3.0, 0.3), (22.5, 11.25, 0.05)];
+    let ranges = [
+        (30.0, 150.0),
+        (150.0, 400.0),
+        (400.0, 800.0),
+        (800.0, 1400.0),
+    ];
+    let mut worst_present: f64 = 0.0;
+    for (lo, hi) in ranges {
+        let mut worst: f64 = 0.0;
+        let mut resolved = 0;
+        for (i, b) in run.blocks.iter().enumerate() {
+            if b.rpm < lo || b.rpm >= hi {
+                continue;
+            }
+            for &(absent, near, amp) in &pairs {
+                if let (Some(a), Some(_)) = (track(absent).amplitude[i], track(near).amplitude[i]) {
+                    worst = worst.max(a / amp);
+                    resolved += 1;
+                }
+            }
+            for &(o, amp) in &present {
+                if let Some(a) = track(o).amplitude[i] {
+                    worst_present = worst_present.max(rel(a, amp));
+                }
+            }
+        }
+        println!(
+            "{lo:.0}-{hi:.0} rpm: crosstalk {:.1} dB over {resolved} track values",
+            20.0 * worst.max(1e-300).log10()
+        );
+        assert!(resolved > 0, "{lo}-{hi} rpm: nothing resolved");
+        assert!(worst < 1e-5, "{lo}-{hi} rpm: crosstalk {worst:e}");
+    }
+    println!("present orders: worst relative amplitude error {worst_present:.1e}");
+    // The kernel's pass-band ripple (Kaiser, beta 12) and Hann over a whole number of
+    // revolutions: amplitudes exact to 1e-4.
+    assert!(worst_present < 1e-4, "{worst_present:e}");
 }

@@ -12,6 +12,7 @@
 //! and order tracks of all channels go to one table each (`spectra`, `orders`: see
 //! [`export`]).
 
+pub mod angle;
 pub mod error;
 pub mod export;
 pub mod options;

@@ -70,6 +70,11 @@ pub struct AnalysisOptions {
     pub colour_scale: ColourScale,
     /// Pixel size of the PNG plots (the SVGs use the same layout).
     pub plot_size: (u32, u32),
+    /// Revolutions per block of the order tracks (angle domain): the order resolution is
+    /// 1 / this; orders closer than 2 / this to a neighbour are not resolved.
+    pub order_block_revs: usize,
+    /// Angle samples per revolution of the order tracks; orders up to 0.45 x this are tracked.
+    pub samples_per_rev: usize,
     /// Format of the spectra and order-track tables.
     pub format: crate::results::Format,
     /// Also write each plot as SVG (PNG is always written).
@@ -90,6 +95,8 @@ impl Default for AnalysisOptions {
             min_rpm: 30.0,
             colour_scale: ColourScale::default(),
             plot_size: (1280, 800),
+            order_block_revs: 8,
+            samples_per_rev: 128,
             format: crate::results::Format::Parquet,
             svg: true,
         }
@@ -144,6 +151,18 @@ impl AnalysisOptions {
                 return bad(format!("colour range must be positive, got {range_db} dB"));
             }
             _ => {}
+        }
+        if !(2..=10_000).contains(&self.order_block_revs) {
+            return bad(format!(
+                "order_block_revs must be in [2, 10000], got {}",
+                self.order_block_revs
+            ));
+        }
+        if !(16..=4096).contains(&self.samples_per_rev) {
+            return bad(format!(
+                "samples_per_rev must be in [16, 4096], got {}",
+                self.samples_per_rev
+            ));
         }
         if self.plot_size.0 < 400 || self.plot_size.1 < 300 {
             return bad(format!(

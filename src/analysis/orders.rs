@@ -1,28 +1,21 @@
 //! Order analysis of a run-up: block spectra tagged with drum speed and an order
-//! axis, and order tracks by a synchronous (angle-domain) DFT of the same blocks.
+//! axis (time blocks, for the order plot and the cascade), and order tracks in the angle
+//! domain (see [`super::angle`]).
 //!
-//! Order tracks do not read the block spectra: during a run-up an order sweeps
-//! through several bins within one block (motor order 1 at 20 rpm/s: ~4 Hz per
-//! second), and at low speed neighbouring orders share bins. Instead each block is
-//! demodulated with the drum angle `phi(t) = 2 pi ∫ rpm/60 dt`: the DFT is evaluated
-//! at `e^{-i o phi}` rather than `e^{-i 2 pi f t}`, so a component locked to the drum
-//! lands on one "bin" whatever the sweep, and the bin spacing is `1 / revolutions`
-//! in orders. That keeps orders 1 and 2 apart from 2 revolutions per block on
-//! (120 rpm with 1 s blocks) instead of ~4 bins of the time spectrum (~250 rpm).
+//! Order tracks do not read the block spectra: during a run-up an order sweeps through
+//! several bins within one time block, and at low speed neighbouring orders share bins.
+//! Instead each channel is resampled to uniform drum angle, and each track value is the
+//! Hann-windowed DFT at the order over `order_block_revs` whole revolutions centred on the
+//! time block: a component locked to the drum is exactly periodic there, so orders a whole
+//! number of bins apart (1 / revolutions each) do not leak into each other.
 
 use std::f64::consts::PI;
 
-use realfft::num_complex::Complex;
-
+use super::angle::{AngleGrid, Kernel, order_amplitude};
 use super::error::AnalysisError;
 use super::options::AnalysisOptions;
 use super::signals::{Channel, Quantity, Signals};
 use super::spectrum::{Spectrum, SpectrumAnalyzer, Window};
-
-/// Half-width in order bins of the energy band of a resolved order. The Hann main
-/// lobe is ±2 bins: the band captures the whole lobe, so a small speed error (the
-/// order off its exact bin) still reads the right amplitude.
-pub const BAND_HALF_WIDTH_BINS: usize = 2;
 
 /// Block geometry resolved from the options and the sample rate.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -106,116 +99,18 @@ impl Block {
     }
 }
 
-/// Drum angle in rad at every sample: trapezoidal integral of the speed (exact
-/// for speed varying linearly between samples).
+/// Drum angle in rad at every sample: trapezoidal integral of the speed magnitude (exact
+/// for speed varying linearly between samples; reverse rotation counts forward).
 pub fn drum_angle(rpm: &[f64], sample_rate: f64) -> Vec<f64> {
     let k = 2.0 * PI / 60.0 * 0.5 / sample_rate;
     let mut angle = Vec::with_capacity(rpm.len());
     let mut acc = 0.0;
     angle.push(acc);
     for w in rpm.windows(2) {
-        acc += k * (w[0] + w[1]);
+        acc += k * (w[0].abs() + w[1].abs());
         angle.push(acc);
     }
     angle
-}
-
-/// Synchronous DFT of one block at drum orders: Hann window, drum angle instead of time.
-pub struct OrderTracker {
-    window: Window,
-    demeaned: Vec<f64>,
-}
-
-impl OrderTracker {
-    /// Tracker for blocks of `len` samples.
-    pub fn new(len: usize) -> OrderTracker {
-        OrderTracker {
-            window: Window::hann(len),
-            demeaned: vec![0.0; len],
-        }
-    }
-
-    /// Peak amplitude of drum order `order` in a block with samples `x` and drum
-    /// angles `angle`, or `None` if it is not resolved: a neighbour order (from
-    /// `neighbours`, DC = 0) closer than 2 order bins (inside the Hann main lobe),
-    /// or the order above Nyquist. Where the neighbours are at least 4 bins away
-    /// the amplitude comes from the energy of ±2 bins (robust to small speed
-    /// errors); closer, from the amplitude-corrected value of the exact bin, with
-    /// crosstalk from a neighbour of equal size below 3 % (Hann sidelobes at 2 to
-    /// 4 bins), below 0.4 % from 4 bins on.
-    pub fn amplitude(
-        &mut self,
-        x: &[f64],
-        angle: &[f64],
-        order: f64,
-        neighbours: &[f64],
-        sample_rate: f64,
-        remove_mean: bool,
-    ) -> Option<f64> {
-        let n = self.window.len();
-        assert!(x.len() == n && angle.len() == n, "block length mismatch");
-        let span = angle[n - 1] - angle[0];
-        let revs = span / (2.0 * PI) * n as f64 / (n - 1) as f64;
-        if revs.is_nan() || revs <= 0.0 {
-            return None;
-        }
-        let bin = 1.0 / revs;
-        // Highest frequency of the band must stay below Nyquist.
-        let max_rate =
-            angle.windows(2).map(|w| w[1] - w[0]).fold(0.0, f64::max) * sample_rate / (2.0 * PI);
-        let band = BAND_HALF_WIDTH_BINS as f64;
-        if (order + band * bin) * max_rate >= 0.5 * sample_rate {
-            return None;
-        }
-        let separation = neighbours
-            .iter()
-            .filter(|&&o| (o - order).abs() > 1e-9)
-            .map(|&o| (o - order).abs() * revs)
-            .fold(f64::INFINITY, f64::min);
-        let half = (separation - 2.0).floor().min(band);
-        if half < 0.0 {
-            return None;
-        }
-        let half = half as i64;
-        let mean = if remove_mean {
-            x.iter().sum::<f64>() / n as f64
-        } else {
-            0.0
-        };
-        for ((d, &v), &w) in self.demeaned.iter_mut().zip(x).zip(self.window.coeffs()) {
-            *d = (v - mean) * w;
-        }
-        // Sums for bins m = -half..=half at orders `order + m / revs`.
-        let mut sums = vec![Complex::new(0.0, 0.0); (2 * half + 1) as usize];
-        let a0 = angle[0];
-        for (&v, &a) in self.demeaned.iter().zip(angle) {
-            let da = a - a0;
-            let base = Complex::from_polar(v, -order * da);
-            let step = Complex::from_polar(1.0, -bin * da);
-            let step_inv = step.conj();
-            let mid = half as usize;
-            sums[mid] += base;
-            let (mut up, mut down) = (base, base);
-            for m in 1..=mid {
-                up *= step;
-                down *= step_inv;
-                sums[mid + m] += up;
-                sums[mid - m] += down;
-            }
-        }
-        let scale = 2.0 / n as f64;
-        if half == 0 {
-            Some(self.window.amplitude_correction() * scale * sums[0].norm())
-        } else {
-            let ce = self.window.energy_correction() * scale;
-            Some(
-                sums.iter()
-                    .map(|s| (ce * s.norm()).powi(2))
-                    .sum::<f64>()
-                    .sqrt(),
-            )
-        }
-    }
 }
 
 /// Orders a tracked order must be resolved from: DC, the other tracked orders,
@@ -306,11 +201,12 @@ impl RunUp {
             .iter()
             .map(|&s| {
                 let rpm = &signals.drum_rpm[s..s + layout.len];
-                let mean = rpm.iter().sum::<f64>() / rpm.len() as f64;
+                // Speeds as magnitudes: a reverse rotation has the same orders.
+                let mean = rpm.iter().map(|r| r.abs()).sum::<f64>() / rpm.len() as f64;
                 let (lo, hi) = rpm
                     .iter()
                     .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &r| {
-                        (lo.min(r), hi.max(r))
+                        (lo.min(r.abs()), hi.max(r.abs()))
                     });
                 let span = angle[s + layout.len - 1] - angle[s];
                 Block {
@@ -325,7 +221,13 @@ impl RunUp {
             .collect();
         let tracked = opts.tracked_orders();
         let neighbours = neighbour_orders(&tracked.iter().map(|(o, _)| *o).collect::<Vec<_>>());
-        let mut tracker = OrderTracker::new(layout.len);
+        // Order tracks in the angle domain (see `angle`): blocks of `order_block_revs` whole
+        // revolutions centred on each time block.
+        let per_rev = opts.samples_per_rev;
+        let revs = opts.order_block_revs;
+        let grid = AngleGrid::new(&signals.drum_rpm, signals.sample_rate, per_rev);
+        let xa = grid.resample(&Kernel::new(), &channel.data);
+        let nb = revs * per_rev;
         let tracks = tracked
             .into_iter()
             .map(|(order, label)| OrderTrack {
@@ -338,15 +240,29 @@ impl RunUp {
                         if b.rpm < opts.min_rpm {
                             return None;
                         }
-                        let r = s..s + layout.len;
-                        tracker.amplitude(
-                            &channel.data[r.clone()],
-                            &angle[r],
-                            order,
-                            &neighbours,
-                            signals.sample_rate,
-                            opts.remove_mean,
-                        )
+                        // Neighbours closer than 2 bins (1 / revs orders each) share the Hann
+                        // main lobe.
+                        let close = neighbours.iter().any(|&o| {
+                            (o - order).abs() > 1e-9
+                                && (o - order).abs() * (revs as f64) < 2.0 - 1e-9
+                        });
+                        if close || order >= 0.45 * per_rev as f64 {
+                            return None;
+                        }
+                        let centre = s as f64 + 0.5 * (layout.len - 1) as f64;
+                        let kc = grid.pos.partition_point(|&p| p < centre);
+                        let k0 = kc.checked_sub(nb / 2)?;
+                        let block = xa.get(k0..k0 + nb)?;
+                        // The order's frequency must stay in the kernel's flat pass band.
+                        let (t0, t1) =
+                            (grid.pos[k0] as usize, grid.pos[k0 + nb - 1].ceil() as usize);
+                        let top = signals.drum_rpm[t0..=t1.min(n - 1)]
+                            .iter()
+                            .fold(0.0f64, |m, r| m.max(r.abs()));
+                        if order * top / 60.0 >= 0.37 * signals.sample_rate {
+                            return None;
+                        }
+                        Some(order_amplitude(block, per_rev, order))
                     })
                     .collect(),
             })

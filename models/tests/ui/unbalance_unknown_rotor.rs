@@ -2,7 +2,7 @@
 washdyn_macros::machine! {
     m {
         tub {
-            mass: 1.0,
+            mass: 55.0,
             cog: [0.0, 0.0, 0.5],
             inertia: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
         }

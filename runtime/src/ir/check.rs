@@ -97,6 +97,18 @@ impl Ctx {
     }
 }
 
+/// Highest drum speed a profile may ask for, rpm: household spin speeds end near 1800 rpm; the
+/// bound leaves room for studies beyond, but not for a typo (a profile to 1e6 rpm displaced the
+/// drum front by metres).
+pub const MAX_RPM: f64 = 3000.0;
+/// Steepest friction characteristic, s/m: 90 % of f_max at 64 um/s already. The damper's
+/// regularised damping f_max * slope * 2/pi makes the problem stiff in proportion; at 1e12 s/m
+/// the explicit methods' stable step falls below 1e-12 s and a run never ends.
+pub const MAX_FRICTION_SLOPE: f64 = 1e5;
+/// Largest unbalance as a fraction of the tub mass: the equations treat the unbalance as a small
+/// addition to the suspended body (test loads are 0.3-1 kg on a 55 kg tub).
+pub const MAX_UNBALANCE_FRACTION: f64 = 0.1;
+
 /// Check a model. `Ok` means both back ends may evaluate it.
 pub fn check(m: &Model) -> Result<(), Vec<CheckError>> {
     let mut c = Ctx::default();
@@ -157,6 +169,17 @@ pub fn check(m: &Model) -> Result<(), Vec<CheckError>> {
             );
         }
         c.positive(p.clone().key("mass"), &format!("{w}: mass"), u.mass);
+        // Against a valid tub mass only (an invalid one is reported on its own).
+        if m.tub.mass > 0.0 && u.mass > MAX_UNBALANCE_FRACTION * m.tub.mass {
+            c.err(
+                p.clone().key("mass"),
+                format!(
+                    "{w}: mass {} kg exceeds {MAX_UNBALANCE_FRACTION} x the tub mass ({} kg): the \
+                     small-motion model does not hold for such a load",
+                    u.mass, m.tub.mass
+                ),
+            );
+        }
         c.vec3(p.key("position"), &w, &u.position);
     }
 
@@ -182,6 +205,14 @@ pub fn check(m: &Model) -> Result<(), Vec<CheckError>> {
         }
         if row[1] < 0.0 {
             c.err(p, format!("speed: negative rpm {} at row {i}", row[1]));
+        } else if row[1] > MAX_RPM {
+            c.err(
+                p,
+                format!(
+                    "speed: {} rpm at row {i} exceeds the limit of {MAX_RPM} rpm",
+                    row[1]
+                ),
+            );
         }
     }
 
@@ -197,10 +228,11 @@ pub fn check(m: &Model) -> Result<(), Vec<CheckError>> {
             s.stiffness,
         );
         c.positive(
-            p.key("free_length"),
+            p.clone().key("free_length"),
             &format!("{w}: free_length"),
             s.free_length,
         );
+        spring_carries(&mut c, p, &w, s, &m.gravity);
     }
     for (i, d) in m.dampers.iter().enumerate() {
         let p = Path::of(&["dampers"]).idx(i);
@@ -216,6 +248,16 @@ pub fn check(m: &Model) -> Result<(), Vec<CheckError>> {
         two_points(&mut c, &p, &w, &d.a, &d.b);
         c.non_negative(p.clone().key("f_max"), &format!("{w}: f_max"), d.f_max);
         c.positive(p.clone().key("slope"), &format!("{w}: slope"), d.slope);
+        if d.slope > MAX_FRICTION_SLOPE {
+            c.err(
+                p.clone().key("slope"),
+                format!(
+                    "{w}: slope {} s/m exceeds {MAX_FRICTION_SLOPE:e} s/m (the run would be too \
+                     stiff to integrate)",
+                    d.slope
+                ),
+            );
+        }
         c.non_negative(
             p.clone().key("bearing_stiffness"),
             &format!("{w}: bearing_stiffness"),
@@ -311,6 +353,49 @@ impl<'a> Names<'a> {
         } else if !self.seen.insert(name) {
             c.err(p.key("name"), format!("duplicate name `{name}` ({kind})"));
         }
+    }
+}
+
+/// A suspension spring carries the tub: hanging in tension above it or compressed below it,
+/// its force on the tub at the reference position has no large component along gravity. One
+/// that pulls the tub down (a tension spring whose cabinet end lies below the tub end, e.g. a
+/// mirrored coordinate) adds to the weight instead; the static start then sits far off and a
+/// run drifts. Refused when the force on the tub points within 60 degrees of gravity.
+fn spring_carries(c: &mut Ctx, p: Path, what: &str, s: &crate::ir::Spring, g: &V3) {
+    let all = [s.a.point, s.b.point, *g];
+    // Other rules report non-finite or non-positive numbers; this one needs sane ones.
+    let sane = all.iter().flatten().all(|v| v.is_finite())
+        && s.stiffness > 0.0
+        && s.free_length > 0.0
+        && s.a.body != s.b.body
+        && norm(g) > 0.0;
+    if !sane {
+        return;
+    }
+    // From the tub end to the other end.
+    let (tub, other, other_key) = if s.a.body == BodyRef::Tub {
+        (s.a.point, s.b.point, "b")
+    } else {
+        (s.b.point, s.a.point, "a")
+    };
+    let d = [other[0] - tub[0], other[1] - tub[1], other[2] - tub[2]];
+    let len = norm(&d);
+    if len < 1e-9 {
+        return;
+    }
+    // Tension (len > free length) pulls the tub end towards the other end.
+    let f = s.stiffness * (len - s.free_length);
+    let along_g = f * (d[0] * g[0] + d[1] * g[1] + d[2] * g[2]) / (len * norm(g));
+    if along_g > 0.5 * f.abs() {
+        c.err(
+            p.key(other_key).key("point"),
+            format!(
+                "{what}: at the reference position it pulls the tub along gravity ({along_g:.1} N \
+                 of its {:.1} N); a suspension spring hangs the tub in tension from above or \
+                 supports it in compression from below (an end mirrored?)",
+                f.abs()
+            ),
+        );
     }
 }
 

@@ -1,0 +1,498 @@
+//! Issue 7's table of bad inputs, row by row: each is refused with a message that names the
+//! option and its range before any file is created, or stops with a typed error carrying the
+//! time. The limits asserted are the ones `washdyn::validate`, the model checker and
+//! `run::Guard` document; the reference model is the repository's own file.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use washdyn::commands::{
+    Backend, RunArgs, RunControl, check_model, resolve_model, run_command_with,
+};
+use washdyn_runtime::ode::Method;
+use washdyn_runtime::run::Guard;
+
+fn out_dir(tag: &str) -> PathBuf {
+    std::env::temp_dir().join(format!("washdyn-bad-{tag}-{}", std::process::id()))
+}
+
+fn args(tag: &str) -> RunArgs {
+    RunArgs {
+        model: "reference".into(),
+        t_end: Some(2.0),
+        out: Some(out_dir(tag)),
+        integrator: Method::Dopri5,
+        tol: 1e-6,
+        step: None,
+        backend: Some(Backend::Generated),
+        scene: None,
+        sample_rate: 200.0,
+        max_steps: None,
+        format: washdyn::results::Format::Parquet,
+        keep_samples: false,
+    }
+}
+
+/// Refused before anything is written: the message holds `want` and the folder does not exist.
+fn refused(a: &RunArgs, ctl: &RunControl, want: &str) {
+    let dir = a.out.clone().unwrap();
+    std::fs::remove_dir_all(&dir).ok();
+    match run_command_with(a, ctl, &mut |_| {}) {
+        Ok(o) => panic!("ran (error {:?}), expected `{want}`", o.error),
+        Err(e) => assert!(e.contains(want), "`{e}` lacks `{want}`"),
+    }
+    assert!(!dir.exists(), "{} was created", dir.display());
+}
+
+#[test]
+fn rk4_step_out_of_range_or_not_a_number() {
+    for (i, h) in [1.0, f64::INFINITY, 0.0, -1.0, f64::NAN, 1e-12]
+        .into_iter()
+        .enumerate()
+    {
+        let a = RunArgs {
+            integrator: Method::Rk4,
+            step: Some(h),
+            ..args(&format!("step{i}"))
+        };
+        refused(
+            &a,
+            &RunControl::default(),
+            "--step must be in [1e-7, 1e-2] s for rk4, got",
+        );
+    }
+}
+
+#[test]
+fn step_with_an_adaptive_integrator() {
+    let a = RunArgs {
+        step: Some(1.0),
+        ..args("step-dopri5")
+    };
+    refused(
+        &a,
+        &RunControl::default(),
+        "--step applies to rk4 only: dopri5",
+    );
+}
+
+#[test]
+fn tolerance_out_of_range() {
+    for (i, tol) in [f64::INFINITY, 0.0, f64::NAN, -1.0, 0.5, 1e-13]
+        .into_iter()
+        .enumerate()
+    {
+        let a = RunArgs {
+            tol,
+            ..args(&format!("tol{i}"))
+        };
+        refused(
+            &a,
+            &RunControl::default(),
+            "--tol must be in [1e-12, 1e-1], got",
+        );
+    }
+}
+
+#[test]
+fn end_time_out_of_range() {
+    for (i, t) in [f64::INFINITY, 1e9, 0.0, f64::NAN, -1.0]
+        .into_iter()
+        .enumerate()
+    {
+        let a = RunArgs {
+            t_end: Some(t),
+            ..args(&format!("tend{i}"))
+        };
+        refused(
+            &a,
+            &RunControl::default(),
+            "--t-end must be > 0 and at most 3600 s, got",
+        );
+    }
+}
+
+#[test]
+fn sample_rate_out_of_range_or_below_the_analysis_band() {
+    for (i, r) in [1e9, f64::INFINITY, f64::NAN, 0.0, -5.0]
+        .into_iter()
+        .enumerate()
+    {
+        let a = RunArgs {
+            sample_rate: r,
+            ..args(&format!("rate{i}"))
+        };
+        refused(
+            &a,
+            &RunControl::default(),
+            "--sample-rate must be in [1e0, 1e5] Hz, got",
+        );
+    }
+    // With plots, the 300 Hz analysis band needs 600 Hz.
+    let ctl = RunControl {
+        analysis_band_hz: Some(300.0),
+        ..RunControl::default()
+    };
+    let a = RunArgs {
+        sample_rate: 1.0,
+        ..args("rate-analysis")
+    };
+    refused(
+        &a,
+        &ctl,
+        "--sample-rate must be at least 600 Hz for the analysis",
+    );
+}
+
+#[test]
+fn output_beyond_the_size_limit_names_its_size() {
+    // 3600 s x 1e5 Hz + 1 samples x (time, rpm, 3 per sensor of reference.toml) x 8 bytes.
+    let src = concat!(env!("CARGO_MANIFEST_DIR"), "/models/data/reference.toml");
+    let sensors = std::fs::read_to_string(src)
+        .unwrap()
+        .matches("[[sensors]]")
+        .count();
+    let cols = 2 + 3 * sensors;
+    let gb = (3600.0 * 1e5 + 1.0) * cols as f64 * 8.0 / 1e9;
+    let a = RunArgs {
+        t_end: Some(3600.0),
+        sample_rate: 1e5,
+        ..args("size")
+    };
+    refused(
+        &a,
+        &RunControl::default(),
+        &format!("3.600e8 samples x {cols} columns = {gb:.1} GB"),
+    );
+    // The flag lifts the limit (the rules alone: the run itself would take hours).
+    let s = washdyn::validate::Settings {
+        method: Method::Dopri5,
+        t_end: Some(3600.0),
+        profile_end: 178.375,
+        tol: 1e-6,
+        step: None,
+        sample_rate: 1e5,
+        max_steps: None,
+        channels: Some(21),
+        analysis_band_hz: None,
+        allow_large_output: true,
+    };
+    assert!(washdyn::validate::check(&s).is_ok());
+    let e = washdyn::validate::check(&washdyn::validate::Settings {
+        allow_large_output: false,
+        ..s
+    })
+    .unwrap_err();
+    assert!(e.contains("--allow-large-output"), "{e}");
+}
+
+#[test]
+fn every_violation_is_listed_at_once() {
+    let a = RunArgs {
+        integrator: Method::Rk4,
+        step: Some(f64::NAN),
+        tol: -1.0,
+        t_end: Some(0.0),
+        ..args("many")
+    };
+    let e = run_command_with(&a, &RunControl::default(), &mut |_| {})
+        .err()
+        .unwrap();
+    assert_eq!(e.lines().count(), 3, "{e}");
+}
+
+#[test]
+fn rk4_step_beyond_the_stability_limit_stops_at_the_start() {
+    // 1e-3 s is inside the option's range, but the friction dampers' regularised slope makes
+    // the Jacobian's spectral radius about 4e3 1/s, so rk4 is stable only below ~7e-4 s
+    // (and 1e-4 s, the default, runs).
+    let a = RunArgs {
+        integrator: Method::Rk4,
+        step: Some(1e-3),
+        ..args("unstable")
+    };
+    let o = run_command_with(&a, &RunControl::default(), &mut |_| {}).unwrap();
+    let e = o.error.expect("must fail");
+    assert!(
+        e.contains("exceeds the stability limit") && e.contains("at t = 0 s"),
+        "{e}"
+    );
+    assert_eq!(o.summary.status, "failed");
+    assert_eq!(o.summary.steps, 0);
+    let ok = RunArgs {
+        integrator: Method::Rk4,
+        step: Some(1e-4),
+        t_end: Some(0.5),
+        ..args("stable")
+    };
+    let o = run_command_with(&ok, &RunControl::default(), &mut |_| {}).unwrap();
+    assert!(o.error.is_none(), "{:?}", o.error);
+    std::fs::remove_dir_all(out_dir("unstable")).ok();
+    std::fs::remove_dir_all(out_dir("stable")).ok();
+}
+
+/// The reference model file with one edit, written to a temp file.
+fn variant(tag: &str, from: &str, to: &str) -> PathBuf {
+    let src = concat!(env!("CARGO_MANIFEST_DIR"), "/models/data/reference.toml");
+    let text = std::fs::read_to_string(src).unwrap();
+    assert!(text.contains(from), "reference.toml lacks `{from}`");
+    let p = std::env::temp_dir().join(format!("washdyn-bad-{tag}-{}.toml", std::process::id()));
+    std::fs::write(&p, text.replacen(from, to, 1)).unwrap();
+    p
+}
+
+fn model_refused(path: &PathBuf, want: &str) {
+    let Err(e) = resolve_model(path.to_str().unwrap()) else {
+        panic!("{} must be refused", path.display())
+    };
+    assert!(e.contains(want), "`{e}` lacks `{want}`");
+    let a = RunArgs {
+        model: path.to_str().unwrap().into(),
+        backend: None,
+        ..args("model")
+    };
+    refused(&a, &RunControl::default(), want);
+    std::fs::remove_file(path).ok();
+}
+
+#[test]
+fn speed_profile_to_a_million_rpm() {
+    let p = variant("rpm", "[178.375, 1400.0]", "[178.375, 1000000.0]");
+    model_refused(
+        &p,
+        "speed: 1000000 rpm at row 3 exceeds the limit of 3000 rpm",
+    );
+}
+
+#[test]
+fn friction_slope_1e12() {
+    let p = variant("slope", "slope = 2000.0", "slope = 1e12");
+    model_refused(&p, "slope 1000000000000 s/m exceeds 1e5 s/m");
+}
+
+#[test]
+fn unbalance_of_50_kg() {
+    let p = variant("unb", "mass = 0.6\n", "mass = 50.0\n");
+    model_refused(&p, "mass 50 kg exceeds 0.1 x the tub mass (55 kg)");
+}
+
+#[test]
+fn spring_mirrored_below_the_tub() {
+    // spring_front: tub end z = 0.62, cabinet end mirrored from 0.82 to 0.42; stretched to
+    // 0.2 m > 0.1386875 m free length it pulls the tub down with 4000 x 0.0613125 = 245.25 N
+    // (245.3 at 0.1 N: 0.2 - 0.1386875 rounds up in binary).
+    let p = variant(
+        "mirror",
+        "point = [0.12, 0.0, 0.82]",
+        "point = [0.12, 0.0, 0.42]",
+    );
+    model_refused(
+        &p,
+        "spring `spring_front`: at the reference position it pulls the tub along gravity (245.3 N of its 245.3 N)",
+    );
+}
+
+#[test]
+fn model_without_springs_fails_check() {
+    let src = concat!(env!("CARGO_MANIFEST_DIR"), "/models/data/reference.toml");
+    let text = std::fs::read_to_string(src).unwrap();
+    let cut = text.find("# Three vertical springs").unwrap();
+    let p = std::env::temp_dir().join(format!("washdyn-bad-trunc-{}.toml", std::process::id()));
+    std::fs::write(&p, &text[..cut]).unwrap();
+    let (m, _) = resolve_model(p.to_str().unwrap()).expect("loads: the checker's rules pass");
+    let e = check_model(&m).unwrap_err();
+    assert!(
+        e.contains("cannot run: static equilibrium: singular stiffness"),
+        "{e}"
+    );
+    // The full model passes and reports its rest position.
+    let (r, _) = resolve_model("reference").unwrap();
+    let ok = check_model(&r).unwrap();
+    assert!(ok.contains("static rest position"), "{ok}");
+    std::fs::remove_file(&p).ok();
+}
+
+#[test]
+fn large_motion_warns_then_stops_with_its_time() {
+    // 5 kg (inside the checker's 5.5 kg limit) drives the tub past 30 mm in the hold phase and
+    // past 5 x 0.05 rad at the resonance.
+    let p = variant("unb5", "mass = 0.6\n", "mass = 5.0\n");
+    let a = RunArgs {
+        model: p.to_str().unwrap().into(),
+        backend: None,
+        t_end: Some(40.0),
+        ..args("validity")
+    };
+    let o = run_command_with(&a, &RunControl::default(), &mut |_| {}).unwrap();
+    let e = o.error.expect("must stop");
+    assert!(e.contains("more than 5 x the 0.05 rad bound"), "{e}");
+    let s = &o.summary;
+    assert_eq!(s.status, "failed");
+    assert!(s.t_reached > 0.0 && s.t_reached < 40.0, "{}", s.t_reached);
+    assert!(s.validity.max_rotation_rad > 0.25);
+    // The elements' tub ends lie 0.21-0.31 m from the CoG (reference.toml), so 0.25 rad of
+    // rotation alone moves them by several cm: past the 30 mm clearance.
+    assert!(
+        s.validity.max_element_deflection_m > 0.04,
+        "{:?}",
+        s.validity
+    );
+    assert!(!s.validity.max_element.is_empty());
+    assert!(
+        s.warnings.iter().any(|w| w.starts_with("element `")),
+        "{:?}",
+        s.warnings
+    );
+    assert!(
+        s.warnings
+            .iter()
+            .any(|w| w.contains("exceeds the 0.03 m bound")),
+        "{:?}",
+        s.warnings
+    );
+    let json = std::fs::read_to_string(out_dir("validity").join("summary.json")).unwrap();
+    assert!(
+        json.contains("max_rotation_rad") && json.contains("warnings"),
+        "{json}"
+    );
+    // The override runs on past the same time.
+    let ctl = RunControl {
+        guard: Guard {
+            stop_factor: None,
+            ..Guard::default()
+        },
+        ..RunControl::default()
+    };
+    let b = RunArgs {
+        t_end: Some(s.t_reached + 1.0),
+        ..a.clone()
+    };
+    let o2 = run_command_with(&b, &ctl, &mut |_| {}).unwrap();
+    assert!(o2.error.is_none(), "{:?}", o2.error);
+    assert!(!o2.summary.warnings.is_empty());
+    std::fs::remove_dir_all(out_dir("validity")).ok();
+    std::fs::remove_file(&p).ok();
+}
+
+#[test]
+fn interrupt_writes_an_interrupted_summary() {
+    let flag = Arc::new(AtomicBool::new(false));
+    let ctl = RunControl {
+        guard: Guard {
+            interrupt: Some(flag.clone()),
+            ..Guard::default()
+        },
+        ..RunControl::default()
+    };
+    let a = RunArgs {
+        t_end: Some(170.0),
+        ..args("interrupt")
+    };
+    // Another thread sets the flag once the run has reported progress (every 100 ms of wall
+    // time), so the run is under way however fast the machine.
+    let (tx, rx) = std::sync::mpsc::channel::<f64>();
+    let setter = std::thread::spawn(move || {
+        rx.recv().unwrap();
+        flag.store(true, Ordering::Relaxed);
+    });
+    let o = run_command_with(&a, &ctl, &mut |p| {
+        let _ = tx.send(p.t);
+    })
+    .unwrap();
+    setter.join().unwrap();
+    assert_eq!(o.summary.status, "interrupted");
+    let e = o.error.unwrap();
+    assert!(e.starts_with("interrupted at t = "), "{e}");
+    assert!(o.summary.t_reached > 0.0 && o.summary.t_reached < 170.0);
+    let json = std::fs::read_to_string(out_dir("interrupt").join("summary.json")).unwrap();
+    assert!(json.contains("\"interrupted\""), "{json}");
+    std::fs::remove_dir_all(out_dir("interrupt")).ok();
+}
+
+#[test]
+fn a_run_without_progress_stops() {
+    // A budget no run can meet (the remaining time projected to take more than 1 ms of wall
+    // time, measured over 0.05 s windows) exercises the rule without a slow model.
+    let ctl = RunControl {
+        guard: Guard {
+            stall_window_s: 0.05,
+            max_projected_s: 1e-3,
+            ..Guard::default()
+        },
+        ..RunControl::default()
+    };
+    let a = RunArgs {
+        t_end: Some(170.0),
+        ..args("stall")
+    };
+    let o = run_command_with(&a, &ctl, &mut |_| {}).unwrap();
+    let e = o.error.expect("must stop");
+    assert!(e.starts_with("no progress: at t = "), "{e}");
+    assert_eq!(o.summary.status, "failed");
+    std::fs::remove_dir_all(out_dir("stall")).ok();
+}
+
+#[test]
+fn sweep_settings_are_validated() {
+    let (m, _) = resolve_model("reference").unwrap();
+    let e =
+        washdyn::commands::validate_sweep(&m, None, Method::Dopri5, f64::INFINITY, Some(0.0), 1e9)
+            .unwrap_err();
+    for want in [
+        "--tol must be in",
+        "--t-end must be > 0",
+        "--sample-rate must be in",
+    ] {
+        assert!(e.contains(want), "`{e}` lacks `{want}`");
+    }
+    assert!(
+        washdyn::commands::validate_sweep(&m, None, Method::Dopri5, 1e-6, None, 2000.0).is_ok()
+    );
+}
+
+/// SIGINT to the real binary: the ctrlc handler sets the flag, the run stops between steps and
+/// summary.json says "interrupted"; the exit code is a failure.
+#[cfg(unix)]
+#[test]
+fn sigint_to_the_binary_writes_an_interrupted_summary() {
+    use std::process::{Command, Stdio};
+    let dir = out_dir("sigint");
+    std::fs::remove_dir_all(&dir).ok();
+    let child = Command::new(env!("CARGO_BIN_EXE_washdyn"))
+        .args([
+            "run",
+            "reference",
+            "--no-plots",
+            "--backend",
+            "interpreted",
+            "--out",
+        ])
+        .arg(&dir)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The output folder appears once the settings passed and the run starts (the 178 s run-up
+    // takes seconds); interrupt it shortly after.
+    let start = std::time::Instant::now();
+    while !dir.exists() {
+        assert!(
+            start.elapsed().as_secs() < 60,
+            "no output folder after 60 s"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    std::thread::sleep(std::time::Duration::from_millis(100));
+    let killed = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{stderr}");
+    assert!(stderr.contains("interrupted at t = "), "{stderr}");
+    let json = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+    assert!(json.contains("\"status\": \"interrupted\""), "{json}");
+    std::fs::remove_dir_all(&dir).ok();
+}

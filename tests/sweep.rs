@@ -22,7 +22,7 @@ fn positions_sweep_writes_folders_and_table() {
     let out = std::env::temp_dir().join(format!("washdyn-sweep-{}", std::process::id()));
     let cfg = SweepRun {
         out: out.clone(),
-        t_end: Some(8.0),
+        t_end: Some(20.0),
         method: Method::Dopri5,
         tol: 1e-5,
         scene: None,

@@ -130,6 +130,43 @@ impl AngleGrid {
         AngleGrid { per_rev, pos, band }
     }
 
+    /// Every channel at every angle sample: the kernel weights of a sample are computed once
+    /// for all channels, and chunks of samples run on all cores.
+    pub fn resample_all(&self, kernel: &Kernel, xs: &[&[f64]]) -> Vec<Vec<f64>> {
+        use rayon::prelude::*;
+        let m = self.pos.len();
+        let chunk = 4096;
+        let parts: Vec<Vec<Vec<f64>>> = (0..m.div_ceil(chunk))
+            .into_par_iter()
+            .map(|c| {
+                let r = c * chunk..((c + 1) * chunk).min(m);
+                let mut out: Vec<Vec<f64>> = vec![Vec::with_capacity(r.len()); xs.len()];
+                let mut w = Vec::new();
+                for k in r {
+                    let (p, bw) = (self.pos[k], self.band[k]);
+                    let n = xs.first().map_or(0, |x| x.len()) as isize;
+                    let reach = HALF_TAPS as f64 / bw;
+                    let lo = ((p - reach).ceil() as isize).max(0);
+                    let hi = ((p + reach).floor() as isize).min(n - 1);
+                    w.clear();
+                    w.extend((lo..=hi).map(|i| kernel.at((p - i as f64).abs() * bw) * bw));
+                    for (o, x) in out.iter_mut().zip(xs) {
+                        let seg = &x[lo as usize..=hi as usize];
+                        o.push(seg.iter().zip(&w).map(|(a, b)| a * b).sum());
+                    }
+                }
+                out
+            })
+            .collect();
+        let mut out: Vec<Vec<f64>> = vec![Vec::with_capacity(m); xs.len()];
+        for part in parts {
+            for (o, p) in out.iter_mut().zip(part) {
+                o.extend(p);
+            }
+        }
+        out
+    }
+
     /// `x` at every angle sample (band-limited interpolation).
     pub fn resample(&self, kernel: &Kernel, x: &[f64]) -> Vec<f64> {
         let n = x.len() as isize;
@@ -151,28 +188,56 @@ impl AngleGrid {
     }
 }
 
+/// Hann-weighted DFT kernel of one order over blocks of `n` angle samples, tabulated once for
+/// all blocks.
+pub struct OrderDft {
+    re: Vec<f64>,
+    im: Vec<f64>,
+    wsum: f64,
+}
+
+impl OrderDft {
+    pub fn new(n: usize, per_rev: usize, order: f64) -> OrderDft {
+        let step = 2.0 * PI * order / per_rev as f64;
+        let w: Vec<f64> = (0..n)
+            .map(|k| 0.5 - 0.5 * (2.0 * PI * k as f64 / n as f64).cos())
+            .collect();
+        OrderDft {
+            re: (0..n).map(|k| w[k] * (step * k as f64).cos()).collect(),
+            im: (0..n).map(|k| -w[k] * (step * k as f64).sin()).collect(),
+            wsum: w.iter().sum(),
+        }
+    }
+
+    /// Peak amplitude of the order in `block` (same length as the table; the block mean is
+    /// removed, and the block scaled by its largest magnitude so values near f64::MAX stay
+    /// finite).
+    pub fn amplitude(&self, block: &[f64]) -> f64 {
+        let n = block.len() as f64;
+        let mean = block.iter().sum::<f64>() / n;
+        let mean = if mean.is_finite() {
+            mean
+        } else {
+            block.iter().map(|v| v / n).sum()
+        };
+        let scale = block.iter().fold(0.0f64, |m, v| m.max((v - mean).abs()));
+        if scale == 0.0 || !scale.is_finite() {
+            return 0.0;
+        }
+        let (mut re, mut im) = (0.0, 0.0);
+        for ((v, a), b) in block.iter().zip(&self.re).zip(&self.im) {
+            let y = (v - mean) / scale;
+            re += y * a;
+            im += y * b;
+        }
+        2.0 * (re * re + im * im).sqrt() / self.wsum * scale
+    }
+}
+
 /// Peak amplitude of order `order` in `block` (angle samples over whole revolutions, `per_rev`
 /// a revolution): Hann window, DFT at the order's angle frequency, amplitude correction.
 pub fn order_amplitude(block: &[f64], per_rev: usize, order: f64) -> f64 {
-    let n = block.len();
-    let mean = block.iter().sum::<f64>() / n as f64;
-    // Largest magnitude first: keeps the sums finite for values near f64::MAX.
-    let scale = block.iter().fold(0.0f64, |m, v| m.max((v - mean).abs()));
-    if scale == 0.0 || !scale.is_finite() {
-        return 0.0;
-    }
-    let step = 2.0 * PI * order / per_rev as f64;
-    let (mut re, mut im, mut wsum) = (0.0, 0.0, 0.0);
-    for (k, v) in block.iter().enumerate() {
-        // Periodic Hann over the block.
-        let w = 0.5 - 0.5 * (2.0 * PI * k as f64 / n as f64).cos();
-        let a = step * k as f64;
-        let y = w * (v - mean) / scale;
-        re += y * a.cos();
-        im -= y * a.sin();
-        wsum += w;
-    }
-    2.0 * (re * re + im * im).sqrt() / wsum * scale
+    OrderDft::new(block.len(), per_rev, order).amplitude(block)
 }
 
 #[cfg(test)]

@@ -123,11 +123,16 @@ pub fn analyse_signals(
 
     // Channels are independent: spread them over the cores (plot encoding dominates).
     use rayon::prelude::*;
+    // One drum-angle grid and one resampling pass for every channel's order tracks.
+    let grid = angle::AngleGrid::new(&signals.drum_rpm, signals.sample_rate, opts.samples_per_rev);
+    let xs: Vec<&[f64]> = signals.channels.iter().map(|c| c.data.as_slice()).collect();
+    let resampled = grid.resample_all(&angle::Kernel::new(), &xs);
     let results: Vec<Result<ChannelOutput, AnalysisError>> = signals
         .channels
         .par_iter()
         .zip(&stems)
-        .map(|(c, stem)| analyse_channel(signals, c, stem, out_dir, opts))
+        .zip(&resampled)
+        .map(|((c, stem), xa)| analyse_channel(signals, c, stem, out_dir, opts, &grid, xa))
         .collect();
 
     let mut files = Vec::new();
@@ -179,8 +184,10 @@ fn analyse_channel(
     stem: &str,
     out_dir: &Path,
     opts: &AnalysisOptions,
+    grid: &angle::AngleGrid,
+    xa: &[f64],
 ) -> Result<ChannelOutput, AnalysisError> {
-    let run = RunUp::analyse(signals, channel, opts)?;
+    let run = RunUp::analyse_resampled(signals, channel, opts, grid, xa)?;
     let mut files = Vec::new();
     files.extend(plot::order_plot(
         &run,

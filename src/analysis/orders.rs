@@ -11,7 +11,7 @@
 
 use std::f64::consts::PI;
 
-use super::angle::{AngleGrid, Kernel, order_amplitude};
+use super::angle::{AngleGrid, Kernel, OrderDft};
 use super::error::AnalysisError;
 use super::options::AnalysisOptions;
 use super::signals::{Channel, Quantity, Signals};
@@ -173,6 +173,12 @@ pub struct RunUp {
     pub tracks: Vec<OrderTrack>,
     /// Blocks below this speed (rpm) have no order axis and are left out of order views.
     pub min_rpm: f64,
+    /// Angle-domain order spectrum (amplitude-corrected peak, Hann over the order-track
+    /// block) of each block of [`RunUp::order_blocks`]; NaN above the orders the block resolves,
+    /// `None` where no whole angle block fits.
+    pub order_spectra: Vec<Option<Vec<f64>>>,
+    /// Bins per drum order of the order spectra (revolutions per block).
+    pub order_bins_per_order: f64,
 }
 
 impl RunUp {
@@ -181,6 +187,20 @@ impl RunUp {
         signals: &Signals,
         channel: &Channel,
         opts: &AnalysisOptions,
+    ) -> Result<RunUp, AnalysisError> {
+        let grid = AngleGrid::new(&signals.drum_rpm, signals.sample_rate, opts.samples_per_rev);
+        let xa = grid.resample(&Kernel::new(), &channel.data);
+        Self::analyse_resampled(signals, channel, opts, &grid, &xa)
+    }
+
+    /// [`RunUp::analyse`] with the channel already resampled to drum angle on `grid` (one grid
+    /// and one pass for all channels: see [`super::analyse_signals`]).
+    pub fn analyse_resampled(
+        signals: &Signals,
+        channel: &Channel,
+        opts: &AnalysisOptions,
+        grid: &AngleGrid,
+        xa: &[f64],
     ) -> Result<RunUp, AnalysisError> {
         let layout = BlockLayout::new(opts, signals.sample_rate)?;
         let n = signals.len();
@@ -225,12 +245,11 @@ impl RunUp {
         // revolutions centred on each time block.
         let per_rev = opts.samples_per_rev;
         let revs = opts.order_block_revs;
-        let grid = AngleGrid::new(&signals.drum_rpm, signals.sample_rate, per_rev);
-        let xa = grid.resample(&Kernel::new(), &channel.data);
         let nb = revs * per_rev;
         let tracks = tracked
             .into_iter()
-            .map(|(order, label)| OrderTrack {
+            .map(|(order, label)| (OrderDft::new(nb, per_rev, order), order, label))
+            .map(|(dft, order, label)| OrderTrack {
                 order,
                 label,
                 amplitude: starts
@@ -262,12 +281,58 @@ impl RunUp {
                         if order * top / 60.0 >= 0.37 * signals.sample_rate {
                             return None;
                         }
-                        Some(order_amplitude(block, per_rev, order))
+                        Some(dft.amplitude(block))
                     })
                     .collect(),
             })
             .collect();
+        // Order spectra for the order plot: the same angle blocks, all orders at once.
+        let fft = realfft::RealFftPlanner::<f64>::new().plan_fft_forward(nb);
+        let hann: Vec<f64> = (0..nb)
+            .map(|k| 0.5 - 0.5 * (2.0 * PI * k as f64 / nb as f64).cos())
+            .collect();
+        let wsum: f64 = hann.iter().sum();
+        let order_spectra = starts
+            .iter()
+            .zip(&blocks)
+            .filter(|(_, b)| b.rpm >= opts.min_rpm)
+            .map(|(&s, _)| {
+                let centre = s as f64 + 0.5 * (layout.len - 1) as f64;
+                let kc = grid.pos.partition_point(|&p| p < centre);
+                let k0 = kc.checked_sub(nb / 2)?;
+                let block = xa.get(k0..k0 + nb)?;
+                let (t0, t1) = (grid.pos[k0] as usize, grid.pos[k0 + nb - 1].ceil() as usize);
+                let top = signals.drum_rpm[t0..=t1.min(n - 1)]
+                    .iter()
+                    .fold(0.0f64, |m, r| m.max(r.abs()));
+                let mean = block.iter().sum::<f64>() / nb as f64;
+                let mut buf: Vec<f64> = block
+                    .iter()
+                    .zip(&hann)
+                    .map(|(v, w)| (v - mean) * w)
+                    .collect();
+                let mut out = fft.make_output_vec();
+                fft.process(&mut buf, &mut out).ok()?;
+                // Orders whose frequency leaves the resampler's pass band: no data.
+                let top_order = (0.37 * signals.sample_rate / (top / 60.0).max(1e-12))
+                    .min(0.45 * per_rev as f64);
+                Some(
+                    out.iter()
+                        .enumerate()
+                        .map(|(k, c)| {
+                            if k as f64 / revs as f64 > top_order {
+                                f64::NAN
+                            } else {
+                                2.0 * c.norm() / wsum
+                            }
+                        })
+                        .collect(),
+                )
+            })
+            .collect();
         Ok(RunUp {
+            order_spectra,
+            order_bins_per_order: revs as f64,
             channel: channel.name.clone(),
             quantity: channel.quantity,
             layout,

@@ -20,7 +20,7 @@ use plotters::style::{FontStyle, FontTransform, register_font};
 
 use super::error::AnalysisError;
 use super::options::{AnalysisOptions, ColourScale, fmt_order};
-use super::orders::{Block, RunUp};
+use super::orders::RunUp;
 use super::signals::{Channel, Quantity, Signals};
 
 static FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
@@ -99,6 +99,13 @@ pub struct AmplitudeAxis {
 impl AmplitudeAxis {
     /// Axis covering amplitudes up to `max_si` (SI units).
     pub fn new(scale: ColourScale, quantity: Quantity, max_si: f64) -> AmplitudeAxis {
+        // Displacements read in mm: the dB scale's range becomes a log axis in mm.
+        let scale = match (scale, quantity) {
+            (ColourScale::Decibel { range_db }, Quantity::Displacement) => {
+                ColourScale::Log { range_db }
+            }
+            _ => scale,
+        };
         let f = quantity.display_factor();
         let max = if max_si.is_finite() && max_si > 0.0 {
             max_si
@@ -272,62 +279,55 @@ fn rpm_range<'a>(rpms: impl Iterator<Item = f64> + 'a) -> Range<f64> {
     lo.max(0.0)..hi
 }
 
-/// What the y axis of a heat map shows.
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum HeatY {
-    Order,
-    Frequency,
-}
-
 /// Amplitude (SI, amplitude-corrected) per pixel of a `w` x `h` heat map, top row
-/// first; NaN where there is no data. Each pixel column takes the blocks whose speed
-/// lies within half a block spacing (or half a column) of the column's speed; each
+/// first; NaN where there is no data. Each pixel column takes the blocks nearest in speed
+/// (and all within half a column of them); each
 /// pixel keeps the largest bin overlapping its frequency interval and the largest
 /// over those blocks, so no peak disappears between pixels (max hold).
 fn heat_values(
-    blocks: &[&Block],
-    y: HeatY,
+    cols: &[HeatColumn],
     x: &Range<f64>,
     yr: &Range<f64>,
     w: usize,
     h: usize,
 ) -> Vec<f64> {
     let mut out = vec![f64::NAN; w * h];
-    if blocks.is_empty() || w == 0 || h == 0 {
+    if cols.is_empty() || w == 0 || h == 0 {
         return out;
     }
-    let mut gaps: Vec<f64> = blocks
-        .windows(2)
-        .map(|p| p[1].rpm - p[0].rpm)
-        .filter(|d| *d > 1e-9)
-        .collect();
-    gaps.sort_by(f64::total_cmp);
-    let spacing = gaps.get(gaps.len() / 2).copied().unwrap_or(f64::INFINITY);
+    // Each column of blocks covers the speeds nearer to it than to its neighbours (no empty
+    // stripes where blocks are sparse in speed, as in a fast ramp); blocks at one speed (a hold)
+    // share a pixel column, which shows their largest value.
     let dx = (x.end - x.start) / w as f64;
-    let tol = (0.5 * dx).max(0.5 * spacing * 1.0001);
     let dy = (yr.end - yr.start) / h as f64;
+    let speeds: Vec<f64> = cols.iter().map(|c| c.rpm).collect();
     for i in 0..w {
         let rc = x.start + (i as f64 + 0.5) * dx;
-        let a = blocks.partition_point(|b| b.rpm < rc - tol);
-        let e = blocks.partition_point(|b| b.rpm <= rc + tol);
-        for b in &blocks[a..e] {
-            let amp = &b.spectrum.amplitude;
-            let scale = match y {
-                HeatY::Order => b.rotation_hz() / b.spectrum.df,
-                HeatY::Frequency => 1.0 / b.spectrum.df,
-            };
+        let k = speeds.partition_point(|&r| r < rc);
+        let nearest = match (k.checked_sub(1), speeds.get(k)) {
+            (Some(a), Some(&b)) if rc - speeds[a] <= b - rc => speeds[a],
+            (Some(a), None) => speeds[a],
+            (_, Some(&b)) => b,
+            (None, None) => continue,
+        };
+        // Within half a pixel of the nearest speed: every block there.
+        let tol = 0.5 * dx;
+        let a = speeds.partition_point(|&r| r < nearest.min(rc) - tol);
+        let e = speeds.partition_point(|&r| r <= nearest.max(rc) + tol);
+        for c in &cols[a..e] {
+            let amp = c.amp;
             for j in 0..h {
                 // Row j spans [y_lo, y_hi) in axis units; bin k spans k ± 0.5.
                 let y_hi = yr.end - j as f64 * dy;
                 let y_lo = y_hi - dy;
-                let k_lo = (y_lo * scale).round().max(0.0);
-                let k_hi = (y_hi * scale).round().min((amp.len() - 1) as f64);
+                let k_lo = (y_lo * c.bins_per_unit).round().max(0.0);
+                let k_hi = (y_hi * c.bins_per_unit).round().min((amp.len() - 1) as f64);
                 if k_lo > k_hi {
                     continue;
                 }
                 let v = amp[k_lo as usize..=k_hi as usize]
                     .iter()
-                    .fold(0.0, |m: f64, &v| m.max(v));
+                    .fold(f64::NAN, |m: f64, &v| if v.is_nan() { m } else { m.max(v) });
                 let cell = &mut out[j * w + i];
                 if cell.is_nan() || v > *cell {
                     *cell = v;
@@ -336,6 +336,14 @@ fn heat_values(
         }
     }
     out
+}
+
+/// One block's spectrum as a heat-map column: its drum speed, amplitudes (NaN: no data) and
+/// bins per unit of the y axis.
+struct HeatColumn<'a> {
+    rpm: f64,
+    amp: &'a [f64],
+    bins_per_unit: f64,
 }
 
 /// Reference lines drawn over a heat map.
@@ -350,8 +358,8 @@ enum Overlay {
 struct HeatPlot<'a> {
     title: String,
     subtitle: String,
-    blocks: Vec<&'a Block>,
-    y: HeatY,
+    /// Sorted by speed.
+    columns: Vec<HeatColumn<'a>>,
     x_range: Range<f64>,
     y_range: Range<f64>,
     y_desc: String,
@@ -380,7 +388,7 @@ where
 
     let (px, py) = chart.plotting_area().get_pixel_range();
     let (pw, ph) = ((px.end - px.start) as usize, (py.end - py.start) as usize);
-    let values = heat_values(&p.blocks, p.y, &p.x_range, &p.y_range, pw, ph);
+    let values = heat_values(&p.columns, &p.x_range, &p.y_range, pw, ph);
     let max = values
         .iter()
         .copied()
@@ -452,6 +460,9 @@ where
             }
         }
         Overlay::Rays(rays) => {
+            // Labels of rays that leave through the top are stacked, so they never overlap.
+            let mut stacked = 0;
+            let (px, _) = chart.plotting_area().get_pixel_range();
             for (o, label) in rays {
                 // Clip f = o * rpm / 60 to the plot rectangle.
                 let f = |r: f64| o * r / 60.0;
@@ -469,15 +480,23 @@ where
                     .estimate_text_size(label, &label_style)?;
                 let below = at.1 + 12 + th as i32 + 4 < py.end;
                 let (dy, vpos) = if below {
-                    (12, VPos::Top)
+                    let dy = 12 + stacked * (th as i32 + 8);
+                    stacked += 1;
+                    (dy, VPos::Top)
                 } else {
                     (-12, VPos::Bottom)
+                };
+                // Right of the ray's end where it leaves in the left half, else left of it.
+                let (dx, hpos) = if at.0 < (px.start + px.end) / 2 {
+                    (12, HPos::Left)
+                } else {
+                    (-12, HPos::Right)
                 };
                 boxed_label(
                     chart.plotting_area(),
                     label,
-                    (at.0 - 12, at.1 + dy),
-                    Pos::new(HPos::Right, vpos),
+                    (at.0 + dx, at.1 + dy),
+                    Pos::new(hpos, vpos),
                     &label_style,
                 )?;
             }
@@ -588,8 +607,20 @@ fn motor_labels(opts: &AnalysisOptions) -> Vec<(f64, String)> {
 }
 
 fn heat_plot_order<'a>(run: &'a RunUp, opts: &AnalysisOptions) -> HeatPlot<'a> {
-    let mut blocks: Vec<&Block> = run.order_blocks().collect();
-    blocks.sort_by(|a, b| a.rpm.total_cmp(&b.rpm));
+    // Order spectra in the angle domain: every order on its bin at every speed (no smear, and
+    // no scalloping beads along a ridge as it crosses the bins of a time spectrum).
+    let mut columns: Vec<HeatColumn> = run
+        .order_blocks()
+        .zip(&run.order_spectra)
+        .filter_map(|(b, s)| {
+            s.as_ref().map(|s| HeatColumn {
+                rpm: b.rpm,
+                amp: s,
+                bins_per_unit: run.order_bins_per_order,
+            })
+        })
+        .collect();
+    columns.sort_by(|a, b| a.rpm.total_cmp(&b.rpm));
     HeatPlot {
         title: format!(
             "{}: order plot ({}, motor/drum ratio {})",
@@ -597,10 +628,13 @@ fn heat_plot_order<'a>(run: &'a RunUp, opts: &AnalysisOptions) -> HeatPlot<'a> {
             run.quantity.noun(),
             fmt_order(opts.motor_ratio)
         ),
-        subtitle: method_note(run, opts, "amplitude-corrected peak spectrum"),
-        x_range: rpm_range(blocks.iter().map(|b| b.rpm)),
-        blocks,
-        y: HeatY::Order,
+        subtitle: format!(
+            "angle domain: Hann over {} revolutions ({} samples/rev), amplitude-corrected peak \
+             spectrum; grey: no data",
+            opts.order_block_revs, opts.samples_per_rev
+        ),
+        x_range: rpm_range(columns.iter().map(|c| c.rpm)),
+        columns,
         y_range: 0.0..opts.max_order,
         y_desc: "drum order [-]".into(),
         scale: opts.colour_scale,
@@ -609,20 +643,61 @@ fn heat_plot_order<'a>(run: &'a RunUp, opts: &AnalysisOptions) -> HeatPlot<'a> {
     }
 }
 
+/// Upper frequency of a cascade: where the content ends. The frequency below which 99.9 % of
+/// the spectral energy of all blocks lies, with 20 % headroom, rounded up to a nice number,
+/// between 10 Hz and `limit`.
+fn content_frequency(run: &RunUp, limit: f64) -> f64 {
+    let Some(first) = run.blocks.first() else {
+        return limit;
+    };
+    let n = first.spectrum.amplitude.len();
+    let mut energy = vec![0.0; n];
+    for b in &run.blocks {
+        for (e, a) in energy.iter_mut().zip(&b.spectrum.amplitude).skip(1) {
+            *e += a * a;
+        }
+    }
+    let total: f64 = energy.iter().sum();
+    if !(total > 0.0 && total.is_finite()) {
+        return limit;
+    }
+    let mut acc = 0.0;
+    let k = energy
+        .iter()
+        .position(|e| {
+            acc += e;
+            acc >= 0.999 * total
+        })
+        .unwrap_or(n - 1);
+    nice_ceil(1.2 * first.spectrum.frequency(k)).clamp(10.0, limit)
+}
+
 fn heat_plot_cascade<'a>(run: &'a RunUp, opts: &AnalysisOptions) -> HeatPlot<'a> {
-    let mut blocks: Vec<&Block> = run.blocks.iter().collect();
-    blocks.sort_by(|a, b| a.rpm.total_cmp(&b.rpm));
+    let mut columns: Vec<HeatColumn> = run
+        .blocks
+        .iter()
+        .map(|b| HeatColumn {
+            rpm: b.rpm,
+            amp: &b.spectrum.amplitude,
+            bins_per_unit: 1.0 / b.spectrum.df,
+        })
+        .collect();
+    columns.sort_by(|a, b| a.rpm.total_cmp(&b.rpm));
     let nyquist = run.layout.sample_rate / 2.0;
-    let fmax = opts.max_frequency_hz.unwrap_or(nyquist).min(nyquist);
+    let limit = opts.max_frequency_hz.unwrap_or(nyquist).min(nyquist);
+    let fmax = content_frequency(run, limit);
     // Only motor orders: a labelled drum-order-1 ray would sit among the low drum
     // harmonics, where a label cannot be told apart from its neighbours.
     let rays = motor_labels(opts);
     HeatPlot {
         title: format!("{}: cascade ({})", run.channel, run.quantity.noun()),
-        subtitle: method_note(run, opts, "amplitude-corrected peak spectrum"),
-        x_range: rpm_range(blocks.iter().map(|b| b.rpm)),
-        blocks,
-        y: HeatY::Frequency,
+        subtitle: format!(
+            "{}; 0-{} Hz holds 99.9 % of the energy",
+            method_note(run, opts, "amplitude-corrected peak spectrum"),
+            fmt_number(fmax)
+        ),
+        x_range: rpm_range(columns.iter().map(|c| c.rpm)),
+        columns,
         y_range: 0.0..fmax,
         y_desc: "frequency [Hz]".into(),
         scale: opts.colour_scale,
@@ -734,9 +809,9 @@ where
         )?
         .titled(
             &format!(
-                "top: order amplitudes (peak) by drum-angle synchronous DFT, Hann, {:.3} s \
-                 blocks; gaps: order not resolved; bottom: raw signal",
-                run.layout.len as f64 / run.layout.sample_rate
+                "top: order amplitudes (peak), angle domain, Hann over {} revolutions; gaps: \
+                 not resolved or below the axis; bottom: raw signal",
+                opts.order_block_revs
             ),
             font(SUBTITLE_SIZE).color(&RGBColor(70, 70, 70)),
         )?;
@@ -759,16 +834,12 @@ where
             // Split into runs of consecutive defined values so gaps stay gaps.
             let mut segs: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
             for (a, b) in t.amplitude.iter().zip(&run.blocks) {
-                match a {
-                    Some(a) => {
-                        let v = axis.axis_value(*a);
-                        let v = if matches!(axis.scale, ColourScale::Linear) {
-                            v
-                        } else {
-                            v.max(axis.lo)
-                        };
-                        segs.last_mut().expect("non-empty").push((b.rpm, v));
-                    }
+                // Not resolved, or below the axis floor: a gap, not a line on the floor.
+                let v = a
+                    .map(|a| axis.axis_value(a))
+                    .filter(|v| matches!(axis.scale, ColourScale::Linear) || *v >= axis.lo);
+                match v {
+                    Some(v) => segs.last_mut().expect("non-empty").push((b.rpm, v)),
                     None => segs.push(Vec::new()),
                 }
             }

@@ -73,6 +73,9 @@ enum Cmd {
         /// Also write every plot as SVG (PNG always).
         #[arg(long)]
         svg: bool,
+        /// Also write cascades (time spectra over speed) and the spectra table.
+        #[arg(long)]
+        cascades: bool,
         /// Step budget; the run stops with an error (keeping its output) when it is spent.
         #[arg(long)]
         max_steps: Option<u64>,
@@ -177,6 +180,7 @@ fn main() -> ExitCode {
             backend,
             no_plots,
             svg,
+            cascades,
             max_steps,
             no_validity_stop,
             allow_large_output,
@@ -259,6 +263,7 @@ fn main() -> ExitCode {
                             motor_ratio: o.motor_ratio.unwrap_or(11.25),
                             format,
                             svg,
+                            cascades,
                             ..AnalysisOptions::default()
                         };
                         match analyse_run(samples, sample_rate, &dir, opts) {

@@ -127,31 +127,41 @@ pub fn analyse_signals(
     let grid = angle::AngleGrid::new(&signals.drum_rpm, signals.sample_rate, opts.samples_per_rev);
     let xs: Vec<&[f64]> = signals.channels.iter().map(|c| c.data.as_slice()).collect();
     let resampled = grid.resample_all(&angle::Kernel::new(), &xs);
-    let results: Vec<Result<ChannelOutput, AnalysisError>> = signals
+    // First the numbers of every channel, then plots and tables side by side.
+    let runs: Vec<RunUp> = signals
         .channels
         .par_iter()
-        .zip(&stems)
         .zip(&resampled)
-        .map(|((c, stem), xa)| analyse_channel(signals, c, stem, out_dir, opts, &grid, xa))
-        .collect();
-
-    let mut files = Vec::new();
-    let mut channels = Vec::new();
-    let mut runs = Vec::new();
-    for r in results {
-        let (f, c, run) = r?;
-        files.extend(f);
-        channels.push(c);
-        runs.push(run);
-    }
-    let blocks = runs.first().map_or(0, |r| r.blocks.len());
+        .map(|(c, xa)| RunUp::analyse_resampled(signals, c, opts, &grid, xa))
+        .collect::<Result<_, _>>()?;
+    drop(resampled);
     let nyquist = signals.sample_rate / 2.0;
     let max_f = opts.max_frequency_hz.unwrap_or(nyquist).min(nyquist);
-    let (spectra, orders) = rayon::join(
-        || export::write_spectra(&runs, max_f, out_dir, opts.format),
-        || export::write_orders(&runs, out_dir, opts.format),
+    let (plots, (spectra, orders)) = rayon::join(
+        || {
+            signals
+                .channels
+                .par_iter()
+                .zip(&stems)
+                .zip(&runs)
+                .map(|((c, stem), run)| plot_channel(signals, c, run, stem, out_dir, opts))
+                .collect::<Result<Vec<_>, _>>()
+        },
+        || {
+            rayon::join(
+                || {
+                    opts.cascades
+                        .then(|| export::write_spectra(&runs, max_f, out_dir, opts.format))
+                        .transpose()
+                },
+                || export::write_orders(&runs, out_dir, opts.format),
+            )
+        },
     );
-    files.push(spectra?);
+    let mut files: Vec<PathBuf> = plots?.into_iter().flatten().collect();
+    let channels = runs.iter().map(report).collect();
+    let blocks = runs.first().map_or(0, |r| r.blocks.len());
+    files.extend(spectra?);
     files.push(orders?);
     let displacements: Vec<&Channel> = signals
         .channels
@@ -174,41 +184,43 @@ pub fn analyse_signals(
     })
 }
 
-/// Plots written for a channel, its report and its analysis (for the tables).
-type ChannelOutput = (Vec<PathBuf>, ChannelReport, RunUp);
-
-/// Analyse one channel and write its plots.
-fn analyse_channel(
+/// Write one channel's plots.
+fn plot_channel(
     signals: &Signals,
     channel: &Channel,
+    run: &RunUp,
     stem: &str,
     out_dir: &Path,
     opts: &AnalysisOptions,
-    grid: &angle::AngleGrid,
-    xa: &[f64],
-) -> Result<ChannelOutput, AnalysisError> {
-    let run = RunUp::analyse_resampled(signals, channel, opts, grid, xa)?;
+) -> Result<Vec<PathBuf>, AnalysisError> {
     let mut files = Vec::new();
     files.extend(plot::order_plot(
-        &run,
+        run,
         opts,
         &out_dir.join(format!("{stem}_order")),
     )?);
-    files.extend(plot::cascade_plot(
-        &run,
-        opts,
-        &out_dir.join(format!("{stem}_cascade")),
-    )?);
+    if opts.cascades {
+        files.extend(plot::cascade_plot(
+            run,
+            opts,
+            &out_dir.join(format!("{stem}_cascade")),
+        )?);
+    }
     files.extend(plot::speed_plot(
-        &run,
+        run,
         channel,
         signals,
         opts,
         &out_dir.join(format!("{stem}_speed")),
     )?);
-    let report = ChannelReport {
-        name: channel.name.clone(),
-        quantity: channel.quantity,
+    Ok(files)
+}
+
+/// A channel's largest order amplitudes for the report.
+fn report(run: &RunUp) -> ChannelReport {
+    ChannelReport {
+        name: run.channel.clone(),
+        quantity: run.quantity,
         orders: run
             .tracks
             .iter()
@@ -222,8 +234,7 @@ fn analyse_channel(
                 }
             })
             .collect(),
-    };
-    Ok((files, report, run))
+    }
 }
 
 /// Base name of the all-displacements plot; no channel may get it as its stem.

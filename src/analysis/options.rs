@@ -79,6 +79,9 @@ pub struct AnalysisOptions {
     pub format: crate::results::Format,
     /// Also write each plot as SVG (PNG is always written).
     pub svg: bool,
+    /// Write the cascades (time-domain spectra over speed) and the spectra table; the order
+    /// plots, speed plots and order tracks are always written.
+    pub cascades: bool,
 }
 
 impl Default for AnalysisOptions {
@@ -99,6 +102,7 @@ impl Default for AnalysisOptions {
             samples_per_rev: 128,
             format: crate::results::Format::Parquet,
             svg: true,
+            cascades: true,
         }
     }
 }

@@ -323,7 +323,7 @@ impl RunUp {
                             if k as f64 / revs as f64 > top_order {
                                 f64::NAN
                             } else {
-                                2.0 * c.norm() / wsum
+                                2.0 * (c.re * c.re + c.im * c.im).sqrt() / wsum
                             }
                         })
                         .collect(),

@@ -301,6 +301,29 @@ fn heat_values(
     let dx = (x.end - x.start) / w as f64;
     let dy = (yr.end - yr.start) / h as f64;
     let speeds: Vec<f64> = cols.iter().map(|c| c.rpm).collect();
+    // A block's pixel column, computed once: a block covers several columns.
+    let mut cache: Vec<Option<Vec<f64>>> = vec![None; cols.len()];
+    let column = |c: &HeatColumn| -> Vec<f64> {
+        let amp = c.amp;
+        let top = amp.len() as i64 - 1;
+        // Nearest bin of an axis value >= 0 (bin k spans k +- 0.5).
+        let bin = |y: f64| (y * c.bins_per_unit + 0.5) as i64;
+        (0..h)
+            .map(|j| {
+                // Row j spans [y_lo, y_hi) in axis units.
+                let y_hi = yr.end - j as f64 * dy;
+                let y_lo = y_hi - dy;
+                let k_lo = bin(y_lo.max(0.0));
+                let k_hi = bin(y_hi).min(top);
+                if k_lo > k_hi {
+                    return f64::NAN;
+                }
+                amp[k_lo as usize..=k_hi as usize]
+                    .iter()
+                    .fold(f64::NAN, |m: f64, &v| if v.is_nan() { m } else { m.max(v) })
+            })
+            .collect()
+    };
     for i in 0..w {
         let rc = x.start + (i as f64 + 0.5) * dx;
         let k = speeds.partition_point(|&r| r < rc);
@@ -314,20 +337,9 @@ fn heat_values(
         let tol = 0.5 * dx;
         let a = speeds.partition_point(|&r| r < nearest.min(rc) - tol);
         let e = speeds.partition_point(|&r| r <= nearest.max(rc) + tol);
-        for c in &cols[a..e] {
-            let amp = c.amp;
-            for j in 0..h {
-                // Row j spans [y_lo, y_hi) in axis units; bin k spans k ± 0.5.
-                let y_hi = yr.end - j as f64 * dy;
-                let y_lo = y_hi - dy;
-                let k_lo = (y_lo * c.bins_per_unit).round().max(0.0);
-                let k_hi = (y_hi * c.bins_per_unit).round().min((amp.len() - 1) as f64);
-                if k_lo > k_hi {
-                    continue;
-                }
-                let v = amp[k_lo as usize..=k_hi as usize]
-                    .iter()
-                    .fold(f64::NAN, |m: f64, &v| if v.is_nan() { m } else { m.max(v) });
+        for b in a..e {
+            let col = cache[b].get_or_insert_with(|| column(&cols[b]));
+            for (j, &v) in col.iter().enumerate() {
                 let cell = &mut out[j * w + i];
                 if cell.is_nan() || v > *cell {
                     *cell = v;
@@ -396,11 +408,18 @@ where
         .fold(0.0, f64::max);
     let axis = AmplitudeAxis::new(p.scale, p.quantity, max);
     let mut rgb = Vec::with_capacity(pw * ph * 3);
+    // A bin spans several pixels: reuse the colour of an equal neighbour (log10 per pixel was a
+    // tenth of a run's time).
+    let mut last = (f64::NAN, NO_DATA);
     for v in &values {
         let c = if v.is_nan() {
             NO_DATA
+        } else if *v == last.0 {
+            last.1
         } else {
-            colour_map(axis.fraction(*v))
+            let c = colour_map(axis.fraction(*v));
+            last = (*v, c);
+            c
         };
         rgb.extend_from_slice(&[c.0, c.1, c.2]);
     }
@@ -1036,6 +1055,22 @@ where
     draw_legend(&legend, "channels:", &items, 30)
 }
 
+/// Encode an RGB buffer as PNG with the fast deflate level: 2-3x quicker than the default
+/// level for plots, for files about a third larger.
+fn write_png(path: &Path, size: (u32, u32), rgb: &[u8]) -> Result<(), AnalysisError> {
+    let err = |e: String| AnalysisError::Plot {
+        path: path.to_path_buf(),
+        message: e,
+    };
+    let file = std::fs::File::create(path).map_err(|e| err(e.to_string()))?;
+    let mut enc = png::Encoder::new(std::io::BufWriter::new(file), size.0, size.1);
+    enc.set_color(png::ColorType::Rgb);
+    enc.set_depth(png::BitDepth::Eight);
+    enc.set_compression(png::Compression::Fast);
+    let mut w = enc.write_header().map_err(|e| err(e.to_string()))?;
+    w.write_image_data(rgb).map_err(|e| err(e.to_string()))
+}
+
 /// Render `<base>.png`, and `<base>.svg` where `opts.svg`. Returns the paths.
 macro_rules! render_both {
     ($base:expr, $opts:expr, $draw:ident ( $($arg:expr),* )) => {{
@@ -1043,10 +1078,14 @@ macro_rules! render_both {
         let png = $base.with_extension("png");
         let svg = $base.with_extension("svg");
         {
-            let root = BitMapBackend::new(&png, size).into_drawing_area();
-            $draw(&root, $($arg),*)
-                .and_then(|_| root.present().map_err(DynErr::from))
-                .map_err(|e| AnalysisError::Plot { path: png.clone(), message: e.to_string() })?;
+            let mut buf = vec![0u8; size.0 as usize * size.1 as usize * 3];
+            {
+                let root = BitMapBackend::with_buffer(&mut buf, size).into_drawing_area();
+                $draw(&root, $($arg),*)
+                    .and_then(|_| root.present().map_err(DynErr::from))
+                    .map_err(|e| AnalysisError::Plot { path: png.clone(), message: e.to_string() })?;
+            }
+            write_png(&png, size, &buf)?;
         }
         if $opts.svg {
             {

@@ -192,7 +192,8 @@ impl SpectrumAnalyzer {
         for (k, z) in self.output.iter().enumerate() {
             // Single-sided: the negative-frequency half doubles every bin except DC and Nyquist.
             let single = if k == 0 || Some(k) == nyq { 1.0 } else { 2.0 };
-            let a = single * z.norm() / n as f64;
+            // Plain sqrt, not hypot: the values are far from overflow after the window.
+            let a = single * (z.re * z.re + z.im * z.im).sqrt() / n as f64;
             amplitude.push(a * ca);
             energy.push(a * ce);
         }

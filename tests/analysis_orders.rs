@@ -422,3 +422,36 @@ fn crosstalk_below_minus_100_db_on_a_synthetic_run_up() {
     // revolutions: amplitudes exact to 1e-4.
     assert!(worst_present < 1e-4, "{worst_present:e}");
 }
+
+/// Issue 7: a channel of amplitude 1e300 gave infinite order amplitudes (squares overflow), and
+/// a reverse rotation (negative rpm) was not analysed. Expected: the same orders and amplitudes
+/// as for forward rotation at ordinary scale, here 1e300 and 0.5e300 in orders 1 and 3.
+#[test]
+fn huge_amplitudes_and_reverse_rotation() {
+    let fs = 2000.0;
+    let n = 40_000;
+    let rpm: f64 = -600.0;
+    let x: Vec<f64> = (0..n)
+        .map(|i| {
+            let phi = 2.0 * PI * rpm.abs() / 60.0 * i as f64 / fs;
+            1e300 * phi.sin() + 0.5e300 * (3.0 * phi).cos()
+        })
+        .collect();
+    let s = Signals::from_uniform(0.0, fs, vec![rpm; n], vec![Channel::new("tub1_ax", x)]).unwrap();
+    let run = RunUp::analyse(&s, &s.channels[0], &AnalysisOptions::default()).unwrap();
+    for (order, amp) in [(1.0, 1e300), (3.0, 0.5e300)] {
+        let t = run.tracks.iter().find(|t| t.order == order).unwrap();
+        let (m, at) = t.max(&run.blocks).unwrap();
+        assert!(rel(m, amp) < 1e-6, "order {order}: {m:e}");
+        assert!((at - 600.0).abs() < 1e-9, "speed {at}");
+    }
+    // The time spectra stay finite too.
+    assert!(run.max_amplitude().is_finite());
+    assert!(
+        run.order_spectra
+            .iter()
+            .flatten()
+            .flatten()
+            .all(|v| v.is_nan() || v.is_finite())
+    );
+}

@@ -214,12 +214,7 @@ impl OrderDft {
     /// finite).
     pub fn amplitude(&self, block: &[f64]) -> f64 {
         let n = block.len() as f64;
-        let mean = block.iter().sum::<f64>() / n;
-        let mean = if mean.is_finite() {
-            mean
-        } else {
-            block.iter().map(|v| v / n).sum()
-        };
+        let mean = block.iter().map(|v| v / n).sum::<f64>();
         let scale = block.iter().fold(0.0f64, |m, v| m.max((v - mean).abs()));
         if scale == 0.0 || !scale.is_finite() {
             return 0.0;

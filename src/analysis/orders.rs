@@ -305,11 +305,16 @@ impl RunUp {
                 let top = signals.drum_rpm[t0..=t1.min(n - 1)]
                     .iter()
                     .fold(0.0f64, |m, r| m.max(r.abs()));
-                let mean = block.iter().sum::<f64>() / nb as f64;
+                let mean = block.iter().map(|v| v / nb as f64).sum::<f64>();
+                // Scaled by the largest magnitude (finite squares near f64::MAX).
+                let scale = block
+                    .iter()
+                    .fold(0.0f64, |m, v| m.max((v - mean).abs()))
+                    .max(f64::MIN_POSITIVE);
                 let mut buf: Vec<f64> = block
                     .iter()
                     .zip(&hann)
-                    .map(|(v, w)| (v - mean) * w)
+                    .map(|(v, w)| (v - mean) / scale * w)
                     .collect();
                 let mut out = fft.make_output_vec();
                 fft.process(&mut buf, &mut out).ok()?;
@@ -323,7 +328,7 @@ impl RunUp {
                             if k as f64 / revs as f64 > top_order {
                                 f64::NAN
                             } else {
-                                2.0 * (c.re * c.re + c.im * c.im).sqrt() / wsum
+                                2.0 * (c.re * c.re + c.im * c.im).sqrt() / wsum * scale
                             }
                         })
                         .collect(),

@@ -174,12 +174,18 @@ impl SpectrumAnalyzer {
         let n = self.window.len();
         assert_eq!(block.len(), n, "block length must equal window length");
         let mean = if remove_mean {
-            block.iter().sum::<f64>() / n as f64
+            block.iter().map(|x| x / n as f64).sum::<f64>()
         } else {
             0.0
         };
+        // Scaled by the largest magnitude, so squares stay finite for values near f64::MAX
+        // (a channel of 1e300 gave infinite amplitudes).
+        let scale = block
+            .iter()
+            .fold(0.0f64, |m, x| m.max((x - mean).abs()))
+            .max(f64::MIN_POSITIVE);
         for ((dst, &x), &w) in self.input.iter_mut().zip(block).zip(self.window.coeffs()) {
-            *dst = (x - mean) * w;
+            *dst = (x - mean) / scale * w;
         }
         self.fft
             .process_with_scratch(&mut self.input, &mut self.output, &mut self.scratch)
@@ -192,8 +198,8 @@ impl SpectrumAnalyzer {
         for (k, z) in self.output.iter().enumerate() {
             // Single-sided: the negative-frequency half doubles every bin except DC and Nyquist.
             let single = if k == 0 || Some(k) == nyq { 1.0 } else { 2.0 };
-            // Plain sqrt, not hypot: the values are far from overflow after the window.
-            let a = single * (z.re * z.re + z.im * z.im).sqrt() / n as f64;
+            // Plain sqrt, not hypot: the scaled values are far from overflow.
+            let a = single * (z.re * z.re + z.im * z.im).sqrt() / n as f64 * scale;
             amplitude.push(a * ca);
             energy.push(a * ce);
         }

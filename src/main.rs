@@ -104,6 +104,12 @@ enum Cmd {
         #[arg(long)]
         svg: bool,
     },
+    /// FE models with CalculiX: `solve DECK.inp` runs ccx on a deck (errors with the deck's
+    /// line) and lists its eigenfrequencies.
+    Fe {
+        #[command(subcommand)]
+        cmd: FeCmd,
+    },
     /// Check a model file and list its scenes.
     Check { model: String },
     /// Run variants (unbalance position, mass, speed profile) on all cores: one folder each
@@ -129,6 +135,12 @@ enum Cmd {
         #[arg(long)]
         jobs: Option<usize>,
     },
+}
+
+#[derive(Subcommand)]
+enum FeCmd {
+    /// Run ccx on a deck (`<job>.inp`; results beside it) and list the frequencies it found.
+    Solve { deck: PathBuf },
 }
 
 /// Post-processing of a run from the samples it kept in memory: channels that are identically
@@ -409,6 +421,30 @@ fn main() -> ExitCode {
                 }
             }
         }
+        Cmd::Fe {
+            cmd: FeCmd::Solve { deck },
+        } => match washdyn_fe::ccx::run(&deck) {
+            Ok(run) => {
+                let dat = std::fs::read_to_string(run.dat()).unwrap_or_default();
+                let f = washdyn_fe::ccx::frequencies(&dat);
+                let mut out = std::io::stdout();
+                let _ = writeln!(
+                    out,
+                    "{}: solved in {:.2} s; {} eigenfrequencies (Hz):",
+                    deck.display(),
+                    run.wall_s,
+                    f.len()
+                );
+                for (i, hz) in f.iter().enumerate() {
+                    let _ = writeln!(out, "{:4} {hz:.6}", i + 1);
+                }
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("error: {e}");
+                ExitCode::from(2)
+            }
+        },
         Cmd::Check { model } => match resolve_model(&model).and_then(|(m, _)| check_model(&m)) {
             Ok(report) => {
                 let _ = writeln!(std::io::stdout(), "{report}");

@@ -1,12 +1,8 @@
-//! The FE front end: FE model -> modal data -> IR. Writes the CalculiX decks of the elastic
-//! bodies, runs `ccx`, and imports its results into the modal data the IR carries. Like the TOML
-//! loader it is a front end: the CLI uses it, the step loop never does.
+//! The FE front end: FE model -> modal data -> IR. Writes CalculiX decks, runs `ccx` and reads
+//! its results. Like the TOML loader it is a front end: the CLI uses it, the step loop never
+//! does. So far: the deck writer, the ccx runner with its error detection, and the closed-form
+//! check decks; the machine's bodies and the modal-data import are to come (issue 8).
 
 pub mod bodies;
 pub mod ccx;
-pub mod dat;
 pub mod deck;
-pub mod frd;
-pub mod import;
-pub mod lumping;
-pub mod modal_file;

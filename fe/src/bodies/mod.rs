@@ -1,1 +1,3 @@
-//! The built-in FE models: parametric decks of the tub, the drum and the cabinet.
+//! Parametric FE models. So far the closed-form check decks; the tub, drum and cabinet follow.
+
+pub mod test_decks;

@@ -301,6 +301,11 @@ impl Batched {
             last: Instant::now(),
         }
     }
+    /// Write at least this often (default 1 s of wall time).
+    pub fn with_max_wait(mut self, wait: Duration) -> Batched {
+        self.max_wait = wait;
+        self
+    }
     pub fn columns_mut(&mut self) -> &mut [Column] {
         &mut self.cols
     }
@@ -481,6 +486,43 @@ impl washdyn_runtime::output::SampleSink for SensorRecorder {
         match &mut self.table {
             Some(t) => t.flush(),
             None => Ok(()),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A slow run's file must grow as it goes (issue 7: CSV stayed at 0 bytes for minutes
+    /// behind a 1 MiB buffer): rows reach the disk once the wait has passed, both formats.
+    #[test]
+    fn rows_reach_the_disk_while_the_run_goes() {
+        let dir = tempfile::tempdir().unwrap();
+        for format in [Format::Csv, Format::Parquet] {
+            let path = dir.path().join(format!("s.{}", format.extension()));
+            let names = vec!["time_s".to_string(), "a_ax".to_string()];
+            let schema = Schema {
+                names: &names,
+                text: &[false, false],
+                nullable: &[false, false],
+                metadata: &[],
+            };
+            let w = TableWriter::create(&path, format, &schema).unwrap();
+            let empty = std::fs::metadata(&path).unwrap().len();
+            let mut b = Batched::new(w, vec![Column::F64(Vec::new()); 2], 1 << 20)
+                .with_max_wait(Duration::ZERO);
+            for i in 0..256 {
+                for c in b.columns_mut() {
+                    if let Column::F64(v) = c {
+                        v.push(i as f64);
+                    }
+                }
+                b.row_done().unwrap();
+            }
+            let grown = std::fs::metadata(&path).unwrap().len();
+            assert!(grown > empty + 500, "{format:?}: {empty} -> {grown} bytes");
+            b.finish().unwrap();
         }
     }
 }

@@ -151,11 +151,12 @@ pub fn errors(stdout: &str, deck: &str) -> Vec<(Option<usize>, String)> {
         // "Card image:" may stand on the next warning line, with the card on the line after.
         if card.is_none() && l.contains("Card image") && j < lines.len() {
             let next = lines[j].trim();
-            if next.starts_with("*WARNING reading the input file. Card image:") {
-                if let Some(c) = lines.get(j + 1) {
-                    card = Some(c.trim().to_string());
-                    j += 2;
-                }
+            if let Some(c) = lines
+                .get(j + 1)
+                .filter(|_| next.starts_with("*WARNING reading the input file. Card image:"))
+            {
+                card = Some(c.trim().to_string());
+                j += 2;
             }
         }
         let text = msg.join(" ");

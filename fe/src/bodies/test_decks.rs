@@ -31,3 +31,67 @@ pub fn cantilever(l: f64, a: f64, n: usize, modes: usize) -> Deck {
         .line("*END STEP");
     d
 }
+
+/// A simply supported rectangular plate of S8R shells in the x-y plane: `a` x `b`, thickness `h`,
+/// steel, `nx` x `ny` elements, `modes` eigenmodes. All edge nodes are held in x, y and z (the
+/// in-plane hold does not change the bending modes of a flat plate). Leissa (Vibration of Plates,
+/// NASA SP-160, 1969): f_mn = pi / 2 (m^2 / a^2 + n^2 / b^2) sqrt(D / (rho h)),
+/// D = E h^3 / (12 (1 - nu^2)).
+pub fn plate_simply_supported(a: f64, b: f64, h: f64, nx: usize, ny: usize, modes: usize) -> Deck {
+    let mut d = Deck::new(&format!("simply supported plate, {nx} x {ny} S8R elements"));
+    let (gx, gy) = (2 * nx + 1, 2 * ny + 1);
+    // Serendipity grid: no node at the centre of an element.
+    let mut id = vec![vec![0usize; gx]; gy];
+    let mut nodes = Vec::new();
+    for (j, row) in id.iter_mut().enumerate() {
+        for (i, slot) in row.iter_mut().enumerate() {
+            if i % 2 == 1 && j % 2 == 1 {
+                continue;
+            }
+            *slot = nodes.len() + 1;
+            let p = [
+                a * i as f64 / (gx - 1) as f64,
+                b * j as f64 / (gy - 1) as f64,
+                0.0,
+            ];
+            nodes.push((*slot, p));
+        }
+    }
+    d.nodes(Some("NALL"), &nodes);
+    let mut elems = Vec::new();
+    for ej in 0..ny {
+        for ei in 0..nx {
+            let (i, j) = (2 * ei, 2 * ej);
+            let c = vec![
+                id[j][i],
+                id[j][i + 2],
+                id[j + 2][i + 2],
+                id[j + 2][i],
+                id[j][i + 1],
+                id[j + 1][i + 2],
+                id[j + 2][i + 1],
+                id[j + 1][i],
+            ];
+            elems.push((elems.len() + 1, c));
+        }
+    }
+    let edge: Vec<usize> = (0..gy)
+        .flat_map(|j| (0..gx).map(move |i| (i, j)))
+        .filter(|&(i, j)| i == 0 || j == 0 || i == gx - 1 || j == gy - 1)
+        .map(|(i, j)| id[j][i])
+        .collect();
+    d.elements("S8R", "EALL", &elems)
+        .nset("EDGE", &edge)
+        .line("*BOUNDARY")
+        .line("EDGE, 1, 3")
+        .material("STEEL", 210e9, 0.3, 7850.0)
+        .line("*SHELL SECTION, ELSET=EALL, MATERIAL=STEEL")
+        .line(&format!("{h}"))
+        .line("*STEP")
+        .line("*FREQUENCY")
+        .line(&modes.to_string())
+        .line("*NODE FILE, OUTPUT=2D")
+        .line("U")
+        .line("*END STEP");
+    d
+}

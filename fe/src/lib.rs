@@ -6,3 +6,4 @@
 pub mod bodies;
 pub mod ccx;
 pub mod deck;
+pub mod frd;

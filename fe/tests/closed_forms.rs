@@ -159,4 +159,32 @@ fn simply_supported_plate_converges_to_leissa() {
     // the shell element's own (S8R: reduced integration, transverse shear): 0.5 % bounds it.
     assert!(worst[1] < worst[0] / 10.0, "{worst:?}");
     assert!(worst[1] < 5e-3, "{worst:?}");
+
+    // The mode shapes as imported from the .frd: frequencies as in the .dat, and mode 1 is
+    // Leissa's sin(pi x / a) sin(pi y / b) (modal assurance criterion against it; the bound
+    // leaves 1e-4 for the discretisation).
+    let frd =
+        washdyn_fe::frd::parse(&std::fs::read_to_string(dir.path().join("plate24.frd")).unwrap())
+            .unwrap();
+    let dat = ccx::frequencies(&std::fs::read_to_string(dir.path().join("plate24.dat")).unwrap());
+    assert_eq!(frd.modes.len(), 6);
+    for (m, f) in frd.modes.iter().zip(&dat) {
+        assert!(
+            (m.frequency_hz - f).abs() < 1e-6 * f,
+            "{} vs {f}",
+            m.frequency_hz
+        );
+    }
+    let pos: std::collections::HashMap<usize, [f64; 3]> = frd.nodes.iter().copied().collect();
+    let (mut uv, mut uu, mut vv) = (0.0, 0.0, 0.0);
+    for (id, d) in &frd.modes[0].disp {
+        let p = pos[id];
+        let v = (PI * p[0] / a).sin() * (PI * p[1] / b).sin();
+        uv += d[2] * v;
+        uu += d[2] * d[2];
+        vv += v * v;
+    }
+    let mac = uv * uv / (uu * vv);
+    eprintln!("mode 1 against sin sin: MAC {mac:.8}");
+    assert!(mac > 1.0 - 1e-4, "MAC {mac}");
 }

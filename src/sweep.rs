@@ -304,6 +304,7 @@ fn order_one_peaks(
         motor_ratio: motor.unwrap_or(11.25),
         block_length_s: 4.0,
         track_orders: vec![1.0],
+        cascades: false,
         ..AnalysisOptions::default()
     };
     let mut out = Vec::new();

@@ -17,7 +17,7 @@
 use std::f64::consts::PI;
 
 /// Half the number of taps of the interpolation kernel at full bandwidth.
-pub const HALF_TAPS: usize = 24;
+pub const HALF_TAPS: usize = 16;
 /// Kaiser window shape: beta = 12 gives about 120 dB stop-band attenuation.
 const BETA: f64 = 12.0;
 /// Table resolution of the kernel (entries per sample interval), linear in between.

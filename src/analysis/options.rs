@@ -79,8 +79,9 @@ pub struct AnalysisOptions {
     pub format: crate::results::Format,
     /// Also write each plot as SVG (PNG is always written).
     pub svg: bool,
-    /// Write the cascades (time-domain spectra over speed) and the spectra table; the order
-    /// plots, speed plots and order tracks are always written.
+    /// Compute the time-block spectra and write the cascades and the spectra table; the order
+    /// plots, speed plots and order tracks are always written. Without, `Block::spectrum` is
+    /// empty.
     pub cascades: bool,
 }
 

@@ -235,7 +235,17 @@ impl RunUp {
                     rpm_min: lo,
                     rpm_max: hi,
                     revolutions: span / (2.0 * PI) * layout.len as f64 / (layout.len - 1) as f64,
-                    spectrum: analyzer.spectrum(&channel.data[s..s + layout.len], opts.remove_mean),
+                    // Time spectra feed the cascades and the spectra table only.
+                    spectrum: if opts.cascades {
+                        analyzer.spectrum(&channel.data[s..s + layout.len], opts.remove_mean)
+                    } else {
+                        Spectrum {
+                            df: signals.sample_rate / layout.len as f64,
+                            amplitude: Vec::new(),
+                            energy: Vec::new(),
+                            block_len: layout.len,
+                        }
+                    },
                 }
             })
             .collect();

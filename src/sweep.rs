@@ -194,32 +194,22 @@ pub fn run_sweep(
 /// The row of a variant that could not run.
 fn failed(v: &Variant, cfg: &SweepRun, error: String) -> VariantResult {
     let model = v.model.as_ref().map_or("?".to_string(), |m| m.name.clone());
+    let labels = Labels {
+        model: format!("{model}/{}", v.name),
+        scene: cfg.scene.clone().unwrap_or_default(),
+        backend: "interpreted".into(),
+    };
+    let mut summary = Summary::new(
+        &labels,
+        &format!("{:?}", cfg.method).to_lowercase(),
+        (cfg.tol, cfg.tol * 1e-3),
+        (0.0, cfg.t_end.unwrap_or(f64::NAN)),
+    );
+    summary.status = "failed".into();
+    summary.error = Some(error);
     VariantResult {
         name: v.name.clone(),
-        summary: Summary {
-            model: format!("{model}/{}", v.name),
-            scene: cfg.scene.clone().unwrap_or_default(),
-            backend: "interpreted".into(),
-            integrator: format!("{:?}", cfg.method).to_lowercase(),
-            rtol: cfg.tol,
-            atol: cfg.tol * 1e-3,
-            t_start: 0.0,
-            t_end: cfg.t_end.unwrap_or(f64::NAN),
-            t_reached: 0.0,
-            steps: 0,
-            rejected_steps: 0,
-            rhs_evals: 0,
-            sample_evals: 0,
-            jacobian_evals: 0,
-            lu_decompositions: 0,
-            newton_iterations: 0,
-            samples: 0,
-            wall_time_s: 0.0,
-            status: "failed".into(),
-            validity: Default::default(),
-            warnings: Vec::new(),
-            error: Some(error),
-        },
+        summary,
         peaks: Vec::new(),
     }
 }

@@ -144,6 +144,34 @@ pub struct Summary {
 }
 
 impl Summary {
+    /// A run that has not taken a step yet: status "ok", counters zero.
+    pub fn new(labels: &Labels, integrator: &str, tol: (f64, f64), span: (f64, f64)) -> Summary {
+        Summary {
+            model: labels.model.clone(),
+            scene: labels.scene.clone(),
+            backend: labels.backend.clone(),
+            integrator: integrator.to_string(),
+            rtol: tol.0,
+            atol: tol.1,
+            t_start: span.0,
+            t_end: span.1,
+            t_reached: span.0,
+            steps: 0,
+            rejected_steps: 0,
+            rhs_evals: 0,
+            sample_evals: 0,
+            jacobian_evals: 0,
+            lu_decompositions: 0,
+            newton_iterations: 0,
+            samples: 0,
+            wall_time_s: 0.0,
+            status: "ok".into(),
+            validity: Extremes::default(),
+            warnings: Vec::new(),
+            error: None,
+        }
+    }
+
     fn take_stats(&mut self, s: Stats) {
         self.steps = s.steps;
         self.rejected_steps = s.rejected_steps;
@@ -278,33 +306,11 @@ where
     V: Solver<FirstOrder<S>>,
 {
     let wall = Instant::now();
-    let mut summary = Summary {
-        model: labels.model.clone(),
-        scene: labels.scene.clone(),
-        backend: labels.backend.clone(),
-        integrator: solver.name().to_string(),
-        rtol: tol.0,
-        atol: tol.1,
-        t_start: opts.t_start,
-        t_end: opts.t_end,
-        t_reached: opts.t_start,
-        steps: 0,
-        rejected_steps: 0,
-        rhs_evals: 0,
-        sample_evals: 0,
-        jacobian_evals: 0,
-        lu_decompositions: 0,
-        newton_iterations: 0,
-        samples: 0,
-        wall_time_s: 0.0,
-        status: "ok".into(),
-        validity: Extremes {
-            translation_bound_m: guard.translation_m,
-            rotation_bound_rad: guard.rotation_rad,
-            ..Extremes::default()
-        },
-        warnings: Vec::new(),
-        error: None,
+    let mut summary = Summary::new(labels, solver.name(), tol, (opts.t_start, opts.t_end));
+    summary.validity = Extremes {
+        translation_bound_m: guard.translation_m,
+        rotation_bound_rad: guard.rotation_rad,
+        ..Extremes::default()
     };
     let mut worst_element = None;
     let result = drive(

@@ -58,6 +58,19 @@ fn write_err(path: &Path) -> impl Fn(std::io::Error) -> AnalysisError + '_ {
     }
 }
 
+/// One channel's rows (one row group): the channel name, then the number columns.
+fn append_channel(
+    w: &mut TableWriter,
+    path: &Path,
+    channel: &str,
+    cols: Vec<Vec<f64>>,
+) -> Result<(), AnalysisError> {
+    let n = cols.first().map_or(0, Vec::len);
+    let mut all = vec![Column::Text(vec![channel.to_string(); n])];
+    all.extend(cols.into_iter().map(Column::F64));
+    w.append(&all).map_err(write_err(path))
+}
+
 /// Write the spectra of all channels, bins up to `max_frequency_hz`; one row group per channel.
 pub fn write_spectra(
     runs: &[RunUp],
@@ -103,10 +116,7 @@ pub fn write_spectra(
                 cols[5].push(b.spectrum.energy[k]);
             }
         }
-        let n = cols[0].len();
-        let mut all = vec![Column::Text(vec![run.channel.clone(); n])];
-        all.extend(cols.into_iter().map(Column::F64));
-        w.append(&all).map_err(write_err(&path))?;
+        append_channel(&mut w, &path, &run.channel, cols)?;
     }
     w.finish().map_err(write_err(&path))?;
     Ok(path)
@@ -133,10 +143,7 @@ pub fn write_orders(runs: &[RunUp], dir: &Path, format: Format) -> Result<PathBu
                 cols[3].push(a.unwrap_or(f64::NAN));
             }
         }
-        let n = cols[0].len();
-        let mut all = vec![Column::Text(vec![run.channel.clone(); n])];
-        all.extend(cols.into_iter().map(Column::F64));
-        w.append(&all).map_err(write_err(&path))?;
+        append_channel(&mut w, &path, &run.channel, cols)?;
     }
     w.finish().map_err(write_err(&path))?;
     Ok(path)

@@ -65,7 +65,7 @@ pub struct AnalysisReport {
     pub layout: BlockLayout,
     /// Number of blocks per channel.
     pub blocks: usize,
-    /// Wall time, s: resampling to drum angle, spectra and order tracks, plots and tables.
+    /// Wall time, s: resampling to drum angle; spectra, order tracks and plots; tables.
     pub wall_s: [f64; 3],
 }
 
@@ -75,7 +75,7 @@ impl fmt::Display for AnalysisReport {
         writeln!(
             f,
             "{} blocks of {} samples ({:.3} s, df = {:.3} Hz), {} files written; wall time: \
-             resampling {:.2} s, spectra and tracks {:.2} s, plots and tables {:.2} s",
+             resampling {:.2} s, spectra, tracks and plots {:.2} s, tables {:.2} s",
             self.blocks,
             self.layout.len,
             self.layout.len as f64 / self.layout.sample_rate,
@@ -136,57 +136,58 @@ pub fn analyse_signals(
     let xs: Vec<&[f64]> = signals.channels.iter().map(|c| c.data.as_slice()).collect();
     let resampled = grid.resample_all(&angle::Kernel::new(), &xs);
     wall_s[0] = clock.elapsed().as_secs_f64();
-    // First the numbers of every channel, then plots and tables side by side.
-    let runs: Vec<RunUp> = signals
-        .channels
-        .par_iter()
-        .zip(&resampled)
-        .map(|(c, xa)| RunUp::analyse_resampled(signals, c, opts, &grid, xa))
-        .collect::<Result<_, _>>()?;
-    drop(resampled);
-    wall_s[1] = clock.elapsed().as_secs_f64() - wall_s[0];
-    let nyquist = signals.sample_rate / 2.0;
-    let max_f = opts.max_frequency_hz.unwrap_or(nyquist).min(nyquist);
-    let (plots, (spectra, orders)) = rayon::join(
-        || {
-            signals
-                .channels
-                .par_iter()
-                .zip(&stems)
-                .zip(&runs)
-                .map(|((c, stem), run)| plot_channel(signals, c, run, stem, out_dir, opts))
-                .collect::<Result<Vec<_>, _>>()
-        },
-        || {
-            rayon::join(
-                || {
-                    opts.cascades
-                        .then(|| export::write_spectra(&runs, max_f, out_dir, opts.format))
-                        .transpose()
-                },
-                || export::write_orders(&runs, out_dir, opts.format),
-            )
-        },
-    );
-    let mut files: Vec<PathBuf> = plots?.into_iter().flatten().collect();
-    let channels = runs.iter().map(report).collect();
-    let blocks = runs.first().map_or(0, |r| r.blocks.len());
-    files.extend(spectra?);
-    files.push(orders?);
+    // Each channel's numbers and plots in one task (no barrier between them), the displacement
+    // overview beside them; then the tables of all channels.
     let displacements: Vec<&Channel> = signals
         .channels
         .iter()
         .filter(|c| c.quantity == Quantity::Displacement)
         .collect();
-    if !displacements.is_empty() {
-        files.extend(plot::displacement_plot(
-            signals,
-            &displacements,
-            opts,
-            &out_dir.join(format!("{DISPLACEMENT_OVERVIEW}_speed")),
-        )?);
-    }
-    wall_s[2] = clock.elapsed().as_secs_f64() - wall_s[0] - wall_s[1];
+    let (per_channel, overview) = rayon::join(
+        || {
+            signals
+                .channels
+                .par_iter()
+                .zip(&stems)
+                .zip(&resampled)
+                .map(|((c, stem), xa)| {
+                    let run = RunUp::analyse_resampled(signals, c, opts, &grid, xa)?;
+                    let files = plot_channel(signals, c, &run, stem, out_dir, opts)?;
+                    Ok((run, files))
+                })
+                .collect::<Result<Vec<_>, AnalysisError>>()
+        },
+        || {
+            if displacements.is_empty() {
+                return Ok(Vec::new());
+            }
+            plot::displacement_plot(
+                signals,
+                &displacements,
+                opts,
+                &out_dir.join(format!("{DISPLACEMENT_OVERVIEW}_speed")),
+            )
+        },
+    );
+    drop(resampled);
+    let (runs, plots): (Vec<RunUp>, Vec<Vec<PathBuf>>) = per_channel?.into_iter().unzip();
+    wall_s[1] = clock.elapsed().as_secs_f64() - wall_s[0];
+    let nyquist = signals.sample_rate / 2.0;
+    let max_f = opts.max_frequency_hz.unwrap_or(nyquist).min(nyquist);
+    let (spectra, orders) = rayon::join(
+        || {
+            opts.cascades
+                .then(|| export::write_spectra(&runs, max_f, out_dir, opts.format))
+                .transpose()
+        },
+        || export::write_orders(&runs, out_dir, opts.format),
+    );
+    let mut files: Vec<PathBuf> = plots.into_iter().flatten().collect();
+    let channels = runs.iter().map(report).collect();
+    let blocks = runs.first().map_or(0, |r| r.blocks.len());
+    files.extend(spectra?);
+    files.push(orders?);
+    files.extend(overview?);
     Ok(AnalysisReport {
         files,
         channels,

@@ -87,6 +87,22 @@ impl Column {
     }
 }
 
+/// A column borrowed for writing.
+#[derive(Clone, Copy)]
+enum ColRef<'a> {
+    Text(&'a [String]),
+    F64(&'a [f64]),
+}
+
+impl ColRef<'_> {
+    fn len(&self) -> usize {
+        match self {
+            ColRef::Text(v) => v.len(),
+            ColRef::F64(v) => v.len(),
+        }
+    }
+}
+
 /// A streaming table writer: columns of equal length appended in chunks.
 pub struct TableWriter {
     inner: Inner,
@@ -190,7 +206,24 @@ impl TableWriter {
     /// Append rows given as columns of equal length (a Parquet row group). The CSV file is
     /// flushed too, so what was appended is on disk.
     pub fn append(&mut self, columns: &[Column]) -> io::Result<()> {
-        let rows = columns.first().map_or(0, Column::len);
+        let refs: Vec<ColRef> = columns
+            .iter()
+            .map(|c| match c {
+                Column::Text(v) => ColRef::Text(v),
+                Column::F64(v) => ColRef::F64(v),
+            })
+            .collect();
+        self.append_refs(&refs)
+    }
+
+    /// [`TableWriter::append`] for number columns held elsewhere (no copy).
+    pub fn append_slices(&mut self, columns: &[&[f64]]) -> io::Result<()> {
+        let refs: Vec<ColRef> = columns.iter().map(|c| ColRef::F64(c)).collect();
+        self.append_refs(&refs)
+    }
+
+    fn append_refs(&mut self, columns: &[ColRef]) -> io::Result<()> {
+        let rows = columns.first().map_or(0, ColRef::len);
         if rows == 0 {
             return Ok(());
         }
@@ -201,8 +234,8 @@ impl TableWriter {
                 let mut rg = w.next_row_group().map_err(io::Error::other)?;
                 let mut i = 0;
                 while let Some(mut col) = rg.next_column().map_err(io::Error::other)? {
-                    match &columns[i] {
-                        Column::F64(v) if nullable[i] => {
+                    match columns[i] {
+                        ColRef::F64(v) if nullable[i] => {
                             let def: Vec<i16> = v.iter().map(|x| i16::from(!x.is_nan())).collect();
                             let vals: Vec<f64> =
                                 v.iter().copied().filter(|x| !x.is_nan()).collect();
@@ -210,12 +243,12 @@ impl TableWriter {
                                 .write_batch(&vals, Some(&def), None)
                                 .map_err(io::Error::other)?;
                         }
-                        Column::F64(v) => {
+                        ColRef::F64(v) => {
                             col.typed::<DoubleType>()
                                 .write_batch(v, None, None)
                                 .map_err(io::Error::other)?;
                         }
-                        Column::Text(v) => {
+                        ColRef::Text(v) => {
                             let vals: Vec<ByteArray> =
                                 v.iter().map(|s| ByteArray::from(s.as_str())).collect();
                             col.typed::<ByteArrayType>()
@@ -238,12 +271,12 @@ impl TableWriter {
                             line.push(',');
                         }
                         match c {
-                            Column::Text(v) => line.push_str(&csv_field(&v[r])),
+                            ColRef::Text(v) => line.push_str(&csv_field(&v[r])),
                             // Shortest representation that reads back to the same f64.
-                            Column::F64(v) if !v[r].is_nan() => {
+                            ColRef::F64(v) if !v[r].is_nan() => {
                                 let _ = write!(line, "{:?}", v[r]);
                             }
-                            Column::F64(_) => {}
+                            ColRef::F64(_) => {}
                         }
                     }
                     line.push('\n');
@@ -403,7 +436,8 @@ pub fn read_parquet_f64(path: &Path) -> Result<(Vec<String>, Vec<Vec<f64>>), Str
 }
 
 /// The run's sensor output: `sensors.parquet` (or `.csv`) streamed in row groups, and, for the
-/// analysis, the same samples kept in memory as columns (no second pass through a file).
+/// analysis, the same samples kept in memory as columns (no second pass through a file). When
+/// kept, the row groups are written from the memory columns themselves (no second copy).
 pub struct SensorRecorder {
     path: PathBuf,
     format: Format,
@@ -411,8 +445,15 @@ pub struct SensorRecorder {
     /// time_s, drum_rpm, then the channels; empty unless kept.
     pub memory: Vec<Vec<f64>>,
     keep: bool,
+    /// Rows of `memory` already written.
+    written: usize,
+    last_write: Instant,
     pub names: Vec<String>,
 }
+
+/// Rows a row group holds at most, and the longest wait between writes.
+const GROUP_ROWS: usize = 1 << 16;
+const GROUP_WAIT: Duration = Duration::from_secs(1);
 
 impl SensorRecorder {
     /// `keep`: hold the samples in memory for the analysis.
@@ -423,14 +464,31 @@ impl SensorRecorder {
             table: None,
             memory: Vec::new(),
             keep,
+            written: 0,
+            last_write: Instant::now(),
             names: Vec::new(),
         }
     }
     pub fn path(&self) -> &Path {
         &self.path
     }
+    /// Write the rows of `memory` not yet written.
+    fn write_kept(&mut self) -> io::Result<()> {
+        let Some(t) = &mut self.table else {
+            return Ok(());
+        };
+        let from = self.written;
+        let cols: Vec<&[f64]> = self.memory.iter().map(|c| &c[from..]).collect();
+        t.writer.append_slices(&cols)?;
+        self.written = self.memory.first().map_or(0, Vec::len);
+        self.last_write = Instant::now();
+        Ok(())
+    }
     /// Write the footer (Parquet) and flush.
     pub fn finish(&mut self) -> io::Result<()> {
+        if self.keep {
+            self.write_kept()?;
+        }
         match &mut self.table {
             Some(t) => t.finish(),
             None => Ok(()),
@@ -460,7 +518,12 @@ impl washdyn_runtime::output::SampleSink for SensorRecorder {
             metadata: &metadata,
         };
         let w = TableWriter::create(&self.path, self.format, &schema)?;
-        self.table = Some(Batched::new(w, vec![Column::F64(Vec::new()); n], 1 << 16));
+        // Kept samples are written from `memory`; the batch buffers stay empty then.
+        let buffers = if self.keep { 0 } else { n };
+        self.table = Some(
+            Batched::new(w, vec![Column::F64(Vec::new()); buffers], GROUP_ROWS)
+                .with_max_wait(GROUP_WAIT),
+        );
         if self.keep {
             self.memory = vec![Vec::new(); n];
         }
@@ -468,21 +531,31 @@ impl washdyn_runtime::output::SampleSink for SensorRecorder {
         Ok(())
     }
     fn sample(&mut self, t: f64, rpm: f64, values: &[f64]) -> io::Result<()> {
-        let table = self.table.as_mut().expect("header written first");
         let row = [t, rpm].into_iter().chain(values.iter().copied());
-        for (c, v) in table.columns_mut().iter_mut().zip(row.clone()) {
-            if let Column::F64(c) = c {
-                c.push(v);
-            }
-        }
         if self.keep {
             for (c, v) in self.memory.iter_mut().zip(row) {
+                c.push(v);
+            }
+            let rows = self.memory[0].len() - self.written;
+            if rows >= GROUP_ROWS
+                || (rows.is_multiple_of(256) && self.last_write.elapsed() >= GROUP_WAIT)
+            {
+                self.write_kept()?;
+            }
+            return Ok(());
+        }
+        let table = self.table.as_mut().expect("header written first");
+        for (c, v) in table.columns_mut().iter_mut().zip(row) {
+            if let Column::F64(c) = c {
                 c.push(v);
             }
         }
         table.row_done()
     }
     fn flush(&mut self) -> io::Result<()> {
+        if self.keep {
+            return self.write_kept();
+        }
         match &mut self.table {
             Some(t) => t.flush(),
             None => Ok(()),

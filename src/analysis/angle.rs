@@ -93,6 +93,8 @@ pub struct AngleGrid {
     pub pos: Vec<f64>,
     /// Kernel bandwidth at each angle sample, in (0, 1].
     pub band: Vec<f64>,
+    /// Drum angle (rad) at every time sample, the integral the grid inverts.
+    pub angle: Vec<f64>,
 }
 
 impl AngleGrid {
@@ -104,6 +106,8 @@ impl AngleGrid {
         let dphi = 2.0 * PI / per_rev as f64;
         let mut pos = Vec::new();
         let mut band = Vec::new();
+        let mut angle = Vec::with_capacity(rpm.len());
+        angle.push(0.0);
         let mut phi = 0.0;
         let mut next = 0.0;
         for (j, w) in rpm.windows(2).enumerate() {
@@ -126,8 +130,14 @@ impl AngleGrid {
                 next += dphi;
             }
             phi = end;
+            angle.push(phi);
         }
-        AngleGrid { per_rev, pos, band }
+        AngleGrid {
+            per_rev,
+            pos,
+            band,
+            angle,
+        }
     }
 
     /// Every channel at every angle sample: the kernel weights of a sample are computed once
@@ -263,6 +273,7 @@ mod tests {
             per_rev: 1,
             pos: (0..500).map(|k| 700.0 + 1.37 * k as f64).collect(),
             band: vec![1.0; 500],
+            angle: Vec::new(),
         };
         let y = g.resample(&Kernel::new(), &x);
         let worst = g

@@ -99,20 +99,6 @@ impl Block {
     }
 }
 
-/// Drum angle in rad at every sample: trapezoidal integral of the speed magnitude (exact
-/// for speed varying linearly between samples; reverse rotation counts forward).
-pub fn drum_angle(rpm: &[f64], sample_rate: f64) -> Vec<f64> {
-    let k = 2.0 * PI / 60.0 * 0.5 / sample_rate;
-    let mut angle = Vec::with_capacity(rpm.len());
-    let mut acc = 0.0;
-    angle.push(acc);
-    for w in rpm.windows(2) {
-        acc += k * (w[0].abs() + w[1].abs());
-        angle.push(acc);
-    }
-    angle
-}
-
 /// Orders a tracked order must be resolved from: DC, the other tracked orders,
 /// and for integer (drum harmonic) orders the adjacent harmonics, which a real
 /// drum always has to some degree.
@@ -215,7 +201,7 @@ impl RunUp {
             });
         }
         let mut analyzer = SpectrumAnalyzer::new(Window::hann(layout.len), signals.sample_rate);
-        let angle = drum_angle(&signals.drum_rpm, signals.sample_rate);
+        let angle = &grid.angle;
         let starts: Vec<usize> = layout.starts(n).collect();
         let blocks: Vec<Block> = starts
             .iter()

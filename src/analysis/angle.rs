@@ -24,6 +24,11 @@ const BETA: f64 = 12.0;
 const TABLE_STEPS: usize = 512;
 /// Pass band of the kernel as a fraction of Nyquist: the transition band lies above it.
 const PASS: f64 = 0.9;
+/// Highest frequency, as a fraction of the sample rate, that the kernel passes flat (its
+/// transition band starts above): orders beyond it in a block are not resolved.
+pub const FLAT_BAND: f64 = 0.37;
+/// Highest order per angle sample per revolution (below the angle grid's Nyquist, 0.5).
+pub const MAX_ORDER_PER_SAMPLE: f64 = 0.45;
 
 /// Modified Bessel function of the first kind, order 0 (series; converges for the betas used).
 fn bessel_i0(x: f64) -> f64 {

@@ -11,7 +11,7 @@
 
 use std::f64::consts::PI;
 
-use super::angle::{AngleGrid, Kernel, OrderDft};
+use super::angle::{AngleGrid, FLAT_BAND, Kernel, MAX_ORDER_PER_SAMPLE, OrderDft};
 use super::error::AnalysisError;
 use super::options::AnalysisOptions;
 use super::signals::{Channel, Quantity, Signals};
@@ -242,57 +242,15 @@ impl RunUp {
         let per_rev = opts.samples_per_rev;
         let revs = opts.order_block_revs;
         let nb = revs * per_rev;
-        let tracks = tracked
-            .into_iter()
-            .map(|(order, label)| (OrderDft::new(nb, per_rev, order), order, label))
-            .map(|(dft, order, label)| OrderTrack {
-                order,
-                label,
-                amplitude: starts
-                    .iter()
-                    .zip(&blocks)
-                    .map(|(&s, b)| {
-                        if b.rpm < opts.min_rpm {
-                            return None;
-                        }
-                        // Neighbours closer than 2 bins (1 / revs orders each) share the Hann
-                        // main lobe.
-                        let close = neighbours.iter().any(|&o| {
-                            (o - order).abs() > 1e-9
-                                && (o - order).abs() * (revs as f64) < 2.0 - 1e-9
-                        });
-                        if close || order >= 0.45 * per_rev as f64 {
-                            return None;
-                        }
-                        let centre = s as f64 + 0.5 * (layout.len - 1) as f64;
-                        let kc = grid.pos.partition_point(|&p| p < centre);
-                        let k0 = kc.checked_sub(nb / 2)?;
-                        let block = xa.get(k0..k0 + nb)?;
-                        // The order's frequency must stay in the kernel's flat pass band.
-                        let (t0, t1) =
-                            (grid.pos[k0] as usize, grid.pos[k0 + nb - 1].ceil() as usize);
-                        let top = signals.drum_rpm[t0..=t1.min(n - 1)]
-                            .iter()
-                            .fold(0.0f64, |m, r| m.max(r.abs()));
-                        if order * top / 60.0 >= 0.37 * signals.sample_rate {
-                            return None;
-                        }
-                        Some(dft.amplitude(block))
-                    })
-                    .collect(),
-            })
-            .collect();
-        // Order spectra for the order plot: the same angle blocks, all orders at once.
-        let fft = realfft::RealFftPlanner::<f64>::new().plan_fft_forward(nb);
-        let hann: Vec<f64> = (0..nb)
-            .map(|k| 0.5 - 0.5 * (2.0 * PI * k as f64 / nb as f64).cos())
-            .collect();
-        let wsum: f64 = hann.iter().sum();
-        let order_spectra = starts
+        // Each time block's angle block and its highest drum speed, found once for the tracks
+        // and the order spectra: None below the minimum speed or where no whole block fits.
+        let angle_blocks: Vec<Option<(&[f64], f64)>> = starts
             .iter()
             .zip(&blocks)
-            .filter(|(_, b)| b.rpm >= opts.min_rpm)
-            .map(|(&s, _)| {
+            .map(|(&s, b)| {
+                if b.rpm < opts.min_rpm {
+                    return None;
+                }
                 let centre = s as f64 + 0.5 * (layout.len - 1) as f64;
                 let kc = grid.pos.partition_point(|&p| p < centre);
                 let k0 = kc.checked_sub(nb / 2)?;
@@ -301,6 +259,48 @@ impl RunUp {
                 let top = signals.drum_rpm[t0..=t1.min(n - 1)]
                     .iter()
                     .fold(0.0f64, |m, r| m.max(r.abs()));
+                Some((block, top))
+            })
+            .collect();
+        // Highest order a block resolves: its frequency in the kernel's flat pass band, and
+        // below the angle grid's Nyquist order.
+        let top_order = |top_rpm: f64| {
+            (FLAT_BAND * signals.sample_rate / (top_rpm / 60.0).max(1e-12))
+                .min(MAX_ORDER_PER_SAMPLE * per_rev as f64)
+        };
+        let tracks = tracked
+            .into_iter()
+            .map(|(order, label)| (OrderDft::new(nb, per_rev, order), order, label))
+            .map(|(dft, order, label)| {
+                // Neighbours closer than 2 bins (1 / revs orders each) share the Hann main lobe.
+                let close = neighbours.iter().any(|&o| {
+                    (o - order).abs() > 1e-9 && (o - order).abs() * (revs as f64) < 2.0 - 1e-9
+                });
+                OrderTrack {
+                    order,
+                    label,
+                    amplitude: angle_blocks
+                        .iter()
+                        .map(|ab| {
+                            let (block, top) = (*ab)?;
+                            (!close && order < top_order(top)).then(|| dft.amplitude(block))
+                        })
+                        .collect(),
+                }
+            })
+            .collect();
+        // Order spectra for the order plot: the same angle blocks, all orders at once.
+        let fft = realfft::RealFftPlanner::<f64>::new().plan_fft_forward(nb);
+        let hann: Vec<f64> = (0..nb)
+            .map(|k| 0.5 - 0.5 * (2.0 * PI * k as f64 / nb as f64).cos())
+            .collect();
+        let wsum: f64 = hann.iter().sum();
+        let order_spectra = angle_blocks
+            .iter()
+            .zip(&blocks)
+            .filter(|(_, b)| b.rpm >= opts.min_rpm)
+            .map(|(ab, _)| {
+                let (block, top) = (*ab)?;
                 let mean = block.iter().map(|v| v / nb as f64).sum::<f64>();
                 // Scaled by the largest magnitude (finite squares near f64::MAX).
                 let scale = block
@@ -314,14 +314,13 @@ impl RunUp {
                     .collect();
                 let mut out = fft.make_output_vec();
                 fft.process(&mut buf, &mut out).ok()?;
-                // Orders whose frequency leaves the resampler's pass band: no data.
-                let top_order = (0.37 * signals.sample_rate / (top / 60.0).max(1e-12))
-                    .min(0.45 * per_rev as f64);
+                // Orders the block does not resolve: no data.
+                let top = top_order(top);
                 Some(
                     out.iter()
                         .enumerate()
                         .map(|(k, c)| {
-                            if k as f64 / revs as f64 > top_order {
+                            if k as f64 / revs as f64 > top {
                                 f64::NAN
                             } else {
                                 2.0 * (c.re * c.re + c.im * c.im).sqrt() / wsum * scale

@@ -314,6 +314,12 @@ fn csv_field(s: &str) -> String {
     }
 }
 
+/// Whether `rows` buffered rows are due on disk: a full row group, or `wait` passed since the
+/// last write (the clock is read every 256 rows only).
+fn write_due(rows: usize, last: Instant, max_rows: usize, wait: Duration) -> bool {
+    rows >= max_rows || (rows.is_multiple_of(256) && last.elapsed() >= wait)
+}
+
 /// Buffers rows into row groups: written when `max_rows` are held or `max_wait` has passed since
 /// the last write, so a slow run's file grows at least every `max_wait`.
 pub struct Batched {
@@ -345,9 +351,7 @@ impl Batched {
     /// Call after each row.
     pub fn row_done(&mut self) -> io::Result<()> {
         let rows = self.cols.first().map_or(0, Column::len);
-        if rows >= self.max_rows
-            || (rows.is_multiple_of(256) && self.last.elapsed() >= self.max_wait)
-        {
+        if write_due(rows, self.last, self.max_rows, self.max_wait) {
             self.flush()?;
         }
         Ok(())
@@ -537,9 +541,7 @@ impl washdyn_runtime::output::SampleSink for SensorRecorder {
                 c.push(v);
             }
             let rows = self.memory[0].len() - self.written;
-            if rows >= GROUP_ROWS
-                || (rows.is_multiple_of(256) && self.last_write.elapsed() >= GROUP_WAIT)
-            {
+            if write_due(rows, self.last_write, GROUP_ROWS, GROUP_WAIT) {
                 self.write_kept()?;
             }
             return Ok(());

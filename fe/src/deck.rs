@@ -74,6 +74,16 @@ impl Deck {
             .line("*DENSITY")
             .line(&format!("{rho}"))
     }
+    /// A `*FREQUENCY` step for `modes` eigenmodes, mode shapes written at the original nodes
+    /// (`OUTPUT=2D`: shell mid-surfaces and beam lines, not ccx's expanded 3-D nodes).
+    pub fn frequency_step(&mut self, modes: usize) -> &mut Self {
+        self.line("*STEP")
+            .line("*FREQUENCY")
+            .line(&modes.to_string())
+            .line("*NODE FILE, OUTPUT=2D")
+            .line("U")
+            .line("*END STEP")
+    }
     pub fn text(&self) -> &str {
         &self.text
     }

@@ -23,12 +23,7 @@ pub fn cantilever(l: f64, a: f64, n: usize, modes: usize) -> Deck {
         .line("*BEAM SECTION, ELSET=EALL, MATERIAL=STEEL, SECTION=RECT")
         .line(&format!("{a}, {a}"))
         .line("0, 0, 1")
-        .line("*STEP")
-        .line("*FREQUENCY")
-        .line(&modes.to_string())
-        .line("*NODE FILE, OUTPUT=2D")
-        .line("U")
-        .line("*END STEP");
+        .frequency_step(modes);
     d
 }
 
@@ -87,11 +82,6 @@ pub fn plate_simply_supported(a: f64, b: f64, h: f64, nx: usize, ny: usize, mode
         .material("STEEL", 210e9, 0.3, 7850.0)
         .line("*SHELL SECTION, ELSET=EALL, MATERIAL=STEEL")
         .line(&format!("{h}"))
-        .line("*STEP")
-        .line("*FREQUENCY")
-        .line(&modes.to_string())
-        .line("*NODE FILE, OUTPUT=2D")
-        .line("U")
-        .line("*END STEP");
+        .frequency_step(modes);
     d
 }

@@ -7,3 +7,4 @@ pub mod bodies;
 pub mod ccx;
 pub mod deck;
 pub mod frd;
+pub mod mesh;

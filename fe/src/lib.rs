@@ -7,4 +7,5 @@ pub mod bodies;
 pub mod ccx;
 pub mod deck;
 pub mod frd;
+pub mod lumping;
 pub mod mesh;

@@ -12,7 +12,7 @@ use std::path::Path as FsPath;
 use washdyn_runtime::codegen::generate;
 use washdyn_runtime::ir::check::{CheckError, Path, Seg, check};
 use washdyn_runtime::ir::{
-    Cabinet, FrictionDamper, Gasket, LinearDamper, Model, Rotor, Scene, Sensor, SpeedProfile,
+    Cabinet, Elastic, FrictionDamper, Gasket, LinearDamper, Model, Rotor, Scene, Sensor, SpeedProfile,
     Spring, Tub, Unbalance, V3,
 };
 
@@ -39,11 +39,13 @@ pub fn analyse(input: TokenStream, dir: &FsPath) -> Result<(Machine, Model, Buil
             return Err(diag);
         }
     };
-    let built = tree::build(&machine, dir, &mut diag);
-    let model = deserialize(&built, &mut diag);
-    if let Some(m) = &model
-        && let Err(errors) = check(m)
-    {
+    let mut built = tree::build(&machine, dir, &mut diag);
+    let mut model = deserialize(&built, &mut diag);
+    if let Some(m) = &mut model {
+        // Modal data files: the runtime's one resolver, as for the TOML loader.
+        let (files, mut errors) = washdyn_runtime::ir::modal::resolve(m, dir);
+        built.files.extend(files);
+        errors.extend(check(m).err().unwrap_or_default());
         for CheckError { path, message } in errors {
             let loc = built.spans.locate(&path);
             diag.at(&path, loc, with_origin(message, loc, &path, &built.spans));
@@ -122,6 +124,7 @@ fn deserialize(b: &Built, diag: &mut Diag) -> Option<Model> {
                 "gaskets" => each::<Gasket>(v, &p, s, diag),
                 "sensors" => each::<Sensor>(v, &p, s, diag),
                 "scenes" => each::<Scene>(v, &p, s, diag),
+                "elastic" => each::<Elastic>(v, &p, s, diag),
                 _ => true,
             };
             if !ok {

@@ -157,7 +157,7 @@ fn a_path_deeper_than_any_token_maps_to_the_deepest_prefix() {
         .idx(2)
         .key("nothing");
     assert_eq!(at(&b.spans.locate(&entry)), pos(src, "0.0]", 1));
-    let missing = Path::default().key("cabinet").key("modes");
+    let missing = Path::default().key("cabinet").key("nothing");
     assert_eq!(at(&b.spans.locate(&missing)), pos(src, "m {", 0));
 }
 

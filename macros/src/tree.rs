@@ -22,6 +22,7 @@ pub const LISTS: &[(&str, &str, &str)] = &[
     ("gasket", "gaskets", "gasket"),
     ("sensor", "sensors", "sensor"),
     ("scene", "scenes", "scene"),
+    ("elastic", "elastic", "elastic body"),
 ];
 
 /// Blocks without a name, one per machine.
@@ -363,8 +364,8 @@ fn located(rel: &str, l: &Located) -> String {
 }
 
 /// Data files named in the declaration: the speed CSV is read into `table` (as the TOML front
-/// end does), the cabinet's modal file must exist. Names from a base file were resolved by its
-/// loader already.
+/// end does). Modal data files are read after deserialisation by the runtime's resolver (one for
+/// both front ends). Names from a base file were resolved by its loader already.
 fn resolve_files(b: &mut Built, dir: &FsPath, diag: &mut Diag) {
     let speed = Path::default().key("speed");
     let csv_path = speed.clone().key("csv");
@@ -404,22 +405,6 @@ fn resolve_files(b: &mut Built, dir: &FsPath, diag: &mut Diag) {
                     diag.push(loc, format!("speed profile: {}", located(&csv, &l)));
                     diag.poison(speed);
                 }
-            }
-        }
-    }
-    let modes_path = Path::default().key("cabinet").key("modes");
-    if declared(b, &modes_path)
-        && let Some(Value::String(modes)) = b.root.pointer("/cabinet/modes").cloned()
-    {
-        let file = dir.join(&modes);
-        match std::fs::metadata(&file) {
-            Ok(_) => b.files.push(file),
-            Err(e) => {
-                diag.push(
-                    b.spans.locate(&modes_path),
-                    format!("cabinet: cannot read modal data file `{modes}`: {e}"),
-                );
-                diag.poison(modes_path);
             }
         }
     }

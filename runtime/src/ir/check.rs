@@ -124,12 +124,7 @@ pub fn check(m: &Model) -> Result<(), Vec<CheckError>> {
     c.vec3(tub.clone().key("cog"), "tub: cog", &m.tub.cog);
     inertia(&mut c, tub.key("inertia"), "tub", &m.tub.inertia);
 
-    if m.cabinet.modes.is_some() {
-        c.err(
-            Path::of(&["cabinet", "modes"]),
-            "cabinet: elastic modes are not supported yet (the cabinet is fixed)",
-        );
-    }
+    elastic(&mut c, m);
 
     let mut names = Names::default();
 
@@ -395,6 +390,78 @@ fn spring_carries(c: &mut Ctx, p: Path, what: &str, s: &crate::ir::Spring, g: &V
                  of its {:.1} N); a suspension spring hangs the tub in tension from above or \
                  supports it in compression from below (an end mirrored?)",
                 f.abs()
+            ),
+        );
+    }
+}
+
+/// Elastic bodies: a known body once each, a damping ratio in [0, 1), and modal data that is
+/// consistent in itself and describes that body.
+fn elastic(c: &mut Ctx, m: &Model) {
+    use modal::ElasticBodyKind as K;
+    for (i, e) in m.elastic.iter().enumerate() {
+        let p = Path::of(&["elastic"]).idx(i);
+        let kind = match e.name.as_str() {
+            "tub" => Some(K::Tub),
+            "drum" => Some(K::Drum),
+            "cabinet" => Some(K::Cabinet),
+            other => {
+                c.err(
+                    p.clone().key("name"),
+                    format!("elastic `{other}`: not a body; one of tub, drum, cabinet"),
+                );
+                None
+            }
+        };
+        if m.elastic[..i].iter().any(|o| o.name == e.name) {
+            c.err(
+                p.clone().key("name"),
+                format!("elastic `{}`: declared twice", e.name),
+            );
+        }
+        let what = format!("elastic `{}`: damping", e.name);
+        c.non_negative(p.clone().key("damping"), &what, e.damping);
+        if e.damping >= 1.0 {
+            c.err(
+                p.clone().key("damping"),
+                format!("{what} is a ratio of critical below 1, got {}", e.damping),
+            );
+        }
+        if e.modes == Some(0) {
+            c.err(
+                p.clone().key("modes"),
+                format!("elastic `{}`: modes must be at least 1", e.name),
+            );
+        }
+        let Some(d) = &e.data else {
+            // Not read: `modal::resolve` has reported why.
+            continue;
+        };
+        for problem in modal::problems(d) {
+            c.err(
+                p.clone().key("file"),
+                format!("elastic `{}`: {}: {problem}", e.name, e.file),
+            );
+        }
+        if kind.is_some_and(|k| k != d.body) {
+            c.err(
+                p.clone().key("file"),
+                format!(
+                    "elastic `{}`: {}: body: the file describes the {:?}",
+                    e.name, e.file, d.body
+                ),
+            );
+        }
+    }
+    // One rule for the present state: the data is read and checked, the equations of elastic
+    // bodies are the next step (issue 9). Until then no model with them may run.
+    if let Some(i) = (0..m.elastic.len()).find(|&i| m.elastic[i].data.is_some()) {
+        c.err(
+            Path::of(&["elastic"]).idx(i),
+            format!(
+                "elastic `{}`: modal data read and checked, but the equations of elastic bodies \
+                 are not built yet; remove the entry to run the rigid machine",
+                m.elastic[i].name
             ),
         );
     }

@@ -6,6 +6,7 @@
 //! this global frame, in the rest (reference) configuration.
 
 pub mod check;
+pub mod modal;
 pub mod toml_file;
 
 use serde::{Deserialize, Serialize};
@@ -27,9 +28,12 @@ pub struct Model {
     pub gravity: V3,
     /// The suspended tub assembly: 6 rigid DOF (subsystem 1).
     pub tub: Tub,
-    /// The cabinet: fixed until elastic bodies arrive (subsystem 2 then holds its modes).
+    /// The cabinet: the fixed ground frame unless an `elastic` entry gives it modes.
     #[serde(default)]
     pub cabinet: Cabinet,
+    /// Elastic bodies: modal data files for the tub, the drum and the cabinet.
+    #[serde(default)]
+    pub elastic: Vec<Elastic>,
     /// Rotors turning with prescribed speed about axes fixed in the tub (drum, motor rotor).
     #[serde(default)]
     pub rotors: Vec<Rotor>,
@@ -73,10 +77,30 @@ pub struct Tub {
 /// The cabinet. Without modes it is the fixed ground frame.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct Cabinet {
-    /// Modal data file (elastic-bodies issue); `None`: rigid and fixed.
+pub struct Cabinet {}
+
+/// An elastic body: its modal data file and how much of it to use.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Elastic {
+    /// The body: `tub`, `drum` or `cabinet`.
+    pub name: String,
+    /// Modal data file (`washdyn fe write`), relative to the model file (TOML) or to the
+    /// crate (`machine!`).
+    pub file: String,
+    /// Keep the first `modes` modes of the file; all when absent.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub modes: Option<String>,
+    pub modes: Option<usize>,
+    /// Modal damping ratio of every mode (the FE model gives none; reference: 2 % of critical).
+    #[serde(default = "two_percent")]
+    pub damping: f64,
+    /// The file's content, read by `modal::resolve` (both front ends), truncated to `modes`.
+    #[serde(skip)]
+    pub data: Option<modal::ModalData>,
+}
+
+fn two_percent() -> f64 {
+    0.02
 }
 
 /// A body a force element or sensor can attach to.

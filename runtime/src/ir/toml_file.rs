@@ -87,12 +87,16 @@ pub fn load_str(src: &str, file: &str, base: &FsPath) -> Result<Model, ModelFile
         let p = base.join(&csv);
         model.speed.table = read_speed_csv(&p).map_err(|e| ModelFileError { errors: vec![e] })?;
     }
-    check(&model).map_err(|errs| ModelFileError {
-        errors: errs
-            .into_iter()
-            .map(|CheckError { path, message }| at(span_of(src, &path), message))
-            .collect(),
-    })?;
+    let (_, mut errs) = super::modal::resolve(&mut model, base);
+    errs.extend(check(&model).err().unwrap_or_default());
+    if !errs.is_empty() {
+        return Err(ModelFileError {
+            errors: errs
+                .into_iter()
+                .map(|CheckError { path, message }| at(span_of(src, &path), message))
+                .collect(),
+        });
+    }
     Ok(model)
 }
 

@@ -5,7 +5,9 @@
 
 pub mod bodies;
 pub mod ccx;
+pub mod dat;
 pub mod deck;
 pub mod frd;
 pub mod lumping;
 pub mod mesh;
+pub mod modal;

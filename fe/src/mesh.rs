@@ -275,7 +275,10 @@ impl Mesh {
                         p.name, material.name
                     ))
                     .line(&format!("{width:e}, {height:e}"))
-                    .line(&format!("{:e}, {:e}, {:e}", normal[0], normal[1], normal[2]));
+                    .line(&format!(
+                        "{:e}, {:e}, {:e}",
+                        normal[0], normal[1], normal[2]
+                    ));
                 }
                 Section::Mass { kg } => {
                     d.line(&format!("*MASS, ELSET={}", p.name))
@@ -290,8 +293,7 @@ impl Mesh {
             }
         }
         if !self.rigid.is_empty() {
-            let rot: Vec<usize> = self.rigid.iter().map(|r| r.rot_node).collect();
-            d.nset("WD_ROT", &rot);
+            d.nset("WD_PRINT", &self.printed_nodes());
         }
         for r in &self.rigid {
             d.line(&format!(
@@ -308,12 +310,27 @@ impl Mesh {
         d
     }
 
-    /// Mode shapes at the original nodes (`.frd`), the rigid parts' ROT NODEs and the mass
-    /// properties (`.dat`).
+    /// Nodes whose motion the `.dat` must print: ccx's `.frd` with `OUTPUT=2D` holds only the
+    /// nodes of structural elements, so the rigid parts' own nodes (point masses), REF and ROT
+    /// nodes (the rotation) come from a `*NODE PRINT`.
+    pub fn printed_nodes(&self) -> Vec<usize> {
+        let mut v: Vec<usize> = Vec::new();
+        for r in &self.rigid {
+            v.extend(self.nsets.get(&r.nset).into_iter().flatten());
+            v.push(r.ref_node);
+            v.push(r.rot_node);
+        }
+        v.sort_unstable();
+        v.dedup();
+        v
+    }
+
+    /// Mode shapes at the original nodes (`.frd`), the rigid parts' nodes and rotations and the
+    /// mass properties (`.dat`).
     pub fn output_requests(&self, d: &mut Deck) {
         d.line("*NODE FILE, OUTPUT=2D").line("U");
         if !self.rigid.is_empty() {
-            d.line("*NODE PRINT, NSET=WD_ROT").line("U");
+            d.line("*NODE PRINT, NSET=WD_PRINT").line("U");
         }
         d.line("*EL PRINT, ELSET=EALL, TOTALS=ONLY").line("EMAS");
     }

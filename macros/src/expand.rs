@@ -12,8 +12,8 @@ use std::path::Path as FsPath;
 use washdyn_runtime::codegen::generate;
 use washdyn_runtime::ir::check::{CheckError, Path, Seg, check};
 use washdyn_runtime::ir::{
-    Cabinet, Elastic, FrictionDamper, Gasket, LinearDamper, Model, Rotor, Scene, Sensor, SpeedProfile,
-    Spring, Tub, Unbalance, V3,
+    Cabinet, Elastic, FrictionDamper, Gasket, LinearDamper, Model, Rotor, Scene, Sensor,
+    SpeedProfile, Spring, Tub, Unbalance, V3,
 };
 
 /// The macro: tokens in, a module (or `compile_error!`s) out. `dir` is the calling crate's

@@ -254,7 +254,11 @@ pub fn problems(d: &ModalData) -> Vec<String> {
     }
     for (i, p) in d.points.iter().enumerate() {
         for a in 0..3 {
-            dims(format!("points[{i}] ({}).w[{}]", p.name, xyz[a]), &p.w[a], n);
+            dims(
+                format!("points[{i}] ({}).w[{}]", p.name, xyz[a]),
+                &p.w[a],
+                n,
+            );
             dims(
                 format!("points[{i}] ({}).phi[{}]", p.name, xyz[a]),
                 &p.phi[a],
@@ -350,8 +354,14 @@ pub(crate) mod tests {
         d.frequencies[0] = -1.0;
         d.points[0].w[1].push(0.0);
         let p = problems(&d);
-        assert!(p.iter().any(|m| m.starts_with("elementary.g[z][z]: expected 4")));
-        assert!(p.iter().any(|m| m.starts_with("frequencies[0]: must be positive")));
+        assert!(
+            p.iter()
+                .any(|m| m.starts_with("elementary.g[z][z]: expected 4"))
+        );
+        assert!(
+            p.iter()
+                .any(|m| m.starts_with("frequencies[0]: must be positive"))
+        );
         assert!(p.iter().any(|m| m.starts_with("points[0] (FOOT_1).w[y]")));
         let mut d = tiny();
         d.elementary.g[2][2][3] = 1.2;

@@ -1,0 +1,389 @@
+//! FE results -> modal data: the kept modes, the seed paper's elementary matrices over HRZ
+//! masses (with the attached rigid parts through their CoG and inertia), and the mode shapes at
+//! the named points (a rigid fit of each node set).
+
+use crate::frd::Frd;
+use crate::lumping::{Lumped, RigidLump};
+use crate::mesh::Mesh;
+use std::collections::HashMap;
+use washdyn_runtime::ir::modal::{ElasticBodyKind, Elementary, ModalData, ModalPoint, Support};
+
+/// Which modes to keep.
+#[derive(Clone, Copy, Debug)]
+pub struct Keep {
+    /// Modes below this (Hz) are rigid-body modes and dropped (free-free bodies).
+    pub rigid_below_hz: f64,
+    /// Keep elastic modes up to this frequency (Hz) ...
+    pub max_hz: f64,
+    /// ... and at most this many.
+    pub max_modes: usize,
+}
+
+/// One mode's nodal translations by node id, and the rigid parts' rotations.
+pub struct Shapes {
+    pub frequency_hz: f64,
+    pub w: HashMap<usize, [f64; 3]>,
+    /// ROT NODE id -> rotation vector.
+    pub rot: HashMap<usize, [f64; 3]>,
+}
+
+/// Pair the `.frd` modes with the `.dat` node prints (same order; the rigid parts' nodes, and
+/// their ROT NODEs' rotations) and keep the wanted modes.
+pub fn select(
+    mesh: &Mesh,
+    frd: &Frd,
+    prints: &[Vec<(usize, [f64; 3])>],
+    keep: Keep,
+) -> Result<Vec<Shapes>, String> {
+    if !prints.is_empty() && prints.len() != frd.modes.len() {
+        return Err(format!(
+            "the .dat prints nodes for {} modes, the .frd has {}",
+            prints.len(),
+            frd.modes.len()
+        ));
+    }
+    let rot_ids: Vec<usize> = mesh.rigid.iter().map(|r| r.rot_node).collect();
+    let mut out = Vec::new();
+    for (i, m) in frd.modes.iter().enumerate() {
+        if m.frequency_hz < keep.rigid_below_hz {
+            continue;
+        }
+        if m.frequency_hz > keep.max_hz || out.len() == keep.max_modes {
+            break;
+        }
+        let mut w: HashMap<usize, [f64; 3]> = m.disp.iter().copied().collect();
+        let mut rot = HashMap::new();
+        for &(id, v) in prints.get(i).into_iter().flatten() {
+            if rot_ids.contains(&id) {
+                rot.insert(id, v);
+            } else {
+                w.entry(id).or_insert(v);
+            }
+        }
+        out.push(Shapes {
+            frequency_hz: m.frequency_hz,
+            w,
+            rot,
+        });
+    }
+    Ok(out)
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+
+/// Second moments J = sum dm r r^T about the CoG from the inertia tensor I = tr(J) E - J.
+fn second_moments(i: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    let half_tr = 0.5 * (i[0][0] + i[1][1] + i[2][2]);
+    std::array::from_fn(|a| std::array::from_fn(|b| if a == b { half_tr } else { 0.0 } - i[a][b]))
+}
+
+/// A rigid part's motion in one mode: translation of its CoG and rotation.
+fn rigid_motion(mesh: &Mesh, r: &RigidLump, s: &Shapes) -> Result<([f64; 3], [f64; 3]), String> {
+    let theta = *s
+        .rot
+        .get(&r.rot_node)
+        .ok_or_else(|| format!("no rotation printed for ROT NODE {}", r.rot_node))?;
+    let w_ref =
+        *s.w.get(&r.ref_node)
+            .ok_or_else(|| format!("no displacement for REF NODE {}", r.ref_node))?;
+    let arm = sub(r.cog, mesh.nodes[r.ref_node - 1]);
+    Ok((add(w_ref, cross(theta, arm)), theta))
+}
+
+/// The elementary matrices of the kept modes: sums over the nodes with HRZ masses, plus, for
+/// each rigid part of mass m, CoG c and second moments J about c, moving with W_c + theta x rho
+/// (the seed paper's expansion for attached rigid parts, fig. 3):
+/// sum dm W_a = m W_c,a; sum dm x_a W_b = m c_a W_c,b + (theta x J_a)_b with J_a = row a of J;
+/// sum dm W_a,k W_b,l = m W_c,a,k W_c,b,l + sum_df eps_acd eps_bef theta_c,k theta_e,l J_df.
+pub fn elementary(mesh: &Mesh, lumped: &Lumped, modes: &[Shapes]) -> Result<Elementary, String> {
+    let n = modes.len();
+    let mut c: [Vec<f64>; 3] = std::array::from_fn(|_| vec![0.0; n]);
+    let mut s: [[Vec<f64>; 3]; 3] = std::array::from_fn(|_| std::array::from_fn(|_| vec![0.0; n]));
+    let mut g: [[Vec<f64>; 3]; 3] =
+        std::array::from_fn(|_| std::array::from_fn(|_| vec![0.0; n * n]));
+    for (i, &dm) in lumped.node_mass.iter().enumerate() {
+        if dm == 0.0 {
+            continue;
+        }
+        let id = i + 1;
+        let x0 = mesh.nodes[i];
+        let w: Vec<[f64; 3]> = modes
+            .iter()
+            .map(|m| {
+                m.w.get(&id)
+                    .copied()
+                    .ok_or_else(|| format!("node {id} has mass but no mode shape in the .frd"))
+            })
+            .collect::<Result<_, _>>()?;
+        for k in 0..n {
+            for a in 0..3 {
+                c[a][k] += dm * w[k][a];
+                for b in 0..3 {
+                    s[a][b][k] += dm * x0[a] * w[k][b];
+                }
+            }
+        }
+        for a in 0..3 {
+            for b in 0..3 {
+                let gab = &mut g[a][b];
+                for k in 0..n {
+                    let wk = dm * w[k][a];
+                    for l in 0..n {
+                        gab[k * n + l] += wk * w[l][b];
+                    }
+                }
+            }
+        }
+    }
+    for r in lumped.rigid.iter().filter(|r| r.mass > 0.0) {
+        let j = second_moments(&r.inertia);
+        let motion: Vec<([f64; 3], [f64; 3])> = modes
+            .iter()
+            .map(|s| rigid_motion(mesh, r, s))
+            .collect::<Result<_, _>>()?;
+        for (k, (wc, th)) in motion.iter().enumerate() {
+            for a in 0..3 {
+                c[a][k] += r.mass * wc[a];
+                let tj = cross(*th, j[a]);
+                for b in 0..3 {
+                    s[a][b][k] += r.mass * r.cog[a] * wc[b] + tj[b];
+                }
+            }
+        }
+        for a in 0..3 {
+            for b in 0..3 {
+                for k in 0..n {
+                    for l in 0..n {
+                        let (wk, tk) = motion[k];
+                        let (wl, tl) = motion[l];
+                        // sum dm (theta_k x rho)_a (theta_l x rho)_b
+                        let mut rot = 0.0;
+                        for d in 0..3 {
+                            for f in 0..3 {
+                                let ea = eps_row(a, d, tk);
+                                let eb = eps_row(b, f, tl);
+                                rot += ea * eb * j[d][f];
+                            }
+                        }
+                        g[a][b][k * n + l] += r.mass * wk[a] * wl[b] + rot;
+                    }
+                }
+            }
+        }
+    }
+    Ok(Elementary { c, s, g })
+}
+
+/// sum_c eps_acd theta_c: the (a, d) entry of theta~ (cross-product matrix).
+fn eps_row(a: usize, d: usize, t: [f64; 3]) -> f64 {
+    let m = [[0.0, -t[2], t[1]], [t[2], 0.0, -t[0]], [-t[1], t[0], 0.0]];
+    m[a][d]
+}
+
+/// Least-squares rigid motion of the nodes `ids` in one mode, as (translation at the nodes'
+/// centroid, rotation, centroid). Rotations the nodes do not determine (one node, or about the
+/// line through collinear nodes) are zero.
+pub fn rigid_fit(
+    mesh: &Mesh,
+    ids: &[usize],
+    w: &HashMap<usize, [f64; 3]>,
+) -> Option<([f64; 3], [f64; 3], [f64; 3])> {
+    let pts: Vec<([f64; 3], [f64; 3])> = ids
+        .iter()
+        .filter_map(|id| w.get(id).map(|v| (mesh.nodes[id - 1], *v)))
+        .collect();
+    if pts.is_empty() {
+        return None;
+    }
+    let n = pts.len() as f64;
+    let mut c = [0.0; 3];
+    let mut u = [0.0; 3];
+    for (x, v) in &pts {
+        for i in 0..3 {
+            c[i] += x[i] / n;
+            u[i] += v[i] / n;
+        }
+    }
+    // A theta = sum r x w, A = sum (|r|^2 E - r r^T).
+    let mut a = nalgebra::Matrix3::<f64>::zeros();
+    let mut b = nalgebra::Vector3::<f64>::zeros();
+    for (x, v) in &pts {
+        let r = sub(*x, c);
+        let rr = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+        for i in 0..3 {
+            for j in 0..3 {
+                a[(i, j)] += if i == j { rr } else { 0.0 } - r[i] * r[j];
+            }
+        }
+        let t = cross(r, *v);
+        for i in 0..3 {
+            b[i] += t[i];
+        }
+    }
+    let e = a.symmetric_eigen();
+    let top = e.eigenvalues.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let mut theta = nalgebra::Vector3::zeros();
+    for k in 0..3 {
+        let lam = e.eigenvalues[k];
+        if top > 0.0 && lam > 1e-8 * top {
+            let v = e.eigenvectors.column(k);
+            theta += v * (v.dot(&b) / lam);
+        }
+    }
+    Some((u, [theta[0], theta[1], theta[2]], c))
+}
+
+/// The mode shapes at `position` of the node set `nset`: the rigid fit of the set, per mode.
+pub fn point(
+    mesh: &Mesh,
+    nset: &str,
+    position: [f64; 3],
+    modes: &[Shapes],
+) -> Result<ModalPoint, String> {
+    let ids = mesh
+        .nsets
+        .get(nset)
+        .ok_or_else(|| format!("no node set {nset}"))?;
+    let n = modes.len();
+    let mut w: [Vec<f64>; 3] = std::array::from_fn(|_| vec![0.0; n]);
+    let mut phi: [Vec<f64>; 3] = std::array::from_fn(|_| vec![0.0; n]);
+    let mut used = 0;
+    for (k, m) in modes.iter().enumerate() {
+        let (u, th, c) = rigid_fit(mesh, ids, &m.w)
+            .ok_or_else(|| format!("node set {nset}: no node has a mode shape"))?;
+        used = ids.iter().filter(|id| m.w.contains_key(id)).count();
+        let wp = add(u, cross(th, sub(position, c)));
+        for a in 0..3 {
+            w[a][k] = wp[a];
+            phi[a][k] = th[a];
+        }
+    }
+    Ok(ModalPoint {
+        name: nset.to_string(),
+        position,
+        nodes: used,
+        w,
+        phi,
+    })
+}
+
+/// Everything for one body's modal data file.
+pub struct Import<'a> {
+    pub body: ElasticBodyKind,
+    pub support: Support,
+    pub source: String,
+    pub mesh: &'a Mesh,
+    pub lumped: &'a Lumped,
+    pub modes: &'a [Shapes],
+    /// (node set, point) of every marker and sensor on the body.
+    pub points: &'a [(&'a str, [f64; 3])],
+}
+
+impl Import<'_> {
+    pub fn modal_data(&self) -> Result<ModalData, String> {
+        let props = self.lumped.mass_props(self.mesh);
+        let points = self
+            .points
+            .iter()
+            .map(|(set, p)| point(self.mesh, set, *p, self.modes))
+            .collect::<Result<_, _>>()?;
+        Ok(ModalData {
+            body: self.body,
+            support: self.support,
+            source: self.source.clone(),
+            frequencies: self.modes.iter().map(|m| m.frequency_hz).collect(),
+            mass: props.mass,
+            cog: props.cog,
+            inertia: props.inertia,
+            elementary: elementary(self.mesh, self.lumped, self.modes)?,
+            points,
+            geometric_stiffness: None,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rigid_fit_recovers_a_rigid_motion_and_leaves_undetermined_rotation_zero() {
+        let mut m = Mesh::new("t");
+        let ids: Vec<usize> = [
+            [0.0, 0.0, 0.0],
+            [0.1, 0.0, 0.0],
+            [0.0, 0.2, 0.0],
+            [0.0, 0.0, 0.3],
+        ]
+        .iter()
+        .map(|p| m.node(*p))
+        .collect();
+        let (u0, th0) = ([1e-3, -2e-3, 0.5e-3], [0.01, -0.02, 0.03]);
+        let w: HashMap<usize, [f64; 3]> = ids
+            .iter()
+            .map(|&id| (id, add(u0, cross(th0, m.nodes[id - 1]))))
+            .collect();
+        let (u, th, c) = rigid_fit(&m, &ids, &w).unwrap();
+        let at_origin = add(u, cross(th, sub([0.0; 3], c)));
+        for i in 0..3 {
+            assert!((th[i] - th0[i]).abs() < 1e-14);
+            assert!((at_origin[i] - u0[i]).abs() < 1e-15);
+        }
+        // Two nodes on the x axis: the rotation about x is not seen, so it is zero.
+        let (_, th, _) = rigid_fit(&m, &ids[..2], &w).unwrap();
+        assert!(
+            th[0].abs() < 1e-15 && (th[2] - th0[2]).abs() < 1e-14,
+            "{th:?}"
+        );
+    }
+}
+
+/// A body's FE model solved by ccx: the run, its modes and the rigid parts' rotations.
+pub struct Solved {
+    pub run: crate::ccx::CcxRun,
+    pub frd: Frd,
+    /// The `.dat`'s node prints per mode (`Mesh::printed_nodes`).
+    pub prints: Vec<Vec<(usize, [f64; 3])>>,
+    pub dat: String,
+}
+
+/// Write `mesh`'s frequency deck for `modes` eigenmodes as `<dir>/<job>.inp`, run ccx, read back.
+pub fn solve(
+    mesh: &Mesh,
+    dir: &std::path::Path,
+    job: &str,
+    modes: usize,
+) -> Result<Solved, String> {
+    let deck = dir.join(format!("{job}.inp"));
+    std::fs::write(&deck, mesh.deck(modes).text())
+        .map_err(|e| format!("{}: {e}", deck.display()))?;
+    let run = crate::ccx::run(&deck).map_err(|e| e.to_string())?;
+    let read = |p: std::path::PathBuf| {
+        std::fs::read_to_string(&p).map_err(|e| format!("{}: {e}", p.display()))
+    };
+    let frd = crate::frd::parse(&read(run.frd())?).map_err(|e| format!("{job}.frd: {e}"))?;
+    let dat = read(run.dat())?;
+    let prints = if mesh.rigid.is_empty() {
+        Vec::new()
+    } else {
+        crate::dat::node_prints(&dat, "WD_PRINT").map_err(|e| format!("{job}.dat: {e}"))?
+    };
+    Ok(Solved {
+        run,
+        frd,
+        prints,
+        dat,
+    })
+}

@@ -2,8 +2,11 @@
 //! "displacements (vx,vy,vz) for set NAME and time ..." with one line per node. For a rigid
 //! part's ROT NODE that "displacement" is the part's rotation vector (rad).
 
+/// One mode's printed nodes: (node id, three values).
+pub type Print = Vec<(usize, [f64; 3])>;
+
 /// Per eigenmode (in file order), the printed nodes of set `set` with their three values.
-pub fn node_prints(dat: &str, set: &str) -> Result<Vec<Vec<(usize, [f64; 3])>>, String> {
+pub fn node_prints(dat: &str, set: &str) -> Result<Vec<Print>, String> {
     let head = format!("for set {} and time", set.to_ascii_uppercase());
     let mut out = Vec::new();
     let mut lines = dat.lines().enumerate().peekable();

@@ -3,6 +3,9 @@
 //! does. So far: the deck writer, the ccx runner with its error detection, and the closed-form
 //! check decks; the machine's bodies and the modal-data import are to come (issue 8).
 
+// Index loops read as the formulas they implement (sums over axes and modes).
+#![allow(clippy::needless_range_loop)]
+
 pub mod bodies;
 pub mod ccx;
 pub mod dat;

@@ -237,10 +237,10 @@ impl Mesh {
         }
         let mut mats: Vec<&Material> = Vec::new();
         for p in &self.parts {
-            if let Some(m) = p.section.material() {
-                if !mats.iter().any(|q| q.name == m.name) {
-                    mats.push(m);
-                }
+            if let Some(m) = p.section.material()
+                && !mats.iter().any(|q| q.name == m.name)
+            {
+                mats.push(m);
             }
         }
         for m in mats {

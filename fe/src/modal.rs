@@ -314,42 +314,6 @@ impl Import<'_> {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn rigid_fit_recovers_a_rigid_motion_and_leaves_undetermined_rotation_zero() {
-        let mut m = Mesh::new("t");
-        let ids: Vec<usize> = [
-            [0.0, 0.0, 0.0],
-            [0.1, 0.0, 0.0],
-            [0.0, 0.2, 0.0],
-            [0.0, 0.0, 0.3],
-        ]
-        .iter()
-        .map(|p| m.node(*p))
-        .collect();
-        let (u0, th0) = ([1e-3, -2e-3, 0.5e-3], [0.01, -0.02, 0.03]);
-        let w: HashMap<usize, [f64; 3]> = ids
-            .iter()
-            .map(|&id| (id, add(u0, cross(th0, m.nodes[id - 1]))))
-            .collect();
-        let (u, th, c) = rigid_fit(&m, &ids, &w).unwrap();
-        let at_origin = add(u, cross(th, sub([0.0; 3], c)));
-        for i in 0..3 {
-            assert!((th[i] - th0[i]).abs() < 1e-14);
-            assert!((at_origin[i] - u0[i]).abs() < 1e-15);
-        }
-        // Two nodes on the x axis: the rotation about x is not seen, so it is zero.
-        let (_, th, _) = rigid_fit(&m, &ids[..2], &w).unwrap();
-        assert!(
-            th[0].abs() < 1e-15 && (th[2] - th0[2]).abs() < 1e-14,
-            "{th:?}"
-        );
-    }
-}
-
 /// A body's FE model solved by ccx: the run, its modes and the rigid parts' rotations.
 pub struct Solved {
     pub run: crate::ccx::CcxRun,
@@ -386,4 +350,40 @@ pub fn solve(
         prints,
         dat,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rigid_fit_recovers_a_rigid_motion_and_leaves_undetermined_rotation_zero() {
+        let mut m = Mesh::new("t");
+        let ids: Vec<usize> = [
+            [0.0, 0.0, 0.0],
+            [0.1, 0.0, 0.0],
+            [0.0, 0.2, 0.0],
+            [0.0, 0.0, 0.3],
+        ]
+        .iter()
+        .map(|p| m.node(*p))
+        .collect();
+        let (u0, th0) = ([1e-3, -2e-3, 0.5e-3], [0.01, -0.02, 0.03]);
+        let w: HashMap<usize, [f64; 3]> = ids
+            .iter()
+            .map(|&id| (id, add(u0, cross(th0, m.nodes[id - 1]))))
+            .collect();
+        let (u, th, c) = rigid_fit(&m, &ids, &w).unwrap();
+        let at_origin = add(u, cross(th, sub([0.0; 3], c)));
+        for i in 0..3 {
+            assert!((th[i] - th0[i]).abs() < 1e-14);
+            assert!((at_origin[i] - u0[i]).abs() < 1e-15);
+        }
+        // Two nodes on the x axis: the rotation about x is not seen, so it is zero.
+        let (_, th, _) = rigid_fit(&m, &ids[..2], &w).unwrap();
+        assert!(
+            th[0].abs() < 1e-15 && (th[2] - th0[2]).abs() < 1e-14,
+            "{th:?}"
+        );
+    }
 }

@@ -36,7 +36,7 @@ fn steel() -> Material {
 fn small_body(nx: usize, ny: usize) -> Mesh {
     let mut m = Mesh::new("small free-free body");
     let (a, b) = (0.3, 0.2);
-    let mut grid = |i: usize, j: usize, m: &mut Mesh| {
+    let grid = |i: usize, j: usize, m: &mut Mesh| {
         m.node([
             a * i as f64 / (2 * nx) as f64,
             b * j as f64 / (2 * ny) as f64,
@@ -256,9 +256,9 @@ fn small_body_through_ccx_to_modal_data() {
     // A single-node point: its own translation, no rotation.
     let corner = data.point("CORNER").unwrap();
     let id = mesh.nsets["CORNER"][0];
-    for k in 0..n {
+    for (k, m) in modes.iter().enumerate() {
         for a in 0..3 {
-            assert_eq!(corner.w[a][k], modes[k].w[&id][a]);
+            assert_eq!(corner.w[a][k], m.w[&id][a]);
             assert_eq!(corner.phi[a][k], 0.0);
         }
     }

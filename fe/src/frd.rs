@@ -52,7 +52,8 @@ pub fn parse(text: &str) -> Result<Frd, String> {
                     frd.nodes.push(record(l, k + 1)?);
                 }
             }
-        } else if t.starts_with("100CL") {
+        } else if t.starts_with("100CL") && t.contains("MODAL") {
+            // Eigenmodes only; a static step's result block (same card, no MODAL) is skipped.
             let f: Vec<&str> = t.split_whitespace().collect();
             let frequency_hz = f
                 .get(2)

@@ -14,3 +14,4 @@ pub mod frd;
 pub mod lumping;
 pub mod mesh;
 pub mod modal;
+pub mod rotating;

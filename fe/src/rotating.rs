@@ -1,0 +1,249 @@
+//! What a spinning body needs beyond its modes at rest: the geometric stiffness of the
+//! centrifugal prestress, per Omega^2, in modal coordinates.
+//!
+//! CalculiX computes the prestressed body (`*STATIC` with a `CENTRIF` load, then a
+//! `*FREQUENCY` perturbation step about that state). Its perturbation stiffness is
+//! K + Omega^2 (K_G - M_perp): stress stiffening and spin softening (measured on a radial
+//! square beam with ccx 2.20: lead-lag and flap eigenvalues part by exactly Omega^2). We express
+//! the modes at rest Phi in the prestressed modes Psi (mass-weighted least squares, Phi ~ Psi A,
+//! with more prestressed modes than kept ones) and get Phi^T K_Omega Phi = A^T Lambda A, since
+//! Psi^T K_Omega Psi = Lambda for mass-normalised Psi. Then
+//! K_G / Omega^2 = (A^T Lambda A - diag(omega_0^2)) / Omega^2 + S_perp, with
+//! S_perp = sum dm W^T (E - e e^T) W from the elementary matrices, so that the equations' own
+//! spin-softening term plus this K_G give back ccx's prestressed stiffness. The residual of the
+//! fit is the truncation error, reported.
+
+use crate::frd::Frd;
+use crate::lumping::Lumped;
+use crate::mesh::{Mesh, Section};
+use crate::modal::Shapes;
+use nalgebra::DMatrix;
+use washdyn_runtime::ir::modal::{Elementary, GeometricStiffness};
+
+/// The deck of the prestressed body at `omega` (rad/s) about `axis` through `axis_point`:
+/// a `*STATIC` step with the centrifugal load on every element with density, then a
+/// `*FREQUENCY` perturbation step for `modes` eigenmodes about that state.
+pub fn prestressed_deck(
+    mesh: &Mesh,
+    omega: f64,
+    axis_point: [f64; 3],
+    axis: [f64; 3],
+    modes: usize,
+) -> crate::deck::Deck {
+    let mut d = mesh.model_deck();
+    let loaded: Vec<&str> = mesh
+        .parts
+        .iter()
+        .filter(|p| p.section.material().is_some() && !matches!(p.section, Section::Mass { .. }))
+        .map(|p| p.name.as_str())
+        .collect();
+    d.line("*ELSET, ELSET=WD_SPIN");
+    for c in loaded.chunks(8) {
+        d.line(&c.join(", "));
+    }
+    let n = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
+    let load = format!(
+        "WD_SPIN, CENTRIF, {:e}, {:e}, {:e}, {:e}, {:e}, {:e}, {:e}",
+        omega * omega,
+        axis_point[0],
+        axis_point[1],
+        axis_point[2],
+        axis[0] / n,
+        axis[1] / n,
+        axis[2] / n
+    );
+    // OUTPUT=2D in the static step too: otherwise ccx 2.20 writes the perturbation modes at
+    // its expanded 3-D nodes (seen on a beam: 248 nodes instead of 41).
+    d.line("*STEP")
+        .line("*STATIC")
+        .line("*NODE FILE, OUTPUT=2D")
+        .line("U")
+        .line("*DLOAD")
+        .line(&load)
+        .line("*END STEP")
+        .line("*STEP, PERTURBATION")
+        .line("*FREQUENCY")
+        .line(&modes.to_string())
+        .line("*DLOAD")
+        .line(&load);
+    mesh.output_requests(&mut d);
+    d.line("*END STEP");
+    d
+}
+
+/// Solve the prestressed deck and return its modes (all of them, none dropped).
+pub fn solve_prestressed(
+    mesh: &Mesh,
+    dir: &std::path::Path,
+    job: &str,
+    omega: f64,
+    axis_point: [f64; 3],
+    axis: [f64; 3],
+    modes: usize,
+) -> Result<(Frd, Vec<Shapes>), String> {
+    let deck = dir.join(format!("{job}.inp"));
+    std::fs::write(
+        &deck,
+        prestressed_deck(mesh, omega, axis_point, axis, modes).text(),
+    )
+    .map_err(|e| format!("{}: {e}", deck.display()))?;
+    let run = crate::ccx::run(&deck).map_err(|e| e.to_string())?;
+    let read = |p: std::path::PathBuf| {
+        std::fs::read_to_string(&p).map_err(|e| format!("{}: {e}", p.display()))
+    };
+    let frd = crate::frd::parse(&read(run.frd())?).map_err(|e| format!("{job}.frd: {e}"))?;
+    let prints = if mesh.rigid.is_empty() {
+        Vec::new()
+    } else {
+        crate::dat::node_prints(&read(run.dat())?, "WD_PRINT")
+            .map_err(|e| format!("{job}.dat: {e}"))?
+    };
+    let keep = crate::modal::Keep {
+        rigid_below_hz: f64::NEG_INFINITY,
+        max_hz: f64::INFINITY,
+        max_modes: usize::MAX,
+    };
+    let shapes = crate::modal::select(mesh, &frd, &prints, keep)?;
+    Ok((frd, shapes))
+}
+
+/// The extraction's result: K_G per Omega^2 and how well the prestressed modes span the kept
+/// ones (per kept mode, the mass-weighted relative residual of Phi ~ Psi A).
+pub struct Extracted {
+    pub stiffness: GeometricStiffness,
+    pub residual: Vec<f64>,
+}
+
+/// K_G / Omega^2 from the kept modes at rest `base` and the prestressed modes `pre` at `omega`.
+pub fn geometric_stiffness(
+    lumped: &Lumped,
+    base: &[Shapes],
+    pre: &[Shapes],
+    elementary: &Elementary,
+    omega: f64,
+    axis_point: [f64; 3],
+    axis: [f64; 3],
+) -> Result<Extracted, String> {
+    let (n, m) = (base.len(), pre.len());
+    if m < n {
+        return Err(format!(
+            "{m} prestressed modes cannot represent {n} kept modes"
+        ));
+    }
+    // Mass-weighted rows: sqrt(dm) times each translation component.
+    let nodes: Vec<(usize, f64)> = lumped
+        .node_mass
+        .iter()
+        .enumerate()
+        .filter(|(_, dm)| **dm > 0.0)
+        .map(|(i, dm)| (i + 1, dm.sqrt()))
+        .collect();
+    let rows = 3 * nodes.len();
+    let fill = |modes: &[Shapes]| -> Result<DMatrix<f64>, String> {
+        let mut a = DMatrix::zeros(rows, modes.len());
+        for (k, s) in modes.iter().enumerate() {
+            for (r, (id, sq)) in nodes.iter().enumerate() {
+                let w =
+                    s.w.get(id)
+                        .ok_or_else(|| format!("node {id}: no mode shape"))?;
+                for c in 0..3 {
+                    a[(3 * r + c, k)] = sq * w[c];
+                }
+            }
+        }
+        Ok(a)
+    };
+    let phi = fill(base)?;
+    let psi = fill(pre)?;
+    let a = psi
+        .clone()
+        .svd(true, true)
+        .solve(&phi, 1e-12)
+        .map_err(|e| e.to_string())?;
+    let fit = &psi * &a;
+    let residual = (0..n)
+        .map(|k| (phi.column(k) - fit.column(k)).norm() / phi.column(k).norm())
+        .collect();
+    let lambda = DMatrix::from_diagonal(&nalgebra::DVector::from_iterator(
+        m,
+        pre.iter()
+            .map(|s| (2.0 * std::f64::consts::PI * s.frequency_hz).powi(2)),
+    ));
+    let k_omega = a.transpose() * lambda * &a;
+    let e = {
+        let l = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
+        [axis[0] / l, axis[1] / l, axis[2] / l]
+    };
+    let mut per = vec![0.0; n * n];
+    for k in 0..n {
+        for l in 0..n {
+            let w0 = if k == l {
+                (2.0 * std::f64::consts::PI * base[k].frequency_hz).powi(2)
+            } else {
+                0.0
+            };
+            let sym = 0.5 * (k_omega[(k, l)] + k_omega[(l, k)]);
+            let mut s_perp = 0.0;
+            for a in 0..3 {
+                for b in 0..3 {
+                    let p = if a == b { 1.0 } else { 0.0 } - e[a] * e[b];
+                    s_perp += p * elementary.g[a][b][k * n + l];
+                }
+            }
+            per[k * n + l] = (sym - w0) / (omega * omega) + s_perp;
+        }
+    }
+    // Symmetric by construction of both parts; make the round-off so too.
+    for k in 0..n {
+        for l in 0..k {
+            let v = 0.5 * (per[k * n + l] + per[l * n + k]);
+            per[k * n + l] = v;
+            per[l * n + k] = v;
+        }
+    }
+    Ok(Extracted {
+        stiffness: GeometricStiffness {
+            axis_point,
+            axis: e,
+            per_omega2: per,
+            reference_speed: omega,
+        },
+        residual,
+    })
+}
+
+/// Frequencies (Hz) of the reduced model spinning at `omega` without Coriolis: the eigenvalues
+/// of diag(omega_0^2) + Omega^2 (K_G - S_perp) with the identity as modal mass. What ccx's
+/// `*FREQUENCY` perturbation step computes, from the stored data alone.
+pub fn reduced_frequencies(
+    frequencies: &[f64],
+    elementary: &Elementary,
+    kg: &GeometricStiffness,
+    omega: f64,
+) -> Vec<f64> {
+    let n = frequencies.len();
+    let e = kg.axis;
+    let mut k = DMatrix::<f64>::zeros(n, n);
+    for i in 0..n {
+        for j in 0..n {
+            let mut s_perp = 0.0;
+            for a in 0..3 {
+                for b in 0..3 {
+                    let p = if a == b { 1.0 } else { 0.0 } - e[a] * e[b];
+                    s_perp += p * elementary.g[a][b][i * n + j];
+                }
+            }
+            k[(i, j)] = omega * omega * (kg.per_omega2[i * n + j] - s_perp);
+        }
+        k[(i, i)] += (2.0 * std::f64::consts::PI * frequencies[i]).powi(2);
+    }
+    let k = 0.5 * (&k + k.transpose());
+    let mut ev: Vec<f64> = k
+        .symmetric_eigen()
+        .eigenvalues
+        .iter()
+        .map(|l| l.max(0.0).sqrt() / (2.0 * std::f64::consts::PI))
+        .collect();
+    ev.sort_by(f64::total_cmp);
+    ev
+}

@@ -156,3 +156,38 @@ fn speed_csv_errors_have_lines() {
     assert_eq!(m.speed.table.len(), 3);
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Modal data files go through the one resolver and the one checker: a file of the wrong size
+/// is reported at the model's `file = ..` line, naming the modal file and its field; a file
+/// that is not TOML names its own line.
+#[test]
+fn modal_data_errors_name_the_model_line_the_file_and_the_field() {
+    let fixtures = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/tests");
+    let with = |file: &str| {
+        format!("{REF}\n[[elastic]]\nname = \"cabinet\"\nfile = \"{file}\"\ndamping = 0.02\n")
+    };
+    let src = with("ui-data/cabinet_bad.modal.toml");
+    let e = load_str(&src, "m.toml", &fixtures).expect_err("must be rejected");
+    let line = line_of(&src, "file = \"ui-data/cabinet_bad", 0);
+    assert!(
+        e.errors.iter().any(|l| l.line == line
+            && l.message
+                .contains("ui-data/cabinet_bad.modal.toml: elementary.g[z][z]: expected 4")),
+        "{e}"
+    );
+    let src = with("ui-data/cabinet_malformed.modal.toml");
+    let e = load_str(&src, "m.toml", &fixtures).expect_err("must be rejected");
+    assert!(
+        e.errors
+            .iter()
+            .any(|l| l.line == line_of(&src, "cabinet_malformed", 0)
+                && l.message.contains("cabinet_malformed.modal.toml:4:")),
+        "{e}"
+    );
+    let src = with("no/such.modal.toml");
+    let e = load_str(&src, "m.toml", &fixtures).expect_err("must be rejected");
+    assert!(
+        e.to_string().contains("no/such.modal.toml: cannot read"),
+        "{e}"
+    );
+}

@@ -7,7 +7,7 @@ washdyn_macros::machine! {
             inertia: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
         }
         speed { table: [[0.0, 0.0], [1.0, 100.0]] }
-        cabinet { modes: "modes/cabinet.frd" }
+        elastic cabinet { file: "modes/cabinet.modal.toml" }
     }
 }
 

@@ -153,9 +153,9 @@ fn square_head(v: &[f64], m: usize, n: usize) -> Vec<f64> {
     (0..n * n).map(|i| v[(i / n) * m + i % n]).collect()
 }
 
-/// Read a modal data file; errors carry the file and line.
-pub fn read_file(path: &FsPath) -> Result<ModalData, String> {
-    let name = path.display();
+/// Read a modal data file; errors carry the file (as `shown`) and line.
+pub fn read_file(path: &FsPath, shown: &str) -> Result<ModalData, String> {
+    let name = shown;
     let src = std::fs::read_to_string(path).map_err(|e| format!("{name}: cannot read: {e}"))?;
     toml::from_str(&src).map_err(|e| {
         let line = e
@@ -172,7 +172,7 @@ pub fn resolve(model: &mut super::Model, base: &FsPath) -> (Vec<PathBuf>, Vec<Ch
     let (mut files, mut errors) = (Vec::new(), Vec::new());
     for (i, e) in model.elastic.iter_mut().enumerate() {
         let path = base.join(&e.file);
-        match read_file(&path) {
+        match read_file(&path, &e.file) {
             Ok(mut d) => {
                 if let Some(n) = e.modes {
                     if n > d.modes() {

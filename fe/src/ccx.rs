@@ -73,6 +73,14 @@ pub fn available() -> bool {
         .is_ok_and(|o| String::from_utf8_lossy(&o.stdout).contains("This is Version"))
 }
 
+/// ccx's version string ("2.20"), if it runs.
+pub fn version() -> Option<String> {
+    let o = Command::new(program()).arg("-v").output().ok()?;
+    let text = String::from_utf8_lossy(&o.stdout).into_owned();
+    let v = text.split("This is Version").nth(1)?;
+    Some(v.split_whitespace().next()?.to_string())
+}
+
 /// Run ccx on `deck` (`<dir>/<job>.inp`) in the deck's folder; errors from its output.
 pub fn run(deck: &Path) -> Result<CcxRun, CcxError> {
     let io = |source| CcxError::Io {

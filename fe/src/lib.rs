@@ -14,4 +14,5 @@ pub mod frd;
 pub mod lumping;
 pub mod mesh;
 pub mod modal;
+pub mod pipeline;
 pub mod rotating;

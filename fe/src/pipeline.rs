@@ -1,0 +1,159 @@
+//! One body from FE model to modal data: write the deck, solve it with ccx, lump, keep the
+//! wanted modes, form the elementary matrices and points, and for a spinning body extract the
+//! geometric stiffness. The CLI's `washdyn fe modal` runs this for the built-in bodies.
+
+use crate::lumping::{MassProps, lump};
+use crate::mesh::Mesh;
+use crate::modal::{self, Keep};
+use crate::rotating;
+use std::path::Path;
+use washdyn_runtime::ir::modal::{ElasticBodyKind, ModalData, Support};
+
+/// How a body spins (the drum): about `axis` through `axis_point`; the prestress is computed at
+/// `reference_speed` (rad/s) with `modes` prestressed modes.
+#[derive(Clone, Debug)]
+pub struct Spin {
+    pub axis_point: [f64; 3],
+    pub axis: [f64; 3],
+    pub reference_speed: f64,
+    pub modes: usize,
+}
+
+/// Everything needed to turn one FE model into modal data.
+#[derive(Clone, Debug)]
+pub struct BodySpec {
+    /// File stem: `<name>.inp`, `<name>.modal.toml`.
+    pub name: String,
+    pub kind: ElasticBodyKind,
+    pub support: Support,
+    pub mesh: Mesh,
+    /// Eigenmodes ccx computes (rigid ones included).
+    pub solve_modes: usize,
+    pub keep: Keep,
+    /// (node set, point) for every marker and sensor on the body.
+    pub points: Vec<(String, [f64; 3])>,
+    pub spin: Option<Spin>,
+}
+
+/// What a build measured, for the report.
+#[derive(Clone, Debug)]
+pub struct Report {
+    pub name: String,
+    pub nodes: usize,
+    pub elements: usize,
+    pub solve_s: f64,
+    pub prestress_solve_s: Option<f64>,
+    /// All of ccx's frequencies (Hz), rigid ones included.
+    pub all_frequencies: Vec<f64>,
+    /// The lumped body (HRZ + rigid parts).
+    pub lumped: MassProps,
+    /// max |sum dm W^T W - I|.
+    pub lumping_error: f64,
+    /// max |sum dm W| / sqrt(m) (free-free: orthogonality to translation).
+    pub translation_coupling: f64,
+    /// Worst relative residual of the kept modes in the prestressed basis.
+    pub prestress_fit_residual: Option<f64>,
+}
+
+/// Build `spec` in `dir` (the deck and ccx's files land there).
+pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), String> {
+    let solved = modal::solve(&spec.mesh, dir, &spec.name, spec.solve_modes)?;
+    let lumped = lump(&spec.mesh);
+    let modes = modal::select(&spec.mesh, &solved.frd, &solved.prints, spec.keep)?;
+    if modes.is_empty() {
+        return Err(format!("{}: no mode kept", spec.name));
+    }
+    let points: Vec<(&str, [f64; 3])> = spec.points.iter().map(|(s, p)| (s.as_str(), *p)).collect();
+    let mut data = modal::Import {
+        body: spec.kind,
+        support: spec.support,
+        source: format!(
+            "washdyn fe: {}.inp ({} nodes, {} elements), CalculiX {}; HRZ-lumped",
+            spec.name,
+            spec.mesh.nodes.len(),
+            spec.mesh.element_count(),
+            crate::ccx::version().unwrap_or_else(|| "?".into())
+        ),
+        mesh: &spec.mesh,
+        lumped: &lumped,
+        modes: &modes,
+        points: &points,
+    }
+    .modal_data()?;
+    let mut prestress_solve_s = None;
+    let mut prestress_fit_residual = None;
+    if let Some(s) = &spec.spin {
+        let t = std::time::Instant::now();
+        let (_, pre) = rotating::solve_prestressed(
+            &spec.mesh,
+            dir,
+            &format!("{}_prestressed", spec.name),
+            s.reference_speed,
+            s.axis_point,
+            s.axis,
+            s.modes,
+        )?;
+        prestress_solve_s = Some(t.elapsed().as_secs_f64());
+        let x = rotating::geometric_stiffness(
+            &lumped,
+            &modes,
+            &pre,
+            &data.elementary,
+            s.reference_speed,
+            s.axis_point,
+            s.axis,
+        )?;
+        prestress_fit_residual = Some(x.residual.iter().copied().fold(0.0, f64::max));
+        data.geometric_stiffness = Some(x.stiffness);
+    }
+    let translation_coupling = data
+        .elementary
+        .c
+        .iter()
+        .flatten()
+        .fold(0.0f64, |m, v| m.max(v.abs()))
+        / data.mass.sqrt();
+    let report = Report {
+        name: spec.name.clone(),
+        nodes: spec.mesh.nodes.len(),
+        elements: spec.mesh.element_count(),
+        solve_s: solved.run.wall_s,
+        prestress_solve_s,
+        all_frequencies: solved.frd.modes.iter().map(|m| m.frequency_hz).collect(),
+        lumped: lumped.mass_props(&spec.mesh),
+        lumping_error: data.mass_normalisation_error(),
+        translation_coupling,
+        prestress_fit_residual,
+    };
+    Ok((data, report))
+}
+
+impl std::fmt::Display for Report {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let p = &self.lumped;
+        writeln!(
+            f,
+            "{}: {} nodes, {} elements, ccx {:.1} s{}",
+            self.name,
+            self.nodes,
+            self.elements,
+            self.solve_s,
+            self.prestress_solve_s
+                .map_or(String::new(), |s| format!(" (+ {s:.1} s prestressed)"))
+        )?;
+        writeln!(
+            f,
+            "  lumped mass {:.4} kg, CoG ({:.4}, {:.4}, {:.4}) m, inertia about CoG diag ({:.4}, {:.4}, {:.4}) kg m^2",
+            p.mass, p.cog[0], p.cog[1], p.cog[2], p.inertia[0][0], p.inertia[1][1], p.inertia[2][2]
+        )?;
+        writeln!(
+            f,
+            "  lumping error max|sum dm W^T W - I| = {:.2e}; max|sum dm W|/sqrt(m) = {:.2e}",
+            self.lumping_error, self.translation_coupling
+        )?;
+        if let Some(r) = self.prestress_fit_residual {
+            writeln!(f, "  prestressed-basis fit residual {r:.2e}")?;
+        }
+        Ok(())
+    }
+}

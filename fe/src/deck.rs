@@ -70,7 +70,7 @@ impl Deck {
     pub fn material(&mut self, name: &str, e: f64, nu: f64, rho: f64) -> &mut Self {
         self.line(&format!("*MATERIAL, NAME={name}"))
             .line("*ELASTIC")
-            .line(&format!("{e:e}, {nu}"))
+            .line(&format!("{e:.9e}, {nu}"))
             .line("*DENSITY")
             .line(&format!("{rho}"))
     }

@@ -132,7 +132,7 @@ pub fn quad8(xi: f64, eta: f64) -> ([f64; 8], [[f64; 2]; 8]) {
 }
 
 /// C3D20 natural coordinates of the nodes in ccx (Abaqus) order.
-const HEX20: [[f64; 3]; 20] = [
+pub const HEX20: [[f64; 3]; 20] = [
     [-1.0, -1.0, -1.0],
     [1.0, -1.0, -1.0],
     [1.0, 1.0, -1.0],
@@ -183,12 +183,27 @@ pub fn hex20(p: [f64; 3]) -> ([f64; 20], [[f64; 3]; 20]) {
     (n, d)
 }
 
-/// Consistent-mass diagonal (per unit density) and element volume of one element.
-fn element_diag(mesh: &Mesh, section: &Section, nodes: &[usize]) -> (Vec<f64>, f64) {
+/// Visit the Gauss points of one element: shape function values, position and volume weight
+/// (m^3; shells times thickness, beams times section area). Rules exact for the mass of
+/// straight-edged elements: 3 x 3 (S8R), 3 x 3 x 3 (C3D20), 3 (B32).
+fn gauss(
+    mesh: &Mesh,
+    section: &Section,
+    nodes: &[usize],
+    mut visit: impl FnMut(&[f64], [f64; 3], f64),
+) {
     let x = |k: usize| mesh.nodes[nodes[k] - 1];
+    let at = |n: &[f64]| -> [f64; 3] {
+        let mut p = [0.0; 3];
+        for (k, nk) in n.iter().enumerate() {
+            for i in 0..3 {
+                p[i] += nk * x(k)[i];
+            }
+        }
+        p
+    };
     match section {
         Section::Shell { thickness, .. } => {
-            let (mut diag, mut vol) = (vec![0.0; 8], 0.0);
             for &(a, wa) in &G3 {
                 for &(b, wb) in &G3 {
                     let (n, d) = quad8(a, b);
@@ -199,17 +214,11 @@ fn element_diag(mesh: &Mesh, section: &Section, nodes: &[usize]) -> (Vec<f64>, f
                             t[1][i] += d[k][1] * x(k)[i];
                         }
                     }
-                    let da = norm(cross(t[0], t[1])) * wa * wb * thickness;
-                    vol += da;
-                    for k in 0..8 {
-                        diag[k] += n[k] * n[k] * da;
-                    }
+                    visit(&n, at(&n), norm(cross(t[0], t[1])) * wa * wb * thickness);
                 }
             }
-            (diag, vol)
         }
         Section::Solid { .. } => {
-            let (mut diag, mut vol) = (vec![0.0; 20], 0.0);
             for &(a, wa) in &G3 {
                 for &(b, wb) in &G3 {
                     for &(c, wc) in &G3 {
@@ -222,18 +231,12 @@ fn element_diag(mesh: &Mesh, section: &Section, nodes: &[usize]) -> (Vec<f64>, f
                                 }
                             }
                         }
-                        let dv = det3(j).abs() * wa * wb * wc;
-                        vol += dv;
-                        for k in 0..20 {
-                            diag[k] += n[k] * n[k] * dv;
-                        }
+                        visit(&n, at(&n), det3(j).abs() * wa * wb * wc);
                     }
                 }
             }
-            (diag, vol)
         }
         Section::Beam { width, height, .. } => {
-            let (mut diag, mut vol) = (vec![0.0; 3], 0.0);
             for &(a, wa) in &G3 {
                 let n = [0.5 * a * (a - 1.0), 1.0 - a * a, 0.5 * a * (a + 1.0)];
                 let dn = [a - 0.5, -2.0 * a, a + 0.5];
@@ -243,15 +246,62 @@ fn element_diag(mesh: &Mesh, section: &Section, nodes: &[usize]) -> (Vec<f64>, f
                         t[i] += dn[k] * x(k)[i];
                     }
                 }
-                let dl = norm(t) * wa * width * height;
-                vol += dl;
-                for k in 0..3 {
-                    diag[k] += n[k] * n[k] * dl;
-                }
+                visit(&n, at(&n), norm(t) * wa * width * height);
             }
-            (diag, vol)
         }
-        Section::Mass { .. } | Section::Ground { .. } => (vec![0.0; nodes.len()], 0.0),
+        Section::Mass { .. } | Section::Ground { .. } => {}
+    }
+}
+
+/// Consistent-mass diagonal (per unit density) and element volume of one element.
+fn element_diag(mesh: &Mesh, section: &Section, nodes: &[usize]) -> (Vec<f64>, f64) {
+    let (mut diag, mut vol) = (vec![0.0; nodes.len()], 0.0);
+    gauss(mesh, section, nodes, |n, _, dv| {
+        vol += dv;
+        for (k, nk) in n.iter().enumerate() {
+            diag[k] += nk * nk * dv;
+        }
+    });
+    (diag, vol)
+}
+
+/// The mass properties of the continuous (not lumped) model: element integrals of rho, rho x
+/// and rho x x^T at the Gauss points, plus every point mass. What ccx's `EMAS` totals report,
+/// up to the shells' and beams' through-section terms (of order t^2 / 12).
+pub fn consistent_mass_props(mesh: &Mesh) -> MassProps {
+    let (mut m, mut s1, mut s2) = (0.0, [0.0; 3], [[0.0; 3]; 3]);
+    let mut add = |dm: f64, p: [f64; 3]| {
+        m += dm;
+        for i in 0..3 {
+            s1[i] += dm * p[i];
+            for j in 0..3 {
+                s2[i][j] += dm * p[i] * p[j];
+            }
+        }
+    };
+    for part in &mesh.parts {
+        let rho = part.section.material().map_or(0.0, |m| m.rho);
+        for e in &part.elements {
+            match part.section {
+                Section::Mass { kg } => add(kg, mesh.nodes[e[0] - 1]),
+                _ => gauss(mesh, &part.section, e, |_, p, dv| add(rho * dv, p)),
+            }
+        }
+    }
+    let cog = s1.map(|v| v / m);
+    let mut inertia = [[0.0; 3]; 3];
+    let c: [[f64; 3]; 3] =
+        std::array::from_fn(|i| std::array::from_fn(|j| s2[i][j] - m * cog[i] * cog[j]));
+    let tr = c[0][0] + c[1][1] + c[2][2];
+    for i in 0..3 {
+        for j in 0..3 {
+            inertia[i][j] = if i == j { tr } else { 0.0 } - c[i][j];
+        }
+    }
+    MassProps {
+        mass: m,
+        cog,
+        inertia,
     }
 }
 

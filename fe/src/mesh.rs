@@ -256,7 +256,7 @@ impl Mesh {
                         "*SHELL SECTION, ELSET={}, MATERIAL={}",
                         p.name, material.name
                     ))
-                    .line(&format!("{thickness:e}"));
+                    .line(&format!("{thickness:.9e}"));
                 }
                 Section::Solid { material } => {
                     d.line(&format!(
@@ -274,7 +274,7 @@ impl Mesh {
                         "*BEAM SECTION, ELSET={}, MATERIAL={}, SECTION=RECT",
                         p.name, material.name
                     ))
-                    .line(&format!("{width:e}, {height:e}"))
+                    .line(&format!("{width:.9e}, {height:.9e}"))
                     .line(&format!(
                         "{:e}, {:e}, {:e}",
                         normal[0], normal[1], normal[2]
@@ -282,13 +282,13 @@ impl Mesh {
                 }
                 Section::Mass { kg } => {
                     d.line(&format!("*MASS, ELSET={}", p.name))
-                        .line(&format!("{kg:e},"));
+                        .line(&format!("{kg:.9e},"));
                 }
                 Section::Ground { dof, k } => {
                     // ccx wants the stiffness with a trailing comma (`1e5` alone is "without data").
                     d.line(&format!("*SPRING, ELSET={}", p.name))
                         .line(&dof.to_string())
-                        .line(&format!("{k:e},"));
+                        .line(&format!("{k:.9e},"));
                 }
             }
         }

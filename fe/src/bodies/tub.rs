@@ -1,0 +1,284 @@
+//! The tub's FE model (seed paper, fig. 4): S8R shell cylinder with back wall, front ring and
+//! front collar (where the door gasket sits); the bearing unit (cast aluminium) and two concrete
+//! counterweights as C3D20 bricks sharing the shell's nodes; the motor stator as an attached
+//! rigid part (point masses on a *RIGID BODY) carried by a stiff, light B32 truss from the
+//! bearing unit (the paper's beams instead of rigid links). Free-free: its 6 rigid DOF are the
+//! multibody model's.
+//!
+//! Numbers: reference-machine.md ("FE models"), engineering estimates. The counterweights'
+//! thickness and the bearing unit's length are sized so that tub + drum + motor rotor reproduce
+//! the suspended body (55 kg, CoG, inertia): `Tub::balanced`.
+
+use super::drum::{aluminium, steel};
+use super::geometry::{beam_line, brick_grid, on_circle, shell_grid};
+use crate::mesh::{Material, Mesh, Rigid, Section};
+use std::f64::consts::PI;
+
+/// The tub's parameters; `Default` is the reference machine before balancing.
+#[derive(Clone, Debug)]
+pub struct Tub {
+    pub radius: f64,
+    pub thickness: f64,
+    pub x_back: f64,
+    pub x_front: f64,
+    /// Front collar: radius and end (the gasket's edge), m.
+    pub collar_radius: f64,
+    pub x_collar: f64,
+    pub axis_z: f64,
+    /// Bearing unit: inner and outer radius, axial length behind the back wall, m.
+    pub hub_inner: f64,
+    pub hub_outer: f64,
+    pub hub_length: f64,
+    /// Counterweights: radial thickness m, half-span (rad, from top / bottom), axial element
+    /// range [first, last) of the cylinder's axial elements.
+    pub top_thickness: f64,
+    pub top_half_span: usize,
+    pub top_axial: (usize, usize),
+    pub bottom_thickness: f64,
+    pub bottom_half_span: usize,
+    pub bottom_axial: (usize, usize),
+    /// A third concrete sector on top of the front collar (the "top front" weight reaches
+    /// over the door opening, as on production tubs): radial thickness, m (0: none).
+    pub collar_thickness: f64,
+    /// Motor stator: mass kg, centre (on the motor axis), rim radius of its point masses.
+    pub stator_mass: f64,
+    pub stator_centre: [f64; 3],
+    pub stator_radius: f64,
+    pub n_circ: usize,
+    pub n_axial: usize,
+}
+
+impl Default for Tub {
+    fn default() -> Self {
+        Tub {
+            radius: 0.27,
+            thickness: 0.0012,
+            x_back: -0.19,
+            x_front: 0.17,
+            collar_radius: 0.25,
+            x_collar: 0.30,
+            axis_z: 0.45,
+            hub_inner: 0.02,
+            // Sizes from `balance::balanced` (rounded to 0.1 mm): the suspended body's mass
+            // and CoG come out as reference-machine.md's; `fe/tests/bodies.rs` re-checks.
+            hub_outer: 0.1232,
+            hub_length: 0.0290,
+            top_thickness: 0.0286,
+            top_half_span: 12,
+            top_axial: (4, 12),
+            bottom_thickness: 0.0191,
+            bottom_half_span: 12,
+            bottom_axial: (4, 12),
+            collar_thickness: 0.0117,
+            stator_mass: 3.5,
+            stator_centre: [-0.05, 0.0, 0.18],
+            stator_radius: 0.05,
+            n_circ: 48,
+            n_axial: 12,
+        }
+    }
+}
+
+pub fn concrete() -> Material {
+    Material {
+        name: "CONCRETE".into(),
+        e: 30e9,
+        nu: 0.2,
+        rho: 2400.0,
+    }
+}
+
+/// The stiff, light truss members (seed paper: increased stiffness, reduced density).
+fn truss() -> Material {
+    Material {
+        name: "TRUSS".into(),
+        e: 2.1e12,
+        nu: 0.3,
+        rho: 100.0,
+    }
+}
+
+impl Tub {
+    pub fn mesh(&self) -> Mesh {
+        let mut m = Mesh::new(
+            "washdyn tub: S8R shell, C3D20 bearing unit and counterweights, stator on B32 truss",
+        );
+        let (r, zc, nc, na) = (self.radius, self.axis_z, self.n_circ, self.n_axial);
+        let shell = Section::Shell {
+            thickness: self.thickness,
+            material: steel(),
+        };
+        let (xb, xf) = (self.x_back, self.x_front);
+        let dx = (xf - xb) / na as f64;
+        let dth = 2.0 * PI / nc as f64;
+        shell_grid(&mut m, "TUB_SHELL", &shell, na, nc, true, |u, v| {
+            on_circle(xb + (xf - xb) * u, 0.0, zc, r, 2.0 * PI * v)
+        });
+        // Back wall: outer annulus, and the part over the bearing unit (sharing its face).
+        let (ri, ro) = (self.hub_inner, self.hub_outer);
+        shell_grid(&mut m, "TUB_BACK", &shell, 3, nc, true, |u, v| {
+            on_circle(xb, 0.0, zc, ro + (r - ro) * u, -2.0 * PI * v)
+        });
+        shell_grid(&mut m, "TUB_BACK", &shell, 2, nc, true, |u, v| {
+            on_circle(xb, 0.0, zc, ri + (ro - ri) * u, -2.0 * PI * v)
+        });
+        // Front ring and collar.
+        let rc = self.collar_radius;
+        shell_grid(&mut m, "TUB_FRONT", &shell, 1, nc, true, |u, v| {
+            on_circle(xf, 0.0, zc, rc + (r - rc) * u, 2.0 * PI * v)
+        });
+        let collar = shell_grid(&mut m, "TUB_FRONT", &shell, 4, nc, true, |u, v| {
+            on_circle(xf + (self.x_collar - xf) * u, 0.0, zc, rc, 2.0 * PI * v)
+        });
+        let edge: Vec<usize> = collar
+            .iter()
+            .filter(|((i, _), _)| *i == 8)
+            .map(|(_, &id)| id)
+            .collect();
+        m.add_to_set("GASKET", &edge);
+        // Bearing unit: an annular aluminium block behind the back wall.
+        let alu = Section::Solid {
+            material: aluminium(),
+        };
+        let hl = self.hub_length;
+        let hub = brick_grid(
+            &mut m,
+            "TUB_BEARING_UNIT",
+            &alu,
+            [2, nc, 2],
+            true,
+            |u, v, w| on_circle(xb - hl * w, 0.0, zc, ri + (ro - ri) * u, 2.0 * PI * v),
+        );
+        let bearing: Vec<usize> = hub
+            .iter()
+            .filter(|((i, _, _), _)| *i == 0)
+            .map(|(_, &id)| id)
+            .collect();
+        m.add_to_set("BEARING", &bearing);
+        // Counterweights: concrete sectors on the shell, top front and bottom.
+        let cw = Section::Solid {
+            material: concrete(),
+        };
+        let sector =
+            |m: &mut Mesh, name: &str, centre: f64, half: usize, ax: (usize, usize), h: f64| {
+                let a0 = centre - half as f64 * dth;
+                let span = 2.0 * half as f64 * dth;
+                let (x0, x1) = (xb + ax.0 as f64 * dx, xb + ax.1 as f64 * dx);
+                brick_grid(
+                    m,
+                    name,
+                    &cw,
+                    [1, 2 * half, ax.1 - ax.0],
+                    false,
+                    |u, v, w| on_circle(x0 + (x1 - x0) * w, 0.0, zc, r + h * u, a0 + span * v),
+                );
+            };
+        sector(
+            &mut m,
+            "TUB_COUNTERWEIGHT",
+            0.0,
+            self.top_half_span,
+            self.top_axial,
+            self.top_thickness,
+        );
+        sector(
+            &mut m,
+            "TUB_COUNTERWEIGHT",
+            PI,
+            self.bottom_half_span,
+            self.bottom_axial,
+            self.bottom_thickness,
+        );
+        if self.collar_thickness > 0.0 {
+            let half = self.top_half_span;
+            let (a0, span) = (-(half as f64) * dth, 2.0 * half as f64 * dth);
+            let (x0, x1, h) = (xf, self.x_collar, self.collar_thickness);
+            brick_grid(
+                &mut m,
+                "TUB_COUNTERWEIGHT",
+                &cw,
+                [1, 2 * half, 4],
+                false,
+                |u, v, w| on_circle(x0 + (x1 - x0) * w, 0.0, zc, rc + h * u, a0 + span * v),
+            );
+        }
+        // Motor stator: a small carrier block below the tub, held by a six-member truss from
+        // the bearing unit's bottom; the stator's point masses and the carrier's lower face
+        // form one rigid part (ccx carries a rigid part's rotation only through solid nodes).
+        let sc = self.stator_centre;
+        let cz = sc[2] - 0.08;
+        let carrier = brick_grid(
+            &mut m,
+            "TUB_STATOR_CARRIER",
+            &Section::Solid {
+                material: aluminium(),
+            },
+            [1, 1, 1],
+            false,
+            |u, v, w| {
+                [
+                    sc[0] - 0.02 + 0.04 * u,
+                    -0.02 + 0.04 * v,
+                    cz - 0.02 + 0.04 * w,
+                ]
+            },
+        );
+        let top: Vec<usize> = [(0, 0), (2, 0), (2, 2), (0, 2)]
+            .iter()
+            .map(|&(i, j)| carrier[&(i, j, 2)])
+            .collect();
+        // Anchors on the bearing unit's outer back edge, 15 and 45 degrees either side of the
+        // bottom (grid index 2 nc is the full circle).
+        let anchors: Vec<usize> = [nc - 12, nc - 4, nc + 4, nc + 12]
+            .iter()
+            .map(|&j| hub[&(4, j, 4)])
+            .collect();
+        let member = Section::Beam {
+            width: 0.02,
+            height: 0.02,
+            normal: [0.0, 1.0, 0.0],
+            material: truss(),
+        };
+        for (k, &t) in top.iter().enumerate() {
+            for &a in [anchors[k], anchors[(k + 1) % 4]].iter() {
+                let (p, q) = (m.nodes[t - 1], m.nodes[a - 1]);
+                beam_line(&mut m, "TUB_TRUSS", &member, p, q, 2);
+            }
+        }
+        // The stator's mass on a ring about the motor axis (x), in the y-z plane.
+        let masses: Vec<usize> = (0..4)
+            .map(|q| {
+                m.node(on_circle(
+                    sc[0],
+                    sc[1],
+                    sc[2],
+                    self.stator_radius,
+                    PI / 2.0 * q as f64,
+                ))
+            })
+            .collect();
+        m.part(
+            "STATOR",
+            Section::Mass {
+                kg: self.stator_mass / 4.0,
+            },
+        )
+        .elements = masses.iter().map(|&i| vec![i]).collect();
+        let lower: Vec<usize> = carrier
+            .iter()
+            .filter(|((_, _, k), _)| *k == 0)
+            .map(|(_, &id)| id)
+            .collect();
+        let mut set = masses.clone();
+        set.extend(lower);
+        m.add_to_set("MOTOR", &set);
+        let ref_node = m.fresh_node(sc);
+        let rot_node = m.fresh_node(sc);
+        m.rigid.push(Rigid {
+            nset: "MOTOR".into(),
+            ref_node,
+            rot_node,
+        });
+        m
+    }
+}

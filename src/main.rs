@@ -3,7 +3,7 @@
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -141,6 +141,25 @@ enum Cmd {
 enum FeCmd {
     /// Run ccx on a deck (`<job>.inp`; results beside it) and list the frequencies it found.
     Solve { deck: PathBuf },
+    /// Write the built-in FE models (tub, drum, cabinet) as CalculiX decks.
+    Write {
+        /// Output directory.
+        #[arg(long, default_value = "out/fe")]
+        out: PathBuf,
+    },
+    /// Solve the built-in FE models with ccx and write their modal data
+    /// (`<body>.modal.toml`) and a report; the decks and ccx's files go to `--work`.
+    Modal {
+        /// Where the modal data files go (the repository keeps them in models/fe).
+        #[arg(long, default_value = "out/fe")]
+        out: PathBuf,
+        /// Scratch directory for decks and ccx results.
+        #[arg(long, default_value = "out/fe/work")]
+        work: PathBuf,
+        /// Only these bodies (comma-separated: tub, drum, cabinet).
+        #[arg(long, value_delimiter = ',')]
+        only: Vec<String>,
+    },
 }
 
 /// Post-processing of a run from the samples it kept in memory: channels that are identically
@@ -422,6 +441,24 @@ fn main() -> ExitCode {
             }
         }
         Cmd::Fe {
+            cmd: FeCmd::Write { out },
+        } => match fe_write(&out) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(e) => {
+                eprintln!("error: {e}");
+                ExitCode::from(2)
+            }
+        },
+        Cmd::Fe {
+            cmd: FeCmd::Modal { out, work, only },
+        } => match fe_modal(&out, &work, &only) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(e) => {
+                eprintln!("error: {e}");
+                ExitCode::from(2)
+            }
+        },
+        Cmd::Fe {
             cmd: FeCmd::Solve { deck },
         } => match washdyn_fe::ccx::run(&deck) {
             Ok(run) => {
@@ -456,4 +493,54 @@ fn main() -> ExitCode {
             }
         },
     }
+}
+
+/// `washdyn fe write`: the built-in decks, each with its frequency step.
+fn fe_write(out: &Path) -> Result<(), String> {
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    for b in washdyn_fe::bodies::builtin() {
+        let p = out.join(format!("{}.inp", b.name));
+        std::fs::write(&p, b.mesh.deck(b.solve_modes).text())
+            .map_err(|e| format!("{}: {e}", p.display()))?;
+        println!(
+            "{}: {} nodes, {} elements",
+            p.display(),
+            b.mesh.nodes.len(),
+            b.mesh.element_count()
+        );
+    }
+    Ok(())
+}
+
+/// `washdyn fe modal`: solve the built-in bodies and write their modal data and a report.
+fn fe_modal(out: &Path, work: &Path, only: &[String]) -> Result<(), String> {
+    for d in [out, work] {
+        std::fs::create_dir_all(d).map_err(|e| format!("{}: {e}", d.display()))?;
+    }
+    let mut report = String::new();
+    for b in washdyn_fe::bodies::builtin() {
+        if !only.is_empty() && !only.contains(&b.name) {
+            continue;
+        }
+        let (data, r) = washdyn_fe::pipeline::build(&b, work)?;
+        let p = out.join(format!("{}.modal.toml", b.name));
+        let text = format!(
+            "# Modal data of the {} (docs/modal-data.md), written by `washdyn fe modal`.\n{}",
+            b.name,
+            data.to_toml()
+        );
+        std::fs::write(&p, &text).map_err(|e| format!("{}: {e}", p.display()))?;
+        let line = format!(
+            "{r}  {} modes kept, {:.2} to {:.2} Hz; {} ({} kB)\n",
+            data.modes(),
+            data.frequencies[0],
+            data.frequencies[data.modes() - 1],
+            p.display(),
+            text.len() / 1024
+        );
+        print!("{line}");
+        report.push_str(&line);
+    }
+    let p = out.join("report.txt");
+    std::fs::write(&p, report).map_err(|e| format!("{}: {e}", p.display()))
 }

@@ -5,6 +5,7 @@ fn main() {
     let mesh = match which.as_str() {
         "drum" => washdyn_fe::bodies::drum::Drum::default().mesh(),
         "tub" => washdyn_fe::bodies::tub::Tub::default().mesh(),
+        "cabinet" => washdyn_fe::bodies::cabinet::Cabinet::default().mesh(),
         _ => panic!("unknown body"),
     };
     let dir = std::path::PathBuf::from("/tmp/try").join(&which);

@@ -141,7 +141,14 @@ impl Mesh {
     /// The part called `name`, created with `section` if new.
     pub fn part(&mut self, name: &str, section: Section) -> &mut Part {
         let i = match self.parts.iter().position(|p| p.name == name) {
-            Some(i) => i,
+            Some(i) => {
+                // One part, one section: a second section under the same name would be lost.
+                assert!(
+                    self.parts[i].section == section,
+                    "part {name} already has another section"
+                );
+                i
+            }
             None => {
                 self.parts.push(Part {
                     name: name.into(),

@@ -61,7 +61,8 @@ impl Default for Drum {
             pulley_mass: 1.2,
             pulley_radius: 0.08,
             axis_z: 0.45,
-            n_circ: 48,
+            // 5 degrees around: the HRZ lumping error of the kept shell modes stays below 5 %.
+            n_circ: 72,
             n_axial: 10,
         }
     }
@@ -117,7 +118,8 @@ impl Drum {
         let all_shell: Vec<usize> = cyl.values().copied().collect();
         m.add_to_set("ALL_SHELL", &all_shell);
         // Front ring: door opening to the shell (normal along +x).
-        shell_grid(&mut m, "DRUM_RING", &ring, 2, nc, true, |u, v| {
+        // Radially 4 and 5 elements: the annuli's own bending modes lump badly on fewer.
+        shell_grid(&mut m, "DRUM_RING", &ring, 4, nc, true, |u, v| {
             on_circle(
                 xf,
                 0.0,
@@ -129,7 +131,7 @@ impl Drum {
         // Back wall: outer part, and inner part over the star (sharing its front face).
         let rs = self.star_radius;
         let r_in = 0.02;
-        shell_grid(&mut m, "DRUM_BACK", &shell, 2, nc, true, |u, v| {
+        shell_grid(&mut m, "DRUM_BACK", &shell, 5, nc, true, |u, v| {
             on_circle(xb, 0.0, zc, rs + (r - rs) * u, 2.0 * PI * v)
         });
         shell_grid(&mut m, "DRUM_BACK", &shell, 2, nc, true, |u, v| {

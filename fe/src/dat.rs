@@ -37,9 +37,67 @@ pub fn node_prints(dat: &str, set: &str) -> Result<Vec<Print>, String> {
     Ok(out)
 }
 
+/// ccx's `EMAS` totals of an element set (`*EL PRINT, TOTALS=ONLY` / `EMAS`): mass, CoG and
+/// the second moments about the CoG. Note: ccx's "mass moment of inertia (xx, yy, zz, xy, xz,
+/// yz)" is the second-moment tensor J = sum dm r r^T (checked on a beam along x: its "xx" is
+/// m L^2 / 12), not the inertia tensor; the inertia is tr(J) E - J (`inertia`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Emas {
+    pub mass: f64,
+    pub cog: [f64; 3],
+    /// J about the CoG: xx, yy, zz, xy, xz, yz.
+    pub second_moments: [f64; 6],
+}
+
+impl Emas {
+    /// The inertia tensor about the CoG.
+    pub fn inertia(&self) -> [[f64; 3]; 3] {
+        let s = self.second_moments;
+        let j = [[s[0], s[3], s[4]], [s[3], s[1], s[5]], [s[4], s[5], s[2]]];
+        let tr = s[0] + s[1] + s[2];
+        std::array::from_fn(|a| std::array::from_fn(|b| if a == b { tr } else { 0.0 } - j[a][b]))
+    }
+}
+
+/// The first `EMAS` totals of set `set` in a `.dat`.
+pub fn emas(dat: &str, set: &str) -> Option<Emas> {
+    let tail = format!("for set {} and time", set.to_ascii_uppercase());
+    let values = |head: &str| -> Option<Vec<f64>> {
+        let mut lines = dat.lines();
+        lines.find(|l| l.trim_start().starts_with(head) && l.contains(&tail))?;
+        let row = lines.find(|l| !l.trim().is_empty())?;
+        row.split_whitespace().map(|v| v.parse().ok()).collect()
+    };
+    let mass = *values("total mass for set")?.first()?;
+    let cog = values("center of gravity")?;
+    let j = values("total mass moment of inertia about the center")?;
+    Some(Emas {
+        mass,
+        cog: [*cog.first()?, *cog.get(1)?, *cog.get(2)?],
+        second_moments: j.get(..6)?.try_into().ok()?,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn emas_totals_as_ccx_prints_them() {
+        let dat = " total mass for set EALL and time  0.1000000E+01\n\n        6.280000E-01\n\n \
+                   total mass moment of inertia (xx,yy,zz,xy,xz,yz) for set EALL and time  0.1000000E+01\n\n        \
+                   8.373333E-03  2.093333E-05  2.093333E-05 -6.776264E-21 -6.098637E-20  1.058791E-21\n\n \
+                   center of gravity for set EALL and time  0.1000000E+01\n\n        1.000000E-01 -1.726437E-19 -8.200574E-19\n\n \
+                   total mass moment of inertia about the center ofgravity (xx,yy,zz,xy,xz,yz) for set EALL and time  0.1000000E+01\n\n        \
+                   2.093333E-03  2.093333E-05  2.093333E-05  4.065758E-21 -9.486769E-21  1.058791E-21\n";
+        let e = emas(dat, "eall").unwrap();
+        assert_eq!(e.mass, 0.628);
+        assert_eq!(e.cog[0], 0.1);
+        // A 0.2 m beam along x (20 mm square): I_yy = m (L^2 + a^2) / 12.
+        let i = e.inertia();
+        assert!((i[1][1] - (2.093333e-3 + 2.093333e-5)).abs() < 1e-12);
+        assert!((i[0][0] - 2.0 * 2.093333e-5).abs() < 1e-12);
+    }
 
     #[test]
     fn blocks_per_mode() {

@@ -269,6 +269,16 @@ fn element_diag(mesh: &Mesh, section: &Section, nodes: &[usize]) -> (Vec<f64>, f
 /// and rho x x^T at the Gauss points, plus every point mass. What ccx's `EMAS` totals report,
 /// up to the shells' and beams' through-section terms (of order t^2 / 12).
 pub fn consistent_mass_props(mesh: &Mesh) -> MassProps {
+    mass_props_of(mesh, true)
+}
+
+/// The elements with density only, without point masses: what ccx's `EMAS` covers (it leaves
+/// MASS elements out).
+pub fn continuum_mass_props(mesh: &Mesh) -> MassProps {
+    mass_props_of(mesh, false)
+}
+
+fn mass_props_of(mesh: &Mesh, points: bool) -> MassProps {
     let (mut m, mut s1, mut s2) = (0.0, [0.0; 3], [[0.0; 3]; 3]);
     let mut add = |dm: f64, p: [f64; 3]| {
         m += dm;
@@ -283,7 +293,8 @@ pub fn consistent_mass_props(mesh: &Mesh) -> MassProps {
         let rho = part.section.material().map_or(0.0, |m| m.rho);
         for e in &part.elements {
             match part.section {
-                Section::Mass { kg } => add(kg, mesh.nodes[e[0] - 1]),
+                Section::Mass { kg } if points => add(kg, mesh.nodes[e[0] - 1]),
+                Section::Mass { .. } => {}
                 _ => gauss(mesh, &part.section, e, |_, p, dv| add(rho * dv, p)),
             }
         }

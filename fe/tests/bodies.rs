@@ -1,0 +1,195 @@
+//! The built-in FE models (tub, drum, cabinet) and their committed modal data.
+//!
+//! Without CalculiX: node sets, the mass balance against reference-machine.md, and the
+//! committed files (they pass the checker; the drum's first elastic mode lies above what the
+//! unbalance excites). With CalculiX (skipped locally without it, required under CI=true): each
+//! deck solves; ccx's own mass totals (EMAS) against our element integration; the modal data
+//! rebuilt from a fresh solve equals the committed files; the drum's stress-stiffened
+//! frequencies at three speeds come back from the committed data.
+
+use std::path::PathBuf;
+use washdyn_fe::bodies::{self, balance};
+use washdyn_fe::ccx;
+use washdyn_fe::lumping::{consistent_mass_props, continuum_mass_props, lump};
+use washdyn_runtime::ir::modal::{self, ModalData};
+
+fn have_ccx() -> bool {
+    let ok = ccx::available();
+    if !ok {
+        assert!(
+            std::env::var("CI").as_deref() != Ok("true"),
+            "CI must install CalculiX (apt-get install calculix-ccx)"
+        );
+        eprintln!("skipped: ccx not found (apt-get install calculix-ccx)");
+    }
+    ok
+}
+
+fn committed(name: &str) -> ModalData {
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../models/fe")
+        .join(format!("{name}.modal.toml"));
+    modal::read_file(&p, &p.display().to_string()).unwrap_or_else(|e| panic!("{e}"))
+}
+
+#[test]
+fn every_point_has_its_node_set() {
+    for b in bodies::builtin() {
+        for (set, _) in &b.points {
+            let ids = b.mesh.nsets.get(set);
+            assert!(ids.is_some_and(|v| !v.is_empty()), "{}: {set}", b.name);
+        }
+        // Every patch of a marker has at least 3 nodes (a rotation from the rigid fit).
+        for (set, _) in b.points.iter().filter(|(s, _)| !s.starts_with("FOOT")) {
+            assert!(b.mesh.nsets[set].len() >= 3, "{}: {set}", b.name);
+        }
+    }
+}
+
+#[test]
+fn hrz_keeps_each_body_mass_exactly() {
+    // HRZ scales each element's diagonal to the element's mass: the lumped total equals the
+    // element integral to round-off.
+    for b in bodies::builtin() {
+        let l = lump(&b.mesh).mass_props(&b.mesh);
+        let c = consistent_mass_props(&b.mesh);
+        assert!(
+            (l.mass - c.mass).abs() < 1e-9 * c.mass,
+            "{}: {l:?} vs {c:?}",
+            b.name
+        );
+    }
+}
+
+#[test]
+fn tub_drum_and_rotor_make_the_suspended_body() {
+    // Target: reference-machine.md, 55 kg, CoG (0, 0, 0.45). The counterweights were sized by
+    // `balance::balanced`; mass and CoG must hold within 2 % (CoG per its height, 0.45 m).
+    let b = bodies::builtin();
+    let drum = consistent_mass_props(&b[1].mesh);
+    let tub = consistent_mass_props(&b[0].mesh);
+    let total = tub.combine(&drum).combine(&balance::rotor());
+    let d = balance::deviations(&total);
+    eprintln!("suspended body {total:?}\ndeviations {d:?}");
+    for (i, what) in ["mass", "cog x", "cog y", "cog z"].iter().enumerate() {
+        assert!(d[i].abs() < 0.02, "{what}: {} ({d:?})", d[i]);
+    }
+    // The inertia of this geometry is larger than reference-machine.md's estimate (see the
+    // closing note of issue 8): the test records it, so a change shows.
+    assert!(d[4] > 0.2 && d[5] > 0.2 && d[6] > 0.05, "{d:?}");
+}
+
+#[test]
+fn committed_modal_data_passes_the_checker_and_the_drum_clears_the_unbalance() {
+    for name in ["tub", "drum", "cabinet"] {
+        let d = committed(name);
+        assert_eq!(modal::problems(&d), Vec::<String>::new(), "{name}");
+        eprintln!(
+            "{name}: {} modes, {:.2} to {:.2} Hz, lumping error {:.2e}",
+            d.modes(),
+            d.frequencies[0],
+            d.frequencies[d.modes() - 1],
+            d.mass_normalisation_error()
+        );
+    }
+    // Seed paper: the first elastic drum mode must lie above what the unbalance excites; the
+    // drum order 1 at 1400 rpm is 23.3 Hz, order 2 46.7 Hz is the nearest.
+    let drum = committed("drum");
+    assert!(
+        drum.frequencies[0] > 1400.0 / 60.0 * 1.5,
+        "{:?}",
+        drum.frequencies
+    );
+    assert!(drum.geometric_stiffness.is_some());
+}
+
+#[test]
+fn decks_solve_and_reproduce_the_committed_modal_data() {
+    if !have_ccx() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    for b in bodies::builtin() {
+        // ccx's own mass totals against our element integration (point masses aside: EMAS
+        // leaves MASS elements out). ccx prints 7 significant digits (5e-7 relative); its
+        // curved shells, expanded to bricks about nodal normals, add a little: measured 1.2e-6
+        // (tub), 1.4e-7 (drum), 3e-7 (cabinet); bound 5e-6.
+        let mut spec = b.clone();
+        spec.spin = None;
+        let (data, report) = washdyn_fe::pipeline::build(&spec, dir.path()).unwrap();
+        let dat = std::fs::read_to_string(dir.path().join(format!("{}.dat", b.name))).unwrap();
+        let e = washdyn_fe::dat::emas(&dat, "EALL").expect("EMAS totals in the .dat");
+        let c = continuum_mass_props(&b.mesh);
+        eprintln!("{report}  ccx EMAS {:.6} kg, ours {:.6} kg", e.mass, c.mass);
+        assert!(
+            (e.mass - c.mass).abs() < 5e-6 * c.mass,
+            "{}: {e:?} vs {c:?}",
+            b.name
+        );
+        for i in 0..3 {
+            assert!(
+                (e.cog[i] - c.cog[i]).abs() < 1e-4,
+                "{}: cog {e:?} vs {c:?}",
+                b.name
+            );
+        }
+        let ie = e.inertia();
+        for i in 0..3 {
+            // Shells and beams expanded to 3-D carry their through-section inertia, which
+            // the mid-surface integral leaves out: t^2 / 12 and a^2 / 12 terms, < 0.5 %.
+            assert!(
+                (ie[i][i] - c.inertia[i][i]).abs() < 5e-3 * c.inertia[i][i],
+                "{}: inertia {ie:?} vs {:?}",
+                b.name,
+                c.inertia
+            );
+        }
+        // The committed file is what this code and ccx give now (frequencies to the .frd's
+        // precision).
+        let old = committed(&b.name);
+        assert_eq!(old.modes(), data.modes(), "{}", b.name);
+        for (a, f) in old.frequencies.iter().zip(&data.frequencies) {
+            assert!((a - f).abs() < 1e-6 * f, "{}: {a} vs {f}", b.name);
+        }
+        // Rigid modes: exactly six for the free-free tub, none for the others.
+        let rigid = report.all_frequencies.iter().filter(|f| **f < 1.0).count();
+        assert_eq!(rigid, if b.name == "tub" { 6 } else { 0 }, "{}", b.name);
+    }
+}
+
+#[test]
+fn drum_stress_stiffened_frequencies_come_back_from_the_committed_data() {
+    if !have_ccx() {
+        return;
+    }
+    let drum = committed("drum");
+    let kg = drum.geometric_stiffness.clone().unwrap();
+    let spec = bodies::builtin().remove(1);
+    let dir = tempfile::tempdir().unwrap();
+    let f0 = &drum.frequencies;
+    for rpm in [400.0, 900.0, 1400.0] {
+        let omega = rpm * std::f64::consts::PI / 30.0;
+        let (frd, _) = washdyn_fe::rotating::solve_prestressed(
+            &spec.mesh,
+            dir.path(),
+            &format!("w{rpm}"),
+            omega,
+            kg.axis_point,
+            kg.axis,
+            6,
+        )
+        .unwrap();
+        let ccx_f: Vec<f64> = frd.modes.iter().map(|m| m.frequency_hz).collect();
+        let ours = washdyn_fe::rotating::reduced_frequencies(f0, &drum.elementary, &kg, omega);
+        eprintln!(
+            "{rpm} rpm: ccx {ccx_f:?}\n  committed data {:?}",
+            &ours[..6]
+        );
+        for (k, (o, c)) in ours.iter().zip(&ccx_f).enumerate() {
+            // Truncation to the 12 kept modes (a Rayleigh-Ritz projection: from above) and the
+            // fit residual of the extraction (1.5e-2 on the highest kept mode) bound the error.
+            let rel = (o - c) / c;
+            assert!(rel.abs() < 5e-3, "mode {k} at {rpm} rpm: {o} vs ccx {c}");
+        }
+    }
+}

@@ -211,10 +211,11 @@ fn errors(inertia: bool) -> Vec<(String, f64)> {
 fn unbalance_response_matches_linear_frequency_response() {
     // The unbalance as a prescribed rotating force: the model is then exactly linear
     // time-invariant apart from the springs' and dampers' geometry (second order at 1e-4 m).
-    // Measured: 2.4e-6 below, 1.8e-6 near, 2.7e-7 above the first resonance (the prescribed
-    // force lacks the weight's own load stiffness that the hand K's equilibrium has: ~1e-6).
-    // Bounds: about 4x the measured errors, so a regression of the linear path shows.
-    for ((label, err), bound) in errors(false).into_iter().zip([1e-5, 1e-5, 1e-6]) {
+    // Measured (the FE-derived tub inertia of issue 8): 2.3e-6 below, 8.0e-6 near, 2.0e-6
+    // above the first resonance (the prescribed force lacks the weight's own load stiffness
+    // that the hand K's equilibrium has: ~1e-6, amplified near resonance). Bounds: about 4x
+    // the measured errors, so a regression of the linear path shows.
+    for ((label, err), bound) in errors(false).into_iter().zip([1e-5, 3e-5, 1e-5]) {
         assert!(err < bound, "{label}: relative error {err:e} >= {bound:e}");
     }
 }

@@ -495,19 +495,13 @@ fn main() -> ExitCode {
     }
 }
 
-/// `washdyn fe write`: the built-in decks, each with its frequency step.
+/// `washdyn fe write`: the built-in decks (frequency decks, and the drum's prestressed one).
 fn fe_write(out: &Path) -> Result<(), String> {
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
-    for b in washdyn_fe::bodies::builtin() {
-        let p = out.join(format!("{}.inp", b.name));
-        std::fs::write(&p, b.mesh.deck(b.solve_modes).text())
-            .map_err(|e| format!("{}: {e}", p.display()))?;
-        println!(
-            "{}: {} nodes, {} elements",
-            p.display(),
-            b.mesh.nodes.len(),
-            b.mesh.element_count()
-        );
+    for (name, text) in washdyn_fe::bodies::decks() {
+        let p = out.join(name);
+        std::fs::write(&p, &text).map_err(|e| format!("{}: {e}", p.display()))?;
+        println!("{} ({} kB)", p.display(), text.len() / 1024);
     }
     Ok(())
 }

@@ -33,6 +33,21 @@ fn committed(name: &str) -> ModalData {
 }
 
 #[test]
+fn committed_decks_are_what_the_code_writes() {
+    // models/fe/*.inp are the decks behind the committed modal data (`washdyn fe write --out
+    // models/fe`); they must not drift from the parametric models.
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../models/fe");
+    for (name, text) in bodies::decks() {
+        let kept =
+            std::fs::read_to_string(dir.join(&name)).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert!(
+            kept == text,
+            "models/fe/{name} differs from what the code writes"
+        );
+    }
+}
+
+#[test]
 fn every_point_has_its_node_set() {
     for b in bodies::builtin() {
         for (set, _) in &b.points {

@@ -34,6 +34,30 @@ pub fn patch(m: &mut Mesh, name: &str, point: [f64; 3]) {
     m.add_to_set(name, &set);
 }
 
+/// The built-in decks as (file name, text): each body's frequency deck and, for the spinning
+/// drum, its prestressed deck at the reference speed. `washdyn fe write` writes them; the
+/// repository keeps them in `models/fe/` (a test holds them equal to what this code writes).
+pub fn decks() -> Vec<(String, String)> {
+    let mut out = Vec::new();
+    for b in builtin() {
+        out.push((
+            format!("{}.inp", b.name),
+            b.mesh.deck(b.solve_modes).text().to_string(),
+        ));
+        if let Some(s) = &b.spin {
+            let d = crate::rotating::prestressed_deck(
+                &b.mesh,
+                s.reference_speed,
+                s.axis_point,
+                s.axis,
+                s.modes,
+            );
+            out.push((format!("{}_prestressed.inp", b.name), d.text().to_string()));
+        }
+    }
+    out
+}
+
 /// The drum axis and the reference speed of its prestress: 1400 rpm, the top of the run-up.
 pub const DRUM_AXIS_POINT: [f64; 3] = [0.0, 0.0, 0.45];
 pub const DRUM_REFERENCE_SPEED: f64 = 1400.0 * std::f64::consts::PI / 30.0;

@@ -24,8 +24,8 @@ pub enum Section {
     Shell { thickness: f64, material: Material },
     /// C3D20: 20-node brick in ccx node order.
     Solid { material: Material },
-    /// B32: 3-node beam (end, middle, end), rectangular `width` x `height` m; `normal` is the
-    /// section's first axis direction (ccx's beam section normal).
+    /// B32: 3-node beam (end, middle, end), rectangular section: `width` along `normal` (ccx's
+    /// 1-direction), `height` across it, m.
     Beam {
         width: f64,
         height: f64,

@@ -3,8 +3,8 @@
 //! SPRING1 elements to the ground. No rigid DOF: the feet hold it (seed paper: the floor
 //! contact is part of the FE model, so the cabinet's modes are those on its feet).
 //!
-//! Numbers: reference-machine.md ("FE models"), engineering estimates; the frame's section is
-//! sized so the cabinet weighs 16 kg.
+//! Numbers: reference-machine.md ("FE models"), engineering estimates; frame, rails and base
+//! sheet are sized so the cabinet weighs about 16 kg.
 
 use super::drum::steel;
 use super::geometry::{beam_line, shell_grid, shell_grid_masked};
@@ -25,8 +25,10 @@ pub struct Cabinet {
     pub door_radius: f64,
     /// Frame members: square side, m.
     pub frame: f64,
-    /// Base sheet thickness, m.
-    pub base_sheet: f64,
+    /// Rails (top cross members, base rails): section depth (vertical, ccx's 1-direction) and
+    /// thickness, m.
+    pub rail_depth: f64,
+    pub rail_thickness: f64,
     /// Feet at (+-foot, +-foot, 0); stiffness vertical and horizontal, N/m.
     pub foot: f64,
     pub k_vertical: f64,
@@ -45,8 +47,9 @@ impl Default for Cabinet {
             bulge: 0.002,
             door_z: 0.45,
             door_radius: 0.20,
-            frame: 0.0050,
-            base_sheet: 0.0007,
+            frame: 0.0040,
+            rail_depth: 0.025,
+            rail_thickness: 0.004,
             foot: 0.26,
             k_vertical: 2e5,
             k_horizontal: 5e4,
@@ -132,17 +135,25 @@ impl Cabinet {
                 beam_line(&mut m, "CAB_FRAME", &frame, [x, -a, z], [x, a, z], na);
             }
         }
-        // The base: a stiffer sheet (a base frame's stand-in) carrying the feet and the
-        // dampers. (Base beams would end on the side panels with the panel normal along the
-        // beam, which ccx rejects.)
-        let base = Section::Shell {
-            thickness: self.base_sheet,
+        // Rails where the loads come in: across the top under the springs' cabinet ends
+        // (x = -0.10 and 0.12), and along the base under the dampers (y = +-0.24) and the feet
+        // (x = +-foot). A 0.7 mm sheet alone would sag 0.15 m under a spring's 245 N.
+        let rail = Section::Beam {
+            width: self.rail_depth,
+            height: self.rail_thickness,
+            normal: [0.0, 0.0, 1.0],
             material: steel(),
         };
-        shell_grid(&mut m, "CAB_BASE", &base, na, na, false, |u, v| {
-            [s(v), s(u), 0.0]
-        });
+        for x in [-0.10, 0.12] {
+            beam_line(&mut m, "CAB_RAILS", &rail, [x, -a, h], [x, a, h], na);
+        }
+        for y in [-0.24, 0.24] {
+            beam_line(&mut m, "CAB_RAILS", &rail, [-a, y, 0.0], [a, y, 0.0], na);
+        }
         let f = self.foot;
+        for x in [-f, f] {
+            beam_line(&mut m, "CAB_RAILS", &rail, [x, -a, 0.0], [x, a, 0.0], na);
+        }
         // Feet: springs to the ground in x, y and z at each foot node.
         let mut feet = Vec::new();
         for (k, (x, y)) in [(f, f), (f, -f), (-f, f), (-f, -f)].iter().enumerate() {

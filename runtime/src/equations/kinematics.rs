@@ -3,18 +3,43 @@
 //! wrench to generalised forces. Elastic bodies later add W q to a marker without touching
 //! any element.
 
-use super::TubState;
+use super::BodyState;
 use crate::geom::{V, f};
 use crate::ir::BodyRef;
 use crate::scalar::Scalar;
 
-/// A marker's definition: body and rest point (global), with its lever from the tub's reference.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// A marker's definition: body and rest point (global), with its lever from the tub's reference,
+/// and on an elastic body its mode-shape rows.
+#[derive(Clone, Debug, PartialEq)]
 pub struct MarkerDef {
     pub body: BodyRef,
     pub point: [f64; 3],
     /// point - p0 (used for tub markers).
     pub s: [f64; 3],
+    /// The body's modes at this point, when the scene makes the body elastic.
+    pub modal: Option<ModalRows>,
+}
+
+/// Translation W and rotation Phi per unit modal coordinate at a marker; the body's modal
+/// coordinates start at `start` in q.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ModalRows {
+    pub start: usize,
+    pub w: Vec<[f64; 3]>,
+    pub phi: Vec<[f64; 3]>,
+}
+
+impl ModalRows {
+    /// sum_k W_k x_k and sum_k Phi_k x_k over the body's slice of `x`.
+    pub fn motion<T: crate::scalar::Scalar>(&self, x: &[T]) -> (V<T>, V<T>) {
+        let (mut w, mut p) = (V::<T>::zero(), V::<T>::zero());
+        for (k, (wk, pk)) in self.w.iter().zip(&self.phi).enumerate() {
+            let xk = x[self.start + k];
+            w = w + V::<T>::c(*wk).scale(xk);
+            p = p + V::<T>::c(*pk).scale(xk);
+        }
+        (w, p)
+    }
 }
 
 impl MarkerDef {
@@ -23,12 +48,14 @@ impl MarkerDef {
             body,
             point,
             s: f::sub(point, p0),
+            modal: None,
         }
     }
 
     /// Current kinematic state of the marker.
-    pub fn state<T: Scalar>(&self, st: &TubState<T>) -> Marker<T> {
-        match self.body {
+    pub fn state<T: Scalar>(&self, b: &BodyState<T>) -> Marker<T> {
+        let st = &b.tub;
+        let mut m = match self.body {
             BodyRef::Tub => {
                 let s = V::<T>::c(self.s);
                 Marker {
@@ -44,7 +71,17 @@ impl MarkerDef {
                 rot: V::zero(),
                 angvel: V::zero(),
             },
+        };
+        // An elastic body adds W q to the position and Phi q to the rotation.
+        if let Some(r) = &self.modal {
+            let (w, p) = r.motion(b.q);
+            let (wd, pd) = r.motion(b.qd);
+            m.pos = m.pos + w;
+            m.vel = m.vel + wd;
+            m.rot = m.rot + p;
+            m.angvel = m.angvel + pd;
         }
+        m
     }
 }
 

@@ -15,6 +15,7 @@
 //! would drop (design-notes: preloaded springs); it makes the stiffness symmetric at equilibrium.
 
 mod bodies;
+mod elastic;
 pub mod kinematics;
 
 use crate::elements::{Element, FrictionDamper, Gasket, LinearDamper, Spring};
@@ -22,7 +23,8 @@ use crate::geom::{V, f};
 use crate::ir::{BodyRef, Effect, EffectSet, Model, SensorKind};
 use crate::scalar::Scalar;
 pub use bodies::{RotorDef, TubDef, UnbalanceDef};
-pub use kinematics::{Marker, MarkerDef, Wrench};
+pub use elastic::ModalBody;
+pub use kinematics::{Marker, MarkerDef, ModalRows, Wrench};
 
 /// The prescribed drum motion at time t: angle, speed, acceleration (rad, rad/s, rad/s^2).
 #[derive(Clone, Copy, Debug)]
@@ -75,6 +77,8 @@ pub struct Equations {
     pub friction_dampers: Vec<Placed<FrictionDamper>>,
     pub gaskets: Vec<Placed<Gasket>>,
     pub sensors: Vec<SensorDef>,
+    /// The cabinet's modes (subsystem 2), when the scene makes it elastic.
+    pub cabinet: Option<ModalBody>,
 }
 
 /// A force element with its force on body a at rest: the load whose tilting with the tub the
@@ -87,8 +91,9 @@ pub struct Placed<E> {
 }
 
 impl<E: Element> Placed<E> {
-    fn new(e: E, exact: bool) -> Self {
-        let zero = TubState::<f64>::new(&[0.0; 6], &[0.0; 6]);
+    fn new(e: E, exact: bool, n: usize) -> Self {
+        let z = vec![0.0; n];
+        let zero = BodyState::new(&z, &z);
         let (ma, mb) = e.markers();
         let (wa, _) = e.wrenches(&ma.state(&zero), &mb.state(&zero), exact);
         Placed {
@@ -104,7 +109,25 @@ impl Equations {
     pub fn new(model: &Model, scene: &EffectSet) -> Equations {
         let tub = TubDef::new(&model.tub);
         let p0 = tub.p0;
-        let mk = |body: BodyRef, point: [f64; 3]| MarkerDef::new(body, point, p0);
+        let n1 = 6;
+        let cabinet = model
+            .elastic
+            .iter()
+            .find(|e| e.name == "cabinet" && scene.has(&Effect::Elastic(e.name.clone())))
+            .map(|e| ModalBody::new(e, n1, model.gravity));
+        let layout = Layout {
+            n1,
+            n2: cabinet.as_ref().map_or(0, |c| c.n),
+        };
+        let mk = |body: BodyRef, point: [f64; 3]| {
+            let mut m = MarkerDef::new(body, point, p0);
+            if body == BodyRef::Cabinet
+                && let Some(c) = &cabinet
+            {
+                m.modal = Some(c.rows(point));
+            }
+            m
+        };
         let rotors: Vec<RotorDef> = model.rotors.iter().map(|r| RotorDef::new(r, p0)).collect();
         let unbalances = model
             .unbalances
@@ -125,12 +148,13 @@ impl Equations {
         };
         let gasket_damping = scene.has(&Effect::GasketDamping);
         let exact = scene.has(&Effect::ElementGeometry);
-        let place = |e| Placed::new(e, exact);
+        let n = layout.n();
+        let place = |e| Placed::new(e, exact, n);
         Equations {
             exact_geometry: exact,
             unbalance_inertia: scene.has(&Effect::UnbalanceInertia),
             scene: scene.clone(),
-            layout: Layout { n1: 6, n2: 0 },
+            layout,
             gravity: model.gravity,
             tub,
             rotors,
@@ -145,7 +169,7 @@ impl Equations {
                 .dampers
                 .iter()
                 .map(|d| LinearDamper::new(d, mk(d.a.body, d.a.point), mk(d.b.body, d.b.point)))
-                .map(|e| Placed::new(e, exact))
+                .map(|e| Placed::new(e, exact, n))
                 .collect(),
             friction_dampers: if scene.has(&Effect::FrictionDampers) {
                 model
@@ -154,7 +178,7 @@ impl Equations {
                     .map(|d| {
                         FrictionDamper::new(d, mk(d.a.body, d.a.point), mk(d.b.body, d.b.point))
                     })
-                    .map(|e| Placed::new(e, exact))
+                    .map(|e| Placed::new(e, exact, n))
                     .collect()
             } else {
                 Vec::new()
@@ -163,7 +187,7 @@ impl Equations {
                 .gaskets
                 .iter()
                 .map(|g| Gasket::new(g, mk(g.a, g.point), mk(g.b, g.point), gasket_damping))
-                .map(|e| Placed::new(e, exact))
+                .map(|e| Placed::new(e, exact, n))
                 .collect(),
             sensors: model
                 .sensors
@@ -175,6 +199,7 @@ impl Equations {
                     channels: s.channels(),
                 })
                 .collect(),
+            cabinet,
         }
     }
 
@@ -185,24 +210,29 @@ impl Equations {
         debug_assert_eq!(h.len(), self.layout.n());
         m1.fill(T::zero());
         h.fill(T::zero());
-        let st = TubState::new(q, qd);
+        let b = BodyState::new(q, qd);
+        let st = &b.tub;
         let g = V::<T>::c(self.gravity);
 
-        self.tub.add(&st, g, m1, n1, h);
+        self.tub.add(st, g, m1, n1, h);
         for r in &self.rotors {
-            r.add(&st, d, h);
+            r.add(st, d, h);
         }
         for u in &self.unbalances {
-            u.add(&st, d, g, self.unbalance_inertia, m1, n1, h);
+            u.add(st, d, g, self.unbalance_inertia, m1, n1, h);
         }
+        if let Some(c) = &self.cabinet {
+            c.add(q, qd, h);
+        }
+        let st = &b;
 
-        self.elements(&self.springs, &st, h);
-        self.elements(&self.dampers, &st, h);
-        self.elements(&self.friction_dampers, &st, h);
-        self.elements(&self.gaskets, &st, h);
+        self.elements(&self.springs, st, h);
+        self.elements(&self.dampers, st, h);
+        self.elements(&self.friction_dampers, st, h);
+        self.elements(&self.gaskets, st, h);
     }
 
-    fn elements<T: Scalar, E: Element>(&self, list: &[Placed<E>], st: &TubState<T>, h: &mut [T]) {
+    fn elements<T: Scalar, E: Element>(&self, list: &[Placed<E>], st: &BodyState<T>, h: &mut [T]) {
         for p in list {
             let (ma, mb) = p.e.markers();
             let (wa, wb) =
@@ -217,7 +247,7 @@ impl Equations {
     fn apply<T: Scalar, E>(
         &self,
         at: &MarkerDef,
-        st: &TubState<T>,
+        st: &BodyState<T>,
         w: &Wrench<T>,
         rest: &Placed<E>,
         on_a: bool,
@@ -239,12 +269,20 @@ impl Equations {
                         V::c(rest.rest_moment_a) * sign,
                     )
                 };
-                let f_tub = w.force - st.alpha.cross(f_tilt);
-                let m_tub = w.moment - st.alpha.cross(m_tilt);
+                let f_tub = w.force - st.tub.alpha.cross(f_tilt);
+                let m_tub = w.moment - st.tub.alpha.cross(m_tilt);
                 (s.cross(f_tub) + m_tub).add_to(h, 3);
             }
-            // Fixed until its modes arrive: it takes the reactions.
-            BodyRef::Cabinet => {}
+            // Rigid: fixed, it takes the reactions. Elastic: W^T F + Phi^T M (the cabinet has no
+            // rigid DOF, so its modal frame is the global one).
+            BodyRef::Cabinet => {
+                if let Some(r) = &at.modal {
+                    for (k, (wk, pk)) in r.w.iter().zip(&r.phi).enumerate() {
+                        let gk = w.force.dot(V::c(*wk)) + w.moment.dot(V::c(*pk));
+                        h[r.start + k] += gk;
+                    }
+                }
+            }
         }
     }
 
@@ -253,7 +291,17 @@ impl Equations {
     pub fn sensor<T: Scalar>(&self, i: usize, q: &[T], qd: &[T], qdd: &[T]) -> [T; 3] {
         let s = &self.sensors[i];
         match (s.at.body, s.kind) {
-            (BodyRef::Cabinet, _) => [T::zero(); 3],
+            (BodyRef::Cabinet, kind) => match &s.at.modal {
+                None => [T::zero(); 3],
+                Some(r) => {
+                    let x = if kind == SensorKind::Displacement {
+                        q
+                    } else {
+                        qdd
+                    };
+                    r.motion(x).0.0
+                }
+            },
             (BodyRef::Tub, SensorKind::Displacement) => {
                 let st = TubState::new(q, qd);
                 (st.u + st.alpha.cross(V::c(s.at.s))).0
@@ -274,6 +322,25 @@ impl Equations {
     /// The tub's rest CoG, the reference point of its DOF.
     pub fn p0(&self) -> [f64; 3] {
         self.tub.p0
+    }
+}
+
+/// The whole state as the markers see it: the tub's rigid coordinates unpacked, and q, q' for
+/// the modal coordinates.
+#[derive(Clone, Copy, Debug)]
+pub struct BodyState<'a, T> {
+    pub tub: TubState<T>,
+    pub q: &'a [T],
+    pub qd: &'a [T],
+}
+
+impl<'a, T: Scalar> BodyState<'a, T> {
+    pub fn new(q: &'a [T], qd: &'a [T]) -> Self {
+        BodyState {
+            tub: TubState::new(q, qd),
+            q,
+            qd,
+        }
     }
 }
 

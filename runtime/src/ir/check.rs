@@ -299,6 +299,7 @@ pub fn check(m: &Model) -> Result<(), Vec<CheckError>> {
 
     // Scenes.
     let rotors: Vec<&str> = m.rotors.iter().map(|r| r.name.as_str()).collect();
+    let elastic_names: Vec<&str> = m.elastic.iter().map(|e| e.name.as_str()).collect();
     let mut scene_names = HashSet::new();
     for (i, s) in m.scenes.iter().enumerate() {
         let p = Path::of(&["scenes"]).idx(i);
@@ -309,12 +310,13 @@ pub fn check(m: &Model) -> Result<(), Vec<CheckError>> {
             );
         }
         for (j, e) in s.effects.iter().enumerate() {
-            if Effect::parse(e, &rotors).is_none() {
+            if Effect::parse(e, &rotors, &elastic_names).is_none() {
                 c.err(
                     p.clone().key("effects").idx(j),
                     format!(
                         "scene `{}`: unknown effect `{e}` (known: gyroscopic, friction_dampers, \
-                         gasket_damping, element_geometry, unbalance_inertia, unbalance.<rotor>)",
+                         gasket_damping, element_geometry, unbalance_inertia, unbalance.<rotor>, \
+                         elastic.<body>)",
                         s.name
                     ),
                 );
@@ -453,18 +455,115 @@ fn elastic(c: &mut Ctx, m: &Model) {
             );
         }
     }
-    // One rule for the present state: the data is read and checked, the equations of elastic
-    // bodies are the next step (issue 9). Until then no model with them may run.
-    if let Some(i) = (0..m.elastic.len()).find(|&i| m.elastic[i].data.is_some()) {
-        c.err(
-            Path::of(&["elastic"]).idx(i),
-            format!(
-                "elastic `{}`: modal data read and checked, but the equations of elastic bodies \
-                 are not built yet; remove the entry to run the rigid machine",
-                m.elastic[i].name
-            ),
-        );
+    // One rule for the present state: the cabinet's modes are in the equations; the tub's and
+    // the drum's are read and checked, their equations are the next step. Until then no model
+    // with them may run.
+    for (i, e) in m.elastic.iter().enumerate() {
+        if e.data.is_some() && e.name != "cabinet" {
+            c.err(
+                Path::of(&["elastic"]).idx(i),
+                format!(
+                    "elastic `{}`: modal data read and checked, but the equations of the elastic \
+                     {} are not built yet; remove the entry to run it rigid",
+                    e.name, e.name
+                ),
+            );
+        }
     }
+    elastic_markers(c, m);
+}
+
+/// An element's name and its two ends (body, point, key).
+type Ends<'a> = (String, [(BodyRef, V3, &'a str); 2]);
+
+/// Every point a force element or sensor attaches to on an elastic body is one of the modal
+/// data's points (an FE node set), within `modal::POINT_TOLERANCE`.
+fn elastic_markers(c: &mut Ctx, m: &Model) {
+    let Some(cab) = m
+        .elastic
+        .iter()
+        .find(|e| e.name == "cabinet")
+        .and_then(|e| e.data.as_ref())
+    else {
+        return;
+    };
+    let mut need = |path: Path, what: String, p: &V3| {
+        if modal::point_at(cab, *p).is_none() {
+            let near = cab
+                .points
+                .iter()
+                .min_by(|a, b| dist(&a.position, p).total_cmp(&dist(&b.position, p)));
+            c.err(
+                path,
+                format!(
+                    "{what}: the elastic cabinet has no FE node set at {p:?}{}",
+                    near.map_or(String::new(), |q| format!(
+                        " (nearest: {} at {:?})",
+                        q.name, q.position
+                    ))
+                ),
+            );
+        }
+    };
+    let ends = |a: &Attach, b: &Attach| [(a.body, a.point, "a"), (b.body, b.point, "b")];
+    let lists: [(&str, Vec<Ends>); 3] = [
+        (
+            "springs",
+            m.springs
+                .iter()
+                .map(|s| (s.name.clone(), ends(&s.a, &s.b)))
+                .collect(),
+        ),
+        (
+            "dampers",
+            m.dampers
+                .iter()
+                .map(|s| (s.name.clone(), ends(&s.a, &s.b)))
+                .collect(),
+        ),
+        (
+            "friction_dampers",
+            m.friction_dampers
+                .iter()
+                .map(|s| (s.name.clone(), ends(&s.a, &s.b)))
+                .collect(),
+        ),
+    ];
+    for (list, items) in lists {
+        for (i, (name, e)) in items.iter().enumerate() {
+            for (body, point, key) in e {
+                if *body == BodyRef::Cabinet {
+                    need(
+                        Path::of(&[list]).idx(i).key(key).key("point"),
+                        format!("{list} `{name}`"),
+                        point,
+                    );
+                }
+            }
+        }
+    }
+    for (i, g) in m.gaskets.iter().enumerate() {
+        if g.a == BodyRef::Cabinet || g.b == BodyRef::Cabinet {
+            need(
+                Path::of(&["gaskets"]).idx(i).key("point"),
+                format!("gasket `{}`", g.name),
+                &g.point,
+            );
+        }
+    }
+    for (i, s) in m.sensors.iter().enumerate() {
+        if s.body == BodyRef::Cabinet {
+            need(
+                Path::of(&["sensors"]).idx(i).key("point"),
+                format!("sensor `{}`", s.name),
+                &s.point,
+            );
+        }
+    }
+}
+
+fn dist(a: &V3, b: &V3) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
 }
 
 fn norm(v: &V3) -> f64 {

@@ -296,11 +296,14 @@ pub enum Effect {
     /// Unbalances as masses: angle-dependent M1, Coriolis, and the centrifugal load turning with
     /// the tub. Off: prescribed rotating forces only.
     UnbalanceInertia,
+    /// The named body's modes (an `elastic` entry): `elastic.cabinet`. Off: the body is rigid
+    /// (the cabinet fixed).
+    Elastic(String),
 }
 
 impl Effect {
-    /// Parse an effect name; `rotors` are the model's rotor names.
-    pub fn parse(s: &str, rotors: &[&str]) -> Option<Effect> {
+    /// Parse an effect name; `rotors` are the model's rotor names, `elastic` its elastic bodies.
+    pub fn parse(s: &str, rotors: &[&str], elastic: &[&str]) -> Option<Effect> {
         match s {
             "gyroscopic" => Some(Effect::Gyroscopic),
             "friction_dampers" => Some(Effect::FrictionDampers),
@@ -308,6 +311,9 @@ impl Effect {
             "element_geometry" => Some(Effect::ElementGeometry),
             "unbalance_inertia" => Some(Effect::UnbalanceInertia),
             _ => {
+                if let Some(b) = s.strip_prefix("elastic.") {
+                    return elastic.contains(&b).then(|| Effect::Elastic(b.to_string()));
+                }
                 let r = s.strip_prefix("unbalance.")?;
                 rotors
                     .contains(&r)
@@ -324,6 +330,7 @@ impl Effect {
             Effect::ElementGeometry => "element_geometry".into(),
             Effect::UnbalanceInertia => "unbalance_inertia".into(),
             Effect::Unbalance(r) => format!("unbalance.{r}"),
+            Effect::Elastic(b) => format!("elastic.{b}"),
         }
     }
 }
@@ -360,6 +367,9 @@ impl Model {
         if !self.gaskets.is_empty() {
             v.push(Effect::GasketDamping);
         }
+        for e in &self.elastic {
+            v.push(Effect::Elastic(e.name.clone()));
+        }
         v
     }
 
@@ -393,9 +403,10 @@ impl Model {
             )
         })?;
         let rotors: Vec<&str> = self.rotors.iter().map(|r| r.name.as_str()).collect();
+        let elastic: Vec<&str> = self.elastic.iter().map(|e| e.name.as_str()).collect();
         let mut effects = Vec::new();
         for e in &scene.effects {
-            let eff = Effect::parse(e, &rotors)
+            let eff = Effect::parse(e, &rotors, &elastic)
                 .ok_or_else(|| format!("scene `{name}`: unknown effect `{e}`"))?;
             if !effects.contains(&eff) {
                 effects.push(eff);

@@ -296,6 +296,24 @@ pub fn problems(d: &ModalData) -> Vec<String> {
     out
 }
 
+/// How far (m) a marker's point may lie from the modal point (FE node set) it uses: a side
+/// panel's 2 mm bulge puts its centre node outside the rigid model's panel plane.
+pub const POINT_TOLERANCE: f64 = 5e-3;
+
+/// The modal point at `p` (within `POINT_TOLERANCE`), if any.
+pub fn point_at(d: &ModalData, p: V3) -> Option<&ModalPoint> {
+    let dist = |q: &ModalPoint| {
+        ((q.position[0] - p[0]).powi(2)
+            + (q.position[1] - p[1]).powi(2)
+            + (q.position[2] - p[2]).powi(2))
+        .sqrt()
+    };
+    d.points
+        .iter()
+        .filter(|q| dist(q) <= POINT_TOLERANCE)
+        .min_by(|a, b| dist(a).total_cmp(&dist(b)))
+}
+
 impl ModalData {
     /// The point called `name` (a node set of the FE model).
     pub fn point(&self, name: &str) -> Option<&ModalPoint> {

@@ -1,0 +1,71 @@
+//! Elastic bodies in the equations: a body's modal coordinates with their stiffness, modal
+//! damping and weight, and the mode-shape rows its markers use. So far the cabinet (subsystem 2:
+//! no rigid DOF, mass-normalised modes, so M2 = E).
+
+use super::kinematics::ModalRows;
+use crate::ir::Elastic;
+use crate::ir::modal::point_at;
+use crate::scalar::Scalar;
+
+/// A body's modes as the derivation uses them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ModalBody {
+    pub name: String,
+    /// First index of the body's coordinates in q.
+    pub start: usize,
+    pub n: usize,
+    /// omega_k^2, (rad/s)^2.
+    pub omega2: Vec<f64>,
+    /// 2 zeta omega_k, 1/s (modal damping).
+    pub damping: Vec<f64>,
+    /// The body's weight on each mode, sum dm W_k . g, N per unit modal coordinate.
+    pub weight: Vec<f64>,
+    data: crate::ir::modal::ModalData,
+}
+
+impl ModalBody {
+    /// From a checked, resolved `elastic` entry; its coordinates start at `start`.
+    pub fn new(e: &Elastic, start: usize, gravity: [f64; 3]) -> Self {
+        let d = e.data.clone().expect("checked: modal data resolved");
+        let n = d.modes();
+        let w: Vec<f64> = d
+            .frequencies
+            .iter()
+            .map(|f| 2.0 * std::f64::consts::PI * f)
+            .collect();
+        ModalBody {
+            name: e.name.clone(),
+            start,
+            n,
+            omega2: w.iter().map(|w| w * w).collect(),
+            damping: w.iter().map(|w| 2.0 * e.damping * w).collect(),
+            weight: (0..n)
+                .map(|k| (0..3).map(|a| d.elementary.c[a][k] * gravity[a]).sum())
+                .collect(),
+            data: d,
+        }
+    }
+
+    /// The rows of the modal point at `p` (checked to exist).
+    pub fn rows(&self, p: [f64; 3]) -> ModalRows {
+        let pt = point_at(&self.data, p).expect("checked: a modal point at every marker");
+        ModalRows {
+            start: self.start,
+            w: (0..self.n)
+                .map(|k| [pt.w[0][k], pt.w[1][k], pt.w[2][k]])
+                .collect(),
+            phi: (0..self.n)
+                .map(|k| [pt.phi[0][k], pt.phi[1][k], pt.phi[2][k]])
+                .collect(),
+        }
+    }
+
+    /// Its own terms in h: -omega^2 q - 2 zeta omega q' + weight (M = E for mass-normalised
+    /// modes: ccx's normalisation, the one its frequencies belong to).
+    pub fn add<T: Scalar>(&self, q: &[T], qd: &[T], h: &mut [T]) {
+        for k in 0..self.n {
+            let i = self.start + k;
+            h[i] += T::c(self.weight[k]) - q[i] * self.omega2[k] - qd[i] * self.damping[k];
+        }
+    }
+}

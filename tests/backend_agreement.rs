@@ -13,6 +13,7 @@ fn models() -> Vec<(&'static str, Model)> {
     vec![
         ("reference", washdyn_models::reference()),
         ("compact", washdyn_models::compact::model()),
+        ("elastic_cabinet", washdyn_models::elastic_cabinet::model()),
     ]
 }
 

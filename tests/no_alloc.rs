@@ -87,33 +87,42 @@ pub fn allocations<S: Mechanical>(sys: S, method: Method, t_end: f64) -> (u64, u
 #[test]
 fn interpreted_run_allocates_only_at_set_up() {
     // The reference run-up from 5 s (93 rpm reached) with every effect on.
-    let m = washdyn_models::reference();
-    let scene = m.scene(Some("full")).unwrap();
-    for method in [Method::Dopri5, Method::Rk4, Method::Sdirk4] {
-        let (short, ns) = allocations(Interpreter::new(&m, &scene), method, 1.0);
-        let (long, nl) = allocations(Interpreter::new(&m, &scene), method, 10.0);
-        assert!(
-            nl > 9 * ns,
-            "{method}: the long run sampled {nl}, the short {ns}"
-        );
-        assert_eq!(
-            short, long,
-            "{method}: allocations grow with the simulated time"
-        );
+    // And the elastic cabinet's scene.
+    for (m, scene) in [
+        (washdyn_models::reference(), "full"),
+        (washdyn_models::elastic_cabinet::model(), "elastic"),
+    ] {
+        let scene = m.scene(Some(scene)).unwrap();
+        for method in [Method::Dopri5, Method::Rk4, Method::Sdirk4] {
+            let (short, ns) = allocations(Interpreter::new(&m, &scene), method, 1.0);
+            let (long, nl) = allocations(Interpreter::new(&m, &scene), method, 10.0);
+            assert!(
+                nl > 9 * ns,
+                "{method}: the long run sampled {nl}, the short {ns}"
+            );
+            assert_eq!(
+                short, long,
+                "{method}: allocations grow with the simulated time"
+            );
+        }
     }
 }
 
 #[test]
 fn generated_run_allocates_only_at_set_up() {
-    for scene in ["full", "rigid_low_speed"] {
+    for (model, scene) in [
+        ("reference", "full"),
+        ("reference", "rigid_low_speed"),
+        ("elastic_cabinet", "elastic"),
+    ] {
         for method in [Method::Dopri5, Method::Sdirk4] {
-            let sys = || washdyn_models::generated("reference", scene).unwrap();
+            let sys = || washdyn_models::generated(model, scene).unwrap();
             let (short, ns) = allocations(sys(), method, 1.0);
             let (long, nl) = allocations(sys(), method, 10.0);
             assert!(nl > 9 * ns);
             assert_eq!(
                 short, long,
-                "{scene}/{method}: allocations grow with the simulated time"
+                "{model}/{scene}/{method}: allocations grow with the simulated time"
             );
         }
     }

@@ -234,7 +234,13 @@ fn put(target: &mut Value, path: &Path, v: &Syn, spans: &mut Spans, diag: &mut D
         Syn::Num(x, loc) => {
             spans.clear_below(path);
             spans.set(path, *loc);
-            *target = Number::from_f64(*x).map_or(Value::Null, Value::Number);
+            // Whole non-negative numbers as integers, so counts (`modes: 20`) read as usize;
+            // serde reads an integer into an f64 field as well.
+            *target = if *x >= 0.0 && x.fract() == 0.0 && *x < 9.0e15 {
+                Value::Number(Number::from(*x as u64))
+            } else {
+                Number::from_f64(*x).map_or(Value::Null, Value::Number)
+            };
         }
         Syn::Str(s, loc) => {
             spans.clear_below(path);

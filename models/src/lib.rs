@@ -3,11 +3,15 @@
 
 #[path = "compact.rs"]
 mod compact_decl;
+#[path = "elastic_cabinet.rs"]
+mod elastic_cabinet_decl;
 #[path = "reference.rs"]
 mod reference_decl;
 
 /// The compact machine (`machine!` variant of the reference file): `compact::model()`.
 pub use compact_decl::compact;
+/// The reference machine with its elastic cabinet (scene `elastic`).
+pub use elastic_cabinet_decl::elastic_cabinet;
 /// The reference machine declared with `machine!`: `reference::model()`. (The function
 /// `reference()` loads the TOML file; a module and a function may share a name.)
 pub use reference_decl::reference;
@@ -19,7 +23,7 @@ use washdyn_runtime::ir::toml_file::{ModelFileError, load_str};
 pub const REFERENCE_TOML: &str = include_str!("../data/reference.toml");
 
 /// Names of the built-in models.
-pub const BUILT_IN: &[&str] = &["reference", "compact"];
+pub const BUILT_IN: &[&str] = &["reference", "compact", "elastic_cabinet"];
 
 /// The built-in model `name`: the reference from its TOML file (checked at load), the others
 /// as their `machine!` declaration filled them (checked at compile time).
@@ -34,6 +38,7 @@ pub fn built_in(name: &str) -> Option<Result<Model, ModelFileError>> {
             ))
         }
         "compact" => Some(Ok(compact::model())),
+        "elastic_cabinet" => Some(Ok(elastic_cabinet::model())),
         _ => None,
     }
 }
@@ -46,6 +51,7 @@ pub fn generated(
     match name {
         "reference" => reference::system(scene),
         "compact" => compact::system(scene),
+        "elastic_cabinet" => elastic_cabinet::system(scene),
         _ => None,
     }
 }

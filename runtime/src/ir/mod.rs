@@ -95,7 +95,9 @@ pub struct Elastic {
     #[serde(default = "two_percent")]
     pub damping: f64,
     /// The file's content, read by `modal::resolve` (both front ends), truncated to `modes`.
-    #[serde(skip)]
+    /// Serialised so a `machine!` model's embedded IR carries it; `resolve` always replaces it
+    /// from the file.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub data: Option<modal::ModalData>,
 }
 

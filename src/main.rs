@@ -112,6 +112,25 @@ enum Cmd {
     },
     /// Check a model file and list its scenes.
     Check { model: String },
+    /// The spinning drum's frequencies over speed from its modal data (rotating frame:
+    /// Coriolis, spin softening, stress stiffening), with the excitation orders: campbell.csv
+    /// and campbell.png (.svg).
+    Campbell {
+        /// The drum's modal data file (e.g. models/fe/drum.modal.toml).
+        modal: PathBuf,
+        /// Highest drum speed, rpm.
+        #[arg(long, default_value_t = 1400.0)]
+        max_rpm: f64,
+        /// Motor/drum speed ratio for the motor order line.
+        #[arg(long, default_value_t = 11.25)]
+        motor_ratio: f64,
+        /// Output directory.
+        #[arg(long, default_value = "out/campbell")]
+        out: PathBuf,
+        /// Also write the plot as SVG.
+        #[arg(long)]
+        svg: bool,
+    },
     /// Run variants (unbalance position, mass, speed profile) on all cores: one folder each
     /// and a comparison table DIR/sweep.csv.
     Sweep {
@@ -440,6 +459,24 @@ fn main() -> ExitCode {
                 }
             }
         }
+        Cmd::Campbell {
+            modal,
+            max_rpm,
+            motor_ratio,
+            out,
+            svg,
+        } => match washdyn::campbell::run(&modal, max_rpm, motor_ratio, &out, svg) {
+            Ok(files) => {
+                for f in files {
+                    println!("wrote {}", f.display());
+                }
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("error: {e}");
+                ExitCode::from(2)
+            }
+        },
         Cmd::Fe {
             cmd: FeCmd::Write { out },
         } => match fe_write(&out) {

@@ -247,3 +247,174 @@ pub fn reduced_frequencies(
     ev.sort_by(f64::total_cmp);
     ev
 }
+
+/// The gyroscopic matrix G (n x n, skew): G_kl = sum dm W_k . (e x W_l), from the elementary
+/// sums g[a][b]. The rotating-frame equations of the reduced model are
+/// q'' + 2 Omega G q' + (diag(omega_0^2) + Omega^2 (K_G - S_perp)) q = 0 (modal mass E).
+pub fn gyroscopic(elementary: &Elementary, n: usize, axis: [f64; 3]) -> Vec<f64> {
+    let e = axis;
+    // (e x w)_a = sum_bc eps_abc e_b w_c = ex[a][c] w_c.
+    let ex = [[0.0, -e[2], e[1]], [e[2], 0.0, -e[0]], [-e[1], e[0], 0.0]];
+    let mut g = vec![0.0; n * n];
+    for k in 0..n {
+        for l in 0..n {
+            let mut v = 0.0;
+            for a in 0..3 {
+                for c in 0..3 {
+                    v += ex[a][c] * elementary.g[a][c][k * n + l];
+                }
+            }
+            g[k * n + l] = v;
+        }
+    }
+    g
+}
+
+/// The reduced spinning body's frequencies (Hz) at `omega` in the rotating frame, with
+/// Coriolis, spin softening and stress stiffening: the positive imaginary parts of the
+/// first-order system's eigenvalues. The Campbell diagram is this over speed.
+pub fn campbell(
+    frequencies: &[f64],
+    elementary: &Elementary,
+    kg: &GeometricStiffness,
+    omega: f64,
+) -> Vec<f64> {
+    let n = frequencies.len();
+    let g = gyroscopic(elementary, n, kg.axis);
+    let e = kg.axis;
+    let mut a = DMatrix::<f64>::zeros(2 * n, 2 * n);
+    for i in 0..n {
+        a[(i, n + i)] = 1.0;
+        for j in 0..n {
+            let mut s_perp = 0.0;
+            for p in 0..3 {
+                for q in 0..3 {
+                    let pr = if p == q { 1.0 } else { 0.0 } - e[p] * e[q];
+                    s_perp += pr * elementary.g[p][q][i * n + j];
+                }
+            }
+            let mut k = omega * omega * (kg.per_omega2[i * n + j] - s_perp);
+            if i == j {
+                k += (2.0 * std::f64::consts::PI * frequencies[i]).powi(2);
+            }
+            a[(n + i, j)] = -k;
+            a[(n + i, n + j)] = -2.0 * omega * g[i * n + j];
+        }
+    }
+    let mut f: Vec<f64> = a
+        .complex_eigenvalues()
+        .iter()
+        .filter(|z| z.im > 0.0)
+        .map(|z| z.im / (2.0 * std::f64::consts::PI))
+        .collect();
+    f.sort_by(f64::total_cmp);
+    f
+}
+
+/// ccx's reference for the Campbell diagram: the prestressed body at `omega` (`*STATIC`
+/// CENTRIF), its `modes` real eigenmodes (`*FREQUENCY, STORAGE=YES`), then
+/// `*COMPLEX FREQUENCY, CORIOLIS` on them; returns the complex frequencies (Hz) and the turning
+/// directions ('F' forward, 'B' backward) that ccx prints.
+pub fn coriolis_reference(
+    mesh: &Mesh,
+    dir: &std::path::Path,
+    job: &str,
+    omega: f64,
+    axis_point: [f64; 3],
+    axis: [f64; 3],
+    modes: usize,
+) -> Result<Vec<(f64, char)>, String> {
+    let mut d = mesh.model_deck();
+    let loaded: Vec<&str> = mesh
+        .parts
+        .iter()
+        .filter(|p| p.section.material().is_some())
+        .map(|p| p.name.as_str())
+        .collect();
+    d.line("*ELSET, ELSET=WD_SPIN");
+    for c in loaded.chunks(8) {
+        d.line(&c.join(", "));
+    }
+    let n = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
+    let load = format!(
+        "WD_SPIN, CENTRIF, {:e}, {:e}, {:e}, {:e}, {:e}, {:e}, {:e}",
+        omega * omega,
+        axis_point[0],
+        axis_point[1],
+        axis_point[2],
+        axis[0] / n,
+        axis[1] / n,
+        axis[2] / n
+    );
+    d.line("*STEP")
+        .line("*STATIC")
+        .line("*DLOAD")
+        .line(&load)
+        .line("*END STEP")
+        .line("*STEP, PERTURBATION")
+        .line("*FREQUENCY, STORAGE=YES")
+        .line(&modes.to_string())
+        .line("*DLOAD")
+        .line(&load)
+        .line("*END STEP")
+        .line("*STEP, PERTURBATION")
+        .line("*COMPLEX FREQUENCY, CORIOLIS")
+        .line(&modes.to_string())
+        .line("*DLOAD")
+        .line(&load)
+        .line("*END STEP");
+    let deck = dir.join(format!("{job}.inp"));
+    std::fs::write(&deck, d.text()).map_err(|e| format!("{}: {e}", deck.display()))?;
+    let run = crate::ccx::run(&deck).map_err(|e| e.to_string())?;
+    let dat = std::fs::read_to_string(run.dat()).map_err(|e| e.to_string())?;
+    Ok(parse_complex(&dat))
+}
+
+/// The `*COMPLEX FREQUENCY` table (the eigenvalue table whose header has no EIGENVALUE column:
+/// mode, rad/time, cycles/time, imaginary part) and the turning directions.
+pub fn parse_complex(dat: &str) -> Vec<(f64, char)> {
+    let lines: Vec<&str> = dat.lines().collect();
+    let mut freqs = Vec::new();
+    for (i, l) in lines.iter().enumerate() {
+        if !l.contains("E I G E N V A L U E   O U T P U T") {
+            continue;
+        }
+        let header = lines.get(i + 2).copied().unwrap_or("");
+        if header.contains("EIGENVALUE") {
+            continue;
+        }
+        freqs.clear();
+        for l in &lines[i + 1..] {
+            let f: Vec<&str> = l.split_whitespace().collect();
+            match f.first().map(|s| s.parse::<usize>()) {
+                Some(Ok(_)) if f.len() == 4 => {
+                    if let Ok(hz) = f[2].parse::<f64>() {
+                        freqs.push(hz);
+                    }
+                }
+                Some(Ok(_)) => break,
+                _ if !freqs.is_empty() && !l.trim().is_empty() => break,
+                _ => {}
+            }
+        }
+    }
+    let mut dirs = Vec::new();
+    if let Some(i) = lines
+        .iter()
+        .position(|l| l.contains("T U R N I N G   D I R E C T I O N"))
+    {
+        for l in &lines[i + 1..] {
+            let f: Vec<&str> = l.split_whitespace().collect();
+            if f.len() == 2 && f[0].parse::<usize>().is_ok() {
+                dirs.push(f[1].chars().next().unwrap_or('?'));
+            } else if !dirs.is_empty() && !l.trim().is_empty() {
+                break;
+            }
+        }
+    }
+    freqs
+        .into_iter()
+        .enumerate()
+        .map(|(k, f)| (f, dirs.get(k).copied().unwrap_or('?')))
+        .collect()
+}

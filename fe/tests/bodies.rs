@@ -234,3 +234,50 @@ fn drum_stress_stiffened_frequencies_come_back_from_the_committed_data() {
         }
     }
 }
+
+#[test]
+fn drum_campbell_diagram_against_calculix_coriolis() {
+    // The reduced drum with Coriolis, spin softening and stress stiffening (the committed data)
+    // against ccx's *COMPLEX FREQUENCY, CORIOLIS on 12 prestressed modes, at three speeds.
+    if !have_ccx() {
+        return;
+    }
+    let drum = committed("drum");
+    let kg = drum.geometric_stiffness.clone().unwrap();
+    let spec = bodies::builtin().remove(1);
+    let dir = tempfile::tempdir().unwrap();
+    let mut splits = Vec::new();
+    for rpm in [400.0, 900.0, 1400.0] {
+        let omega = rpm * std::f64::consts::PI / 30.0;
+        let reference = washdyn_fe::rotating::coriolis_reference(
+            &spec.mesh,
+            dir.path(),
+            &format!("c{rpm}"),
+            omega,
+            kg.axis_point,
+            kg.axis,
+            12,
+        )
+        .unwrap();
+        let ours = washdyn_fe::rotating::campbell(&drum.frequencies, &drum.elementary, &kg, omega);
+        eprintln!("{rpm} rpm: ccx {reference:?}\n  committed data {ours:?}");
+        // The modes the rotation hardly couples (73.5, 102 Hz and the pair near 150 Hz): within
+        // 3e-3 [measured up to 2.3e-3 at 1400 rpm].
+        for k in 2..6 {
+            let (c, o) = (reference[k].0, ours[k]);
+            assert!(
+                (o - c).abs() < 3e-3 * c,
+                "{rpm} rpm, mode {k}: {o} vs ccx {c}"
+            );
+        }
+        splits.push((reference[1].0 - reference[0].0, ours[1] - ours[0]));
+    }
+    // The drum's rocking pair (42.0 Hz at rest) splits into a lower and an upper whirl in both,
+    // and more with speed; ours splits about 21 % less than ccx's [8.7 vs 11.0 Hz at 400 rpm,
+    // 30.6 vs 38.6 at 1400]. Not yet explained (issue 9 follows it up): asserted only as
+    // the same trend.
+    eprintln!("rocking pair split (ccx, ours) in Hz: {splits:?}");
+    for w in splits.windows(2) {
+        assert!(w[1].0 > w[0].0 && w[1].1 > w[0].1, "{splits:?}");
+    }
+}

@@ -1,0 +1,203 @@
+//! `washdyn campbell`: the spinning drum's frequencies over speed (Coriolis, spin softening,
+//! stress stiffening; rotating frame) from its modal data, with the excitation orders drawn in,
+//! as a CSV table and a PNG (and SVG) plot.
+
+use crate::analysis::plot::init_fonts;
+use plotters::prelude::*;
+use std::path::{Path, PathBuf};
+use washdyn_runtime::ir::modal::{self, ModalData};
+
+/// Frequencies (Hz) of every mode at each speed (rpm), rotating frame.
+#[derive(Debug)]
+pub struct Campbell {
+    pub rpm: Vec<f64>,
+    /// hz[i][k]: speed i, mode k (ascending).
+    pub hz: Vec<Vec<f64>>,
+}
+
+/// The diagram of a spinning body's modal data from 0 to `max_rpm` in `steps` intervals.
+pub fn compute(d: &ModalData, max_rpm: f64, steps: usize) -> Result<Campbell, String> {
+    let kg = d
+        .geometric_stiffness
+        .as_ref()
+        .ok_or("the modal data has no geometric stiffness: not a spinning body (the drum)")?;
+    let rpm: Vec<f64> = (0..=steps)
+        .map(|i| max_rpm * i as f64 / steps as f64)
+        .collect();
+    let hz = rpm
+        .iter()
+        .map(|r| {
+            let omega = r * std::f64::consts::PI / 30.0;
+            washdyn_fe::rotating::campbell(&d.frequencies, &d.elementary, kg, omega)
+        })
+        .collect();
+    Ok(Campbell { rpm, hz })
+}
+
+/// Read `modal_file`, compute, write `campbell.csv` and `campbell.png` (`.svg`) into `out`.
+pub fn run(
+    modal_file: &Path,
+    max_rpm: f64,
+    motor_ratio: f64,
+    out: &Path,
+    svg: bool,
+) -> Result<Vec<PathBuf>, String> {
+    if !(max_rpm > 0.0 && max_rpm <= washdyn_runtime::ir::check::MAX_RPM) {
+        return Err(format!(
+            "--max-rpm must be in (0, {}], got {max_rpm}",
+            washdyn_runtime::ir::check::MAX_RPM
+        ));
+    }
+    let d = modal::read_file(modal_file, &modal_file.display().to_string())?;
+    let problems = modal::problems(&d);
+    if !problems.is_empty() {
+        return Err(format!("{}: {}", modal_file.display(), problems.join("; ")));
+    }
+    let c = compute(&d, max_rpm, 140)?;
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    let csv = out.join("campbell.csv");
+    let mut text = String::from("drum_rpm");
+    let n = c.hz.first().map_or(0, |v| v.len());
+    for k in 0..n {
+        text += &format!(",mode_{}_hz", k + 1);
+    }
+    text.push('\n');
+    for (r, f) in c.rpm.iter().zip(&c.hz) {
+        text += &format!("{r}");
+        for v in f {
+            text += &format!(",{v}");
+        }
+        text.push('\n');
+    }
+    std::fs::write(&csv, text).map_err(|e| format!("{}: {e}", csv.display()))?;
+    let mut files = vec![csv];
+    init_fonts();
+    let png = out.join("campbell.png");
+    {
+        let root = BitMapBackend::new(&png, (1024, 640)).into_drawing_area();
+        draw(&root, &c, motor_ratio).map_err(|e| format!("{}: {e}", png.display()))?;
+        root.present()
+            .map_err(|e| format!("{}: {e}", png.display()))?;
+    }
+    files.push(png);
+    if svg {
+        let p = out.join("campbell.svg");
+        {
+            let root = SVGBackend::new(&p, (1024, 640)).into_drawing_area();
+            draw(&root, &c, motor_ratio).map_err(|e| format!("{}: {e}", p.display()))?;
+            root.present()
+                .map_err(|e| format!("{}: {e}", p.display()))?;
+        }
+        files.push(p);
+    }
+    Ok(files)
+}
+
+type PResult = Result<(), Box<dyn std::error::Error + Send + Sync>>;
+
+fn draw<DB: DrawingBackend>(
+    root: &DrawingArea<DB, plotters::coord::Shift>,
+    c: &Campbell,
+    motor: f64,
+) -> PResult
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE)?;
+    let max_rpm = *c.rpm.last().unwrap_or(&1.0);
+    let f_max =
+        c.hz.iter()
+            .flatten()
+            .fold(0.0f64, |m, v| m.max(*v))
+            .max(1.0)
+            * 1.05;
+    let mut chart = ChartBuilder::on(root)
+        .caption(
+            "drum: Campbell diagram (drum frame; Coriolis, spin softening, stiffening)",
+            ("sans-serif", 24),
+        )
+        .margin(20)
+        .x_label_area_size(50)
+        .y_label_area_size(70)
+        .build_cartesian_2d(0.0..max_rpm, 0.0..f_max)?;
+    chart
+        .configure_mesh()
+        .x_desc("drum speed [rpm]")
+        .y_desc("frequency [Hz]")
+        .label_style(("sans-serif", 18))
+        .axis_desc_style(("sans-serif", 20))
+        .draw()?;
+    let n = c.hz.first().map_or(0, |v| v.len());
+    for k in 0..n {
+        chart.draw_series(LineSeries::new(
+            c.rpm.iter().zip(&c.hz).map(|(r, f)| (*r, f[k])),
+            BLUE.stroke_width(2),
+        ))?;
+    }
+    // Excitation orders as the stationary frame counts them: drum orders 1 to 3, motor order 1.
+    // The frequencies are the drum frame's: a mode with n waves round the drum meets a
+    // stationary order k where its frequency equals (k -+ n) x speed, so the lines mark speed
+    // ranges, not exact crossings. The drum's own unbalance is static in its frame.
+    let orders: Vec<(f64, String)> = vec![
+        (1.0, "drum order 1".into()),
+        (2.0, "order 2".into()),
+        (3.0, "order 3".into()),
+        (motor, format!("motor order 1 (= {motor})")),
+    ];
+    for (o, label) in orders {
+        let end = (max_rpm, o * max_rpm / 60.0);
+        let end = if end.1 > f_max {
+            (f_max * 60.0 / o, f_max)
+        } else {
+            end
+        };
+        chart.draw_series(DashedLineSeries::new(
+            vec![(0.0, 0.0), end],
+            6,
+            4,
+            RED.stroke_width(1),
+        ))?;
+        chart.draw_series(std::iter::once(Text::new(
+            label,
+            (end.0 * 0.97 - max_rpm * 0.12, end.1 * 0.97),
+            ("sans-serif", 16).into_font().color(&RED),
+        )))?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn drum() -> ModalData {
+        let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/fe/drum.modal.toml");
+        modal::read_file(&p, "drum.modal.toml").unwrap()
+    }
+
+    #[test]
+    fn at_rest_the_diagram_starts_at_the_modal_frequencies() {
+        // At zero speed the reduced problem is diag(omega_0^2): its frequencies are the file's.
+        let d = drum();
+        let c = compute(&d, 1400.0, 4).unwrap();
+        for (a, b) in c.hz[0].iter().zip(&d.frequencies) {
+            assert!((a - b).abs() < 1e-9 * b, "{a} vs {b}");
+        }
+        // Modes come in pairs that split with speed (the rocking pair).
+        assert!(c.hz[4][1] - c.hz[4][0] > 10.0, "{:?}", c.hz[4]);
+    }
+
+    #[test]
+    fn refuses_a_body_that_does_not_spin_and_a_bad_speed() {
+        let mut d = drum();
+        d.geometric_stiffness = None;
+        assert!(
+            compute(&d, 1400.0, 4)
+                .unwrap_err()
+                .contains("not a spinning body")
+        );
+        let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/fe/drum.modal.toml");
+        let e = run(&p, -5.0, 11.25, Path::new("/nonexistent"), false).unwrap_err();
+        assert!(e.contains("--max-rpm"), "{e}");
+    }
+}

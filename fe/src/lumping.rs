@@ -9,6 +9,7 @@
 //! (of order rho t^3 / 12 per area) is left out: at 1.2 mm it is ~1e-7 of the translational terms.
 
 use crate::mesh::{Mesh, Section};
+use washdyn_runtime::geom::f::{cross, norm};
 
 /// Gauss-Legendre points and weights on [-1, 1].
 const G3: [(f64, f64); 3] = [
@@ -90,17 +91,8 @@ pub fn add_point_inertia(j: &mut [[f64; 3]; 3], m: f64, r: [f64; 3]) {
     }
 }
 
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-fn norm(a: [f64; 3]) -> f64 {
-    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
-}
-fn det3(a: [[f64; 3]; 3]) -> f64 {
+/// Determinant of a 3 x 3 matrix (the isoparametric Jacobian).
+pub fn det3(a: [[f64; 3]; 3]) -> f64 {
     a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
         - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
         + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0])
@@ -183,6 +175,21 @@ pub fn hex20(p: [f64; 3]) -> ([f64; 20], [[f64; 3]; 20]) {
     (n, d)
 }
 
+/// The C3D20 Jacobian d x / d (xi, eta, zeta) from the shape-function derivatives `d` and the
+/// node positions `x(k)`.
+pub fn hex20_jacobian(d: &[[f64; 3]; 20], x: impl Fn(usize) -> [f64; 3]) -> [[f64; 3]; 3] {
+    let mut j = [[0.0; 3]; 3];
+    for (k, dk) in d.iter().enumerate() {
+        let xk = x(k);
+        for r in 0..3 {
+            for s in 0..3 {
+                j[r][s] += dk[r] * xk[s];
+            }
+        }
+    }
+    j
+}
+
 /// Visit the Gauss points of one element: shape function values, position and volume weight
 /// (m^3; shells times thickness, beams times section area). Rules exact for the mass of
 /// straight-edged elements: 3 x 3 (S8R), 3 x 3 x 3 (C3D20), 3 (B32).
@@ -223,14 +230,7 @@ fn gauss(
                 for &(b, wb) in &G3 {
                     for &(c, wc) in &G3 {
                         let (n, d) = hex20([a, b, c]);
-                        let mut j = [[0.0; 3]; 3];
-                        for k in 0..20 {
-                            for r in 0..3 {
-                                for s in 0..3 {
-                                    j[r][s] += d[k][r] * x(k)[s];
-                                }
-                            }
-                        }
+                        let j = hex20_jacobian(&d, x);
                         visit(&n, at(&n), det3(j).abs() * wa * wb * wc);
                     }
                 }

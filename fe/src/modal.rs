@@ -6,6 +6,7 @@ use crate::frd::Frd;
 use crate::lumping::{Lumped, RigidLump};
 use crate::mesh::Mesh;
 use std::collections::HashMap;
+use washdyn_runtime::geom::f::{add, cross, sub};
 use washdyn_runtime::ir::modal::{ElasticBodyKind, Elementary, ModalData, ModalPoint, Support};
 
 /// Which modes to keep.
@@ -67,20 +68,6 @@ pub fn select(
         });
     }
     Ok(out)
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
 }
 
 /// Second moments J = sum dm r r^T about the CoG from the inertia tensor I = tr(J) E - J.

@@ -2,7 +2,7 @@
 //! unit square, cube or line. Coincident points become one node (`Mesh::node`), which is how the
 //! pieces of a body join. Each generator returns the node ids of its grid for node sets.
 
-use crate::lumping::{HEX20, hex20};
+use crate::lumping::{HEX20, det3, hex20, hex20_jacobian};
 use crate::mesh::{Mesh, Section};
 use std::collections::BTreeMap;
 
@@ -124,19 +124,8 @@ pub fn brick_grid(
                 let mut e: Vec<usize> = HEX20.iter().map(|c| at(c, false)).collect();
                 // Orientation: the Jacobian at the centre must be positive.
                 let (_, d) = hex20([0.0; 3]);
-                let mut j = [[0.0; 3]; 3];
-                for (a, id) in e.iter().enumerate() {
-                    let x = m.nodes[id - 1];
-                    for r in 0..3 {
-                        for s in 0..3 {
-                            j[r][s] += d[a][r] * x[s];
-                        }
-                    }
-                }
-                let det = j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1])
-                    - j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0])
-                    + j[0][2] * (j[1][0] * j[2][1] - j[1][1] * j[2][0]);
-                if det < 0.0 {
+                let j = hex20_jacobian(&d, |a| m.nodes[e[a] - 1]);
+                if det3(j) < 0.0 {
                     e = HEX20.iter().map(|c| at(c, true)).collect();
                 }
                 elems.push(e);

@@ -317,9 +317,20 @@ pub fn solve(
     job: &str,
     modes: usize,
 ) -> Result<Solved, String> {
+    solve_deck(mesh, &mesh.deck(modes), dir, job)
+}
+
+/// Write `deck` (of `mesh`, with its output requests) as `<dir>/<job>.inp`, run ccx, and read
+/// the modes and the node prints back.
+pub fn solve_deck(
+    mesh: &Mesh,
+    deck: &crate::deck::Deck,
+    dir: &std::path::Path,
+    job: &str,
+) -> Result<Solved, String> {
+    let text = deck.text();
     let deck = dir.join(format!("{job}.inp"));
-    std::fs::write(&deck, mesh.deck(modes).text())
-        .map_err(|e| format!("{}: {e}", deck.display()))?;
+    std::fs::write(&deck, text).map_err(|e| format!("{}: {e}", deck.display()))?;
     let run = crate::ccx::run(&deck).map_err(|e| e.to_string())?;
     let read = |p: std::path::PathBuf| {
         std::fs::read_to_string(&p).map_err(|e| format!("{}: {e}", p.display()))

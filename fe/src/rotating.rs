@@ -15,10 +15,58 @@
 
 use crate::frd::Frd;
 use crate::lumping::Lumped;
-use crate::mesh::{Mesh, Section};
+use crate::mesh::Mesh;
 use crate::modal::Shapes;
 use nalgebra::DMatrix;
+use washdyn_runtime::geom::f::unit;
 use washdyn_runtime::ir::modal::{Elementary, GeometricStiffness};
+
+/// Define the element set `WD_SPIN` (every element with density) in `d` and return the
+/// `*DLOAD` line of its centrifugal load at `omega` (rad/s) about `axis` through `axis_point`.
+fn spin_load(
+    d: &mut crate::deck::Deck,
+    mesh: &Mesh,
+    omega: f64,
+    axis_point: [f64; 3],
+    axis: [f64; 3],
+) -> String {
+    // Point masses carry no density (ccx leaves MASS elements out of the load).
+    let loaded: Vec<&str> = mesh
+        .parts
+        .iter()
+        .filter(|p| p.section.material().is_some())
+        .map(|p| p.name.as_str())
+        .collect();
+    d.line("*ELSET, ELSET=WD_SPIN");
+    for c in loaded.chunks(8) {
+        d.line(&c.join(", "));
+    }
+    let e = unit(axis);
+    format!(
+        "WD_SPIN, CENTRIF, {:e}, {:e}, {:e}, {:e}, {:e}, {:e}, {:e}",
+        omega * omega,
+        axis_point[0],
+        axis_point[1],
+        axis_point[2],
+        e[0],
+        e[1],
+        e[2]
+    )
+}
+
+/// sum dm W^T (E - e e^T) W (n x n, row-major): the spin-softening matrix per Omega^2.
+fn s_perp(elementary: &Elementary, n: usize, e: [f64; 3]) -> Vec<f64> {
+    let mut s = vec![0.0; n * n];
+    for a in 0..3 {
+        for b in 0..3 {
+            let p = if a == b { 1.0 } else { 0.0 } - e[a] * e[b];
+            for (v, g) in s.iter_mut().zip(&elementary.g[a][b]) {
+                *v += p * g;
+            }
+        }
+    }
+    s
+}
 
 /// The deck of the prestressed body at `omega` (rad/s) about `axis` through `axis_point`:
 /// a `*STATIC` step with the centrifugal load on every element with density, then a
@@ -31,27 +79,7 @@ pub fn prestressed_deck(
     modes: usize,
 ) -> crate::deck::Deck {
     let mut d = mesh.model_deck();
-    let loaded: Vec<&str> = mesh
-        .parts
-        .iter()
-        .filter(|p| p.section.material().is_some() && !matches!(p.section, Section::Mass { .. }))
-        .map(|p| p.name.as_str())
-        .collect();
-    d.line("*ELSET, ELSET=WD_SPIN");
-    for c in loaded.chunks(8) {
-        d.line(&c.join(", "));
-    }
-    let n = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
-    let load = format!(
-        "WD_SPIN, CENTRIF, {:e}, {:e}, {:e}, {:e}, {:e}, {:e}, {:e}",
-        omega * omega,
-        axis_point[0],
-        axis_point[1],
-        axis_point[2],
-        axis[0] / n,
-        axis[1] / n,
-        axis[2] / n
-    );
+    let load = spin_load(&mut d, mesh, omega, axis_point, axis);
     // OUTPUT=2D in the static step too: otherwise ccx 2.20 writes the perturbation modes at
     // its expanded 3-D nodes (seen on a beam: 248 nodes instead of 41).
     d.line("*STEP")
@@ -81,30 +109,15 @@ pub fn solve_prestressed(
     axis: [f64; 3],
     modes: usize,
 ) -> Result<(Frd, Vec<Shapes>), String> {
-    let deck = dir.join(format!("{job}.inp"));
-    std::fs::write(
-        &deck,
-        prestressed_deck(mesh, omega, axis_point, axis, modes).text(),
-    )
-    .map_err(|e| format!("{}: {e}", deck.display()))?;
-    let run = crate::ccx::run(&deck).map_err(|e| e.to_string())?;
-    let read = |p: std::path::PathBuf| {
-        std::fs::read_to_string(&p).map_err(|e| format!("{}: {e}", p.display()))
-    };
-    let frd = crate::frd::parse(&read(run.frd())?).map_err(|e| format!("{job}.frd: {e}"))?;
-    let prints = if mesh.rigid.is_empty() {
-        Vec::new()
-    } else {
-        crate::dat::node_prints(&read(run.dat())?, "WD_PRINT")
-            .map_err(|e| format!("{job}.dat: {e}"))?
-    };
+    let deck = prestressed_deck(mesh, omega, axis_point, axis, modes);
+    let solved = crate::modal::solve_deck(mesh, &deck, dir, job)?;
     let keep = crate::modal::Keep {
         rigid_below_hz: f64::NEG_INFINITY,
         max_hz: f64::INFINITY,
         max_modes: usize::MAX,
     };
-    let shapes = crate::modal::select(mesh, &frd, &prints, keep)?;
-    Ok((frd, shapes))
+    let shapes = crate::modal::select(mesh, &solved.frd, &solved.prints, keep)?;
+    Ok((solved.frd, shapes))
 }
 
 /// The extraction's result: K_G per Omega^2 and how well the prestressed modes span the kept
@@ -170,10 +183,8 @@ pub fn geometric_stiffness(
             .map(|s| (2.0 * std::f64::consts::PI * s.frequency_hz).powi(2)),
     ));
     let k_omega = a.transpose() * lambda * &a;
-    let e = {
-        let l = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
-        [axis[0] / l, axis[1] / l, axis[2] / l]
-    };
+    let e = unit(axis);
+    let sp = s_perp(elementary, n, e);
     let mut per = vec![0.0; n * n];
     for k in 0..n {
         for l in 0..n {
@@ -183,14 +194,7 @@ pub fn geometric_stiffness(
                 0.0
             };
             let sym = 0.5 * (k_omega[(k, l)] + k_omega[(l, k)]);
-            let mut s_perp = 0.0;
-            for a in 0..3 {
-                for b in 0..3 {
-                    let p = if a == b { 1.0 } else { 0.0 } - e[a] * e[b];
-                    s_perp += p * elementary.g[a][b][k * n + l];
-                }
-            }
-            per[k * n + l] = (sym - w0) / (omega * omega) + s_perp;
+            per[k * n + l] = (sym - w0) / (omega * omega) + sp[k * n + l];
         }
     }
     // Symmetric by construction of both parts; make the round-off so too.
@@ -212,6 +216,24 @@ pub fn geometric_stiffness(
     })
 }
 
+/// The reduced stiffness at `omega` (n x n, row-major): diag(omega_0^2) + Omega^2 (K_G - S_perp).
+fn spinning_stiffness(
+    frequencies: &[f64],
+    elementary: &Elementary,
+    kg: &GeometricStiffness,
+    omega: f64,
+) -> Vec<f64> {
+    let n = frequencies.len();
+    let sp = s_perp(elementary, n, kg.axis);
+    let mut k: Vec<f64> = (0..n * n)
+        .map(|i| omega * omega * (kg.per_omega2[i] - sp[i]))
+        .collect();
+    for (i, f) in frequencies.iter().enumerate() {
+        k[i * n + i] += (2.0 * std::f64::consts::PI * f).powi(2);
+    }
+    k
+}
+
 /// Frequencies (Hz) of the reduced model spinning at `omega` without Coriolis: the eigenvalues
 /// of diag(omega_0^2) + Omega^2 (K_G - S_perp) with the identity as modal mass. What ccx's
 /// `*FREQUENCY` perturbation step computes, from the stored data alone.
@@ -222,21 +244,11 @@ pub fn reduced_frequencies(
     omega: f64,
 ) -> Vec<f64> {
     let n = frequencies.len();
-    let e = kg.axis;
-    let mut k = DMatrix::<f64>::zeros(n, n);
-    for i in 0..n {
-        for j in 0..n {
-            let mut s_perp = 0.0;
-            for a in 0..3 {
-                for b in 0..3 {
-                    let p = if a == b { 1.0 } else { 0.0 } - e[a] * e[b];
-                    s_perp += p * elementary.g[a][b][i * n + j];
-                }
-            }
-            k[(i, j)] = omega * omega * (kg.per_omega2[i * n + j] - s_perp);
-        }
-        k[(i, i)] += (2.0 * std::f64::consts::PI * frequencies[i]).powi(2);
-    }
+    let k = DMatrix::from_row_slice(
+        n,
+        n,
+        &spinning_stiffness(frequencies, elementary, kg, omega),
+    );
     let k = 0.5 * (&k + k.transpose());
     let mut ev: Vec<f64> = k
         .symmetric_eigen()
@@ -281,23 +293,12 @@ pub fn campbell(
 ) -> Vec<f64> {
     let n = frequencies.len();
     let g = gyroscopic(elementary, n, kg.axis);
-    let e = kg.axis;
+    let k = spinning_stiffness(frequencies, elementary, kg, omega);
     let mut a = DMatrix::<f64>::zeros(2 * n, 2 * n);
     for i in 0..n {
         a[(i, n + i)] = 1.0;
         for j in 0..n {
-            let mut s_perp = 0.0;
-            for p in 0..3 {
-                for q in 0..3 {
-                    let pr = if p == q { 1.0 } else { 0.0 } - e[p] * e[q];
-                    s_perp += pr * elementary.g[p][q][i * n + j];
-                }
-            }
-            let mut k = omega * omega * (kg.per_omega2[i * n + j] - s_perp);
-            if i == j {
-                k += (2.0 * std::f64::consts::PI * frequencies[i]).powi(2);
-            }
-            a[(n + i, j)] = -k;
+            a[(n + i, j)] = -k[i * n + j];
             a[(n + i, n + j)] = -2.0 * omega * g[i * n + j];
         }
     }
@@ -325,27 +326,7 @@ pub fn coriolis_reference(
     modes: usize,
 ) -> Result<Vec<(f64, char)>, String> {
     let mut d = mesh.model_deck();
-    let loaded: Vec<&str> = mesh
-        .parts
-        .iter()
-        .filter(|p| p.section.material().is_some())
-        .map(|p| p.name.as_str())
-        .collect();
-    d.line("*ELSET, ELSET=WD_SPIN");
-    for c in loaded.chunks(8) {
-        d.line(&c.join(", "));
-    }
-    let n = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
-    let load = format!(
-        "WD_SPIN, CENTRIF, {:e}, {:e}, {:e}, {:e}, {:e}, {:e}, {:e}",
-        omega * omega,
-        axis_point[0],
-        axis_point[1],
-        axis_point[2],
-        axis[0] / n,
-        axis[1] / n,
-        axis[2] / n
-    );
+    let load = spin_load(&mut d, mesh, omega, axis_point, axis);
     d.line("*STEP")
         .line("*STATIC")
         .line("*DLOAD")

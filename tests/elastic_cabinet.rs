@@ -4,6 +4,8 @@
 //! modes, springs attached at the same cabinet nodes) converge to ccx's as cabinet modes are
 //! added. Without ccx the test skips, except under CI (`CI=true`), where it fails.
 
+mod common;
+
 use nalgebra::{DMatrix, SymmetricEigen};
 use washdyn_fe::bodies::cabinet::Cabinet;
 use washdyn_fe::ccx;
@@ -15,15 +17,7 @@ use washdyn_runtime::ir::modal::{ElasticBodyKind, Support};
 use washdyn_runtime::ir::toml_file::load_str;
 
 fn have_ccx() -> bool {
-    let ok = ccx::available();
-    if !ok {
-        assert!(
-            std::env::var("CI").as_deref() != Ok("true"),
-            "CI must install CalculiX (apt-get install calculix-ccx)"
-        );
-        eprintln!("skipped: ccx not found (apt-get install calculix-ccx)");
-    }
-    ok
+    common::required_tool(ccx::available(), "CalculiX", "apt-get install calculix-ccx")
 }
 
 const MASS: f64 = 55.0;

@@ -3,6 +3,8 @@
 //! run computed, bit for bit, and must read the analysis tables with their nulls.
 //! Without pyarrow the test skips with a message, except under CI (`CI=true`), where it fails.
 
+mod common;
+
 use std::path::Path;
 use std::process::Command;
 use washdyn::commands::{Backend, RunArgs, run_command};
@@ -14,14 +16,7 @@ fn pyarrow() -> bool {
         .args(["-c", "import pyarrow.parquet"])
         .status()
         .is_ok_and(|s| s.success());
-    if !ok {
-        assert!(
-            std::env::var("CI").as_deref() != Ok("true"),
-            "CI must install pyarrow (pip install pyarrow) for this test"
-        );
-        eprintln!("skipped: python3 with pyarrow not found (pip install pyarrow)");
-    }
-    ok
+    common::required_tool(ok, "python3 with pyarrow", "pip install pyarrow")
 }
 
 /// Run python3 with `script` and arguments; its stdout.

@@ -7,23 +7,13 @@
 //! rebuilt from a fresh solve equals the committed files; the drum's stress-stiffened
 //! frequencies at three speeds come back from the committed data.
 
+mod common;
+use common::have_ccx;
+
 use std::path::PathBuf;
 use washdyn_fe::bodies::{self, balance};
-use washdyn_fe::ccx;
 use washdyn_fe::lumping::{consistent_mass_props, continuum_mass_props, lump};
 use washdyn_runtime::ir::modal::{self, ModalData};
-
-fn have_ccx() -> bool {
-    let ok = ccx::available();
-    if !ok {
-        assert!(
-            std::env::var("CI").as_deref() != Ok("true"),
-            "CI must install CalculiX (apt-get install calculix-ccx)"
-        );
-        eprintln!("skipped: ccx not found (apt-get install calculix-ccx)");
-    }
-    ok
-}
 
 fn committed(name: &str) -> ModalData {
     let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))

@@ -2,21 +2,12 @@
 //! ccx, frequencies read back. Without ccx the tests skip with a message, except under CI
 //! (`CI=true`), where they fail: CI installs calculix-ccx.
 
+mod common;
+use common::have_ccx;
+
 use std::f64::consts::PI;
 use washdyn_fe::bodies::test_decks::{cantilever, plate_simply_supported};
 use washdyn_fe::ccx;
-
-fn have_ccx() -> bool {
-    let ok = ccx::available();
-    if !ok {
-        assert!(
-            std::env::var("CI").as_deref() != Ok("true"),
-            "CI must install CalculiX (apt-get install calculix-ccx)"
-        );
-        eprintln!("skipped: ccx not found (apt-get install calculix-ccx)");
-    }
-    ok
-}
 
 fn solve(deck: &washdyn_fe::deck::Deck, dir: &std::path::Path, name: &str) -> Vec<f64> {
     let p = dir.join(format!("{name}.inp"));

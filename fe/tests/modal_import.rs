@@ -4,22 +4,12 @@
 //! mass normalisation, its rigid part's ROT NODE) and from the rigid motion of the point masses.
 //! Without ccx the test skips, except under CI (`CI=true`), where it fails.
 
-use washdyn_fe::ccx;
+mod common;
+use common::have_ccx;
+
 use washdyn_fe::lumping::{Lumped, lump};
 use washdyn_fe::mesh::{Material, Mesh, Rigid, Section};
 use washdyn_fe::modal::{self, Keep};
-
-fn have_ccx() -> bool {
-    let ok = ccx::available();
-    if !ok {
-        assert!(
-            std::env::var("CI").as_deref() != Ok("true"),
-            "CI must install CalculiX (apt-get install calculix-ccx)"
-        );
-        eprintln!("skipped: ccx not found (apt-get install calculix-ccx)");
-    }
-    ok
-}
 
 fn steel() -> Material {
     Material {

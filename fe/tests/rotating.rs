@@ -3,23 +3,13 @@
 //! computes at three speeds (`*STATIC` CENTRIF + `*FREQUENCY` perturbation) must come back from
 //! the stored modal data alone. Without ccx the test skips, except under CI, where it fails.
 
-use washdyn_fe::ccx;
+mod common;
+use common::have_ccx;
+
 use washdyn_fe::lumping::lump;
 use washdyn_fe::mesh::{Material, Mesh, Section};
 use washdyn_fe::modal::{self, Keep};
 use washdyn_fe::rotating;
-
-fn have_ccx() -> bool {
-    let ok = ccx::available();
-    if !ok {
-        assert!(
-            std::env::var("CI").as_deref() != Ok("true"),
-            "CI must install CalculiX (apt-get install calculix-ccx)"
-        );
-        eprintln!("skipped: ccx not found (apt-get install calculix-ccx)");
-    }
-    ok
-}
 
 /// A steel blade 0.25 m long, 12 x 6 mm, along y from a hub of radius 0.05 m, clamped there;
 /// it spins about z through the origin. 20 B32 elements.

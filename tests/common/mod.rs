@@ -141,3 +141,16 @@ pub fn linearise(sys: &mut Interpreter, t: f64) -> (DMatrix<f64>, DMatrix<f64>) 
 pub fn dvec(v: &[f64]) -> DVector<f64> {
     DVector::from_column_slice(v)
 }
+
+/// Whether an external tool a test needs is there (`ok`). Without it the test skips with a
+/// message, except under CI (`CI=true`), where it fails: `.ci/run` installs it (`install`).
+pub fn required_tool(ok: bool, what: &str, install: &str) -> bool {
+    if !ok {
+        assert!(
+            std::env::var("CI").as_deref() != Ok("true"),
+            "CI must install {what} ({install}) for this test"
+        );
+        eprintln!("skipped: {what} not found ({install})");
+    }
+    ok
+}

@@ -545,11 +545,19 @@ fn fe_write(out: &Path) -> Result<(), String> {
 
 /// `washdyn fe modal`: solve the built-in bodies and write their modal data and a report.
 fn fe_modal(out: &Path, work: &Path, only: &[String]) -> Result<(), String> {
+    let bodies = washdyn_fe::bodies::builtin();
+    let names: Vec<&str> = bodies.iter().map(|b| b.name.as_str()).collect();
+    if let Some(bad) = only.iter().find(|o| !names.contains(&o.as_str())) {
+        return Err(format!(
+            "--only: no built-in body `{bad}`; the bodies are {}",
+            names.join(", ")
+        ));
+    }
     for d in [out, work] {
         std::fs::create_dir_all(d).map_err(|e| format!("{}: {e}", d.display()))?;
     }
     let mut report = String::new();
-    for b in washdyn_fe::bodies::builtin() {
+    for b in bodies {
         if !only.is_empty() && !only.contains(&b.name) {
             continue;
         }

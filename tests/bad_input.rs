@@ -496,3 +496,45 @@ fn sigint_to_the_binary_writes_an_interrupted_summary() {
     assert!(json.contains("\"status\": \"interrupted\""), "{json}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The FE and Campbell commands refuse bad arguments before writing anything.
+#[test]
+fn fe_and_campbell_arguments_are_refused_before_anything_is_written() {
+    let run = |args: &[&str]| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_washdyn"))
+            .args(args)
+            .output()
+            .unwrap();
+        assert!(!out.status.success());
+        String::from_utf8_lossy(&out.stderr).into_owned()
+    };
+    let dir = out_dir("fe");
+    let d = dir.to_str().unwrap();
+    let e = run(&[
+        "fe",
+        "modal",
+        "--only",
+        "tub,drumm",
+        "--out",
+        d,
+        "--work",
+        d,
+    ]);
+    assert!(
+        e.contains("--only: no built-in body `drumm`; the bodies are tub, drum, cabinet"),
+        "{e}"
+    );
+    let e = run(&["campbell", "no/such.modal.toml", "--out", d]);
+    assert!(e.contains("no/such.modal.toml: cannot read"), "{e}");
+    let modal = concat!(env!("CARGO_MANIFEST_DIR"), "/models/fe/drum.modal.toml");
+    let e = run(&["campbell", modal, "--max-rpm", "5000", "--out", d]);
+    assert!(
+        e.contains("--max-rpm must be in (0, 3000], got 5000"),
+        "{e}"
+    );
+    // A body that does not spin has no Campbell diagram.
+    let cab = concat!(env!("CARGO_MANIFEST_DIR"), "/models/fe/cabinet.modal.toml");
+    let e = run(&["campbell", cab, "--out", d]);
+    assert!(e.contains("not a spinning body"), "{e}");
+    assert!(!dir.exists(), "something was written to {}", dir.display());
+}

@@ -191,3 +191,60 @@ fn modal_data_errors_name_the_model_line_the_file_and_the_field() {
         "{e}"
     );
 }
+
+/// Each `[[elastic]]` rule refuses with a message at the entry's line: an unknown body, one
+/// declared twice, a damping ratio outside [0, 1), zero modes or more than the file has, and a
+/// cabinet marker that is not at one of its FE node sets.
+#[test]
+fn elastic_entries_are_checked_at_their_lines() {
+    let base = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/data");
+    let entry = |name: &str, extra: &str| {
+        format!("\n[[elastic]]\nname = \"{name}\"\nfile = \"../fe/cabinet.modal.toml\"\n{extra}")
+    };
+    let refused = |src: &str, want: &str, at: &str| {
+        let e = load_str(src, "m.toml", &base).expect_err("must be rejected");
+        let line = line_of(src, at, 0);
+        assert!(
+            e.errors
+                .iter()
+                .any(|l| l.line == line && l.message.contains(want)),
+            "{want} at line {line}: {e}"
+        );
+    };
+    let src = format!("{REF}{}", entry("cabinett", ""));
+    refused(
+        &src,
+        "elastic `cabinett`: not a body; one of tub, drum, cabinet",
+        "\"cabinett\"",
+    );
+    let src = format!("{REF}{}{}", entry("cabinet", ""), entry("cabinet", ""));
+    let e = load_str(&src, "m.toml", &base).expect_err("must be rejected");
+    assert!(
+        e.to_string().contains("elastic `cabinet`: declared twice"),
+        "{e}"
+    );
+    let src = format!("{REF}{}", entry("cabinet", "damping = 1.5\n"));
+    refused(
+        &src,
+        "damping is a ratio of critical below 1, got 1.5",
+        "damping = 1.5",
+    );
+    let src = format!("{REF}{}", entry("cabinet", "modes = 0\n"));
+    refused(&src, "modes must be at least 1", "modes = 0");
+    let src = format!("{REF}{}", entry("cabinet", "modes = 500\n"));
+    refused(
+        &src,
+        "asks for 500 modes, `../fe/cabinet.modal.toml` has 60",
+        "modes = 500",
+    );
+    // The rear left spring moved 10 cm off its node set on the cabinet's top.
+    let src = edited(
+        "b = { body = \"cabinet\", point = [-0.10, 0.15, 0.82] }",
+        "b = { body = \"cabinet\", point = [-0.20, 0.15, 0.82] }",
+    ) + &entry("cabinet", "");
+    refused(
+        &src,
+        "the elastic cabinet has no FE node set at [-0.2, 0.15, 0.82] (nearest: SPRING_1",
+        "point = [-0.20, 0.15, 0.82]",
+    );
+}

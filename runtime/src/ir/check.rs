@@ -479,6 +479,7 @@ type Ends<'a> = (String, [(BodyRef, V3, &'a str); 2]);
 /// Every point a force element or sensor attaches to on an elastic body is one of the modal
 /// data's points (an FE node set), within `modal::POINT_TOLERANCE`.
 fn elastic_markers(c: &mut Ctx, m: &Model) {
+    let dist = |a: V3, b: V3| crate::geom::f::norm(crate::geom::f::sub(a, b));
     let Some(cab) = m
         .elastic
         .iter()
@@ -492,7 +493,7 @@ fn elastic_markers(c: &mut Ctx, m: &Model) {
             let near = cab
                 .points
                 .iter()
-                .min_by(|a, b| dist(&a.position, p).total_cmp(&dist(&b.position, p)));
+                .min_by(|a, b| dist(a.position, *p).total_cmp(&dist(b.position, *p)));
             c.err(
                 path,
                 format!(
@@ -560,10 +561,6 @@ fn elastic_markers(c: &mut Ctx, m: &Model) {
             );
         }
     }
-}
-
-fn dist(a: &V3, b: &V3) -> f64 {
-    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
 }
 
 fn norm(v: &V3) -> f64 {

@@ -302,12 +302,7 @@ pub const POINT_TOLERANCE: f64 = 5e-3;
 
 /// The modal point at `p` (within `POINT_TOLERANCE`), if any.
 pub fn point_at(d: &ModalData, p: V3) -> Option<&ModalPoint> {
-    let dist = |q: &ModalPoint| {
-        ((q.position[0] - p[0]).powi(2)
-            + (q.position[1] - p[1]).powi(2)
-            + (q.position[2] - p[2]).powi(2))
-        .sqrt()
-    };
+    let dist = |q: &ModalPoint| crate::geom::f::norm(crate::geom::f::sub(q.position, p));
     d.points
         .iter()
         .filter(|q| dist(q) <= POINT_TOLERANCE)

@@ -60,12 +60,51 @@ impl ModalBody {
         }
     }
 
-    /// Its own terms in h: -omega^2 q - 2 zeta omega q' + weight (M = E for mass-normalised
-    /// modes: ccx's normalisation, the one its frequencies belong to).
+    /// The modal data (kept modes only).
+    pub fn data(&self) -> &crate::ir::modal::ModalData {
+        &self.data
+    }
+
+    /// The body's own terms in h on a fixed frame (the cabinet): -omega^2 q - 2 zeta omega q'
+    /// + weight (M = E for mass-normalised modes: ccx's normalisation, the one its frequencies
+    /// belong to).
     pub fn add<T: Scalar>(&self, q: &[T], qd: &[T], h: &mut [T]) {
         for k in 0..self.n {
+            h[self.start + k] += T::c(self.weight[k]);
+        }
+        self.add_elastic(q, qd, h);
+    }
+
+    /// Stiffness and modal damping only (a moving frame brings its own weight terms).
+    pub fn add_elastic<T: Scalar>(&self, q: &[T], qd: &[T], h: &mut [T]) {
+        for k in 0..self.n {
             let i = self.start + k;
-            h[i] += T::c(self.weight[k]) - q[i] * self.omega2[k] - qd[i] * self.damping[k];
+            h[i] -= q[i] * self.omega2[k] + qd[i] * self.damping[k];
+        }
+    }
+
+    /// sum dm W_k per mode (3-vectors).
+    pub fn weight_sums(&self) -> Vec<[f64; 3]> {
+        let c = &self.data.elementary.c;
+        (0..self.n).map(|k| [c[0][k], c[1][k], c[2][k]]).collect()
+    }
+
+    /// M1 blocks of a floating frame's modes (the tub): with the frame's rigid columns 0..6 about
+    /// p0, sum dm W_k on translation, sum dm (x0 - p0) x W_k on rotation, and E on the modes
+    /// (ccx's normalisation, as for the stiffness).
+    pub fn add_frame_mass(&self, m1: &mut [f64], n1: usize, p0: [f64; 3]) {
+        let el = &self.data.elementary;
+        for k in 0..self.n {
+            let j = self.start + k;
+            let t = |a: usize, b: usize| el.s[a][b][k] - p0[a] * el.c[b][k];
+            let x = [t(1, 2) - t(2, 1), t(2, 0) - t(0, 2), t(0, 1) - t(1, 0)];
+            for a in 0..3 {
+                m1[a * n1 + j] += el.c[a][k];
+                m1[j * n1 + a] += el.c[a][k];
+                m1[(3 + a) * n1 + j] += x[a];
+                m1[j * n1 + 3 + a] += x[a];
+            }
+            m1[j * n1 + j] += 1.0;
         }
     }
 }

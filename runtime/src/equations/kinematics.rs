@@ -42,6 +42,68 @@ impl ModalRows {
     }
 }
 
+impl ModalRows {
+    /// The rows of a point rigidly attached at `r` (m, global) from this one: W + Phi x r.
+    pub fn moved(&self, r: [f64; 3]) -> ModalRows {
+        ModalRows {
+            start: self.start,
+            w: self
+                .w
+                .iter()
+                .zip(&self.phi)
+                .map(|(w, p)| f::add(*w, f::cross(*p, r)))
+                .collect(),
+            phi: self.phi.clone(),
+        }
+    }
+}
+
+/// Velocity Jacobian of a point of the tub (lever `s` from p0, the tub's mode rows there if it
+/// is elastic): for each column j of q1, the translation and the rotation per unit q_j'.
+/// Columns beyond the tub's stay zero.
+pub fn tub_point_jacobian(
+    s: [f64; 3],
+    rows: Option<&ModalRows>,
+    n1: usize,
+) -> Vec<([f64; 3], [f64; 3])> {
+    let mut j = vec![([0.0; 3], [0.0; 3]); n1];
+    for a in 0..3 {
+        let mut e = [0.0; 3];
+        e[a] = 1.0;
+        j[a].0 = e;
+        j[3 + a] = (f::cross(e, s), e);
+    }
+    if let Some(r) = rows {
+        for k in 0..r.w.len() {
+            j[r.start + k] = (r.w[k], r.phi[k]);
+        }
+    }
+    j
+}
+
+/// M1 += T^T diag(m E, J) T: a rigid part of mass `mass` and inertia `inertia` (about its CoG,
+/// global axes) whose CoG moves with the velocity Jacobian `jac` (constant: folds at compile
+/// time).
+pub fn add_rigid_mass(
+    m1: &mut [f64],
+    n1: usize,
+    mass: f64,
+    inertia: [[f64; 3]; 3],
+    jac: &[([f64; 3], [f64; 3])],
+) {
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    for i in 0..n1 {
+        for j in 0..n1 {
+            let ((vi, wi), (vj, wj)) = (jac[i], jac[j]);
+            let mut v = mass * dot(vi, vj);
+            for a in 0..3 {
+                v += wi[a] * dot(inertia[a], wj);
+            }
+            m1[i * n1 + j] += v;
+        }
+    }
+}
+
 impl MarkerDef {
     pub fn new(body: BodyRef, point: [f64; 3], p0: [f64; 3]) -> Self {
         MarkerDef {
@@ -50,6 +112,32 @@ impl MarkerDef {
             s: f::sub(point, p0),
             modal: None,
         }
+    }
+
+    /// Generalised forces of a load on the tub at this marker: force `f` (global) whose tilt
+    /// with the tub is taken from `f_tilt` (the rest load when linearised, zero for loads of
+    /// first order), and moment `m_tub` in tub components. Rigid rows: f, and s x (f - alpha x
+    /// f_tilt) + (W q) x f_tilt + m_tub (the lever grows with the elastic displacement); modal
+    /// rows: W^T (f - alpha x f_tilt) + Phi^T m_tub (the modes live in the tub frame).
+    pub fn load_on_tub<T: Scalar>(
+        &self,
+        b: &BodyState<T>,
+        f: V<T>,
+        f_tilt: V<T>,
+        m_tub: V<T>,
+        h: &mut [T],
+    ) {
+        f.add_to(h, 0);
+        let f_tub = f - b.tub.alpha.cross(f_tilt);
+        let mut m = V::<T>::c(self.s).cross(f_tub) + m_tub;
+        if let Some(r) = &self.modal {
+            let (w, _) = r.motion(b.q);
+            m = m + w.cross(f_tilt);
+            for (k, (wk, pk)) in r.w.iter().zip(&r.phi).enumerate() {
+                h[r.start + k] += V::<T>::c(*wk).dot(f_tub) + V::<T>::c(*pk).dot(m_tub);
+            }
+        }
+        m.add_to(h, 3);
     }
 
     /// Current kinematic state of the marker.

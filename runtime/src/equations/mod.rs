@@ -15,6 +15,7 @@
 //! would drop (design-notes: preloaded springs); it makes the stiffness symmetric at equilibrium.
 
 mod bodies;
+mod drum;
 mod elastic;
 pub mod kinematics;
 
@@ -22,9 +23,10 @@ use crate::elements::{Element, FrictionDamper, Gasket, LinearDamper, Spring};
 use crate::geom::{V, f};
 use crate::ir::{BodyRef, Effect, EffectSet, Model, SensorKind};
 use crate::scalar::Scalar;
-pub use bodies::{RotorDef, TubDef, UnbalanceDef};
+pub use bodies::{RotorDef, TubDef, UnbalanceDef, rotate};
+pub use drum::ElasticDrum;
 pub use elastic::ModalBody;
-pub use kinematics::{Marker, MarkerDef, ModalRows, Wrench};
+pub use kinematics::{Marker, MarkerDef, ModalRows, Wrench, add_rigid_mass, tub_point_jacobian};
 
 /// The prescribed drum motion at time t: angle, speed, acceleration (rad, rad/s, rad/s^2).
 #[derive(Clone, Copy, Debug)]
@@ -65,7 +67,17 @@ pub struct Equations {
     pub scene: EffectSet,
     pub layout: Layout,
     pub gravity: [f64; 3],
+    /// The tub's weight (rigid, or the FE tub's with its modes).
     pub tub: TubDef,
+    /// The constant part of M1 (row-major n1 x n1): the tub (rigid, or FE with the parts it
+    /// carries: drum and rotors at their mounts) and the modal blocks.
+    pub m1_const: Vec<f64>,
+    /// The tub's modes (q1 after the 6 rigid coordinates), when the scene makes it elastic.
+    pub tub_modes: Option<ModalBody>,
+    /// The drum's modes (q1 after the tub's), when the scene makes it elastic.
+    pub drum: Option<ElasticDrum>,
+    /// Rigid parts riding on the elastic tub (drum, rotors): their weight at their CoG.
+    pub carried: Vec<(MarkerDef, f64)>,
     /// Unbalances as masses, or as prescribed forces (effect `unbalance_inertia`).
     pub unbalance_inertia: bool,
     pub rotors: Vec<RotorDef>,
@@ -107,42 +119,139 @@ impl<E: Element> Placed<E> {
 impl Equations {
     /// Resolve a checked model for a scene.
     pub fn new(model: &Model, scene: &EffectSet) -> Equations {
-        let tub = TubDef::new(&model.tub);
-        let p0 = tub.p0;
-        let n1 = 6;
-        let cabinet = model
-            .elastic
-            .iter()
-            .find(|e| e.name == "cabinet" && scene.has(&Effect::Elastic(e.name.clone())))
-            .map(|e| ModalBody::new(e, n1, model.gravity));
+        let p0 = model.tub.cog;
+        let g = model.gravity;
+        let entry = |name: &str| {
+            model
+                .elastic
+                .iter()
+                .find(|e| e.name == name && e.data.is_some())
+        };
+        let on = |name: &str| entry(name).filter(|_| scene.has(&Effect::Elastic(name.into())));
+        // Layout: q1 = tub rigid (6), tub modes, drum modes; q2 = cabinet modes.
+        let mut n1 = 6;
+        let tub_modes = on("tub").map(|e| {
+            let b = ModalBody::new(e, n1, g);
+            n1 += b.n;
+            b
+        });
+        let drum_modes = on("drum").map(|e| {
+            let b = ModalBody::new(e, n1, g);
+            n1 += b.n;
+            b
+        });
+        let cabinet = on("cabinet").map(|e| ModalBody::new(e, n1, g));
+        let (tub_rows, cabinet_rows) = (tub_modes.clone(), cabinet.clone());
         let layout = Layout {
             n1,
             n2: cabinet.as_ref().map_or(0, |c| c.n),
         };
         let mk = |body: BodyRef, point: [f64; 3]| {
             let mut m = MarkerDef::new(body, point, p0);
-            if body == BodyRef::Cabinet
-                && let Some(c) = &cabinet
-            {
+            let modes = match body {
+                BodyRef::Tub => &tub_rows,
+                BodyRef::Cabinet => &cabinet_rows,
+            };
+            if let Some(c) = modes {
                 m.modal = Some(c.rows(point));
             }
             m
         };
-        let rotors: Vec<RotorDef> = model.rotors.iter().map(|r| RotorDef::new(r, p0)).collect();
+
+        // The tub's constant mass: the rigid tub, or the FE tub with its modes and the rigid
+        // parts it carries (the drum's FE mass at the drum's mount, other rotors as point
+        // masses at their axis point), each moving with the tub's modes at its mount.
+        let mut m1_const = vec![0.0; n1 * n1];
+        let mut carried = Vec::new();
+        let tub = match &tub_modes {
+            None => {
+                let jac = tub_point_jacobian(f::sub(model.tub.cog, p0), None, n1);
+                add_rigid_mass(&mut m1_const, n1, model.tub.mass, model.tub.inertia, &jac);
+                TubDef {
+                    mass: model.tub.mass,
+                    p0,
+                    inertia: model.tub.inertia,
+                    cog_offset: f::sub(model.tub.cog, p0),
+                    modal_weight: None,
+                }
+            }
+            Some(t) => {
+                let d = t.data();
+                let jac = tub_point_jacobian(f::sub(d.cog, p0), None, n1);
+                add_rigid_mass(&mut m1_const, n1, d.mass, d.inertia, &jac);
+                t.add_frame_mass(&mut m1_const, n1, p0);
+                for r in &model.rotors {
+                    let mount = mk(BodyRef::Tub, r.mount_point());
+                    let (mass, cog, inertia) = match entry(&r.name).filter(|_| r.name == "drum") {
+                        Some(e) => {
+                            let d = e.data.as_ref().expect("filtered: data read");
+                            (d.mass, d.cog, d.inertia)
+                        }
+                        None => (r.mass, r.axis_point, [[0.0; 3]; 3]),
+                    };
+                    if mass == 0.0 {
+                        continue;
+                    }
+                    let rows = mount
+                        .modal
+                        .as_ref()
+                        .map(|m| m.moved(f::sub(cog, mount.point)));
+                    let jac = tub_point_jacobian(f::sub(cog, p0), rows.as_ref(), n1);
+                    add_rigid_mass(&mut m1_const, n1, mass, inertia, &jac);
+                    let mut at = MarkerDef::new(BodyRef::Tub, cog, p0);
+                    at.modal = rows;
+                    carried.push((at, mass));
+                }
+                TubDef {
+                    mass: d.mass,
+                    p0,
+                    inertia: d.inertia,
+                    cog_offset: f::sub(d.cog, p0),
+                    modal_weight: Some((t.start, t.weight_sums())),
+                }
+            }
+        };
+
+        let all_rotors: Vec<RotorDef> = model
+            .rotors
+            .iter()
+            .map(|r| RotorDef::new(r, mk(BodyRef::Tub, r.mount_point())))
+            .collect();
+        let drum = drum_modes.map(|b| {
+            for k in 0..b.n {
+                m1_const[(b.start + k) * n1 + b.start + k] += 1.0;
+            }
+            let r = all_rotors
+                .iter()
+                .find(|r| r.name == "drum")
+                .expect("checked: an elastic drum has a rotor `drum`");
+            ElasticDrum::new(
+                b,
+                r.axis,
+                r.ratio,
+                r.mount.clone(),
+                n1,
+                scene.has(&Effect::CentrifugalStiffening),
+            )
+        });
         let unbalances = model
             .unbalances
             .iter()
             .filter(|u| scene.has(&Effect::Unbalance(u.rotor.clone())))
             .map(|u| {
-                let r = rotors
+                let r = all_rotors
                     .iter()
                     .find(|r| r.name == u.rotor)
                     .expect("checked: rotor exists");
-                UnbalanceDef::new(u, r, p0)
+                let rows = drum
+                    .as_ref()
+                    .filter(|_| u.rotor == "drum")
+                    .map(|d| d.modes.rows(u.position));
+                UnbalanceDef::new(u, r, rows)
             })
             .collect();
         let rotors = if scene.has(&Effect::Gyroscopic) {
-            rotors
+            all_rotors
         } else {
             Vec::new()
         };
@@ -157,6 +266,10 @@ impl Equations {
             layout,
             gravity: model.gravity,
             tub,
+            m1_const,
+            tub_modes,
+            drum,
+            carried,
             rotors,
             unbalances,
             springs: model
@@ -208,28 +321,38 @@ impl Equations {
         let n1 = self.layout.n1;
         debug_assert_eq!(m1.len(), n1 * n1);
         debug_assert_eq!(h.len(), self.layout.n());
-        m1.fill(T::zero());
+        for (m, c) in m1.iter_mut().zip(&self.m1_const) {
+            *m = T::c(*c);
+        }
         h.fill(T::zero());
         let b = BodyState::new(q, qd);
-        let st = &b.tub;
         let g = V::<T>::c(self.gravity);
 
-        self.tub.add(st, g, m1, n1, h);
+        self.tub.add(&b, g, h);
+        if let Some(t) = &self.tub_modes {
+            t.add_elastic(q, qd, h);
+        }
+        for (at, mass) in &self.carried {
+            let w = g * *mass;
+            at.load_on_tub(&b, w, w, V::zero(), h);
+        }
         for r in &self.rotors {
-            r.add(st, d, h);
+            r.add(&b, d, h);
         }
         for u in &self.unbalances {
-            u.add(st, d, g, self.unbalance_inertia, m1, n1, h);
+            u.add(&b, d, g, self.unbalance_inertia, m1, n1, h);
+        }
+        if let Some(dr) = &self.drum {
+            dr.add(&b, d, g, m1, n1, h);
         }
         if let Some(c) = &self.cabinet {
             c.add(q, qd, h);
         }
-        let st = &b;
 
-        self.elements(&self.springs, st, h);
-        self.elements(&self.dampers, st, h);
-        self.elements(&self.friction_dampers, st, h);
-        self.elements(&self.gaskets, st, h);
+        self.elements(&self.springs, &b, h);
+        self.elements(&self.dampers, &b, h);
+        self.elements(&self.friction_dampers, &b, h);
+        self.elements(&self.gaskets, &b, h);
     }
 
     fn elements<T: Scalar, E: Element>(&self, list: &[Placed<E>], st: &BodyState<T>, h: &mut [T]) {
@@ -255,9 +378,6 @@ impl Equations {
     ) {
         match at.body {
             BodyRef::Tub => {
-                // Translation: global components. Rotation: tub components (see module doc).
-                w.force.add_to(h, 0);
-                let s = V::<T>::c(at.s);
                 // The load seen from the tilted tub: the current load, or (linearised) the rest
                 // load, so the term stays linear in the state.
                 let (f_tilt, m_tilt) = if self.exact_geometry {
@@ -269,9 +389,8 @@ impl Equations {
                         V::c(rest.rest_moment_a) * sign,
                     )
                 };
-                let f_tub = w.force - st.tub.alpha.cross(f_tilt);
                 let m_tub = w.moment - st.tub.alpha.cross(m_tilt);
-                (s.cross(f_tub) + m_tub).add_to(h, 3);
+                at.load_on_tub(st, w.force, f_tilt, m_tub, h);
             }
             // Rigid: fixed, it takes the reactions. Elastic: W^T F + Phi^T M (the cabinet has no
             // rigid DOF, so its modal frame is the global one).
@@ -287,29 +406,23 @@ impl Equations {
     }
 
     /// Sensor reading from the state and its second derivative: acceleration or displacement in
-    /// global components (first order in the small quantities, like the equations).
+    /// global components (first order in the small quantities, like the equations). On an
+    /// elastic body the modes add W q (W q'').
     pub fn sensor<T: Scalar>(&self, i: usize, q: &[T], qd: &[T], qdd: &[T]) -> [T; 3] {
         let s = &self.sensors[i];
-        match (s.at.body, s.kind) {
-            (BodyRef::Cabinet, kind) => match &s.at.modal {
-                None => [T::zero(); 3],
-                Some(r) => {
-                    let x = if kind == SensorKind::Displacement {
-                        q
-                    } else {
-                        qdd
-                    };
-                    r.motion(x).0.0
-                }
-            },
-            (BodyRef::Tub, SensorKind::Displacement) => {
-                let st = TubState::new(q, qd);
-                (st.u + st.alpha.cross(V::c(s.at.s))).0
-            }
-            (BodyRef::Tub, SensorKind::Acceleration) => {
-                let a = V::from_slice(&qdd[0..3]);
-                let b = V::from_slice(&qdd[3..6]);
-                (a + b.cross(V::c(s.at.s))).0
+        let x = if s.kind == SensorKind::Displacement {
+            q
+        } else {
+            qdd
+        };
+        let elastic = s.at.modal.as_ref().map_or(V::zero(), |r| r.motion(x).0);
+        let _ = qd;
+        match s.at.body {
+            BodyRef::Cabinet => elastic.0,
+            BodyRef::Tub => {
+                let u = V::from_slice(&x[0..3]);
+                let a = V::from_slice(&x[3..6]);
+                (u + a.cross(V::c(s.at.s)) + elastic).0
             }
         }
     }

@@ -455,22 +455,155 @@ fn elastic(c: &mut Ctx, m: &Model) {
             );
         }
     }
-    // One rule for the present state: the cabinet's modes are in the equations; the tub's and
-    // the drum's are read and checked, their equations are the next step. Until then no model
-    // with them may run.
-    for (i, e) in m.elastic.iter().enumerate() {
-        if e.data.is_some() && e.name != "cabinet" {
+    elastic_markers(c, m, BodyRef::Cabinet);
+    elastic_markers(c, m, BodyRef::Tub);
+    rotor_mounts(c, m);
+    tub_mass(c, m);
+    elastic_drum(c, m);
+}
+
+fn modal_of<'a>(m: &'a Model, name: &str) -> Option<&'a modal::ModalData> {
+    m.elastic
+        .iter()
+        .find(|e| e.name == name)
+        .and_then(|e| e.data.as_ref())
+}
+
+/// A point on an elastic body must be one of its modal points; the message names the nearest.
+fn need_point(c: &mut Ctx, d: &modal::ModalData, body: &str, path: Path, what: String, p: &V3) {
+    let dist = |a: V3, b: V3| crate::geom::f::norm(crate::geom::f::sub(a, b));
+    if modal::point_at(d, *p).is_none() {
+        let near = d
+            .points
+            .iter()
+            .min_by(|a, b| dist(a.position, *p).total_cmp(&dist(b.position, *p)));
+        c.err(
+            path,
+            format!(
+                "{what}: the elastic {body} has no FE node set at {p:?}{}",
+                near.map_or(String::new(), |q| format!(
+                    " (nearest: {} at {:?})",
+                    q.name, q.position
+                ))
+            ),
+        );
+    }
+}
+
+/// On the elastic tub every rotor sits at a tub node set (its mount), on its own axis.
+fn rotor_mounts(c: &mut Ctx, m: &Model) {
+    let Some(tub) = modal_of(m, "tub") else {
+        return;
+    };
+    for (i, r) in m.rotors.iter().enumerate() {
+        let p = Path::of(&["rotors"]).idx(i);
+        let key = if r.mount.is_some() {
+            "mount"
+        } else {
+            "axis_point"
+        };
+        let mp = r.mount_point();
+        need_point(
+            c,
+            tub,
+            "tub",
+            p.clone().key(key),
+            format!("rotor `{}`: mount", r.name),
+            &mp,
+        );
+        let e = crate::geom::f::unit(r.axis);
+        let off = crate::geom::f::sub(mp, r.axis_point);
+        if crate::geom::f::norm(crate::geom::f::cross(off, e)) > 1e-3 {
             c.err(
-                Path::of(&["elastic"]).idx(i),
+                p.key(key),
                 format!(
-                    "elastic `{}`: modal data read and checked, but the equations of the elastic \
-                     {} are not built yet; remove the entry to run it rigid",
-                    e.name, e.name
+                    "rotor `{}`: mount {mp:?} is not on the rotor's axis (more than 1 mm off)",
+                    r.name
                 ),
             );
         }
+        if !(r.mass.is_finite() && r.mass >= 0.0) {
+            c.err(
+                Path::of(&["rotors"]).idx(i).key("mass"),
+                format!("rotor `{}`: mass must be >= 0, got {}", r.name, r.mass),
+            );
+        }
     }
-    elastic_markers(c, m);
+}
+
+/// Relative tolerance between the rigid tub's mass and the elastic tub's parts: the two
+/// descriptions are one machine (rigid and elastic scenes side by side); 2 % is the agreement
+/// the FE models were built to.
+pub const TUB_MASS_TOLERANCE: f64 = 0.02;
+
+/// The elastic tub carries the drum (its FE mass) and the other rotors' masses: together they
+/// must be the rigid tub's mass, or one of the two descriptions is missing a part.
+fn tub_mass(c: &mut Ctx, m: &Model) {
+    let Some(tub) = modal_of(m, "tub") else {
+        return;
+    };
+    let drum = modal_of(m, "drum").map_or(0.0, |d| d.mass);
+    let rotors: f64 = m
+        .rotors
+        .iter()
+        .filter(|r| r.name != "drum" || modal_of(m, "drum").is_none())
+        .map(|r| r.mass)
+        .sum();
+    let total = tub.mass + drum + rotors;
+    if (total - m.tub.mass).abs() > TUB_MASS_TOLERANCE * m.tub.mass {
+        let i = m.elastic.iter().position(|e| e.name == "tub").unwrap_or(0);
+        c.err(
+            Path::of(&["elastic"]).idx(i),
+            format!(
+                "elastic `tub`: FE tub {:.3} kg + drum {drum:.3} kg + rotors {rotors:.3} kg =                  {total:.3} kg, but the rigid tub has {} kg (more than {} % apart): add the                  drum's elastic entry or the rotors' `mass`, or correct `tub.mass`",
+                tub.mass,
+                m.tub.mass,
+                TUB_MASS_TOLERANCE * 100.0
+            ),
+        );
+    }
+}
+
+/// The elastic drum spins with the rotor `drum` and carries its unbalances at its node sets;
+/// stiffening needs the geometric stiffness in its modal data.
+fn elastic_drum(c: &mut Ctx, m: &Model) {
+    let Some(i) = m.elastic.iter().position(|e| e.name == "drum") else {
+        return;
+    };
+    if !m.rotors.iter().any(|r| r.name == "drum") {
+        c.err(
+            Path::of(&["elastic"]).idx(i).key("name"),
+            "elastic `drum`: the model has no rotor `drum` to spin it".to_string(),
+        );
+    }
+    let Some(d) = m.elastic[i].data.as_ref() else {
+        return;
+    };
+    for (j, u) in m.unbalances.iter().enumerate() {
+        if u.rotor == "drum" {
+            need_point(
+                c,
+                d,
+                "drum",
+                Path::of(&["unbalances"]).idx(j).key("position"),
+                format!("unbalance `{}`", u.name),
+                &u.position,
+            );
+        }
+    }
+    if d.geometric_stiffness.is_none() {
+        for (j, s) in m.scenes.iter().enumerate() {
+            if s.effects.iter().any(|e| e == "centrifugal_stiffening") {
+                c.err(
+                    Path::of(&["scenes"]).idx(j).key("effects"),
+                    format!(
+                        "scene `{}`: centrifugal_stiffening, but {} has no geometric_stiffness",
+                        s.name, m.elastic[i].file
+                    ),
+                );
+            }
+        }
+    }
 }
 
 /// An element's name and its two ends (body, point, key).
@@ -478,34 +611,12 @@ type Ends<'a> = (String, [(BodyRef, V3, &'a str); 2]);
 
 /// Every point a force element or sensor attaches to on an elastic body is one of the modal
 /// data's points (an FE node set), within `modal::POINT_TOLERANCE`.
-fn elastic_markers(c: &mut Ctx, m: &Model) {
-    let dist = |a: V3, b: V3| crate::geom::f::norm(crate::geom::f::sub(a, b));
-    let Some(cab) = m
-        .elastic
-        .iter()
-        .find(|e| e.name == "cabinet")
-        .and_then(|e| e.data.as_ref())
-    else {
+fn elastic_markers(c: &mut Ctx, m: &Model, which: BodyRef) {
+    let Some(data) = modal_of(m, which.name()) else {
         return;
     };
-    let mut need = |path: Path, what: String, p: &V3| {
-        if modal::point_at(cab, *p).is_none() {
-            let near = cab
-                .points
-                .iter()
-                .min_by(|a, b| dist(a.position, *p).total_cmp(&dist(b.position, *p)));
-            c.err(
-                path,
-                format!(
-                    "{what}: the elastic cabinet has no FE node set at {p:?}{}",
-                    near.map_or(String::new(), |q| format!(
-                        " (nearest: {} at {:?})",
-                        q.name, q.position
-                    ))
-                ),
-            );
-        }
-    };
+    let body = which.name();
+    let mut need = |path: Path, what: String, p: &V3| need_point(c, data, body, path, what, p);
     let ends = |a: &Attach, b: &Attach| [(a.body, a.point, "a"), (b.body, b.point, "b")];
     let lists: [(&str, Vec<Ends>); 3] = [
         (
@@ -533,7 +644,7 @@ fn elastic_markers(c: &mut Ctx, m: &Model) {
     for (list, items) in lists {
         for (i, (name, e)) in items.iter().enumerate() {
             for (body, point, key) in e {
-                if *body == BodyRef::Cabinet {
+                if *body == which {
                     need(
                         Path::of(&[list]).idx(i).key(key).key("point"),
                         format!("{list} `{name}`"),
@@ -544,7 +655,7 @@ fn elastic_markers(c: &mut Ctx, m: &Model) {
         }
     }
     for (i, g) in m.gaskets.iter().enumerate() {
-        if g.a == BodyRef::Cabinet || g.b == BodyRef::Cabinet {
+        if g.a == which || g.b == which {
             need(
                 Path::of(&["gaskets"]).idx(i).key("point"),
                 format!("gasket `{}`", g.name),
@@ -553,7 +664,7 @@ fn elastic_markers(c: &mut Ctx, m: &Model) {
         }
     }
     for (i, s) in m.sensors.iter().enumerate() {
-        if s.body == BodyRef::Cabinet {
+        if s.body == which {
             need(
                 Path::of(&["sensors"]).idx(i).key("point"),
                 format!("sensor `{}`", s.name),

@@ -131,8 +131,10 @@ pub struct Attach {
 }
 
 /// A rotor without DOF of its own: it turns about `axis` through `axis_point` (fixed in the tub)
-/// at `ratio` times the drum speed. Its mass and transverse inertia belong to the tub; only its
-/// spin angular momentum (polar inertia) acts here.
+/// at `ratio` times the drum speed. On the rigid tub its mass and transverse inertia belong to
+/// the tub and only its spin angular momentum (polar inertia) acts. On the elastic tub it sits
+/// on the tub's node set at `mount` (a point on its axis) and moves with it: the drum with its
+/// FE model's mass and inertia, any other rotor as a point mass `mass` at `axis_point`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Rotor {
@@ -146,6 +148,20 @@ pub struct Rotor {
     pub ratio: f64,
     /// kg m^2 about the spin axis.
     pub polar_inertia: f64,
+    /// kg; used where the tub is elastic (the rigid tub's mass includes it). The drum's comes
+    /// from its modal data.
+    #[serde(default)]
+    pub mass: f64,
+    /// The tub point (an FE node set on its axis) that carries the rotor; default `axis_point`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mount: Option<V3>,
+}
+
+impl Rotor {
+    /// Where the rotor sits on the tub.
+    pub fn mount_point(&self) -> V3 {
+        self.mount.unwrap_or(self.axis_point)
+    }
 }
 
 fn default_axis() -> V3 {
@@ -301,6 +317,9 @@ pub enum Effect {
     /// The named body's modes (an `elastic` entry): `elastic.cabinet`. Off: the body is rigid
     /// (the cabinet fixed).
     Elastic(String),
+    /// The elastic drum's stress stiffening from its centrifugal prestress, Omega^2 K_G (spin
+    /// softening is always in; it is kinematics).
+    CentrifugalStiffening,
 }
 
 impl Effect {
@@ -312,6 +331,7 @@ impl Effect {
             "gasket_damping" => Some(Effect::GasketDamping),
             "element_geometry" => Some(Effect::ElementGeometry),
             "unbalance_inertia" => Some(Effect::UnbalanceInertia),
+            "centrifugal_stiffening" => Some(Effect::CentrifugalStiffening),
             _ => {
                 if let Some(b) = s.strip_prefix("elastic.") {
                     return elastic.contains(&b).then(|| Effect::Elastic(b.to_string()));
@@ -333,6 +353,7 @@ impl Effect {
             Effect::UnbalanceInertia => "unbalance_inertia".into(),
             Effect::Unbalance(r) => format!("unbalance.{r}"),
             Effect::Elastic(b) => format!("elastic.{b}"),
+            Effect::CentrifugalStiffening => "centrifugal_stiffening".into(),
         }
     }
 }
@@ -371,6 +392,9 @@ impl Model {
         }
         for e in &self.elastic {
             v.push(Effect::Elastic(e.name.clone()));
+            if e.name == "drum" {
+                v.push(Effect::CentrifugalStiffening);
+            }
         }
         v
     }

@@ -1,0 +1,257 @@
+//! The spinning elastic drum: its modes turn with the drum (drum frame, angle phi) on a frame
+//! that rides on the tub's bearing point (design-notes: "the kinematics to keep"). Its rigid
+//! mass and spin are the tub's attached part and a rotor; this file holds what its modes add.
+//!
+//! Drum point x (relative to the mount B, drum frame), tub components:
+//! rho = s_B + d + (theta x) R x + R (x + W q), d, theta the tub's elastic motion at B.
+//! Every sum over the drum's nodes is a fixed matrix computed here from the elementary
+//! matrices (seed paper), in the drum frame; per evaluation only R(phi) turns them.
+
+use super::bodies::rotate;
+use super::kinematics::{MarkerDef, tub_point_jacobian};
+use super::{BodyState, Drive, ModalBody};
+use crate::geom::V;
+use crate::scalar::Scalar;
+
+/// `e~`, the cross-product matrix of e.
+fn tilde(e: [f64; 3]) -> [[f64; 3]; 3] {
+    [[0.0, -e[2], e[1]], [e[2], 0.0, -e[0]], [-e[1], e[0], 0.0]]
+}
+
+fn mat_mul(a: [[f64; 3]; 3], b: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    let mut c = [[0.0; 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            c[i][j] = (0..3).map(|k| a[i][k] * b[k][j]).sum();
+        }
+    }
+    c
+}
+
+/// The elastic drum's modal terms.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ElasticDrum {
+    pub modes: ModalBody,
+    pub axis: [f64; 3],
+    pub ratio: f64,
+    /// The tub point B that carries the drum.
+    pub mount: MarkerDef,
+    /// Frame velocity Jacobian at B: per column of q1 (translation, rotation).
+    frame: Vec<([f64; 3], [f64; 3])>,
+    /// Per mode k (drum frame): C_k = sum dm W_k, X_k = sum dm x x W_k.
+    c: Vec<[f64; 3]>,
+    x: Vec<[f64; 3]>,
+    /// sum dm W_k^T e~ W_l and sum dm W_k^T e~e~ W_l (n x n).
+    ge: Vec<f64>,
+    gee: Vec<f64>,
+    /// sum dm W_k^T e~ x and sum dm W_k^T e~e~ x: the drum's own tangential and centrifugal
+    /// load per unit Omega' and Omega^2.
+    fe: Vec<f64>,
+    fee: Vec<f64>,
+    /// sum dm W_k x (e~ x): the frame's Coriolis coupling into the modes.
+    qe: Vec<[f64; 3]>,
+    /// Moments about B of the modal inertia: sum dm x x (e~ W_k), sum dm x x (e~e~ W_k), and the
+    /// lever terms sum dm W_k x (e~e~ x).
+    pe: Vec<[f64; 3]>,
+    pee: Vec<[f64; 3]>,
+    qee: Vec<[f64; 3]>,
+    /// K_G / Omega^2 (n x n), when the scene has `centrifugal_stiffening`.
+    pub stiffening: Option<Vec<f64>>,
+}
+
+impl ElasticDrum {
+    /// `mount` is the drum rotor's tub point (on its axis); `n1` the size of subsystem 1.
+    pub fn new(
+        modes: ModalBody,
+        axis: [f64; 3],
+        ratio: f64,
+        mount: MarkerDef,
+        n1: usize,
+        stiffening: bool,
+    ) -> Self {
+        let d = modes.data();
+        let n = modes.n;
+        let b = mount.point;
+        let el = &d.elementary;
+        // sum dm x_a W_b,k with x relative to B.
+        let sx = |a: usize, bb: usize, k: usize| el.s[a][bb][k] - b[a] * el.c[bb][k];
+        let g = |a: usize, bb: usize, k: usize, l: usize| el.g[a][bb][k * n + l];
+        let et = tilde(axis);
+        let eet = mat_mul(et, et);
+        let c: Vec<[f64; 3]> = (0..n).map(|k| [0, 1, 2].map(|a| el.c[a][k])).collect();
+        // sum dm (A x)_a W_b,k for a constant matrix A: sum_d A_ad sx(d, b).
+        let ax_w = |a_m: [[f64; 3]; 3], k: usize| -> [[f64; 3]; 3] {
+            let mut out = [[0.0; 3]; 3];
+            for (a, row) in out.iter_mut().enumerate() {
+                for (bb, v) in row.iter_mut().enumerate() {
+                    *v = (0..3).map(|dd| a_m[a][dd] * sx(dd, bb, k)).sum();
+                }
+            }
+            out
+        };
+        let id = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        // sum dm (u x v) with u_a v_b given as the 3x3 sum t[a][b]: eps_cab t[a][b].
+        let cross_sum =
+            |t: [[f64; 3]; 3]| [t[1][2] - t[2][1], t[2][0] - t[0][2], t[0][1] - t[1][0]];
+        let transpose = |t: [[f64; 3]; 3]| [0, 1, 2].map(|i| [0, 1, 2].map(|j| t[j][i]));
+        let mut x = Vec::new();
+        let (mut qe, mut qee, mut pe, mut pee) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let (mut fe, mut fee) = (Vec::new(), Vec::new());
+        for k in 0..n {
+            // t[a][b] = sum dm x_a W_b.
+            let t = ax_w(id, k);
+            x.push(cross_sum(t));
+            // W x (A x): sum dm W_a (A x)_b = transpose of ax_w.
+            qe.push(cross_sum(transpose(ax_w(et, k))));
+            qee.push(cross_sum(transpose(ax_w(eet, k))));
+            // x x (A W): sum dm x_a (A W)_b = sum_c t[a][c] A_bc.
+            let xa = |a_m: [[f64; 3]; 3]| {
+                let mut o = [[0.0; 3]; 3];
+                for (a, row) in o.iter_mut().enumerate() {
+                    for (bb, v) in row.iter_mut().enumerate() {
+                        *v = (0..3).map(|cc| t[a][cc] * a_m[bb][cc]).sum();
+                    }
+                }
+                o
+            };
+            pe.push(cross_sum(xa(et)));
+            pee.push(cross_sum(xa(eet)));
+            // W^T A x = sum_ab A_ab sum dm W_a x_b = sum_ab A_ab t[b][a].
+            let wax = |a_m: [[f64; 3]; 3]| -> f64 {
+                (0..3)
+                    .flat_map(|a| (0..3).map(move |bb| (a, bb)))
+                    .map(|(a, bb)| a_m[a][bb] * t[bb][a])
+                    .sum()
+            };
+            fe.push(wax(et));
+            fee.push(wax(eet));
+        }
+        let quad = |a_m: [[f64; 3]; 3]| -> Vec<f64> {
+            (0..n * n)
+                .map(|i| {
+                    let (k, l) = (i / n, i % n);
+                    (0..3)
+                        .flat_map(|a| (0..3).map(move |bb| (a, bb)))
+                        .map(|(a, bb)| a_m[a][bb] * g(a, bb, k, l))
+                        .sum()
+                })
+                .collect()
+        };
+        let frame = tub_point_jacobian(mount.s, mount.modal.as_ref(), n1);
+        let stiffening = if stiffening {
+            d.geometric_stiffness.as_ref().map(|k| k.per_omega2.clone())
+        } else {
+            None
+        };
+        ElasticDrum {
+            ge: quad(et),
+            gee: quad(eet),
+            modes,
+            axis,
+            ratio,
+            mount,
+            frame,
+            c,
+            x,
+            fe,
+            fee,
+            qe,
+            pe,
+            pee,
+            qee,
+            stiffening,
+        }
+    }
+
+    /// The M1 couplings of the drum's modes with the frame that carries it, v_j . R C_k +
+    /// omega_j . R X_k (they turn with phi), and the modal terms in h.
+    pub fn add<T: Scalar>(
+        &self,
+        b: &BodyState<T>,
+        d: &Drive<T>,
+        g: V<T>,
+        m1: &mut [T],
+        n1: usize,
+        h: &mut [T],
+    ) {
+        let (start, n) = (self.modes.start, self.modes.n);
+        let e = V::<T>::c(self.axis);
+        let th = d.phi * self.ratio;
+        let (cs, sn) = (th.cos(), th.sin());
+        let rot = |v: V<T>| rotate(e, cs, sn, v);
+        let rot_t = |v: V<T>| rotate(e, cs, -sn, v);
+        let om = d.omega * self.ratio;
+        let omd = d.omega_dot * self.ratio;
+        let om2 = om * om;
+
+        // M1: frame columns j against drum modes k.
+        let rc: Vec<V<T>> = self.c.iter().map(|v| rot(V::c(*v))).collect();
+        let rx: Vec<V<T>> = self.x.iter().map(|v| rot(V::c(*v))).collect();
+        for (j, (vj, wj)) in self.frame.iter().enumerate() {
+            let (zv, zw) = (*vj == [0.0; 3], *wj == [0.0; 3]);
+            if zv && zw {
+                continue;
+            }
+            for k in 0..n {
+                let mut v = T::zero();
+                if !zv {
+                    v += V::<T>::c(*vj).dot(rc[k]);
+                }
+                if !zw {
+                    v += V::<T>::c(*wj).dot(rx[k]);
+                }
+                m1[j * n1 + start + k] += v;
+                m1[(start + k) * n1 + j] += v;
+            }
+        }
+
+        // The frame's small rotation and its rate (tub rigid + elastic at B), in drum axes.
+        let (mut beta, mut betad) = (b.tub.alpha, b.tub.alphad);
+        if let Some(r) = &self.mount.modal {
+            beta = beta + r.motion(b.q).1;
+            betad = betad + r.motion(b.qd).1;
+        }
+        let beta_d = rot_t(beta);
+        let betad_d = rot_t(betad);
+        let g_d = rot_t(g);
+        let gt = g_d - beta_d.cross(g_d);
+        let q = &b.q[start..start + n];
+        let qd = &b.qd[start..start + n];
+
+        // Modal rows: weight (turning with the drum), own tangential and centrifugal load,
+        // the frame's Coriolis, Coriolis and spin softening of the modes, their stiffness and
+        // damping, and the stress stiffening.
+        let two_om = om * T::c(2.0);
+        for k in 0..n {
+            let mut v = V::<T>::c(self.c[k]).dot(gt) - omd * self.fe[k] - om2 * self.fee[k]
+                + two_om * betad_d.dot(V::c(self.qe[k]));
+            let mut kq = T::zero();
+            let mut gq = T::zero();
+            for l in 0..n {
+                let i = k * n + l;
+                kq += q[l] * (omd * self.ge[i] + om2 * self.gee[i]);
+                gq += qd[l] * self.ge[i];
+                if let Some(kg) = &self.stiffening {
+                    kq += q[l] * om2 * kg[i];
+                }
+            }
+            v = v - kq - gq * two_om - q[k] * self.modes.omega2[k] - qd[k] * self.modes.damping[k];
+            h[start + k] += v;
+        }
+
+        // Reaction on the tub at B (drum axes, then turned): the modes' inertia force and its
+        // moment about B, and the lever of the drum's weight and centrifugal load.
+        let (mut f, mut mo) = (V::<T>::zero(), V::<T>::zero());
+        for k in 0..n {
+            let (c, p) = (V::<T>::c(self.c[k]), V::<T>::c(self.pe[k]));
+            let acc = omd * q[k] + two_om * qd[k];
+            f = f - e.cross(c).scale(acc) - e.cross(e.cross(c)).scale(om2 * q[k]);
+            mo = mo - p.scale(acc) - V::<T>::c(self.pee[k]).scale(om2 * q[k])
+                + c.scale(q[k]).cross(g_d)
+                - V::<T>::c(self.qe[k]).scale(omd * q[k])
+                - V::<T>::c(self.qee[k]).scale(om2 * q[k]);
+        }
+        let z = V::zero();
+        self.mount.load_on_tub(b, rot(f), z, rot(mo), h);
+    }
+}

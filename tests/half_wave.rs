@@ -31,6 +31,7 @@ fn variant(extra: &[&str]) -> Model {
     m.scenes = vec![Scene {
         name: "s".into(),
         effects,
+        max_order: None,
     }];
     m
 }

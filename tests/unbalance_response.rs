@@ -51,6 +51,7 @@ fn linear_variant(rpm: f64, inertia: bool) -> Model {
     m.scenes = vec![washdyn_runtime::ir::Scene {
         name: "linear".into(),
         effects,
+        max_order: None,
     }];
     m
 }

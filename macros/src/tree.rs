@@ -310,6 +310,15 @@ fn load_base(
         }
     };
     b.files.push(file.clone());
+    // The base's data files are relative to the base file; here they resolve against `dir`.
+    let mut model = model;
+    let rel_dir = std::path::Path::new(rel)
+        .parent()
+        .map(PathBuf::from)
+        .unwrap_or_default();
+    for e in &mut model.elastic {
+        e.file = normalise(&rel_dir.join(&e.file));
+    }
     if let Some(csv) = &model.speed.csv {
         let base_dir = file.parent().map(PathBuf::from).unwrap_or_default();
         b.files.push(base_dir.join(csv));
@@ -340,6 +349,24 @@ fn load_base(
         }
     }
     b.root = value;
+}
+
+/// `data/../fe/x` -> `fe/x` (lexically; the path need not exist).
+fn normalise(p: &std::path::Path) -> String {
+    let mut out: Vec<&std::ffi::OsStr> = Vec::new();
+    for c in p.components() {
+        match c {
+            std::path::Component::ParentDir if out.last().is_some_and(|l| *l != "..") => {
+                out.pop();
+            }
+            std::path::Component::CurDir => {}
+            c => out.push(c.as_os_str()),
+        }
+    }
+    out.iter()
+        .map(|c| c.to_string_lossy())
+        .collect::<Vec<_>>()
+        .join("/")
 }
 
 /// Point every path of `v` at `loc`.

@@ -29,14 +29,18 @@ washdyn_macros::machine! {
             axis: [1.0, 0.0, 0.0],
             ratio: 1.0,
             polar_inertia: 0.215,
+            // On the elastic tub the drum hangs on the tub's bearing (node set BEARING).
+            mount: [-0.25, 0.0, 0.45],
         }
 
-        // Motor rotor: belt ratio 11.25 (seed paper); polar inertia estimate.
+        // Motor rotor: belt ratio 11.25 (seed paper); polar inertia estimate; 1.5 kg
+        // (estimate), which the elastic tub carries at its node set MOTOR.
         rotor motor {
             axis_point: [-0.05, 0.0, 0.18],
             axis: [1.0, 0.0, 0.0],
             ratio: 11.25,
             polar_inertia: 6.8e-4,
+            mass: 1.5,
         }
 
         // Test unbalance: the seed paper's 0.6 kg magnet at the front position (radius 0.24 m,
@@ -128,9 +132,10 @@ washdyn_macros::machine! {
         sensor tub5 { body: tub, point: [-0.05, 0.0, 0.15], kind: acceleration }
         sensor cabinet1 { body: cabinet, point: [0.30, 0.30, 0.80], kind: acceleration }
         sensor cabinet2 { body: cabinet, point: [0.0, 0.30, 0.45], kind: acceleration }
-        // Displacement of the drum's front centre (with the tub's rigid motion; the drum's
-        // elastic part joins when elastic bodies arrive).
-        sensor drum_front { body: tub, point: [0.17, 0.0, 0.45], kind: displacement }
+        // Displacement of the drum's front centre: the point on the drum's axis that the drum's
+        // frame carries (the tub's rigid motion, and on the elastic tub its motion at the
+        // bearing).
+        sensor drum_front { body: drum, point: [0.17, 0.0, 0.45], kind: displacement }
 
         scene full {
             effects: [
@@ -143,6 +148,25 @@ washdyn_macros::machine! {
                 unbalance.drum, friction_dampers, gasket_damping, element_geometry,
                 unbalance_inertia,
             ],
+        }
+
+        // Elastic bodies (issue 8's FE models, `washdyn fe modal`): the tub free-free on its 6
+        // rigid DOF, the drum clamped at its bearing, the cabinet on its feet. Modal damping
+        // 2 % (estimate).
+        elastic tub { file: "fe/tub.modal.toml", damping: 0.02 }
+        elastic drum { file: "fe/drum.modal.toml", damping: 0.02 }
+        elastic cabinet { file: "fe/cabinet.modal.toml", damping: 0.02 }
+
+        // The paper's elastic machine: everything above with the tub's, the drum's and the
+        // cabinet's modes up to drum order 6 at top speed times 1.5 (210 Hz: 6 tub, 12 drum,
+        // 60 cabinet modes).
+        scene elastic {
+            effects: [
+                gyroscopic, unbalance.drum, unbalance.motor, friction_dampers, gasket_damping,
+                element_geometry, unbalance_inertia, elastic.tub, elastic.drum, elastic.cabinet,
+                centrifugal_stiffening,
+            ],
+            max_order: 6.0,
         }
     }
 }

@@ -30,14 +30,30 @@ pub struct SceneStats {
     pub ops_jacobians: usize,
 }
 
+/// Above this size of subsystem 1, M1 is factorised numerically at run time on fixed-size
+/// arrays, and the Jacobians are formed as M1^-1 dh/dq by back substitution: tracing the
+/// Cholesky and differentiating q'' grows like n1^3 (design-notes: "Elastic step: structure"),
+/// emitting M1, h and the sparse dh/dq, dh/dq' grows like the couplings.
+pub const TRACED_FACTOR_MAX_N1: usize = 12;
+
+/// How q'' and its Jacobians are generated.
+pub enum Solve {
+    /// q'' and its Jacobians d/dq, d/dq' (row-major n x n), M1 factorised in the graph.
+    Traced(Graph, Vec<Sym>, Vec<Sym>, Vec<Sym>),
+    /// M1 is factorised at run time (checked to depend on no q, q': only on the drum angle).
+    /// No analytic Jacobians: differentiating h through every element's geometry for each of
+    /// the 2n coordinates grew to 6e5 operations at n = 98 (measured, examples/generated_size),
+    /// so the implicit integrators difference q'' numerically here.
+    Numeric,
+}
+
 /// The traced graphs of one scene: what both the emitter and the tests consume.
 pub struct Traced {
     pub n1: usize,
     pub n: usize,
     /// Inputs: q (n), q' (n), phi, omega, omega'.
     pub mh: (Graph, Vec<Sym>, Vec<Sym>),
-    /// q'' and its Jacobians d/dq, d/dq' (row-major n x n).
-    pub acc: (Graph, Vec<Sym>, Vec<Sym>, Vec<Sym>),
+    pub acc: Solve,
     /// Inputs: q, q', q''. Outputs: sensor channels.
     pub sensors: (Graph, Vec<Sym>),
 }
@@ -53,6 +69,22 @@ fn inputs(n: usize) -> (Vec<Sym>, Vec<Sym>, Drive<Sym>) {
     (q, qd, d)
 }
 
+/// d outputs / d q and d outputs / d q' (row-major, outputs x n), inside a trace.
+fn jacobians(out: &[Sym], n: usize) -> (Vec<Sym>, Vec<Sym>) {
+    let m = out.len();
+    let mut jq = vec![Sym::c(0.0); m * n];
+    let mut jqd = vec![Sym::c(0.0); m * n];
+    for j in 0..n {
+        let dj = derivative(out, j as u32);
+        let dvj = derivative(out, (n + j) as u32);
+        for i in 0..m {
+            jq[i * n + j] = dj[i];
+            jqd[i * n + j] = dvj[i];
+        }
+    }
+    (jq, jqd)
+}
+
 /// Trace a scene's equations.
 pub fn trace_equations(eq: &Equations) -> Traced {
     let (n1, n) = (eq.layout.n1, eq.layout.n());
@@ -63,28 +95,36 @@ pub fn trace_equations(eq: &Equations) -> Traced {
         eq.eval(&d, &q, &qd, &mut m1, &mut h);
         (m1, h)
     });
-    let ((qdd, jq, jqd), g_acc) = trace(|| {
-        let (q, qd, d) = inputs(n);
-        let mut m1 = vec![Sym::c(0.0); n1 * n1];
-        let mut h = vec![Sym::c(0.0); n];
-        eq.eval(&d, &q, &qd, &mut m1, &mut h);
-        let mut qdd = h.clone();
-        // The interpreter's own factorisation, traced (a non-SPD M1 shows as NaN).
-        cholesky_factor(&mut m1, n1);
-        cholesky_solve(&m1, n1, &mut qdd[..n1]);
-        // M2 = I for mass-normalised modes (the interpreter's M2): nothing to solve.
-        let mut jq = vec![Sym::c(0.0); n * n];
-        let mut jqd = vec![Sym::c(0.0); n * n];
-        for j in 0..n {
-            let dj = derivative(&qdd, j as u32);
-            let dvj = derivative(&qdd, (n + j) as u32);
-            for i in 0..n {
-                jq[i * n + j] = dj[i];
-                jqd[i * n + j] = dvj[i];
-            }
-        }
-        (qdd, jq, jqd)
-    });
+    let acc = if n1 <= TRACED_FACTOR_MAX_N1 {
+        let ((qdd, jq, jqd), g_acc) = trace(|| {
+            let (q, qd, d) = inputs(n);
+            let mut m1 = vec![Sym::c(0.0); n1 * n1];
+            let mut h = vec![Sym::c(0.0); n];
+            eq.eval(&d, &q, &qd, &mut m1, &mut h);
+            let mut qdd = h.clone();
+            // The interpreter's own factorisation, traced (a non-SPD M1 shows as NaN).
+            cholesky_factor(&mut m1, n1);
+            cholesky_solve(&m1, n1, &mut qdd[..n1]);
+            // M2 = I for mass-normalised modes (the interpreter's M2): nothing to solve.
+            let (jq, jqd) = jacobians(&qdd, n);
+            (qdd, jq, jqd)
+        });
+        Solve::Traced(g_acc, qdd, jq, jqd)
+    } else {
+        let (constant, _) = trace(|| {
+            let (q, qd, d) = inputs(n);
+            let mut m1 = vec![Sym::c(0.0); n1 * n1];
+            let mut h = vec![Sym::c(0.0); n];
+            eq.eval(&d, &q, &qd, &mut m1, &mut h);
+            let (dm, dmd) = jacobians(&m1, n);
+            dm.iter().chain(&dmd).all(|s| s.as_const() == Some(0.0))
+        });
+        assert!(
+            constant,
+            "M1 depends on q or q': the numeric factorisation needs M1(phi) only"
+        );
+        Solve::Numeric
+    };
     let (ch, g_s) = trace(|| {
         let q: Vec<Sym> = (0..n).map(|_| Sym::input()).collect();
         let qd: Vec<Sym> = (0..n).map(|_| Sym::input()).collect();
@@ -97,7 +137,7 @@ pub fn trace_equations(eq: &Equations) -> Traced {
         n1,
         n,
         mh: (g_mh, m1, h),
-        acc: (g_acc, qdd, jq, jqd),
+        acc,
         sensors: (g_s, ch),
     }
 }
@@ -141,16 +181,39 @@ pub fn scene_source(eq: &Equations, name: &str) -> (String, SceneStats) {
     let body_mh = e.take();
     let ops_mh = g.op_count(&[m1.as_slice(), h.as_slice()].concat());
 
-    let (g, qdd, jq, jqd) = &t.acc;
-    let mut e = Emitter::new(g, state_inputs(n, &drive));
-    e.assign(|k| format!("qdd[{k}]"), qdd);
-    let body_acc = e.take();
-    let mut e = Emitter::new(g, state_inputs(n, &drive));
-    e.assign(|k| format!("jq[{k}]"), jq);
-    e.assign(|k| format!("jqd[{k}]"), jqd);
-    let body_jac = e.take();
-    let ops_acc = g.op_count(qdd);
-    let ops_jac = g.op_count(&[jq.as_slice(), jqd.as_slice()].concat());
+    let rt = "::washdyn_runtime";
+    let (body_acc, body_jac, ops_acc, ops_jac) = match &t.acc {
+        Solve::Traced(g, qdd, jq, jqd) => {
+            let mut e = Emitter::new(g, state_inputs(n, &drive));
+            e.assign(|k| format!("qdd[{k}]"), qdd);
+            let body_acc = e.take();
+            let mut e = Emitter::new(g, state_inputs(n, &drive));
+            e.assign(|k| format!("jq[{k}]"), jq);
+            e.assign(|k| format!("jqd[{k}]"), jqd);
+            (
+                body_acc,
+                e.take(),
+                g.op_count(qdd),
+                g.op_count(&[jq.as_slice(), jqd.as_slice()].concat()),
+            )
+        }
+        Solve::Numeric => {
+            let body_acc = format!(
+                "let mut m1 = [0.0f64; {n1sq}];\n\
+                 Self::mass_and_forces(d, q, qd, &mut m1, qdd);\n\
+                 {rt}::linalg::cholesky_factor(&mut m1[..], {n1});\n\
+                 {rt}::linalg::cholesky_solve(&m1[..], {n1}, &mut qdd[..{n1}]);\n",
+                n1sq = n1 * n1
+            );
+            // Traced operations plus the factorisation's n1^3/3 and the solve's 2 n1^2.
+            (
+                body_acc,
+                String::new(),
+                ops_mh + n1 * n1 * n1 / 3 + 2 * n1 * n1,
+                0,
+            )
+        }
+    };
 
     let (g, ch) = &t.sensors;
     let mut names = state_inputs(n, &[]);
@@ -167,9 +230,21 @@ pub fn scene_source(eq: &Equations, name: &str) -> (String, SceneStats) {
     let m2: Vec<String> = (0..n2 * n2)
         .map(|k| fmt_f64(if k % (n2 + 1) == 0 { 1.0 } else { 0.0 }))
         .collect();
+    let (jac_fn, jac_impl) = if body_jac.is_empty() {
+        (String::new(), String::new())
+    } else {
+        (
+            format!(
+                "    /// d q''/d q and d q''/d q' (row-major).\n    #[inline]\n    pub fn jacobians(d: &{rt}::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], jq: &mut [f64; {nsq}], jqd: &mut [f64; {nsq}]) {{\n{body_jac}    }}\n",
+                nsq = n * n
+            ),
+            format!(
+                "    fn acceleration_jacobians(&mut self, t: f64, q: &[f64], qd: &[f64], jq: &mut [f64], jqd: &mut [f64]) -> bool {{\n        let d = self.speed.drive(t);\n        Self::jacobians(&d, q.try_into().expect(\"q\"), qd.try_into().expect(\"qd\"), jq.try_into().expect(\"jq\"), jqd.try_into().expect(\"jqd\"));\n        true\n    }}\n"
+            ),
+        )
+    };
     let scene = &eq.scene.name;
     let effects: Vec<String> = eq.scene.effects.iter().map(|e| e.name()).collect();
-    let rt = "::washdyn_runtime";
     let mut s = String::new();
     let _ = write!(
         s,
@@ -212,11 +287,7 @@ impl {name} {{
     pub fn accelerations(d: &{rt}::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], qdd: &mut [f64; {n}]) {{
 {body_acc}    }}
 
-    /// d q''/d q and d q''/d q' (row-major).
-    #[inline]
-    pub fn jacobians(d: &{rt}::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], jq: &mut [f64; {nsq}], jqd: &mut [f64; {nsq}]) {{
-{body_jac}    }}
-
+{jac_fn}
     /// Sensor channels from q, q', q''.
     #[inline]
     pub fn sensor_values(q: &[f64; {n}], qd: &[f64; {n}], qdd: &[f64; {n}], out: &mut [f64; {nc}]) {{
@@ -248,19 +319,13 @@ impl {rt}::system::Mechanical for {name} {{
         Self::accelerations(&d, q.try_into().expect("q"), qd.try_into().expect("qd"), qdd.try_into().expect("qdd"));
         true
     }}
-    fn acceleration_jacobians(&mut self, t: f64, q: &[f64], qd: &[f64], jq: &mut [f64], jqd: &mut [f64]) -> bool {{
-        let d = self.speed.drive(t);
-        Self::jacobians(&d, q.try_into().expect("q"), qd.try_into().expect("qd"), jq.try_into().expect("jq"), jqd.try_into().expect("jqd"));
-        true
-    }}
-}}
+{jac_impl}}}
 "#,
         effects = effects.join(", "),
         channels = channels.join(", "),
         m2 = m2.join(", "),
         n1sq = n1 * n1,
         n2sq = n2 * n2,
-        nsq = n * n,
     );
     let stats = SceneStats {
         scene: scene.clone(),

@@ -210,27 +210,39 @@ impl UnbalanceDef {
         }
         // M1 += m J^T J over the columns that move the mass: u, alpha, the tub's modes at the
         // mount (with the lever y) and the drum's modes at the mass (turned by the rotor).
+        // Columns are recomputed per pair instead of collected: the interpreter must not
+        // allocate, and the tracer shares the repeated subexpressions anyway.
         let rho = V::<T>::c(self.mount.s) + y;
-        let mut cols: Vec<(usize, V<T>)> = Vec::new();
-        for a in 0..3 {
-            let mut ea = [0.0; 3];
-            ea[a] = 1.0;
-            cols.push((a, V::c(ea)));
-            cols.push((3 + a, V::<T>::c(ea).cross(rho)));
-        }
-        if let Some(r) = &self.mount.modal {
-            for (k, (wk, pk)) in r.w.iter().zip(&r.phi).enumerate() {
-                cols.push((r.start + k, V::<T>::c(*wk) + V::<T>::c(*pk).cross(y)));
+        let nt = self.mount.modal.as_ref().map_or(0, |r| r.w.len());
+        let nd = self.drum.as_ref().map_or(0, |r| r.w.len());
+        let col = |x: usize| -> (usize, V<T>) {
+            if x < 6 {
+                let mut ea = [0.0; 3];
+                ea[x % 3] = 1.0;
+                if x < 3 {
+                    (x, V::c(ea))
+                } else {
+                    (x, V::<T>::c(ea).cross(rho))
+                }
+            } else if x < 6 + nt {
+                let r = self.mount.modal.as_ref().expect("nt > 0");
+                let k = x - 6;
+                (
+                    r.start + k,
+                    V::<T>::c(r.w[k]) + V::<T>::c(r.phi[k]).cross(y),
+                )
+            } else {
+                let r = self.drum.as_ref().expect("nd > 0");
+                let k = x - 6 - nt;
+                (r.start + k, rot(V::c(r.w[k])))
             }
-        }
-        if let Some(r) = &self.drum {
-            for (k, wk) in r.w.iter().enumerate() {
-                cols.push((r.start + k, rot(V::c(*wk))));
-            }
-        }
-        for (x, (i, vi)) in cols.iter().enumerate() {
-            for (j, vj) in &cols[x..] {
-                let v = vi.dot(*vj) * m;
+        };
+        let count = 6 + nt + nd;
+        for x in 0..count {
+            let (i, vi) = col(x);
+            for z in x..count {
+                let (j, vj) = col(z);
+                let v = vi.dot(vj) * m;
                 m1[i * n1 + j] += v;
                 if i != j {
                     m1[j * n1 + i] += v;

@@ -185,20 +185,19 @@ impl ElasticDrum {
         let om2 = om * om;
 
         // M1: frame columns j against drum modes k.
-        let rc: Vec<V<T>> = self.c.iter().map(|v| rot(V::c(*v))).collect();
-        let rx: Vec<V<T>> = self.x.iter().map(|v| rot(V::c(*v))).collect();
-        for (j, (vj, wj)) in self.frame.iter().enumerate() {
-            let (zv, zw) = (*vj == [0.0; 3], *wj == [0.0; 3]);
-            if zv && zw {
-                continue;
-            }
-            for k in 0..n {
+        for k in 0..n {
+            let (rc, rx) = (rot(V::c(self.c[k])), rot(V::c(self.x[k])));
+            for (j, (vj, wj)) in self.frame.iter().enumerate() {
+                let (zv, zw) = (*vj == [0.0; 3], *wj == [0.0; 3]);
+                if zv && zw {
+                    continue;
+                }
                 let mut v = T::zero();
                 if !zv {
-                    v += V::<T>::c(*vj).dot(rc[k]);
+                    v += V::<T>::c(*vj).dot(rc);
                 }
                 if !zw {
-                    v += V::<T>::c(*wj).dot(rx[k]);
+                    v += V::<T>::c(*wj).dot(rx);
                 }
                 m1[j * n1 + start + k] += v;
                 m1[(start + k) * n1 + j] += v;

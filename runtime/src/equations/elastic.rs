@@ -24,9 +24,14 @@ pub struct ModalBody {
 }
 
 impl ModalBody {
-    /// From a checked, resolved `elastic` entry; its coordinates start at `start`.
-    pub fn new(e: &Elastic, start: usize, gravity: [f64; 3]) -> Self {
-        let d = e.data.clone().expect("checked: modal data resolved");
+    /// From a checked, resolved `elastic` entry; its coordinates start at `start`. With a
+    /// scene's `cutoff` (Hz) only the modes up to it are kept (at least one).
+    pub fn new(e: &Elastic, start: usize, gravity: [f64; 3], cutoff: Option<f64>) -> Self {
+        let mut d = e.data.clone().expect("checked: modal data resolved");
+        if let Some(fc) = cutoff {
+            let keep = d.frequencies.iter().filter(|f| **f <= fc).count().max(1);
+            d.truncate(keep);
+        }
         let n = d.modes();
         let w: Vec<f64> = d
             .frequencies

@@ -144,7 +144,7 @@ impl MarkerDef {
     pub fn state<T: Scalar>(&self, b: &BodyState<T>) -> Marker<T> {
         let st = &b.tub;
         let mut m = match self.body {
-            BodyRef::Tub => {
+            BodyRef::Tub | BodyRef::Drum => {
                 let s = V::<T>::c(self.s);
                 Marker {
                     pos: V::c(self.point) + st.u + st.alpha.cross(s),

@@ -131,30 +131,38 @@ impl Equations {
         // Layout: q1 = tub rigid (6), tub modes, drum modes; q2 = cabinet modes.
         let mut n1 = 6;
         let tub_modes = on("tub").map(|e| {
-            let b = ModalBody::new(e, n1, g);
+            let b = ModalBody::new(e, n1, g, scene.mode_cutoff);
             n1 += b.n;
             b
         });
         let drum_modes = on("drum").map(|e| {
-            let b = ModalBody::new(e, n1, g);
+            let b = ModalBody::new(e, n1, g, scene.mode_cutoff);
             n1 += b.n;
             b
         });
-        let cabinet = on("cabinet").map(|e| ModalBody::new(e, n1, g));
+        let cabinet = on("cabinet").map(|e| ModalBody::new(e, n1, g, scene.mode_cutoff));
         let (tub_rows, cabinet_rows) = (tub_modes.clone(), cabinet.clone());
         let layout = Layout {
             n1,
             n2: cabinet.as_ref().map_or(0, |c| c.n),
         };
+        // A drum point (sensors; on the axis) rides on the drum's mount: the tub's rows there,
+        // moved rigidly to the point.
+        let drum_mount = model
+            .rotors
+            .iter()
+            .find(|r| r.name == "drum")
+            .map(|r| r.mount_point());
         let mk = |body: BodyRef, point: [f64; 3]| {
             let mut m = MarkerDef::new(body, point, p0);
-            let modes = match body {
-                BodyRef::Tub => &tub_rows,
-                BodyRef::Cabinet => &cabinet_rows,
+            m.modal = match body {
+                BodyRef::Tub => tub_rows.as_ref().map(|c| c.rows(point)),
+                BodyRef::Cabinet => cabinet_rows.as_ref().map(|c| c.rows(point)),
+                BodyRef::Drum => tub_rows.as_ref().map(|c| {
+                    let b = drum_mount.expect("checked: drum sensors need a rotor `drum`");
+                    c.rows(b).moved(f::sub(point, b))
+                }),
             };
-            if let Some(c) = modes {
-                m.modal = Some(c.rows(point));
-            }
             m
         };
 
@@ -377,7 +385,8 @@ impl Equations {
         h: &mut [T],
     ) {
         match at.body {
-            BodyRef::Tub => {
+            // (Drum: no force element attaches there; checked.)
+            BodyRef::Tub | BodyRef::Drum => {
                 // The load seen from the tilted tub: the current load, or (linearised) the rest
                 // load, so the term stays linear in the state.
                 let (f_tilt, m_tilt) = if self.exact_geometry {
@@ -419,7 +428,7 @@ impl Equations {
         let _ = qd;
         match s.at.body {
             BodyRef::Cabinet => elastic.0,
-            BodyRef::Tub => {
+            BodyRef::Tub | BodyRef::Drum => {
                 let u = V::from_slice(&x[0..3]);
                 let a = V::from_slice(&x[3..6]);
                 (u + a.cross(V::c(s.at.s)) + elastic).0

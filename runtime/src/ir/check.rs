@@ -455,6 +455,7 @@ fn elastic(c: &mut Ctx, m: &Model) {
             );
         }
     }
+    drum_points(c, m);
     elastic_markers(c, m, BodyRef::Cabinet);
     elastic_markers(c, m, BodyRef::Tub);
     rotor_mounts(c, m);
@@ -462,10 +463,73 @@ fn elastic(c: &mut Ctx, m: &Model) {
     elastic_drum(c, m);
 }
 
+/// The drum carries sensors only, on its axis (the frame's motion; see `BodyRef::Drum`).
+fn drum_points(c: &mut Ctx, m: &Model) {
+    let drum = m.rotors.iter().find(|r| r.name == "drum");
+    let ends = |a: &Attach, b: &Attach| [(a.body, "a"), (b.body, "b")];
+    let mut lists: Vec<(&str, usize, String, [(BodyRef, &str); 2])> = Vec::new();
+    for (i, s) in m.springs.iter().enumerate() {
+        lists.push(("springs", i, s.name.clone(), ends(&s.a, &s.b)));
+    }
+    for (i, s) in m.dampers.iter().enumerate() {
+        lists.push(("dampers", i, s.name.clone(), ends(&s.a, &s.b)));
+    }
+    for (i, s) in m.friction_dampers.iter().enumerate() {
+        lists.push(("friction_dampers", i, s.name.clone(), ends(&s.a, &s.b)));
+    }
+    for (i, g) in m.gaskets.iter().enumerate() {
+        lists.push(("gaskets", i, g.name.clone(), [(g.a, "a"), (g.b, "b")]));
+    }
+    for (list, i, name, e) in lists {
+        for (body, key) in e {
+            if body == BodyRef::Drum {
+                c.err(
+                    Path::of(&[list]).idx(i).key(key),
+                    format!("{list} `{name}`: force elements attach to the tub or the cabinet; the drum carries sensors only"),
+                );
+            }
+        }
+    }
+    for (i, s) in m.sensors.iter().enumerate() {
+        if s.body != BodyRef::Drum {
+            continue;
+        }
+        let p = Path::of(&["sensors"]).idx(i);
+        match drum {
+            None => c.err(
+                p.key("body"),
+                format!(
+                    "sensor `{}`: on the drum, but the model has no rotor `drum`",
+                    s.name
+                ),
+            ),
+            Some(r) => {
+                let e = crate::geom::f::unit(r.axis);
+                let off = crate::geom::f::sub(s.point, r.axis_point);
+                if crate::geom::f::norm(crate::geom::f::cross(off, e)) > 1e-3 {
+                    c.err(
+                        p.key("point"),
+                        format!(
+                            "sensor `{}`: drum sensors sit on the drum's axis (more than 1 mm off)",
+                            s.name
+                        ),
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// The modal data of an elastic body that some scene switches on (no declared scene: the
+/// implicit `full` has them all). A body no scene uses constrains nothing: a variant may move
+/// an unbalance off the drum's node sets and stay rigid.
 fn modal_of<'a>(m: &'a Model, name: &str) -> Option<&'a modal::ModalData> {
+    let effect = format!("elastic.{name}");
+    let used = m.scenes.is_empty() || m.scenes.iter().any(|s| s.effects.contains(&effect));
     m.elastic
         .iter()
         .find(|e| e.name == name)
+        .filter(|_| used)
         .and_then(|e| e.data.as_ref())
 }
 
@@ -576,7 +640,7 @@ fn elastic_drum(c: &mut Ctx, m: &Model) {
             "elastic `drum`: the model has no rotor `drum` to spin it".to_string(),
         );
     }
-    let Some(d) = m.elastic[i].data.as_ref() else {
+    let Some(d) = modal_of(m, "drum") else {
         return;
     };
     for (j, u) in m.unbalances.iter().enumerate() {

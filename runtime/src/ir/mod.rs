@@ -105,12 +105,16 @@ fn two_percent() -> f64 {
     0.02
 }
 
-/// A body a force element or sensor can attach to.
+/// A body a force element or sensor can attach to. `drum`: sensors only, on the drum's axis:
+/// the point the drum's frame carries (with the tub's rigid motion and, on the elastic tub, its
+/// motion at the drum's mount); rigid-body and elastic drum motion of material points are the
+/// field recovery's (issue 10).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum BodyRef {
     Tub,
     Cabinet,
+    Drum,
 }
 
 impl BodyRef {
@@ -118,6 +122,7 @@ impl BodyRef {
         match self {
             BodyRef::Tub => "tub",
             BodyRef::Cabinet => "cabinet",
+            BodyRef::Drum => "drum",
         }
     }
 }
@@ -293,7 +298,17 @@ impl Sensor {
 pub struct Scene {
     pub name: String,
     pub effects: Vec<String>,
+    /// Highest drum order of interest: the scene keeps each elastic body's modes up to
+    /// `MODE_MARGIN` x this order x the highest drum speed (and at most the entry's `modes`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_order: Option<f64>,
 }
+
+/// Margin on the highest excitation frequency up to which a scene keeps modes (see
+/// `Scene::max_order`). A mode at 1.5 x the excitation still answers with 1 / (1 - 1/1.5^2) =
+/// 1.8 x its static share; the ones above contribute at most their static share, which is
+/// what the margin buys (measured in docs/accuracy.md: modal truncation).
+pub const MODE_MARGIN: f64 = 1.5;
 
 /// The effects a scene can switch. Everything else (rigid tub, gravity, springs, gasket
 /// stiffness, linear dampers) is always simulated.
@@ -359,10 +374,12 @@ impl Effect {
 }
 
 /// A resolved scene: which effects are on.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct EffectSet {
     pub name: String,
     pub effects: Vec<Effect>,
+    /// Keep elastic modes up to this frequency (Hz), from the scene's `max_order`.
+    pub mode_cutoff: Option<f64>,
 }
 
 impl EffectSet {
@@ -417,6 +434,7 @@ impl Model {
             return Ok(EffectSet {
                 name: "full".into(),
                 effects: self.all_effects(),
+                mode_cutoff: None,
             });
         }
         let scene = self.scenes.iter().find(|s| s.name == name).ok_or_else(|| {
@@ -438,9 +456,16 @@ impl Model {
                 effects.push(eff);
             }
         }
+        let top_rpm = self
+            .speed
+            .table
+            .iter()
+            .map(|r| r[1].abs())
+            .fold(0.0, f64::max);
         Ok(EffectSet {
             name: name.to_string(),
             effects,
+            mode_cutoff: scene.max_order.map(|o| MODE_MARGIN * o * top_rpm / 60.0),
         })
     }
 }

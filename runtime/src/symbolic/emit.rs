@@ -124,6 +124,23 @@ impl<'g> Emitter<'g> {
         }
     }
 
+    /// As `assign`, but only the outputs that are not the constant 0 (the target is zeroed
+    /// before): sparse Jacobians stay small.
+    pub fn assign_sparse(&mut self, target: impl Fn(usize) -> String, outputs: &[Sym]) {
+        let keep: Vec<(usize, Sym)> = outputs
+            .iter()
+            .copied()
+            .enumerate()
+            .filter(|(_, s)| self.g.constant(s.0) != Some(0.0))
+            .collect();
+        let syms: Vec<Sym> = keep.iter().map(|(_, s)| *s).collect();
+        self.need(&syms);
+        for (k, s) in keep {
+            let rhs = self.name(s);
+            let _ = writeln!(self.code, "{} = {rhs};", target(k));
+        }
+    }
+
     pub fn take(&mut self) -> String {
         std::mem::take(&mut self.code)
     }

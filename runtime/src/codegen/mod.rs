@@ -30,11 +30,13 @@ pub struct SceneStats {
     pub ops_jacobians: usize,
 }
 
-/// Above this size of subsystem 1, M1 is factorised numerically at run time on fixed-size
-/// arrays, and the Jacobians are formed as M1^-1 dh/dq by back substitution: tracing the
-/// Cholesky and differentiating q'' grows like n1^3 (design-notes: "Elastic step: structure"),
-/// emitting M1, h and the sparse dh/dq, dh/dq' grows like the couplings.
-pub const TRACED_FACTOR_MAX_N1: usize = 12;
+/// Above this many coordinates, M1 is factorised numerically at run time on fixed-size arrays
+/// and no analytic Jacobians are emitted: tracing the Cholesky grows like n1^3, and
+/// differentiating through the elements for each coordinate like n x the graph (the rigid tub
+/// in 20 cabinet modes: 58 000 operations, 1.7 MB of source, and the models crate no longer
+/// compiled in 22 GB; measured with examples/generated_size). M1 and h alone grow like the
+/// couplings (design-notes: "Elastic step: structure").
+pub const TRACED_FACTOR_MAX_N: usize = 12;
 
 /// How q'' and its Jacobians are generated.
 pub enum Solve {
@@ -95,7 +97,7 @@ pub fn trace_equations(eq: &Equations) -> Traced {
         eq.eval(&d, &q, &qd, &mut m1, &mut h);
         (m1, h)
     });
-    let acc = if n1 <= TRACED_FACTOR_MAX_N1 {
+    let acc = if n <= TRACED_FACTOR_MAX_N {
         let ((qdd, jq, jqd), g_acc) = trace(|| {
             let (q, qd, d) = inputs(n);
             let mut m1 = vec![Sym::c(0.0); n1 * n1];

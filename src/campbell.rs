@@ -34,24 +34,46 @@ pub fn compute(d: &ModalData, max_rpm: f64, steps: usize) -> Result<Campbell, St
     Ok(Campbell { rpm, hz })
 }
 
-/// Read `modal_file`, compute, write `campbell.csv` and `campbell.png` (`.svg`) into `out`.
+/// The drum's modal data, top speed (rpm) and motor ratio from `source`: a `.modal.toml` file,
+/// or a model (built-in or file) whose elastic drum it takes, through the one resolver.
+fn source_data(source: &str) -> Result<(ModalData, Option<f64>, Option<f64>), String> {
+    if source.ends_with(".modal.toml") {
+        let p = Path::new(source);
+        let d = modal::read_file(p, source)?;
+        let problems = modal::problems(&d);
+        if !problems.is_empty() {
+            return Err(format!("{source}: {}", problems.join("; ")));
+        }
+        return Ok((d, None, None));
+    }
+    let (m, _) = crate::commands::resolve_model(source)?;
+    let d = m
+        .elastic
+        .iter()
+        .find(|e| e.name == "drum")
+        .and_then(|e| e.data.clone())
+        .ok_or_else(|| format!("model `{}` has no elastic drum", m.name))?;
+    let top = m.speed.table.iter().map(|r| r[1]).fold(0.0, f64::max);
+    let motor = m.rotors.iter().find(|r| r.name == "motor").map(|r| r.ratio);
+    Ok((d, Some(top).filter(|t| *t > 0.0), motor))
+}
+
+/// Read `source`, compute, write `campbell.csv` and `campbell.png` (`.svg`) into `out`.
 pub fn run(
-    modal_file: &Path,
-    max_rpm: f64,
-    motor_ratio: f64,
+    source: &str,
+    max_rpm: Option<f64>,
+    motor_ratio: Option<f64>,
     out: &Path,
     svg: bool,
 ) -> Result<Vec<PathBuf>, String> {
+    let (d, top, motor) = source_data(source)?;
+    let max_rpm = max_rpm.or(top).unwrap_or(1400.0);
+    let motor_ratio = motor_ratio.or(motor).unwrap_or(11.25);
     if !(max_rpm > 0.0 && max_rpm <= washdyn_runtime::ir::check::MAX_RPM) {
         return Err(format!(
             "--max-rpm must be in (0, {}], got {max_rpm}",
             washdyn_runtime::ir::check::MAX_RPM
         ));
-    }
-    let d = modal::read_file(modal_file, &modal_file.display().to_string())?;
-    let problems = modal::problems(&d);
-    if !problems.is_empty() {
-        return Err(format!("{}: {}", modal_file.display(), problems.join("; ")));
     }
     let c = compute(&d, max_rpm, 140)?;
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
@@ -197,7 +219,15 @@ mod tests {
                 .contains("not a spinning body")
         );
         let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/fe/drum.modal.toml");
-        let e = run(&p, -5.0, 11.25, Path::new("/nonexistent"), false).unwrap_err();
+        let p = p.to_str().unwrap();
+        let e = run(p, Some(-5.0), None, Path::new("/nonexistent"), false).unwrap_err();
         assert!(e.contains("--max-rpm"), "{e}");
+    }
+
+    #[test]
+    fn a_model_gives_its_drum_top_speed_and_motor_ratio() {
+        let (d, top, motor) = source_data("reference").unwrap();
+        assert_eq!(d.frequencies, drum().frequencies);
+        assert_eq!((top, motor), (Some(1400.0), Some(11.25)));
     }
 }

@@ -116,14 +116,16 @@ enum Cmd {
     /// Coriolis, spin softening, stress stiffening), with the excitation orders: campbell.csv
     /// and campbell.png (.svg).
     Campbell {
-        /// The drum's modal data file (e.g. models/fe/drum.modal.toml).
-        modal: PathBuf,
-        /// Highest drum speed, rpm.
-        #[arg(long, default_value_t = 1400.0)]
-        max_rpm: f64,
-        /// Motor/drum speed ratio for the motor order line.
-        #[arg(long, default_value_t = 11.25)]
-        motor_ratio: f64,
+        /// A model (built-in name or model file) with an elastic drum, or the drum's modal data
+        /// file (e.g. models/fe/drum.modal.toml).
+        source: String,
+        /// Highest drum speed, rpm [default: the model's top speed, else 1400].
+        #[arg(long)]
+        max_rpm: Option<f64>,
+        /// Motor/drum speed ratio for the motor order line [default: the model's rotor `motor`,
+        /// else 11.25].
+        #[arg(long)]
+        motor_ratio: Option<f64>,
         /// Output directory.
         #[arg(long, default_value = "out/campbell")]
         out: PathBuf,
@@ -460,12 +462,12 @@ fn main() -> ExitCode {
             }
         }
         Cmd::Campbell {
-            modal,
+            source,
             max_rpm,
             motor_ratio,
             out,
             svg,
-        } => match washdyn::campbell::run(&modal, max_rpm, motor_ratio, &out, svg) {
+        } => match washdyn::campbell::run(&source, max_rpm, motor_ratio, &out, svg) {
             Ok(files) => {
                 for f in files {
                     println!("wrote {}", f.display());

@@ -237,8 +237,17 @@ fn variant(tag: &str, from: &str, to: &str) -> PathBuf {
     let text = std::fs::read_to_string(src).unwrap();
     assert!(text.contains(from), "reference.toml lacks `{from}`");
     let p = std::env::temp_dir().join(format!("washdyn-bad-{tag}-{}.toml", std::process::id()));
-    std::fs::write(&p, text.replacen(from, to, 1)).unwrap();
+    std::fs::write(&p, absolute_data(&text.replacen(from, to, 1))).unwrap();
     p
+}
+
+/// The reference's modal data files are relative to models/data; a copy elsewhere names them
+/// absolutely.
+fn absolute_data(text: &str) -> String {
+    text.replace(
+        "\"../fe/",
+        &format!("\"{}/models/fe/", env!("CARGO_MANIFEST_DIR")),
+    )
 }
 
 fn model_refused(path: &PathBuf, want: &str) {
@@ -298,7 +307,7 @@ fn model_without_springs_fails_check() {
     let text = std::fs::read_to_string(src).unwrap();
     let cut = text.find("# Three vertical springs").unwrap();
     let p = std::env::temp_dir().join(format!("washdyn-bad-trunc-{}.toml", std::process::id()));
-    std::fs::write(&p, &text[..cut]).unwrap();
+    std::fs::write(&p, absolute_data(&text[..cut])).unwrap();
     let (m, _) = resolve_model(p.to_str().unwrap()).expect("loads: the checker's rules pass");
     let e = check_model(&m).unwrap_err();
     assert!(
@@ -536,5 +545,8 @@ fn fe_and_campbell_arguments_are_refused_before_anything_is_written() {
     let cab = concat!(env!("CARGO_MANIFEST_DIR"), "/models/fe/cabinet.modal.toml");
     let e = run(&["campbell", cab, "--out", d]);
     assert!(e.contains("not a spinning body"), "{e}");
+    // A model without an elastic drum has none either.
+    let e = run(&["campbell", "compact_no_such", "--out", d]);
+    assert!(e.contains("neither a built-in model"), "{e}");
     assert!(!dir.exists(), "something was written to {}", dir.display());
 }

@@ -23,8 +23,13 @@ fn line_of(src: &str, needle: &str, nth: usize) -> usize {
         .expect("needle present")
 }
 
+/// Where the reference's relative data files resolve.
+fn data_dir() -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("models/data")
+}
+
 fn errors(src: &str) -> Vec<(usize, String)> {
-    let e = load_str(src, "m.toml", Path::new(".")).expect_err("must be rejected");
+    let e = load_str(src, "m.toml", &data_dir()).expect_err("must be rejected");
     e.errors
         .iter()
         .map(|l| (l.line, l.message.clone()))
@@ -33,7 +38,7 @@ fn errors(src: &str) -> Vec<(usize, String)> {
 
 #[test]
 fn reference_loads() {
-    assert!(load_str(REF, "reference.toml", Path::new(".")).is_ok());
+    assert!(load_str(REF, "reference.toml", &data_dir()).is_ok());
 }
 
 #[test]
@@ -76,7 +81,14 @@ fn all_checker_errors_are_collected() {
         1,
     );
     let e = errors(&src);
-    assert_eq!(e.len(), 2, "{e:?}");
+    // The tub's mass, the speed table, and (from the first) the elastic tub's parts no longer
+    // adding up to the rigid tub.
+    assert_eq!(e.len(), 3, "{e:?}");
+    assert!(
+        e.iter()
+            .any(|(_, m)| m.contains("but the rigid tub has 0 kg")),
+        "{e:?}"
+    );
     assert!(
         e.iter()
             .any(|(l, m)| *l == line_of(&src, "mass = 0.0", 0) && m.contains("tub: mass"))
@@ -147,11 +159,16 @@ fn speed_csv_errors_have_lines() {
     std::fs::write(&q, "# from the test bench\n\ntime_s,rpm\n0,0\n5,93\n").unwrap();
     assert_eq!(read_speed_csv(&q).unwrap(), vec![[0.0, 0.0], [5.0, 93.0]]);
     // A model that takes its profile from that file.
-    let src = REF.replacen(
-        "table = [[0.0, 0.0], [5.0, 93.0], [15.0, 93.0], [178.375, 1400.0]]",
-        "csv = \"profile.csv\"",
-        1,
-    );
+    let src = REF
+        .replacen(
+            "table = [[0.0, 0.0], [5.0, 93.0], [15.0, 93.0], [178.375, 1400.0]]",
+            "csv = \"profile.csv\"",
+            1,
+        )
+        .replace(
+            "\"../fe/",
+            &format!("\"{}/models/fe/", env!("CARGO_MANIFEST_DIR")),
+        );
     let m = load_str(&src, "m.toml", &dir).unwrap();
     assert_eq!(m.speed.table.len(), 3);
     std::fs::remove_dir_all(&dir).ok();

@@ -44,6 +44,8 @@ fn linear_variant(rpm: f64, inertia: bool) -> Model {
     m.tub.mass = mt - mu;
     m.tub.cog = [cog.x, cog.y, cog.z];
     m.speed.table = vec![[0.0, rpm], [1.0e4, rpm]];
+    // The rigid machine (the hand-assembled model has the tub's 6 DOF).
+    m.elastic.clear();
     let mut effects: Vec<String> = m.all_effects().iter().map(|e| e.name()).collect();
     if !inertia {
         effects.retain(|e| e != "unbalance_inertia");

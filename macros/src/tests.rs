@@ -199,7 +199,7 @@ fn serde_errors_land_on_key_item_or_value() {
 fn every_broken_item_is_reported_and_broken_values_do_not_cascade() {
     let src = machine(
         "    rotor drum { axis_point: [0.0, 0.0, 0.5], polar_inertia: 1e999 }
-    sensor s { body: drum, point: [0.0, 0.0, 0.0], kind: acceleration }
+    sensor s { body: drumm, point: [0.0, 0.0, 0.0], kind: acceleration }
     spring x { a: { body: tub point: [0.0, 0.0, 0.6] } }
     damper y { damping: 1.0 }",
     );
@@ -211,7 +211,7 @@ fn every_broken_item_is_reported_and_broken_values_do_not_cascade() {
     assert!(msgs.iter().any(|m| m.contains("expected `,`")));
     assert!(
         msgs.iter()
-            .any(|m| m.contains("sensor `s`, `body`: unknown body `drum`"))
+            .any(|m| m.contains("sensor `s`, `body`: unknown body `drumm`"))
     );
     assert!(msgs.iter().any(|m| m == &"damper `y`: missing field `a`"));
 }
@@ -223,6 +223,7 @@ fn a_variant_merges_into_its_base_and_inherited_paths_point_at_base() {
         rotor drum { polar_inertia: 0.33 }
         spring spring_front { a: { point: [0.12, 0.0, 0.60] } }
         spring extra { a: { body: tub, point: [0.0, 0.0, 0.6] }, b: { body: cabinet, point: [0.0, 0.0, 0.8] }, stiffness: 1.0, free_length: 0.2 }
+        scene elastic { effects: [unbalance.drum] }
     }";
     let (_, model, built) =
         analyse(src.parse().unwrap(), &here()).unwrap_or_else(|d| panic!("{:#?}", d.list));

@@ -407,7 +407,8 @@ mod tests {
 
     fn reference() -> Model {
         let src = include_str!("../../../models/data/reference.toml");
-        crate::ir::toml_file::load_str(src, "reference.toml", std::path::Path::new(".")).unwrap()
+        let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../models/data");
+        crate::ir::toml_file::load_str(src, "reference.toml", &data).unwrap()
     }
 
     #[test]
@@ -469,8 +470,9 @@ mod tests {
     fn generated_source_mentions_every_scene() {
         let m = reference();
         let (src, stats) = generate_with_stats(&m).unwrap();
-        assert_eq!(stats.len(), 2);
+        assert_eq!(stats.len(), 3);
         assert!(src.contains("pub struct Full") && src.contains("pub struct RigidLowSpeed"));
+        assert!(src.contains("pub struct Elastic"));
         // Leaving effects out shrinks the code.
         assert!(
             stats[1].ops_accelerations < stats[0].ops_accelerations,

@@ -21,6 +21,13 @@ fn stage_fixtures() {
     for f in files {
         std::fs::copy(&f, project.join(f.file_name().expect("a file"))).expect("copy fixture");
     }
+    // The reference's modal data, where its `../fe/` paths point from ui-data.
+    let fe = project.parent().expect("ui-data has a parent").join("fe");
+    std::fs::create_dir_all(&fe).expect("create the trybuild project's fe");
+    for body in ["tub", "drum", "cabinet"] {
+        let name = format!("{body}.modal.toml");
+        std::fs::copy(here.join("fe").join(&name), fe.join(&name)).expect("copy modal data");
+    }
 }
 
 #[test]

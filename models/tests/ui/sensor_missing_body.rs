@@ -8,7 +8,7 @@ washdyn_macros::machine! {
         }
         speed { table: [[0.0, 0.0], [1.0, 100.0]] }
         rotor drum { axis_point: [0.0, 0.0, 0.5], polar_inertia: 0.5 }
-        sensor s { body: drum, point: [0.3, 0.0, 0.7], kind: acceleration }
+        sensor s { body: floor, point: [0.3, 0.0, 0.7], kind: acceleration }
     }
 }
 

@@ -261,10 +261,12 @@ fn quasi_static_drum_deflection_under_the_unbalance_matches_calculix() {
         eprintln!("{modes} modes: uz {uz:.4e} m vs ccx {reference:.4e} m, error {err:.3}");
         errors.push(err);
     }
-    // Measured: see the closing note of issue 9; the bound is the 12-mode truncation error
-    // with a margin, and it must fall with the modes.
+    // Measured at 1000 rpm: 7.1 %, 6.9 %, 6.8 % below ccx (7.90 mm) with 4, 8, 12 modes. The
+    // force sits on 39 nodes of the front rim: its local dent is in no global mode up to
+    // 200 Hz, which is what static correction modes would add (not built; closing note).
+    // Bound: the 12-mode truncation error with a margin; it must fall with the modes.
     assert!(errors[2] < errors[0], "{errors:?}");
-    assert!(errors[2] < 0.25, "{errors:?}");
+    assert!(errors[2] < 0.1, "{errors:?}");
 
     // The full equations over speed: deflection of the point, and the fitted exponent.
     let with = drum_model(
@@ -299,6 +301,10 @@ fn quasi_static_drum_deflection_under_the_unbalance_matches_calculix() {
     let sxx: f64 = pts.iter().map(|p| p.0 * p.0).sum();
     let sxy: f64 = pts.iter().map(|p| p.0 * p.1).sum();
     let slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
+    // Measured 2.071 (1.19 mm at 400 rpm to 16.0 mm at 1400 rpm). A linear static drum gives
+    // exactly 2 (force ~ Omega^2); spin softening takes the rocking pair down with speed (ccx's
+    // prestressed first pair: 42.0 -> 40.0 Hz at 1400 rpm, issue 8), so the deflection grows a
+    // little faster. The seed paper's 2.00 +- 0.02 holds for its drum without that term.
     eprintln!("fitted exponent {slope:.4}");
-    assert!((slope - 2.0).abs() < 0.1, "{slope}");
+    assert!(slope > 2.0 && slope < 2.1, "{slope}");
 }

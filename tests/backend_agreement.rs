@@ -131,10 +131,15 @@ fn analytic_jacobians_match_differences_of_the_interpreter() {
 
 /// The sensor signals of a run, with RK4 at a fixed step so both back ends take the same steps.
 fn trajectory<S: Mechanical>(sys: S, t_end: f64) -> MemorySink {
+    trajectory_with(sys, t_end, 2e-4)
+}
+
+/// As `trajectory`, with the fixed step `h`.
+fn trajectory_with<S: Mechanical>(sys: S, t_end: f64, h: f64) -> MemorySink {
     let mut sys = FirstOrder::new(sys);
     let n = 2 * sys.layout().n();
     let opts = Options {
-        h0: 2e-4,
+        h0: h,
         ..Options::default()
     };
     let mut solver = Rk4::new(n, opts);
@@ -189,4 +194,37 @@ fn whole_run_up_trajectories_agree() {
         assert!(d < 1e-9, "{}: relative difference {d:e}", a.channels[c]);
     }
     eprintln!("largest relative trajectory difference over the run-up: {worst:.2e}");
+}
+
+#[test]
+fn elastic_run_trajectories_agree() {
+    // The reference's elastic scene over its first 2 s (static start, spin-up to 37 rpm), RK4
+    // at 20 us (its stability limit is near 35 us: the friction dampers' slope at the cabinet's
+    // base rails).
+    let m = washdyn_models::reference();
+    let eff = m.scene(Some("elastic")).unwrap();
+    let a = trajectory_with(Interpreter::new(&m, &eff), 2.0, 2e-5);
+    let b = trajectory_with(
+        washdyn_models::generated("reference", "elastic").unwrap(),
+        2.0,
+        2e-5,
+    );
+    assert_eq!(a.values.len(), b.values.len());
+    let mut worst: f64 = 0.0;
+    for c in 0..a.channels.len() {
+        let (ca, cb) = (a.column(c), b.column(c));
+        let scale = max_abs(&ca);
+        if scale == 0.0 {
+            assert!(max_abs(&cb) == 0.0);
+            continue;
+        }
+        let d = ca
+            .iter()
+            .zip(&cb)
+            .fold(0.0f64, |w, (x, y)| w.max((x - y).abs()))
+            / scale;
+        worst = worst.max(d);
+        assert!(d < 1e-9, "{}: relative difference {d:e}", a.channels[c]);
+    }
+    eprintln!("elastic scene: largest relative trajectory difference over 2 s: {worst:.2e}");
 }

@@ -106,6 +106,19 @@ fn interpreted_run_allocates_only_at_set_up() {
             );
         }
     }
+    // The reference's elastic scene (tub, drum and cabinet modes): shorter runs, its steps
+    // are 35 us (dopri5).
+    let m = washdyn_models::reference();
+    let scene = m.scene(Some("elastic")).unwrap();
+    for method in [Method::Dopri5, Method::Sdirk4] {
+        let (short, ns) = allocations(Interpreter::new(&m, &scene), method, 0.05);
+        let (long, nl) = allocations(Interpreter::new(&m, &scene), method, 0.5);
+        assert!(nl > 9 * ns, "{method}: {nl} vs {ns}");
+        assert_eq!(
+            short, long,
+            "elastic/{method}: allocations grow with the simulated time"
+        );
+    }
 }
 
 #[test]
@@ -125,5 +138,12 @@ fn generated_run_allocates_only_at_set_up() {
                 "{model}/{scene}/{method}: allocations grow with the simulated time"
             );
         }
+    }
+    for method in [Method::Dopri5, Method::Sdirk4] {
+        let sys = || washdyn_models::generated("reference", "elastic").unwrap();
+        let (short, ns) = allocations(sys(), method, 0.05);
+        let (long, nl) = allocations(sys(), method, 0.5);
+        assert!(nl > 9 * ns);
+        assert_eq!(short, long, "reference/elastic/{method}: allocations grow");
     }
 }

@@ -19,6 +19,14 @@ fn state(n: usize) -> (Vec<f64>, Vec<f64>) {
 
 fn evaluations(c: &mut Criterion) {
     let m = washdyn_models::reference();
+    // The generated code's operation counts, to set the timings against (flops per evaluation).
+    let (_, stats) = washdyn_runtime::codegen::generate_with_stats(&m).unwrap();
+    for s in &stats {
+        eprintln!(
+            "scene {}: n1 {} n2 {}; M1 + h {} operations; q'' {} operations",
+            s.scene, s.n1, s.n2, s.ops_mass_forces, s.ops_accelerations
+        );
+    }
     for scene in m.scene_names() {
         let eff = m.scene(Some(&scene)).unwrap();
         let mut interp = Interpreter::new(&m, &eff);
@@ -95,7 +103,8 @@ fn run_ups(c: &mut Criterion) {
     let m = washdyn_models::reference();
     let mut g = c.benchmark_group("run_up_178s_dopri5");
     g.sample_size(10);
-    for scene in m.scene_names() {
+    // The rigid scenes; the elastic scene's run-up (minutes) is in benches/runup_report.sh.
+    for scene in m.scene_names().into_iter().filter(|s| s != "elastic") {
         let eff = m.scene(Some(&scene)).unwrap();
         g.bench_with_input(BenchmarkId::new("interpreted", &scene), &scene, |b, _| {
             b.iter(|| run_up(Interpreter::new(&m, &eff)))

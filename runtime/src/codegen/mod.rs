@@ -240,9 +240,8 @@ pub fn scene_source(eq: &Equations, name: &str) -> (String, SceneStats) {
                 "    /// d q''/d q and d q''/d q' (row-major).\n    #[inline]\n    pub fn jacobians(d: &{rt}::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], jq: &mut [f64; {nsq}], jqd: &mut [f64; {nsq}]) {{\n{body_jac}    }}\n",
                 nsq = n * n
             ),
-            format!(
-                "    fn acceleration_jacobians(&mut self, t: f64, q: &[f64], qd: &[f64], jq: &mut [f64], jqd: &mut [f64]) -> bool {{\n        let d = self.speed.drive(t);\n        Self::jacobians(&d, q.try_into().expect(\"q\"), qd.try_into().expect(\"qd\"), jq.try_into().expect(\"jq\"), jqd.try_into().expect(\"jqd\"));\n        true\n    }}\n"
-            ),
+                "    fn acceleration_jacobians(&mut self, t: f64, q: &[f64], qd: &[f64], jq: &mut [f64], jqd: &mut [f64]) -> bool {\n        let d = self.speed.drive(t);\n        Self::jacobians(&d, q.try_into().expect(\"q\"), qd.try_into().expect(\"qd\"), jq.try_into().expect(\"jq\"), jqd.try_into().expect(\"jqd\"));\n        true\n    }\n"
+            .to_string(),
         )
     };
     let scene = &eq.scene.name;

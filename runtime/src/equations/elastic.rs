@@ -70,9 +70,9 @@ impl ModalBody {
         &self.data
     }
 
-    /// The body's own terms in h on a fixed frame (the cabinet): -omega^2 q - 2 zeta omega q'
-    /// + weight (M = E for mass-normalised modes: ccx's normalisation, the one its frequencies
-    /// belong to).
+    /// The body's own terms in h on a fixed frame (the cabinet): weight minus omega^2 q and
+    /// 2 zeta omega q' (M = E for mass-normalised modes: ccx's normalisation, the one its
+    /// frequencies belong to).
     pub fn add<T: Scalar>(&self, q: &[T], qd: &[T], h: &mut [T]) {
         for k in 0..self.n {
             h[self.start + k] += T::c(self.weight[k]);

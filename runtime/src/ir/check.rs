@@ -467,7 +467,8 @@ fn elastic(c: &mut Ctx, m: &Model) {
 fn drum_points(c: &mut Ctx, m: &Model) {
     let drum = m.rotors.iter().find(|r| r.name == "drum");
     let ends = |a: &Attach, b: &Attach| [(a.body, "a"), (b.body, "b")];
-    let mut lists: Vec<(&str, usize, String, [(BodyRef, &str); 2])> = Vec::new();
+    type End<'a> = (BodyRef, &'a str);
+    let mut lists: Vec<(&str, usize, String, [End; 2])> = Vec::new();
     for (i, s) in m.springs.iter().enumerate() {
         lists.push(("springs", i, s.name.clone(), ends(&s.a, &s.b)));
     }

@@ -18,8 +18,14 @@ washdyn_macros::machine! {
         spring spring_front { stiffness: 5000.0, free_length: 0.15095 }
 
         // The FE models are the reference's tub and drum; the compact drum has none of its own,
-        // so its elastic scene keeps tub and drum rigid and only the (shared) cabinet elastic.
+        // so its elastic scenes keep tub and drum rigid and only the (shared) cabinet elastic.
         scene elastic {
+            effects: [
+                gyroscopic, unbalance.drum, unbalance.motor, friction_dampers, gasket_damping,
+                element_geometry, unbalance_inertia, elastic.cabinet,
+            ],
+        }
+        scene elastic_rigid_tub {
             effects: [
                 gyroscopic, unbalance.drum, unbalance.motor, friction_dampers, gasket_damping,
                 element_geometry, unbalance_inertia, elastic.cabinet,

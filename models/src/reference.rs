@@ -168,5 +168,17 @@ washdyn_macros::machine! {
             ],
             max_order: 6.0,
         }
+
+        // The same with the tub rigid: the drum's and the cabinet's modes. (With the elastic
+        // tub the run-up meets the drum bouncing on the tub's bearing unit near 800 rpm and
+        // stops at the small-motion bound; see README, "Elastic machine".)
+        scene elastic_rigid_tub {
+            effects: [
+                gyroscopic, unbalance.drum, unbalance.motor, friction_dampers, gasket_damping,
+                element_geometry, unbalance_inertia, elastic.drum, elastic.cabinet,
+                centrifugal_stiffening,
+            ],
+            max_order: 6.0,
+        }
     }
 }

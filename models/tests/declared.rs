@@ -88,23 +88,21 @@ fn compact_differs_from_the_reference_exactly_where_declared() {
     }
 
     let reference = washdyn_models::reference();
-    let scene = undone
-        .scenes
-        .iter_mut()
-        .find(|s| s.name == "elastic")
-        .unwrap();
-    assert!(
-        !scene
-            .effects
+    for name in ["elastic", "elastic_rigid_tub"] {
+        let scene = undone.scenes.iter_mut().find(|s| s.name == name).unwrap();
+        assert!(
+            !scene
+                .effects
+                .iter()
+                .any(|e| e == "elastic.tub" || e == "elastic.drum")
+        );
+        *scene = reference
+            .scenes
             .iter()
-            .any(|e| e == "elastic.tub" || e == "elastic.drum")
-    );
-    *scene = reference
-        .scenes
-        .iter()
-        .find(|s| s.name == "elastic")
-        .unwrap()
-        .clone();
+            .find(|s| s.name == name)
+            .unwrap()
+            .clone();
+    }
 
     // The base's data files resolve relative to the base file (`../fe`) there, to the crate
     // (`fe`) here.

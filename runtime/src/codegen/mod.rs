@@ -469,7 +469,7 @@ mod tests {
     fn generated_source_mentions_every_scene() {
         let m = reference();
         let (src, stats) = generate_with_stats(&m).unwrap();
-        assert_eq!(stats.len(), 3);
+        assert_eq!(stats.len(), 4);
         assert!(src.contains("pub struct Full") && src.contains("pub struct RigidLowSpeed"));
         assert!(src.contains("pub struct Elastic"));
         // Leaving effects out shrinks the code.

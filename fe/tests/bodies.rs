@@ -105,9 +105,11 @@ fn tub_drum_and_rotor_make_the_suspended_body() {
         "{drum:?} vs {polar}"
     );
     // reference-machine.md's first estimate of the inertia, diag(2.6, 2.3, 2.3), is out of
-    // reach of this geometry (30 % on Ixx); the balance search's mass and CoG still hit it.
+    // reach of this geometry (30 % on Ixx); mass and CoG still hit it: within 1e-4 from the
+    // balance search, within 5e-3 since issue 9 resized the bearing unit by hand (a 0.44 m
+    // aluminium carrier plate: the CoG moved 0.9 mm along x, the mass by 1e-3).
     let d = balance::deviations(&total);
-    assert!(d[..4].iter().all(|v| v.abs() < 1e-3), "{d:?}");
+    assert!(d[..4].iter().all(|v| v.abs() < 5e-3), "{d:?}");
 }
 
 #[test]

@@ -158,7 +158,7 @@ washdyn_macros::machine! {
         elastic cabinet { file: "fe/cabinet.modal.toml", damping: 0.02 }
 
         // The paper's elastic machine: everything above with the tub's, the drum's and the
-        // cabinet's modes up to drum order 6 at top speed times 1.5 (210 Hz: 6 tub, 12 drum,
+        // cabinet's modes up to drum order 6 at top speed times 1.5 (210 Hz: 5 tub, 12 drum,
         // 60 cabinet modes).
         scene elastic {
             effects: [

@@ -59,10 +59,13 @@ impl Default for Tub {
             x_collar: 0.30,
             axis_z: 0.45,
             hub_inner: 0.02,
-            // Sizes from `balance::balanced` (rounded to 0.1 mm): the suspended body's mass
-            // and CoG come out as reference-machine.md's; `fe/tests/bodies.rs` re-checks.
-            hub_outer: 0.1251,
-            hub_length: 0.0293,
+            // Counterweights from `balance::balanced` (rounded to 0.1 mm): the suspended body's
+            // mass and CoG come out as reference-machine.md's; `fe/tests/bodies.rs` re-checks.
+            // The bearing unit is a 0.44 m aluminium carrier plate of the same mass (issue 9:
+            // as a 0.25 m block on the bare 1.2 mm wall it let the drum rock at 10-14 Hz, inside
+            // drum order 1; now the free tub's first mode is 124 Hz).
+            hub_outer: 0.22,
+            hub_length: 0.0093,
             top_thickness: 0.0288,
             top_half_span: 12,
             top_axial: (4, 12),
@@ -111,7 +114,7 @@ impl Tub {
         let (xb, xf) = (self.x_back, self.x_front);
         let dx = (xf - xb) / na as f64;
         let dth = 2.0 * PI / nc as f64;
-        shell_grid(&mut m, "TUB_SHELL", &shell, na, nc, true, |u, v| {
+        let cylinder = shell_grid(&mut m, "TUB_SHELL", &shell, na, nc, true, |u, v| {
             on_circle(xb + (xf - xb) * u, 0.0, zc, r, 2.0 * PI * v)
         });
         // Back wall: outer annulus, and the part over the bearing unit (sharing its face).
@@ -119,7 +122,7 @@ impl Tub {
         shell_grid(&mut m, "TUB_BACK", &shell, 3, nc, true, |u, v| {
             on_circle(xb, 0.0, zc, ro + (r - ro) * u, -2.0 * PI * v)
         });
-        shell_grid(&mut m, "TUB_BACK", &shell, 2, nc, true, |u, v| {
+        shell_grid(&mut m, "TUB_BACK", &shell, 6, nc, true, |u, v| {
             on_circle(xb, 0.0, zc, ri + (ro - ri) * u, -2.0 * PI * v)
         });
         // Front ring and collar.
@@ -145,7 +148,7 @@ impl Tub {
             &mut m,
             "TUB_BEARING_UNIT",
             &alu,
-            [2, nc, 2],
+            [6, nc, 1],
             true,
             |u, v, w| on_circle(xb - hl * w, 0.0, zc, ri + (ro - ri) * u, 2.0 * PI * v),
         );
@@ -227,11 +230,15 @@ impl Tub {
             .iter()
             .map(|&(i, j)| carrier[&(i, j, 2)])
             .collect();
-        // Anchors on the bearing unit's outer back edge, 15 and 45 degrees either side of the
-        // bottom (grid index 2 nc is the full circle).
-        let anchors: Vec<usize> = [nc - 12, nc - 4, nc + 4, nc + 12]
+        // Anchors on the shell's bottom under the bottom counterweight, either side of the
+        // stator (15 degrees off the bottom line; grid row 2 i is x = x_back + i dx): the
+        // stator sits on the shell, as on production tubs. (Hung from the bearing unit, it
+        // swung with the unit's tilt at 14 Hz; issue 9.)
+        let ia = ((sc[0] - 0.03 - xb) / dx * 2.0).round() as usize;
+        let ib = ((sc[0] + 0.03 - xb) / dx * 2.0).round() as usize;
+        let anchors: Vec<usize> = [(ia, nc - 4), (ib, nc - 4), (ib, nc + 4), (ia, nc + 4)]
             .iter()
-            .map(|&j| hub[&(4, j, 4)])
+            .map(|&(i, j)| cylinder[&(i, j)])
             .collect();
         let member = Section::Beam {
             width: 0.02,

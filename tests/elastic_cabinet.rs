@@ -222,3 +222,71 @@ fn tub_on_springs_in_an_elastic_cabinet_matches_calculix() {
     assert!(worst[4] < 1e-2, "{worst:?}");
     assert!(cabinet_worst < 1e-5, "{cabinet_worst}");
 }
+
+#[test]
+fn cabinet_sag_under_the_spring_preloads_matches_calculix() {
+    // The springs' preloads (147.15, 147.15, 245.25 N down, reference-machine.md) on the
+    // cabinet's top rails: a linear static ccx solution of the cabinet on its feet (the loads
+    // spread over each spring's node set) against the committed modal data's static response,
+    // W diag(omega^2)^-1 W^T F, read at the same points. What it checks: the sag that makes the
+    // elastic scene's tub hang 1.3 mm lower, and the modal truncation for a static load.
+    if !have_ccx() {
+        return;
+    }
+    let spec = washdyn_fe::bodies::builtin().remove(2);
+    let loads = [
+        ("SPRING_1", 147.15),
+        ("SPRING_2", 147.15),
+        ("SPRING_3", 245.25),
+    ];
+    let mut d = spec.mesh.model_deck();
+    d.line("*STEP").line("*STATIC").line("*CLOAD");
+    for (set, p) in loads {
+        let nodes = &spec.mesh.nsets[set];
+        for id in nodes {
+            d.line(&format!("{id}, 3, {:.9e}", -p / nodes.len() as f64));
+        }
+    }
+    for (set, _) in loads {
+        d.line(&format!("*NODE PRINT, NSET={set}")).line("U");
+    }
+    d.line("*END STEP");
+    let dir = tempfile::tempdir().unwrap();
+    let deck = dir.path().join("sag.inp");
+    std::fs::write(&deck, d.text()).unwrap();
+    let run = ccx::run(&deck).unwrap_or_else(|e| panic!("{e}"));
+    let dat = std::fs::read_to_string(run.dat()).unwrap();
+
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models/fe/cabinet.modal.toml");
+    let data = washdyn_runtime::ir::modal::read_file(&path, "cabinet.modal.toml").unwrap();
+    let n = data.modes();
+    let point = |name: &str| data.points.iter().find(|p| p.name == name).unwrap();
+    let mut q = vec![0.0; n];
+    for (set, p) in loads {
+        let pt = point(set);
+        for (k, qk) in q.iter_mut().enumerate() {
+            let w = 2.0 * std::f64::consts::PI * data.frequencies[k];
+            *qk += pt.w[2][k] * (-p) / (w * w);
+        }
+    }
+    let mut worst = 0.0f64;
+    for (set, _) in loads {
+        let u = washdyn_fe::dat::node_prints(&dat, set).unwrap();
+        let u = u.last().unwrap();
+        let reference = u.iter().map(|(_, v)| v[2]).sum::<f64>() / u.len() as f64;
+        let ours: f64 = (0..n).map(|k| point(set).w[2][k] * q[k]).sum();
+        let err = (ours - reference).abs() / reference.abs();
+        eprintln!("{set}: sag {ours:.4e} m vs ccx {reference:.4e} m ({err:.3})");
+        worst = worst.max(err);
+    }
+    // Measured: ccx sags 1.24, 1.21 and 1.56 mm, the 60 modes (to 86 Hz) 0.89, 0.90 and
+    // 1.00 mm: 26 to 36 % short. The rails' local bending under a point load is in no mode
+    // below 86 Hz. This is the gap static correction modes would close (issue 9, not built);
+    // the bound holds today's truncation so that a change to the cabinet or its modes shows.
+    assert!(worst < 0.4, "{worst}");
+    assert!(
+        worst > 0.1,
+        "{worst}: closer than measured; update the bound and the README"
+    );
+}

@@ -344,3 +344,49 @@ pub fn element_tub_ends(m: &Model) -> Vec<(String, [f64; 3])> {
     }
     out
 }
+
+/// `washdyn fe modal`'s report: the sections of `old` (one per body, starting with a line
+/// `NAME: ...` at column 0) with those in `new` replaced or added, in the bodies' `order`.
+pub fn merge_report(old: &str, new: &[(String, String)], order: &[String]) -> String {
+    let mut sections: Vec<(String, String)> = Vec::new();
+    for line in old.lines() {
+        let head = line
+            .split_once(": ")
+            .filter(|_| !line.starts_with(' '))
+            .map(|(n, _)| n.to_string());
+        match (head, sections.last_mut()) {
+            (Some(name), _) => sections.push((name, format!("{line}\n"))),
+            (None, Some((_, text))) => {
+                text.push_str(line);
+                text.push('\n');
+            }
+            (None, None) => {}
+        }
+    }
+    for (name, text) in new {
+        match sections.iter_mut().find(|(n, _)| n == name) {
+            Some(s) => s.1 = text.clone(),
+            None => sections.push((name.clone(), text.clone())),
+        }
+    }
+    let rank = |n: &str| order.iter().position(|o| o == n).unwrap_or(order.len());
+    sections.sort_by_key(|(n, _)| rank(n));
+    sections.into_iter().map(|(_, t)| t).collect()
+}
+
+#[cfg(test)]
+mod report_tests {
+    use super::merge_report;
+
+    #[test]
+    fn only_the_solved_bodies_sections_change() {
+        let old = "cabinet: 3 nodes\n  lumped mass 1 kg\ntub: 1 nodes\n  old tub\n";
+        let order = ["tub", "drum", "cabinet"].map(String::from);
+        let new = vec![("tub".to_string(), "tub: 2 nodes\n  new tub\n".to_string())];
+        assert_eq!(
+            merge_report(old, &new, &order),
+            "tub: 2 nodes\n  new tub\ncabinet: 3 nodes\n  lumped mass 1 kg\n"
+        );
+        assert_eq!(merge_report("", &new, &order), "tub: 2 nodes\n  new tub\n");
+    }
+}

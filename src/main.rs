@@ -558,7 +558,8 @@ fn fe_modal(out: &Path, work: &Path, only: &[String]) -> Result<(), String> {
     for d in [out, work] {
         std::fs::create_dir_all(d).map_err(|e| format!("{}: {e}", d.display()))?;
     }
-    let mut report = String::new();
+    let order: Vec<String> = names.iter().map(|n| n.to_string()).collect();
+    let mut sections = Vec::new();
     for b in bodies {
         if !only.is_empty() && !only.contains(&b.name) {
             continue;
@@ -580,8 +581,11 @@ fn fe_modal(out: &Path, work: &Path, only: &[String]) -> Result<(), String> {
             text.len() / 1024
         );
         print!("{line}");
-        report.push_str(&line);
+        sections.push((b.name.clone(), line));
     }
+    // With --only, the other bodies' sections of an existing report stay.
     let p = out.join("report.txt");
+    let old = std::fs::read_to_string(&p).unwrap_or_default();
+    let report = washdyn::commands::merge_report(&old, &sections, &order);
     std::fs::write(&p, report).map_err(|e| format!("{}: {e}", p.display()))
 }

@@ -6,13 +6,13 @@
 
 mod common;
 
-use nalgebra::{DMatrix, SymmetricEigen};
+use nalgebra::SymmetricEigen;
 use washdyn_fe::bodies::cabinet::Cabinet;
 use washdyn_fe::ccx;
 use washdyn_fe::mesh::Section;
 use washdyn_fe::modal::Keep;
 use washdyn_fe::pipeline::{BodySpec, build};
-use washdyn_runtime::equations::{Drive, Equations};
+use washdyn_runtime::equations::Equations;
 use washdyn_runtime::ir::modal::{ElasticBodyKind, Support};
 use washdyn_runtime::ir::toml_file::load_str;
 
@@ -28,36 +28,7 @@ const K: f64 = 4000.0;
 /// Linearised frequencies (Hz) of a scene at q = 0: K = -dh/dq by central differences (h is
 /// linear here: no gravity, no preload), M = blockdiag(M1, E).
 fn frequencies(eq: &Equations) -> Vec<f64> {
-    let n = eq.layout.n();
-    let n1 = eq.layout.n1;
-    let d = Drive {
-        phi: 0.0,
-        omega: 0.0,
-        omega_dot: 0.0,
-    };
-    let z = vec![0.0; n];
-    let mut m1 = vec![0.0; n1 * n1];
-    let mut h = vec![0.0; n];
-    eq.eval(&d, &z, &z, &mut m1, &mut h);
-    let mut m = DMatrix::<f64>::identity(n, n);
-    for i in 0..n1 {
-        for j in 0..n1 {
-            m[(i, j)] = m1[i * n1 + j];
-        }
-    }
-    let mut k = DMatrix::<f64>::zeros(n, n);
-    let eps = 1e-7;
-    for j in 0..n {
-        let (mut qp, mut qm) = (z.clone(), z.clone());
-        qp[j] = eps;
-        qm[j] = -eps;
-        let (mut hp, mut hm) = (vec![0.0; n], vec![0.0; n]);
-        eq.eval(&d, &qp, &z, &mut m1, &mut hp);
-        eq.eval(&d, &qm, &z, &mut m1, &mut hm);
-        for i in 0..n {
-            k[(i, j)] = -(hp[i] - hm[i]) / (2.0 * eps);
-        }
-    }
+    let common::Linearised { m, k, .. } = common::linearise_at_speed(eq, 0.0, 1e-7);
     let k = 0.5 * (&k + k.transpose());
     let l = m.cholesky().expect("M is positive definite").l();
     let li = l.try_inverse().expect("L is regular");

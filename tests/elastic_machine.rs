@@ -6,7 +6,7 @@
 //! differences about q = 0 at constant speed.
 
 use nalgebra::DMatrix;
-use washdyn_runtime::equations::{Drive, Equations};
+use washdyn_runtime::equations::Equations;
 use washdyn_runtime::ir::Model;
 use washdyn_runtime::ir::toml_file::load_str;
 
@@ -20,49 +20,12 @@ fn load(src: &str) -> Model {
 
 /// (M, C, K) of a scene about q = 0 at drum speed omega (rad/s), n x n with M2 = E.
 fn linearise(eq: &Equations, omega: f64) -> (DMatrix<f64>, DMatrix<f64>, DMatrix<f64>) {
-    let n = eq.layout.n();
-    let n1 = eq.layout.n1;
-    let d = Drive {
-        phi: 0.0,
-        omega,
-        omega_dot: 0.0,
-    };
-    let z = vec![0.0; n];
-    let mut m1 = vec![0.0; n1 * n1];
-    let mut h = vec![0.0; n];
-    eq.eval(&d, &z, &z, &mut m1, &mut h);
-    let mut m = DMatrix::<f64>::identity(n, n);
-    for i in 0..n1 {
-        for j in 0..n1 {
-            m[(i, j)] = m1[i * n1 + j];
-        }
-    }
-    let mut k = DMatrix::zeros(n, n);
-    let mut c = DMatrix::zeros(n, n);
-    let eps = 1e-6;
-    for j in 0..n {
-        for (mat, vel) in [(&mut k, false), (&mut c, true)] {
-            let (mut p, mut q) = (z.clone(), z.clone());
-            p[j] = eps;
-            q[j] = -eps;
-            let (mut hp, mut hm) = (vec![0.0; n], vec![0.0; n]);
-            if vel {
-                eq.eval(&d, &z, &p, &mut m1, &mut hp);
-                eq.eval(&d, &z, &q, &mut m1, &mut hm);
-            } else {
-                eq.eval(&d, &p, &z, &mut m1, &mut hp);
-                eq.eval(&d, &q, &z, &mut m1, &mut hm);
-            }
-            for i in 0..n {
-                mat[(i, j)] = -(hp[i] - hm[i]) / (2.0 * eps);
-            }
-        }
-    }
-    (m, c, k)
+    let l = common::linearise_at_speed(eq, omega, 1e-6);
+    (l.m, l.c, l.k)
 }
 
 /// Damped, gyroscopic frequencies (Hz): positive imaginary parts of the first-order system's
-/// eigenvalues, ascending; near-zero ones included as 0 when `zeros`.
+/// eigenvalues, ascending.
 fn frequencies(m: &DMatrix<f64>, c: &DMatrix<f64>, k: &DMatrix<f64>) -> Vec<f64> {
     let n = m.nrows();
     let mi = m.clone().try_inverse().expect("M regular");
@@ -184,19 +147,8 @@ mod common;
 
 /// The drum's rows of h at q = 0 and of -dh/dq, at constant speed, for a scene.
 fn drum_load_and_stiffness(eq: &Equations, omega: f64) -> (Vec<f64>, DMatrix<f64>) {
-    let n = eq.layout.n();
-    let n1 = eq.layout.n1;
-    let d = Drive {
-        phi: 0.0,
-        omega,
-        omega_dot: 0.0,
-    };
-    let z = vec![0.0; n];
-    let mut m1 = vec![0.0; n1 * n1];
-    let mut h = vec![0.0; n];
-    eq.eval(&d, &z, &z, &mut m1, &mut h);
-    let (_, _, k) = linearise(eq, omega);
-    (h[6..].to_vec(), sub(&k, 6))
+    let l = common::linearise_at_speed(eq, omega, 1e-6);
+    (l.h0[6..].to_vec(), sub(&l.k, 6))
 }
 
 #[test]

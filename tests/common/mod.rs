@@ -154,3 +154,57 @@ pub fn required_tool(ok: bool, what: &str, install: &str) -> bool {
     }
     ok
 }
+
+/// A scene linearised about q = 0 at constant drum speed: M = blockdiag(M1, E), C = -dh/dq',
+/// K = -dh/dq (central differences with step `eps`), and h at q = 0.
+pub struct Linearised {
+    pub m: DMatrix<f64>,
+    pub c: DMatrix<f64>,
+    pub k: DMatrix<f64>,
+    pub h0: Vec<f64>,
+}
+
+/// `Linearised` of a scene at drum speed `omega` (rad/s), phi = 0.
+pub fn linearise_at_speed(
+    eq: &washdyn_runtime::equations::Equations,
+    omega: f64,
+    eps: f64,
+) -> Linearised {
+    let (n, n1) = (eq.layout.n(), eq.layout.n1);
+    let d = washdyn_runtime::equations::Drive {
+        phi: 0.0,
+        omega,
+        omega_dot: 0.0,
+    };
+    let z = vec![0.0; n];
+    let mut m1 = vec![0.0; n1 * n1];
+    let mut h0 = vec![0.0; n];
+    eq.eval(&d, &z, &z, &mut m1, &mut h0);
+    let mut m = DMatrix::<f64>::identity(n, n);
+    for i in 0..n1 {
+        for j in 0..n1 {
+            m[(i, j)] = m1[i * n1 + j];
+        }
+    }
+    let mut k = DMatrix::zeros(n, n);
+    let mut c = DMatrix::zeros(n, n);
+    for j in 0..n {
+        for (mat, vel) in [(&mut k, false), (&mut c, true)] {
+            let (mut p, mut q) = (z.clone(), z.clone());
+            p[j] = eps;
+            q[j] = -eps;
+            let (mut hp, mut hm) = (vec![0.0; n], vec![0.0; n]);
+            if vel {
+                eq.eval(&d, &z, &p, &mut m1, &mut hp);
+                eq.eval(&d, &z, &q, &mut m1, &mut hm);
+            } else {
+                eq.eval(&d, &p, &z, &mut m1, &mut hp);
+                eq.eval(&d, &q, &z, &mut m1, &mut hm);
+            }
+            for i in 0..n {
+                mat[(i, j)] = -(hp[i] - hm[i]) / (2.0 * eps);
+            }
+        }
+    }
+    Linearised { m, c, k, h0 }
+}

@@ -141,7 +141,6 @@ impl Equations {
             b
         });
         let cabinet = on("cabinet").map(|e| ModalBody::new(e, n1, g, scene.mode_cutoff));
-        let (tub_rows, cabinet_rows) = (tub_modes.clone(), cabinet.clone());
         let layout = Layout {
             n1,
             n2: cabinet.as_ref().map_or(0, |c| c.n),
@@ -156,9 +155,9 @@ impl Equations {
         let mk = |body: BodyRef, point: [f64; 3]| {
             let mut m = MarkerDef::new(body, point, p0);
             m.modal = match body {
-                BodyRef::Tub => tub_rows.as_ref().map(|c| c.rows(point)),
-                BodyRef::Cabinet => cabinet_rows.as_ref().map(|c| c.rows(point)),
-                BodyRef::Drum => tub_rows.as_ref().map(|c| {
+                BodyRef::Tub => tub_modes.as_ref().map(|c| c.rows(point)),
+                BodyRef::Cabinet => cabinet.as_ref().map(|c| c.rows(point)),
+                BodyRef::Drum => tub_modes.as_ref().map(|c| {
                     let b = drum_mount.expect("checked: drum sensors need a rotor `drum`");
                     c.rows(b).moved(f::sub(point, b))
                 }),
@@ -267,6 +266,45 @@ impl Equations {
         let exact = scene.has(&Effect::ElementGeometry);
         let n = layout.n();
         let place = |e| Placed::new(e, exact, n);
+        // Elements and sensors first: their markers borrow the modal bodies moved below.
+        let springs = model
+            .springs
+            .iter()
+            .map(|s| Spring::new(s, mk(s.a.body, s.a.point), mk(s.b.body, s.b.point)))
+            .map(place)
+            .collect();
+        let dampers = model
+            .dampers
+            .iter()
+            .map(|d| LinearDamper::new(d, mk(d.a.body, d.a.point), mk(d.b.body, d.b.point)))
+            .map(|e| Placed::new(e, exact, n))
+            .collect();
+        let friction_dampers = if scene.has(&Effect::FrictionDampers) {
+            model
+                .friction_dampers
+                .iter()
+                .map(|d| FrictionDamper::new(d, mk(d.a.body, d.a.point), mk(d.b.body, d.b.point)))
+                .map(|e| Placed::new(e, exact, n))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let gaskets = model
+            .gaskets
+            .iter()
+            .map(|g| Gasket::new(g, mk(g.a, g.point), mk(g.b, g.point), gasket_damping))
+            .map(|e| Placed::new(e, exact, n))
+            .collect();
+        let sensors = model
+            .sensors
+            .iter()
+            .map(|s| SensorDef {
+                name: s.name.clone(),
+                kind: s.kind,
+                at: mk(s.body, s.point),
+                channels: s.channels(),
+            })
+            .collect();
         Equations {
             exact_geometry: exact,
             unbalance_inertia: scene.has(&Effect::UnbalanceInertia),
@@ -280,46 +318,11 @@ impl Equations {
             carried,
             rotors,
             unbalances,
-            springs: model
-                .springs
-                .iter()
-                .map(|s| Spring::new(s, mk(s.a.body, s.a.point), mk(s.b.body, s.b.point)))
-                .map(place)
-                .collect(),
-            dampers: model
-                .dampers
-                .iter()
-                .map(|d| LinearDamper::new(d, mk(d.a.body, d.a.point), mk(d.b.body, d.b.point)))
-                .map(|e| Placed::new(e, exact, n))
-                .collect(),
-            friction_dampers: if scene.has(&Effect::FrictionDampers) {
-                model
-                    .friction_dampers
-                    .iter()
-                    .map(|d| {
-                        FrictionDamper::new(d, mk(d.a.body, d.a.point), mk(d.b.body, d.b.point))
-                    })
-                    .map(|e| Placed::new(e, exact, n))
-                    .collect()
-            } else {
-                Vec::new()
-            },
-            gaskets: model
-                .gaskets
-                .iter()
-                .map(|g| Gasket::new(g, mk(g.a, g.point), mk(g.b, g.point), gasket_damping))
-                .map(|e| Placed::new(e, exact, n))
-                .collect(),
-            sensors: model
-                .sensors
-                .iter()
-                .map(|s| SensorDef {
-                    name: s.name.clone(),
-                    kind: s.kind,
-                    at: mk(s.body, s.point),
-                    channels: s.channels(),
-                })
-                .collect(),
+            springs,
+            dampers,
+            friction_dampers,
+            gaskets,
+            sensors,
             cabinet,
         }
     }

@@ -265,3 +265,44 @@ fn elastic_entries_are_checked_at_their_lines() {
         "point = [-0.20, 0.15, 0.82]",
     );
 }
+
+/// The elastic machine's rules, each at its line: a rotor mounted off its axis, a force element
+/// on the drum, a drum sensor off the axis, a scene's non-positive `max_order`.
+#[test]
+fn elastic_machine_rules_have_lines() {
+    let src = edited("mount = [-0.25, 0.0, 0.45]", "mount = [-0.25, 0.0, 0.30]")
+        .replacen(
+            "b = { body = \"cabinet\", point = [0.12, 0.0, 0.82] }",
+            "b = { body = \"drum\", point = [0.12, 0.0, 0.82] }",
+            1,
+        )
+        .replacen(
+            "body = \"drum\"\npoint = [0.17, 0.0, 0.45]",
+            "body = \"drum\"\npoint = [0.17, 0.1, 0.45]",
+            1,
+        )
+        .replacen("max_order = 6.0", "max_order = -1.0", 1);
+    let e = errors(&src);
+    let has = |needle: &str, line: usize| {
+        assert!(
+            e.iter().any(|(l, m)| *l == line && m.contains(needle)),
+            "`{needle}` at line {line}: {e:?}"
+        )
+    };
+    has(
+        "is not on the rotor's axis",
+        line_of(&src, "mount = [-0.25, 0.0, 0.30]", 0),
+    );
+    has(
+        "the drum carries sensors only",
+        line_of(&src, "b = { body = \"drum\"", 0),
+    );
+    has(
+        "drum sensors sit on the drum's axis",
+        line_of(&src, "point = [0.17, 0.1, 0.45]", 0),
+    );
+    has(
+        "max_order must be positive, got -1",
+        line_of(&src, "max_order = -1.0", 0),
+    );
+}

@@ -316,11 +316,18 @@ pub fn check(m: &Model) -> Result<(), Vec<CheckError>> {
                     format!(
                         "scene `{}`: unknown effect `{e}` (known: gyroscopic, friction_dampers, \
                          gasket_damping, element_geometry, unbalance_inertia, unbalance.<rotor>, \
-                         elastic.<body>)",
+                         elastic.<body>, centrifugal_stiffening)",
                         s.name
                     ),
                 );
             }
+        }
+        if let Some(o) = s.max_order {
+            c.positive(
+                p.clone().key("max_order"),
+                &format!("scene `{}`: max_order", s.name),
+                o,
+            );
         }
     }
 

@@ -17,6 +17,8 @@ pub struct Mode {
 pub struct Frd {
     pub nodes: Vec<(usize, [f64; 3])>,
     pub modes: Vec<Mode>,
+    /// Displacements of each `*STATIC` step's result block, in file order.
+    pub statics: Vec<Vec<(usize, [f64; 3])>>,
 }
 
 /// A ` -1` record: node id and up to three values.
@@ -52,8 +54,25 @@ pub fn parse(text: &str) -> Result<Frd, String> {
                     frd.nodes.push(record(l, k + 1)?);
                 }
             }
-        } else if t.starts_with("100CL") && t.contains("MODAL") {
-            // Eigenmodes only; a static step's result block (same card, no MODAL) is skipped.
+        } else if t.starts_with("100CL") && !t.contains("MODAL") {
+            // A static step's result block.
+            let mut disp = Vec::new();
+            let mut is_disp = false;
+            for (k, l) in lines.by_ref() {
+                if l.starts_with(" -4") {
+                    is_disp = l.contains("DISP");
+                }
+                if l.starts_with(" -3") {
+                    break;
+                }
+                if is_disp && l.starts_with(" -1") {
+                    disp.push(record(l, k + 1)?);
+                }
+            }
+            if is_disp {
+                frd.statics.push(disp);
+            }
+        } else if t.starts_with("100CL") {
             let f: Vec<&str> = t.split_whitespace().collect();
             let frequency_hz = f
                 .get(2)

@@ -8,6 +8,7 @@
 
 pub mod bodies;
 pub mod ccx;
+pub mod correction;
 pub mod dat;
 pub mod deck;
 pub mod frd;

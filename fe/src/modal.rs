@@ -266,6 +266,39 @@ pub fn point(
     })
 }
 
+/// Per node of a set, the 3 x 3 block R_i with w_p = sum_i R_i u_i.
+pub type Reading = Vec<(usize, [[f64; 3]; 3])>;
+
+/// How the modal point at `position` of node set `nset` reads the nodes: w_p = sum_i R_i u_i
+/// (the rigid fit is linear in the nodal displacements). Returns (node, R_i) per node. A force F
+/// at the point does the work of nodal forces R_i^T F: the consistent load that the equations
+/// apply through the point's W.
+pub fn point_reading(
+    mesh: &Mesh,
+    nset: &str,
+    position: [f64; 3],
+) -> Result<Reading, String> {
+    let ids = mesh
+        .nsets
+        .get(nset)
+        .ok_or_else(|| format!("no node set {nset}"))?;
+    let mut out = Vec::with_capacity(ids.len());
+    for &id in ids {
+        let mut r = [[0.0; 3]; 3];
+        for d in 0..3 {
+            let mut w: HashMap<usize, [f64; 3]> = ids.iter().map(|&i| (i, [0.0; 3])).collect();
+            w.get_mut(&id).expect("in the set")[d] = 1.0;
+            let (u, th, c) = rigid_fit(mesh, ids, &w).expect("the set has nodes");
+            let wp = add(u, cross(th, sub(position, c)));
+            for a in 0..3 {
+                r[a][d] = wp[a];
+            }
+        }
+        out.push((id, r));
+    }
+    Ok(out)
+}
+
 /// Everything for one body's modal data file.
 pub struct Import<'a> {
     pub body: ElasticBodyKind,
@@ -297,6 +330,7 @@ impl Import<'_> {
             elementary: elementary(self.mesh, self.lumped, self.modes)?,
             points,
             geometric_stiffness: None,
+            correction: None,
         })
     }
 }

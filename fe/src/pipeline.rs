@@ -7,7 +7,7 @@ use crate::mesh::Mesh;
 use crate::modal::{self, Keep};
 use crate::rotating;
 use std::path::Path;
-use washdyn_runtime::ir::modal::{ElasticBodyKind, ModalData, Support};
+use washdyn_runtime::ir::modal::{Correction, ElasticBodyKind, LoadCase, ModalData, Support};
 
 /// How a body spins (the drum): about `axis` through `axis_point`; the prestress is computed at
 /// `reference_speed` (rad/s) with `modes` prestressed modes.
@@ -33,6 +33,8 @@ pub struct BodySpec {
     /// (node set, point) for every marker and sensor on the body.
     pub points: Vec<(String, [f64; 3])>,
     pub spin: Option<Spin>,
+    /// Unit loads at points whose static response static correction modes carry (empty: none).
+    pub correction: Vec<LoadCase>,
 }
 
 /// What a build measured, for the report.
@@ -53,17 +55,49 @@ pub struct Report {
     pub translation_coupling: f64,
     /// Worst relative residual of the kept modes in the prestressed basis.
     pub prestress_fit_residual: Option<f64>,
+    /// Frequencies of the static correction modes (Hz) and ccx's time for them (s).
+    pub correction: Option<(Vec<f64>, f64)>,
 }
 
 /// Build `spec` in `dir` (the deck and ccx's files land there).
 pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), String> {
     let solved = modal::solve(&spec.mesh, dir, &spec.name, spec.solve_modes)?;
     let lumped = lump(&spec.mesh);
-    let modes = modal::select(&spec.mesh, &solved.frd, &solved.prints, spec.keep)?;
+    let mut modes = modal::select(&spec.mesh, &solved.frd, &solved.prints, spec.keep)?;
     if modes.is_empty() {
         return Err(format!("{}: no mode kept", spec.name));
     }
     let points: Vec<(&str, [f64; 3])> = spec.points.iter().map(|(s, p)| (s.as_str(), *p)).collect();
+    let mut correction = None;
+    if !spec.correction.is_empty() {
+        if spec.spin.is_some() || spec.support == Support::FreeFree {
+            // A spinning body's K_G comes from prestressed eigenmodes, which do not span a
+            // local dent; a free body has no static solution.
+            return Err(format!(
+                "{}: static correction modes need a non-spinning, supported body",
+                spec.name
+            ));
+        }
+        let c = crate::correction::correction_modes(
+            &spec.mesh,
+            &lumped,
+            &modes,
+            &points,
+            &spec.correction,
+            dir,
+            &format!("{}_correction", spec.name),
+        )?;
+        correction = Some((
+            Correction {
+                loads: spec.correction.clone(),
+                modes: c.shapes.len(),
+                participation: c.participation,
+            },
+            c.shapes.iter().map(|s| s.frequency_hz).collect::<Vec<_>>(),
+            c.solve_s,
+        ));
+        modes.extend(c.shapes);
+    }
     let mut data = modal::Import {
         body: spec.kind,
         support: spec.support,
@@ -80,6 +114,10 @@ pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), String>
         points: &points,
     }
     .modal_data()?;
+    let correction = correction.map(|(c, f, t)| {
+        data.correction = Some(c);
+        (f, t)
+    });
     let mut prestress_solve_s = None;
     let mut prestress_fit_residual = None;
     if let Some(s) = &spec.spin {
@@ -124,6 +162,7 @@ pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), String>
         lumping_error: data.mass_normalisation_error(),
         translation_coupling,
         prestress_fit_residual,
+        correction,
     };
     Ok((data, report))
 }
@@ -153,6 +192,15 @@ impl std::fmt::Display for Report {
         )?;
         if let Some(r) = self.prestress_fit_residual {
             writeln!(f, "  prestressed-basis fit residual {r:.2e}")?;
+        }
+        if let Some((fr, t)) = &self.correction {
+            let fr: Vec<String> = fr.iter().map(|x| format!("{x:.0}")).collect();
+            writeln!(
+                f,
+                "  {} static correction modes (ccx {t:.1} s): {} Hz",
+                fr.len(),
+                fr.join(", ")
+            )?;
         }
         Ok(())
     }

@@ -11,7 +11,7 @@ pub mod tub;
 use crate::mesh::Mesh;
 use crate::modal::Keep;
 use crate::pipeline::{BodySpec, Spin};
-use washdyn_runtime::ir::modal::{ElasticBodyKind, Support};
+use washdyn_runtime::ir::modal::{ElasticBodyKind, LoadCase, Support};
 
 /// Patch radius for attachment and measurement points, m: a few element lengths, so a rigid
 /// fit of the patch gives a rotation as well as a translation.
@@ -61,6 +61,29 @@ pub fn decks() -> Vec<(String, String)> {
 /// The drum axis and the reference speed of its prestress: 1400 rpm, the top of the run-up.
 pub const DRUM_AXIS_POINT: [f64; 3] = [0.0, 0.0, 0.45];
 pub const DRUM_REFERENCE_SPEED: f64 = 1400.0 * std::f64::consts::PI / 30.0;
+
+/// The cabinet's static correction loads: where the force elements pull on it, along the
+/// forces they carry (springs vertical, the friction dampers in their y-z plane, the gasket in
+/// every direction).
+fn cabinet_loads() -> Vec<LoadCase> {
+    let at = |p: &str, d: [f64; 3]| LoadCase {
+        point: p.into(),
+        direction: d,
+    };
+    let (x, y, z) = ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]);
+    vec![
+        at("SPRING_1", z),
+        at("SPRING_2", z),
+        at("SPRING_3", z),
+        at("DAMPER_1", y),
+        at("DAMPER_1", z),
+        at("DAMPER_2", y),
+        at("DAMPER_2", z),
+        at("GASKET", x),
+        at("GASKET", y),
+        at("GASKET", z),
+    ]
+}
 
 /// The machine's three bodies, with their node sets and points (reference-machine.md), ready
 /// for `pipeline::build`.
@@ -134,6 +157,8 @@ pub fn builtin() -> Vec<BodySpec> {
             },
             points: own(tub_all),
             spin: None,
+            // Free-free: no static solution to correct with (ccx has no inertia relief).
+            correction: Vec::new(),
         },
         BodySpec {
             name: "drum".into(),
@@ -155,6 +180,8 @@ pub fn builtin() -> Vec<BodySpec> {
                 reference_speed: DRUM_REFERENCE_SPEED,
                 modes: 40,
             }),
+            // K_G comes from prestressed eigenmodes, which hold no local dent.
+            correction: Vec::new(),
         },
         BodySpec {
             name: "cabinet".into(),
@@ -169,6 +196,7 @@ pub fn builtin() -> Vec<BodySpec> {
             },
             points: own(cab_all),
             spin: None,
+            correction: cabinet_loads(),
         },
     ]
 }

@@ -25,11 +25,17 @@ pub struct ModalBody {
 
 impl ModalBody {
     /// From a checked, resolved `elastic` entry; its coordinates start at `start`. With a
-    /// scene's `cutoff` (Hz) only the modes up to it are kept (at least one).
+    /// scene's `cutoff` (Hz) only the eigenmodes up to it are kept (at least one), and the
+    /// static correction modes.
     pub fn new(e: &Elastic, start: usize, gravity: [f64; 3], cutoff: Option<f64>) -> Self {
         let mut d = e.data.clone().expect("checked: modal data resolved");
         if let Some(fc) = cutoff {
-            let keep = d.frequencies.iter().filter(|f| **f <= fc).count().max(1);
+            let e = d.eigenmodes();
+            let keep = d.frequencies[..e]
+                .iter()
+                .filter(|f| **f <= fc)
+                .count()
+                .max(1);
             d.truncate(keep);
         }
         let n = d.modes();

@@ -56,6 +56,34 @@ pub struct ModalData {
     /// Drum only: stiffness per Omega^2 from the centrifugal prestress.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub geometric_stiffness: Option<GeometricStiffness>,
+    /// Static correction modes, if the body has them: the last `correction.modes` modes.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub correction: Option<Correction>,
+}
+
+/// Static correction (residual flexibility) modes: the static response to unit forces at the
+/// attachment points, less what the eigenmodes hold, made mass- and stiffness-orthogonal.
+/// Eigenmodes alone miss the local flexibility under a point load (a rail bending under a
+/// spring); these modes carry it, so a static load at a listed point is answered exactly.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Correction {
+    /// The load cases: a unit force in `direction` at the modal point `point`.
+    pub loads: Vec<LoadCase>,
+    /// How many of the body's modes, at the end, are correction modes.
+    pub modes: usize,
+    /// Generalised force of each load case on each eigenmode, f_j . Phi_k = w_point . direction
+    /// (row k, column j, row-major; eigenmodes only). Truncating eigenmodes folds their static
+    /// share at the load points into extra correction modes (`ModalData::truncate`).
+    pub participation: Vec<f64>,
+}
+
+/// A unit force at a modal point.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LoadCase {
+    pub point: String,
+    pub direction: V3,
 }
 
 /// The seed paper's elementary matrices for n modes; a, b run over x, y, z.
@@ -102,6 +130,10 @@ impl ModalData {
     pub fn modes(&self) -> usize {
         self.frequencies.len()
     }
+    /// The eigenmodes (the modes before the correction modes).
+    pub fn eigenmodes(&self) -> usize {
+        self.modes() - self.correction.as_ref().map_or(0, |c| c.modes)
+    }
     /// The modal mass matrix sum dm W^T W (n x n, row-major).
     pub fn modal_mass(&self) -> Vec<f64> {
         let n = self.modes();
@@ -119,38 +151,145 @@ impl ModalData {
             .map(|(i, v)| (v - if i / n == i % n { 1.0 } else { 0.0 }).abs())
             .fold(0.0, f64::max)
     }
-    /// Keep the first `n` modes only.
+    /// Keep the first `n` eigenmodes. Correction modes stay; the dropped eigenmodes' static
+    /// response to the load cases, sum_k Phi_k (f_j . Phi_k) / omega_k^2, becomes new correction
+    /// modes, so that truncation never loses flexibility at the load points.
     pub fn truncate(&mut self, n: usize) {
-        let m = self.modes();
-        if n >= m {
+        let (m, e) = (self.modes(), self.eigenmodes());
+        if n >= e {
             return;
         }
-        self.frequencies.truncate(n);
+        let w2: Vec<f64> = self
+            .frequencies
+            .iter()
+            .map(|f| (2.0 * std::f64::consts::PI * f).powi(2))
+            .collect();
+        // Columns over the dropped modes n..e: the static shapes of the load cases.
+        let folded = match &self.correction {
+            Some(c) => {
+                let j = c.loads.len();
+                let u = nalgebra::DMatrix::from_fn(e - n, j, |r, col| {
+                    c.participation[(n + r) * j + col] / w2[n + r]
+                });
+                orthonormal_static_basis(&u, &w2[n..e])
+            }
+            None => (nalgebra::DMatrix::zeros(e - n, 0), Vec::new()),
+        };
+        let (p, r) = (folded.1.len(), m - e);
+        let mut t = nalgebra::DMatrix::zeros(m, n + p + r);
+        for k in 0..n {
+            t[(k, k)] = 1.0;
+        }
+        t.view_mut((n, n), (e - n, p)).copy_from(&folded.0);
+        for k in 0..r {
+            t[(e + k, n + p + k)] = 1.0;
+        }
+        let mut frequencies = self.frequencies[..n].to_vec();
+        frequencies.extend(folded.1);
+        frequencies.extend_from_slice(&self.frequencies[e..]);
+        self.change_basis(&t, frequencies);
+        if let Some(c) = &mut self.correction {
+            c.modes = p + r;
+            c.participation.truncate(n * c.loads.len());
+        }
+    }
+
+    /// The eigenmodes alone, without the correction modes (to measure what they buy).
+    pub fn without_correction(&self) -> ModalData {
+        let mut d = self.clone();
+        let e = d.eigenmodes();
+        let m = d.modes();
+        d.correction = None;
+        let t = nalgebra::DMatrix::from_fn(m, e, |r, c| if r == c { 1.0 } else { 0.0 });
+        let f = d.frequencies[..e].to_vec();
+        d.change_basis(&t, f);
+        d
+    }
+
+    /// Express the data in new coordinates q_old = T q_new (T: modes x new modes) whose
+    /// stiffness is diagonal with `frequencies`: every field is linear or bilinear in the shapes.
+    fn change_basis(&mut self, t: &nalgebra::DMatrix<f64>, frequencies: Vec<f64>) {
+        let (m, n) = t.shape();
+        let row = |v: &[f64]| -> Vec<f64> {
+            (0..n)
+                .map(|j| (0..m).map(|k| v[k] * t[(k, j)]).sum())
+                .collect()
+        };
+        let square = |v: &[f64]| -> Vec<f64> {
+            let a = nalgebra::DMatrix::from_row_slice(m, m, v);
+            let b = t.transpose() * a * t;
+            (0..n * n).map(|i| b[(i / n, i % n)]).collect()
+        };
         let e = &mut self.elementary;
         for a in 0..3 {
-            e.c[a].truncate(n);
+            e.c[a] = row(&e.c[a]);
             for b in 0..3 {
-                e.s[a][b].truncate(n);
-                e.g[a][b] = square_head(&e.g[a][b], m, n);
+                e.s[a][b] = row(&e.s[a][b]);
+                e.g[a][b] = square(&e.g[a][b]);
             }
         }
         for p in &mut self.points {
             for a in 0..3 {
-                p.w[a].truncate(n);
-                p.phi[a].truncate(n);
+                p.w[a] = row(&p.w[a]);
+                p.phi[a] = row(&p.phi[a]);
             }
         }
         if let Some(k) = &mut self.geometric_stiffness {
-            k.per_omega2 = square_head(&k.per_omega2, m, n);
+            k.per_omega2 = square(&k.per_omega2);
         }
+        self.frequencies = frequencies;
     }
     pub fn to_toml(&self) -> String {
         toml::to_string(self).expect("modal data serialises")
     }
 }
 
-fn square_head(v: &[f64], m: usize, n: usize) -> Vec<f64> {
-    (0..n * n).map(|i| v[(i / n) * m + i % n]).collect()
+/// Relative size below which a static shape adds nothing new (it lies in the others' span).
+pub const DEPENDENT_SHAPE: f64 = 1e-10;
+
+/// The span of the columns of `u` (coordinates in modes with unit modal mass and stiffness
+/// `w2`) as an orthonormal, stiffness-diagonal basis: (basis columns, their frequencies in Hz,
+/// ascending). Directions whose modal mass is below `DEPENDENT_SHAPE` of the largest are dropped.
+pub fn orthonormal_static_basis(
+    u: &nalgebra::DMatrix<f64>,
+    w2: &[f64],
+) -> (nalgebra::DMatrix<f64>, Vec<f64>) {
+    let k = nalgebra::DMatrix::from_diagonal(&nalgebra::DVector::from_column_slice(w2));
+    let mass = u.transpose() * u;
+    let stiff = u.transpose() * k * u;
+    let (b, lambda) = generalised_eigen(&mass, &stiff);
+    let basis = u * b;
+    let f = lambda
+        .iter()
+        .map(|l| l.max(0.0).sqrt() / (2.0 * std::f64::consts::PI))
+        .collect();
+    (basis, f)
+}
+
+/// Solve K x = lambda M x in the span where M (symmetric, semi-definite) is not negligible:
+/// (X with X^T M X = E and X^T K X = diag(lambda), lambda ascending).
+pub fn generalised_eigen(
+    mass: &nalgebra::DMatrix<f64>,
+    stiff: &nalgebra::DMatrix<f64>,
+) -> (nalgebra::DMatrix<f64>, Vec<f64>) {
+    let me = nalgebra::SymmetricEigen::new(0.5 * (mass + mass.transpose()));
+    let top = me.eigenvalues.iter().fold(0.0f64, |a, v| a.max(*v));
+    let keep: Vec<usize> = (0..me.eigenvalues.len())
+        .filter(|&i| top > 0.0 && me.eigenvalues[i] > DEPENDENT_SHAPE * top)
+        .collect();
+    let b = nalgebra::DMatrix::from_fn(mass.nrows(), keep.len(), |r, c| {
+        me.eigenvectors[(r, keep[c])] / me.eigenvalues[keep[c]].sqrt()
+    });
+    let a = b.transpose() * stiff * &b;
+    let ke = nalgebra::SymmetricEigen::new(0.5 * (&a + a.transpose()));
+    let mut order: Vec<usize> = (0..keep.len()).collect();
+    order.sort_by(|&i, &j| ke.eigenvalues[i].total_cmp(&ke.eigenvalues[j]));
+    let x = nalgebra::DMatrix::from_fn(mass.nrows(), keep.len(), |r, c| {
+        (0..keep.len())
+            .map(|l| b[(r, l)] * ke.eigenvectors[(l, order[c])])
+            .sum()
+    });
+    (x, order.iter().map(|&i| ke.eigenvalues[i]).collect())
 }
 
 /// Read a modal data file; errors carry the file (as `shown`) and line.
@@ -175,14 +314,14 @@ pub fn resolve(model: &mut super::Model, base: &FsPath) -> (Vec<PathBuf>, Vec<Ch
         match read_file(&path, &e.file) {
             Ok(mut d) => {
                 if let Some(n) = e.modes {
-                    if n > d.modes() {
+                    if n > d.eigenmodes() {
                         errors.push(CheckError {
                             path: Path::default().key("elastic").idx(i).key("modes"),
                             message: format!(
                                 "elastic `{}`: asks for {n} modes, `{}` has {}",
                                 e.name,
                                 e.file,
-                                d.modes()
+                                d.eigenmodes()
                             ),
                         });
                     }
@@ -219,8 +358,14 @@ pub fn problems(d: &ModalData) -> Vec<String> {
             ));
         }
     }
-    if d.frequencies.windows(2).any(|w| w[1] < w[0]) {
-        out.push("frequencies: not ascending".into());
+    let corr = d.correction.as_ref().map_or(0, |c| c.modes);
+    if corr > n {
+        out.push(format!("correction.modes: {corr} of only {n} modes"));
+    } else {
+        let (eig, cor) = d.frequencies.split_at(n - corr);
+        if eig.windows(2).any(|w| w[1] < w[0]) || cor.windows(2).any(|w| w[1] < w[0]) {
+            out.push("frequencies: not ascending (eigenmodes, then correction modes)".into());
+        }
     }
     if !(d.mass.is_finite() && d.mass > 0.0) {
         out.push(format!("mass: must be positive, got {}", d.mass));
@@ -272,6 +417,23 @@ pub fn problems(d: &ModalData) -> Vec<String> {
             &k.per_omega2,
             n * n,
         );
+    }
+    if let Some(c) = &d.correction
+        && corr <= n
+    {
+        dims(
+            "correction.participation".into(),
+            &c.participation,
+            (n - corr) * c.loads.len(),
+        );
+        for (j, l) in c.loads.iter().enumerate() {
+            if d.point(&l.point).is_none() {
+                out.push(format!(
+                    "correction.loads[{j}]: no point `{}` in `points`",
+                    l.point
+                ));
+            }
+        }
     }
     for (i, p) in d.points.iter().enumerate() {
         if p.nodes == 0 {
@@ -349,6 +511,7 @@ pub(crate) mod tests {
                 phi: [vec![0.0; 2], vec![0.0; 2], vec![0.0; 2]],
             }],
             geometric_stiffness: None,
+            correction: None,
         }
     }
 
@@ -391,5 +554,93 @@ pub(crate) mod tests {
         assert_eq!(d.elementary.g[2][2], vec![1.0]);
         assert_eq!(d.points[0].w[2], vec![1.0]);
         assert_eq!(problems(&d), Vec::<String>::new());
+    }
+
+    /// A body of 6 modes whose last is a correction mode, with one load case at point P.
+    fn with_correction() -> ModalData {
+        let n = 6;
+        let mut d = tiny();
+        let f = vec![5.0, 8.0, 13.0, 21.0, 34.0, 80.0];
+        let eye: Vec<f64> = (0..n * n)
+            .map(|i| if i / n == i % n { 1.0 } else { 0.0 })
+            .collect();
+        d.frequencies = f;
+        d.elementary = Elementary {
+            c: std::array::from_fn(|_| vec![0.0; n]),
+            s: std::array::from_fn(|_| std::array::from_fn(|_| vec![0.0; n])),
+            g: std::array::from_fn(|a| {
+                std::array::from_fn(|b| {
+                    if a == 2 && b == 2 {
+                        eye.clone()
+                    } else {
+                        vec![0.0; n * n]
+                    }
+                })
+            }),
+        };
+        let wz = vec![0.3, -0.2, 0.5, 0.1, -0.4, 0.7];
+        let wy = vec![0.1, 0.2, -0.1, 0.3, 0.2, -0.2];
+        d.points = vec![ModalPoint {
+            name: "P".into(),
+            position: [0.0; 3],
+            nodes: 4,
+            w: [vec![0.0; n], wy, wz.clone()],
+            phi: std::array::from_fn(|_| vec![0.0; n]),
+        }];
+        d.correction = Some(Correction {
+            loads: vec![LoadCase {
+                point: "P".into(),
+                direction: [0.0, 0.0, 1.0],
+            }],
+            modes: 1,
+            participation: wz[..5].to_vec(),
+        });
+        d
+    }
+
+    /// Static displacement at P along `a` under a unit force along `b` there:
+    /// sum w_a w_b / omega^2.
+    fn static_at_p(d: &ModalData, a: usize, b: usize) -> f64 {
+        let p = &d.points[0];
+        (0..d.modes())
+            .map(|k| {
+                p.w[a][k] * p.w[b][k] / (2.0 * std::f64::consts::PI * d.frequencies[k]).powi(2)
+            })
+            .sum()
+    }
+
+    #[test]
+    fn truncation_folds_the_dropped_modes_static_share_at_the_load_points() {
+        let full = with_correction();
+        assert_eq!(problems(&full), Vec::<String>::new());
+        let mut d = full.clone();
+        d.truncate(2);
+        // 2 eigenmodes, 1 folded shape (one load case), the correction mode.
+        assert_eq!(d.modes(), 4);
+        assert_eq!(d.eigenmodes(), 2);
+        assert_eq!(problems(&d), Vec::<String>::new());
+        // The folded shape is a combination of modes 3-5, so its frequency lies among theirs.
+        assert!(
+            d.frequencies[2] > 13.0 && d.frequencies[2] < 34.0,
+            "{:?}",
+            d.frequencies
+        );
+        // Modal mass stays the identity, and the static response along the load is the full
+        // model's to round-off (the closed form: the same sum over all modes).
+        assert!(d.mass_normalisation_error() < 1e-12);
+        for a in [1, 2] {
+            let (x, y) = (static_at_p(&full, a, 2), static_at_p(&d, a, 2));
+            assert!((x - y).abs() < 1e-12 * x.abs(), "{a}: {x} {y}");
+        }
+        let a = static_at_p(&full, 2, 2);
+        // Plain truncation would have lost modes 3-5's share.
+        let mut plain = full.clone();
+        plain.correction = None;
+        plain.truncate(2);
+        assert!((static_at_p(&plain, 2, 2) - a).abs() > 0.05 * a.abs());
+        // A force along y is no load case: its response is not held (the fold is for the listed
+        // loads only).
+        let yy = static_at_p(&full, 1, 1);
+        assert!((static_at_p(&d, 1, 1) - yy).abs() > 1e-3 * yy.abs());
     }
 }

@@ -295,7 +295,7 @@ fn cabinet_sag_under_the_spring_preloads_matches_calculix() {
     let corrected = sag_error(&data);
     // Measured: ccx sags 1.19, 1.20 and 1.57 mm; the 60 eigenmodes (to 86 Hz) fall 25 to 36 %
     // short (the rails' local bending under a point load is in no mode below 86 Hz); with the
-    // committed data's 10 correction modes (3 of them for these loads) the error is ccx's
+    // committed data's 6 correction modes (3 of them for these loads) the error is ccx's
     // printed precision (6 digits).
     eprintln!("worst: eigenmodes {eigen:.3}, with correction modes {corrected:.1e}");
     assert!(

@@ -159,7 +159,7 @@ washdyn_macros::machine! {
 
         // The paper's elastic machine: everything above with the tub's, the drum's and the
         // cabinet's modes up to drum order 6 at top speed times 1.5 (210 Hz: 5 tub, 12 drum,
-        // 60 cabinet modes).
+        // 60 cabinet modes, and the cabinet's 6 static correction modes).
         scene elastic {
             effects: [
                 gyroscopic, unbalance.drum, unbalance.motor, friction_dampers, gasket_damping,

@@ -62,9 +62,11 @@ pub fn decks() -> Vec<(String, String)> {
 pub const DRUM_AXIS_POINT: [f64; 3] = [0.0, 0.0, 0.45];
 pub const DRUM_REFERENCE_SPEED: f64 = 1400.0 * std::f64::consts::PI / 30.0;
 
-/// The cabinet's static correction loads: where the force elements pull on it, along the
-/// forces they carry (springs vertical, the friction dampers in their y-z plane, the gasket in
-/// every direction).
+/// The cabinet's static correction loads: where the springs (vertical) and the gasket (every
+/// direction) pull on it. Not the friction dampers: their force is bounded (Fmax), so the rail's
+/// local give under it is small, and a correction mode there puts the regularised friction
+/// slope on a small modal mass: dopri5 took 894 k steps for 5 s of `elastic` with the damper
+/// loads, 177 k without (141 k with eigenmodes only).
 fn cabinet_loads() -> Vec<LoadCase> {
     let at = |p: &str, d: [f64; 3]| LoadCase {
         point: p.into(),
@@ -75,10 +77,6 @@ fn cabinet_loads() -> Vec<LoadCase> {
         at("SPRING_1", z),
         at("SPRING_2", z),
         at("SPRING_3", z),
-        at("DAMPER_1", y),
-        at("DAMPER_1", z),
-        at("DAMPER_2", y),
-        at("DAMPER_2", z),
         at("GASKET", x),
         at("GASKET", y),
         at("GASKET", z),

@@ -1,6 +1,6 @@
 //! The CLI's commands as library functions, so tests drive them without a subprocess.
 
-use crate::results::{Format, SensorRecorder};
+use crate::results::{Format, SensorRecorder, StateRecorder};
 use std::fs;
 use std::path::{Path, PathBuf};
 use washdyn_runtime::ir::Model;
@@ -61,6 +61,8 @@ pub struct RunArgs {
     pub format: Format,
     /// Keep the samples in memory for the analysis.
     pub keep_samples: bool,
+    /// Write the states (`states.parquet`) for field recovery.
+    pub states: bool,
 }
 
 /// Outcome of a run: where the files are, and the summary.
@@ -197,6 +199,7 @@ pub fn run_command_with(
     let ode = integrator_options(args.integrator, args.tol, args.step, args.max_steps);
     let mut solver = AnySolver::new(args.integrator, dim, ode);
     let mut sink = SensorRecorder::new(&out_dir, args.format, args.keep_samples);
+    sink.states = args.states.then(|| StateRecorder::new(&out_dir));
     let opts = RunOptions {
         t_start: 0.0,
         t_end,

@@ -3,6 +3,8 @@
 pub mod analysis;
 pub mod campbell;
 pub mod commands;
+pub mod fields;
 pub mod results;
 pub mod sweep;
 pub mod validate;
+pub mod vtk;

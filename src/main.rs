@@ -85,6 +85,34 @@ enum Cmd {
         /// Write sensor output beyond the 2 GB limit.
         #[arg(long)]
         allow_large_output: bool,
+        /// Also write the state at every sample (drum angle, q) to DIR/states.parquet, for
+        /// `washdyn fields`.
+        #[arg(long)]
+        states: bool,
+    },
+    /// Displacement fields on the FE meshes from a run's states (`run --states`), as VTK grids
+    /// with a .pvd collection per body (ParaView).
+    Fields {
+        /// The run's output directory (summary.json, states.parquet).
+        run: PathBuf,
+        /// The model, when the run's was a file (default: the summary's model).
+        #[arg(long)]
+        model: Option<String>,
+        /// Instants, s (comma-separated).
+        #[arg(long, value_delimiter = ',')]
+        times: Option<Vec<f64>>,
+        /// FROM:TO:STEP, s.
+        #[arg(long)]
+        range: Option<String>,
+        /// One drum revolution from this time, s (36 frames).
+        #[arg(long)]
+        revolution: Option<f64>,
+        /// Where `washdyn fe modal` left the field files (<body>.field.bin).
+        #[arg(long, default_value = "out/fe/work")]
+        fe: PathBuf,
+        /// Output directory (default: RUN/fields).
+        #[arg(long)]
+        out: Option<PathBuf>,
     },
     /// Order analysis of a signal file (time_s, drum_rpm, channels...): order plots, cascades,
     /// speed plots, spectra and order tracks.
@@ -236,6 +264,7 @@ fn main() -> ExitCode {
             max_steps,
             no_validity_stop,
             allow_large_output,
+            states,
         } => {
             let args = RunArgs {
                 model,
@@ -250,6 +279,7 @@ fn main() -> ExitCode {
                 max_steps,
                 format,
                 keep_samples: !no_plots,
+                states,
             };
             let bar = ProgressBar::new(1000);
             bar.set_style(
@@ -461,6 +491,45 @@ fn main() -> ExitCode {
                 }
             }
         }
+        Cmd::Fields {
+            run,
+            model,
+            times,
+            range,
+            revolution,
+            fe,
+            out,
+        } => {
+            let times = match (times, range, revolution) {
+                (Some(t), None, None) => Ok(washdyn::fields::Times::List(t)),
+                (None, Some(r), None) => parse_range(&r),
+                (None, None, Some(t)) => Ok(washdyn::fields::Times::Revolution(t)),
+                _ => Err("give exactly one of --times, --range, --revolution".to_string()),
+            };
+            match times.and_then(|t| {
+                washdyn::fields::fields_command(&run, model.as_deref(), &t, &fe, out.as_deref())
+            }) {
+                Ok(w) => {
+                    println!(
+                        "wrote {} files, {:.1} MB in {:.2} s",
+                        w.files.len(),
+                        w.bytes as f64 / 1e6,
+                        w.seconds
+                    );
+                    if let Some((body, m, node, t)) = w.largest {
+                        println!(
+                            "largest displacement {:.3} mm: {body} node {node} at t = {t:.3} s",
+                            m * 1e3
+                        );
+                    }
+                    ExitCode::SUCCESS
+                }
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    ExitCode::from(2)
+                }
+            }
+        }
         Cmd::Campbell {
             source,
             max_rpm,
@@ -588,4 +657,17 @@ fn fe_modal(out: &Path, work: &Path, only: &[String]) -> Result<(), String> {
     let old = std::fs::read_to_string(&p).unwrap_or_default();
     let report = washdyn::commands::merge_report(&old, &sections, &order);
     std::fs::write(&p, report).map_err(|e| format!("{}: {e}", p.display()))
+}
+
+/// `FROM:TO:STEP` of `washdyn fields --range`.
+fn parse_range(r: &str) -> Result<washdyn::fields::Times, String> {
+    let v: Vec<f64> = r
+        .split(':')
+        .map(|x| x.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("--range `{r}`: expected FROM:TO:STEP in seconds"))?;
+    match v[..] {
+        [a, b, dt] => Ok(washdyn::fields::Times::Range(a, b, dt)),
+        _ => Err(format!("--range `{r}`: expected FROM:TO:STEP in seconds")),
+    }
 }

@@ -453,6 +453,55 @@ pub struct SensorRecorder {
     written: usize,
     last_write: Instant,
     pub names: Vec<String>,
+    /// The states, when the run keeps them.
+    pub states: Option<StateRecorder>,
+}
+
+/// `states.parquet`: time_s, drum_angle_rad, then q (the scene's layout: tub rigid, tub
+/// modes, drum modes, cabinet modes) at every sample, for recovery after the run.
+pub struct StateRecorder {
+    path: PathBuf,
+    table: Option<Batched>,
+}
+
+impl StateRecorder {
+    pub fn new(dir: &Path) -> StateRecorder {
+        StateRecorder {
+            path: dir.join("states.parquet"),
+            table: None,
+        }
+    }
+    fn row(&mut self, t: f64, phi: f64, q: &[f64]) -> io::Result<()> {
+        if self.table.is_none() {
+            let mut names = vec!["time_s".to_string(), "drum_angle_rad".to_string()];
+            names.extend((0..q.len()).map(|i| format!("q{i}")));
+            let n = names.len();
+            let schema = Schema {
+                names: &names,
+                text: &vec![false; n],
+                nullable: &vec![false; n],
+                metadata: &[(
+                    "washdyn".into(),
+                    "states on the sample grid: q in the scene's layout (tub u m, alpha rad, \
+                     then modal coordinates)"
+                        .into(),
+                )],
+            };
+            let w = TableWriter::create(&self.path, Format::Parquet, &schema)?;
+            self.table = Some(
+                Batched::new(w, vec![Column::F64(Vec::new()); n], GROUP_ROWS)
+                    .with_max_wait(GROUP_WAIT),
+            );
+        }
+        let table = self.table.as_mut().expect("created above");
+        let row = [t, phi].into_iter().chain(q.iter().copied());
+        for (c, v) in table.columns_mut().iter_mut().zip(row) {
+            if let Column::F64(c) = c {
+                c.push(v);
+            }
+        }
+        table.row_done()
+    }
 }
 
 /// Rows a row group holds at most, and the longest wait between writes.
@@ -471,6 +520,7 @@ impl SensorRecorder {
             written: 0,
             last_write: Instant::now(),
             names: Vec::new(),
+            states: None,
         }
     }
     pub fn path(&self) -> &Path {
@@ -490,6 +540,9 @@ impl SensorRecorder {
     }
     /// Write the footer (Parquet) and flush.
     pub fn finish(&mut self) -> io::Result<()> {
+        if let Some(t) = self.states.as_mut().and_then(|s| s.table.as_mut()) {
+            t.finish()?;
+        }
         if self.keep {
             self.write_kept()?;
         }
@@ -554,7 +607,16 @@ impl washdyn_runtime::output::SampleSink for SensorRecorder {
         }
         table.row_done()
     }
+    fn state(&mut self, t: f64, phi: f64, q: &[f64]) -> io::Result<()> {
+        match &mut self.states {
+            Some(s) => s.row(t, phi, q),
+            None => Ok(()),
+        }
+    }
     fn flush(&mut self) -> io::Result<()> {
+        if let Some(t) = self.states.as_mut().and_then(|s| s.table.as_mut()) {
+            t.flush()?;
+        }
         if self.keep {
             return self.write_kept();
         }

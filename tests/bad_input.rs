@@ -30,6 +30,7 @@ fn args(tag: &str) -> RunArgs {
         max_steps: None,
         format: washdyn::results::Format::Parquet,
         keep_samples: false,
+        states: false,
     }
 }
 

@@ -24,6 +24,7 @@ fn spent_step_budget_fails_with_time_and_keeps_output() {
         max_steps: Some(5000),
         format: Format::Parquet,
         keep_samples: false,
+        states: false,
     };
     let o = run_command(&args, &mut |_| {}).expect("the run starts");
     let err = o.error.expect("the run must fail");

@@ -54,6 +54,7 @@ fn sensor_file_reads_back_bit_for_bit_in_pyarrow() {
         max_steps: None,
         format: Format::Parquet,
         keep_samples: true,
+        states: false,
     };
     let o = run_command(&args, &mut |_| {}).unwrap();
     assert!(o.error.is_none());

@@ -11,6 +11,7 @@ pub mod ccx;
 pub mod correction;
 pub mod dat;
 pub mod deck;
+pub mod field;
 pub mod frd;
 pub mod lumping;
 pub mod mesh;

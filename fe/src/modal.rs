@@ -273,11 +273,7 @@ pub type Reading = Vec<(usize, [[f64; 3]; 3])>;
 /// (the rigid fit is linear in the nodal displacements). Returns (node, R_i) per node. A force F
 /// at the point does the work of nodal forces R_i^T F: the consistent load that the equations
 /// apply through the point's W.
-pub fn point_reading(
-    mesh: &Mesh,
-    nset: &str,
-    position: [f64; 3],
-) -> Result<Reading, String> {
+pub fn point_reading(mesh: &Mesh, nset: &str, position: [f64; 3]) -> Result<Reading, String> {
     let ids = mesh
         .nsets
         .get(nset)
@@ -331,6 +327,7 @@ impl Import<'_> {
             points,
             geometric_stiffness: None,
             correction: None,
+            basis: None,
         })
     }
 }

@@ -1,6 +1,7 @@
 //! One body from FE model to modal data: write the deck, solve it with ccx, lump, keep the
 //! wanted modes, form the elementary matrices and points, and for a spinning body extract the
-//! geometric stiffness. The CLI's `washdyn fe modal` runs this for the built-in bodies.
+//! geometric stiffness, and the shapes on the whole mesh for field recovery (`field.rs`). The
+//! CLI's `washdyn fe modal` runs this for the built-in bodies.
 
 use crate::lumping::{MassProps, lump};
 use crate::mesh::Mesh;
@@ -144,6 +145,8 @@ pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), String>
         prestress_fit_residual = Some(x.residual.iter().copied().fold(0.0, f64::max));
         data.geometric_stiffness = Some(x.stiffness);
     }
+    crate::field::Field::new(&spec.mesh, &modes, &data)?
+        .write(&dir.join(format!("{}.field.bin", spec.name)))?;
     let translation_coupling = data
         .elementary
         .c

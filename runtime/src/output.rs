@@ -10,6 +10,11 @@ pub trait SampleSink {
     fn header(&mut self, channels: &[String]) -> io::Result<()>;
     fn sample(&mut self, t: f64, rpm: f64, values: &[f64]) -> io::Result<()>;
     fn flush(&mut self) -> io::Result<()>;
+    /// The state at each sample (drum angle phi, rad, and q), for sinks that keep it for field
+    /// recovery after the run; ignored by default.
+    fn state(&mut self, _t: f64, _phi: f64, _q: &[f64]) -> io::Result<()> {
+        Ok(())
+    }
 }
 
 /// `sensors.csv`: columns `time_s`, `drum_rpm`, then one per channel.

@@ -407,6 +407,8 @@ where
         sys.sys.sensors(t, q, qd, &qdd, &mut vals);
         let rpm = sys.sys.speed().rpm(t);
         summary.samples += 1;
+        sink.state(t, sys.sys.speed().drive(t).phi, q)
+            .map_err(io(t))?;
         sink.sample(t, rpm, &vals).map_err(io(t))
     };
 

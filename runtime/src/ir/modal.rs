@@ -59,6 +59,10 @@ pub struct ModalData {
     /// Static correction modes, if the body has them: the last `correction.modes` modes.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub correction: Option<Correction>,
+    /// After truncation: the file's modes in terms of these, q_file = T q (file modes x modes,
+    /// row-major), so that fields on the FE mesh can be recovered. None: the file's own modes.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub basis: Option<Vec<f64>>,
 }
 
 /// Static correction (residual flexibility) modes: the static response to unit forces at the
@@ -220,6 +224,15 @@ impl ModalData {
             let b = t.transpose() * a * t;
             (0..n * n).map(|i| b[(i / n, i % n)]).collect()
         };
+        let file = match &self.basis {
+            Some(b) => nalgebra::DMatrix::from_row_slice(b.len() / m, m, b) * t,
+            None => t.clone(),
+        };
+        self.basis = Some(
+            (0..file.nrows() * n)
+                .map(|i| file[(i / n, i % n)])
+                .collect(),
+        );
         let e = &mut self.elementary;
         for a in 0..3 {
             e.c[a] = row(&e.c[a]);
@@ -435,6 +448,14 @@ pub fn problems(d: &ModalData) -> Vec<String> {
             }
         }
     }
+    if let Some(b) = &d.basis
+        && (n == 0 || b.len() % n != 0)
+    {
+        out.push(format!(
+            "basis: {} values are no whole rows of {n}",
+            b.len()
+        ));
+    }
     for (i, p) in d.points.iter().enumerate() {
         if p.nodes == 0 {
             out.push(format!(
@@ -512,6 +533,7 @@ pub(crate) mod tests {
             }],
             geometric_stiffness: None,
             correction: None,
+            basis: None,
         }
     }
 
@@ -618,6 +640,12 @@ pub(crate) mod tests {
         // 2 eigenmodes, 1 folded shape (one load case), the correction mode.
         assert_eq!(d.modes(), 4);
         assert_eq!(d.eigenmodes(), 2);
+        // The file's modes in the new ones: 6 x 4, the kept eigenmodes and the correction
+        // mode map to themselves; the folded column lives on the dropped modes 3-5.
+        let t = d.basis.clone().unwrap();
+        assert_eq!(t.len(), 24);
+        assert_eq!((t[0], t[5], t[23]), (1.0, 1.0, 1.0));
+        assert!((0..6).all(|r| (2..5).contains(&r) == (t[r * 4 + 2] != 0.0)));
         assert_eq!(problems(&d), Vec::<String>::new());
         // The folded shape is a combination of modes 3-5, so its frequency lies among theirs.
         assert!(

@@ -1,0 +1,209 @@
+//! A body's mode shapes on its whole FE mesh, for recovering displacement fields after a run
+//! (the seed paper's closing argument: reverse the Ritz approximation). `washdyn fe modal`
+//! writes one `<body>.field.bin` per body beside ccx's files; it is a cache of ccx's results (a
+//! few MB per body), not committed, and tied to the modal data it was built with by the
+//! frequencies and one point's shapes, so a field from another solve is refused, not misread.
+//!
+//! Format: the magic `WDFIELD1`, the header's length (u64 LE), the header (JSON), then the
+//! shapes as f64 LE, mode-major: value[(k * nodes + i) * 3 + a].
+
+use crate::mesh::{Mesh, Section};
+use crate::modal::Shapes;
+use serde::{Deserialize, Serialize};
+use std::io::{Read, Write};
+use std::path::Path;
+
+const MAGIC: &[u8; 8] = b"WDFIELD1";
+
+/// VTK cell types of the quadratic elements ccx uses.
+pub const VTK_QUADRATIC_EDGE: u8 = 21;
+pub const VTK_QUADRATIC_QUAD: u8 = 23;
+pub const VTK_QUADRATIC_HEXAHEDRON: u8 = 25;
+
+/// One cell: VTK type and 0-based indices into `FieldHeader::nodes`, in VTK order.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Cell {
+    pub vtk: u8,
+    pub nodes: Vec<u32>,
+}
+
+/// The mesh and what ties the shapes to the modal data.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FieldHeader {
+    pub body: String,
+    /// FE node ids and rest positions (m, machine frame) of the structural nodes.
+    pub ids: Vec<usize>,
+    pub nodes: Vec<[f64; 3]>,
+    pub cells: Vec<Cell>,
+    /// The modal data's frequencies (Hz), eigenmodes then correction modes.
+    pub frequencies: Vec<f64>,
+    /// The modal data's first point (name) and its w[a][k]: a sign check against the data.
+    pub check_point: String,
+    pub check_w: [Vec<f64>; 3],
+}
+
+/// Mode shapes at every structural node of a body.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Field {
+    pub header: FieldHeader,
+    /// value[(k * nodes + i) * 3 + a].
+    pub shapes: Vec<f64>,
+}
+
+impl Field {
+    /// From the mesh and the shapes the modal data was built from (same order).
+    pub fn new(
+        mesh: &Mesh,
+        modes: &[Shapes],
+        data: &washdyn_runtime::ir::modal::ModalData,
+    ) -> Result<Field, String> {
+        let ids = mesh.element_nodes();
+        let ids: Vec<usize> = ids
+            .into_iter()
+            .filter(|id| modes.first().is_some_and(|m| m.w.contains_key(id)))
+            .collect();
+        let index: std::collections::HashMap<usize, u32> = ids
+            .iter()
+            .enumerate()
+            .map(|(i, id)| (*id, i as u32))
+            .collect();
+        let mut cells = Vec::new();
+        for p in &mesh.parts {
+            let (vtk, order): (u8, &[usize]) = match p.section {
+                // ccx's S8R and C3D20 node orders are VTK's; B32 has its middle node second.
+                Section::Shell { .. } => (VTK_QUADRATIC_QUAD, &[0, 1, 2, 3, 4, 5, 6, 7]),
+                Section::Solid { .. } => (
+                    VTK_QUADRATIC_HEXAHEDRON,
+                    &[
+                        0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19,
+                    ],
+                ),
+                Section::Beam { .. } => (VTK_QUADRATIC_EDGE, &[0, 2, 1]),
+                Section::Mass { .. } | Section::Ground { .. } => continue,
+            };
+            for e in &p.elements {
+                let nodes = order
+                    .iter()
+                    .map(|&i| {
+                        index
+                            .get(&e[i])
+                            .copied()
+                            .ok_or_else(|| format!("node {} has no mode shape", e[i]))
+                    })
+                    .collect::<Result<_, _>>()?;
+                cells.push(Cell { vtk, nodes });
+            }
+        }
+        let n = ids.len();
+        let mut shapes = vec![0.0; modes.len() * n * 3];
+        for (k, m) in modes.iter().enumerate() {
+            for (i, id) in ids.iter().enumerate() {
+                let w = m.w[id];
+                shapes[(k * n + i) * 3..(k * n + i) * 3 + 3].copy_from_slice(&w);
+            }
+        }
+        let p = data.points.first().ok_or("modal data without points")?;
+        Ok(Field {
+            header: FieldHeader {
+                body: format!("{:?}", data.body).to_lowercase(),
+                nodes: ids.iter().map(|id| mesh.nodes[id - 1]).collect(),
+                ids,
+                cells,
+                frequencies: data.frequencies.clone(),
+                check_point: p.name.clone(),
+                check_w: p.w.clone(),
+            },
+            shapes,
+        })
+    }
+
+    pub fn modes(&self) -> usize {
+        self.header.frequencies.len()
+    }
+
+    /// Shape of mode k at node index i.
+    pub fn shape(&self, k: usize, i: usize) -> [f64; 3] {
+        let n = self.header.nodes.len();
+        let s = &self.shapes[(k * n + i) * 3..(k * n + i) * 3 + 3];
+        [s[0], s[1], s[2]]
+    }
+
+    pub fn write(&self, path: &Path) -> Result<(), String> {
+        let err = |e: std::io::Error| format!("{}: {e}", path.display());
+        let head = serde_json::to_vec(&self.header).map_err(|e| e.to_string())?;
+        let mut f = std::io::BufWriter::new(std::fs::File::create(path).map_err(err)?);
+        f.write_all(MAGIC).map_err(err)?;
+        f.write_all(&(head.len() as u64).to_le_bytes())
+            .map_err(err)?;
+        f.write_all(&head).map_err(err)?;
+        for v in &self.shapes {
+            f.write_all(&v.to_le_bytes()).map_err(err)?;
+        }
+        f.flush().map_err(err)
+    }
+
+    pub fn read(path: &Path) -> Result<Field, String> {
+        let err = |e: String| format!("{}: {e}", path.display());
+        let mut bytes = Vec::new();
+        std::fs::File::open(path)
+            .and_then(|mut f| f.read_to_end(&mut bytes))
+            .map_err(|e| err(e.to_string()))?;
+        if bytes.len() < 16 || &bytes[..8] != MAGIC {
+            return Err(err("not a washdyn field file".into()));
+        }
+        let len = u64::from_le_bytes(bytes[8..16].try_into().expect("8 bytes")) as usize;
+        let body = bytes
+            .get(16..16 + len)
+            .ok_or_else(|| err("truncated header".into()))?;
+        let header: FieldHeader =
+            serde_json::from_slice(body).map_err(|e| err(format!("header: {e}")))?;
+        let rest = &bytes[16 + len..];
+        let want = header.frequencies.len() * header.nodes.len() * 3;
+        if rest.len() != want * 8 {
+            return Err(err(format!(
+                "{} shape values, expected {want}",
+                rest.len() / 8
+            )));
+        }
+        let shapes = rest
+            .chunks_exact(8)
+            .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
+            .collect();
+        Ok(Field { header, shapes })
+    }
+
+    /// Is this the field of `data` (same solve)? Frequencies to 1e-9 and the check point's
+    /// shapes to 1e-9 relative (a sign flip or another mesh fails).
+    pub fn matches(&self, data: &washdyn_runtime::ir::modal::ModalData) -> Result<(), String> {
+        let h = &self.header;
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(b.abs()).max(1e-30);
+        if h.frequencies.len() != data.frequencies.len()
+            || h.frequencies
+                .iter()
+                .zip(&data.frequencies)
+                .any(|(a, b)| !close(*a, *b))
+        {
+            return Err(format!(
+                "the field of `{}` has other modes than its modal data (regenerate both with \
+                 `washdyn fe modal`)",
+                h.body
+            ));
+        }
+        let p = data
+            .point(&h.check_point)
+            .ok_or_else(|| format!("the modal data has no point {}", h.check_point))?;
+        let scale = p.w.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+        for a in 0..3 {
+            for (x, y) in p.w[a].iter().zip(&h.check_w[a]) {
+                if (x - y).abs() > 1e-9 * scale {
+                    return Err(format!(
+                        "the field of `{}` has other mode shapes than its modal data (regenerate \
+                         both with `washdyn fe modal`)",
+                        h.body
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+}

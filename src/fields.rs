@@ -1,0 +1,428 @@
+//! Recovery on the FE mesh after a run (`washdyn fields`): the stored states (`states.parquet`)
+//! and each body's mode shapes on its mesh (`<body>.field.bin`, from `washdyn fe modal`) give
+//! the nodal displacements, rigid motion + W q in the global frame, written as VTK grids with a
+//! `.pvd` collection per body. It reads what the run wrote and never touches the run.
+//!
+//! Kinematics (linearised, as the equations): a tub node x moves u + alpha x (x - p0) + W q_tub;
+//! the drum is drawn turned by phi about its axis, p = B + R(phi)(x - B), and moves with the
+//! tub's material frame at its mount B (translation d_B, rotation theta_B) plus its own modes:
+//! d_B + theta_B x (p - B) + R(phi) W q_drum; a cabinet node moves W q_cab.
+
+use crate::vtk::{Cell, Data, write_pvd, write_vtu};
+use nalgebra::DMatrix;
+use std::path::{Path, PathBuf};
+use washdyn_fe::field::Field;
+use washdyn_runtime::equations::{BodyState, Equations, MarkerDef, ModalBody, rotate};
+use washdyn_runtime::geom::V;
+use washdyn_runtime::ir::Model;
+use washdyn_runtime::ir::modal::ModalData;
+
+/// Which body a field belongs to, and how it moves.
+enum Motion {
+    /// Tub rigid coordinates about p0, and its modes.
+    Tub {
+        p0: [f64; 3],
+    },
+    /// The drum on its mount, spinning about `axis`.
+    Drum {
+        mount: MarkerDef,
+        axis: [f64; 3],
+    },
+    Cabinet,
+}
+
+/// One body's mesh and how its nodes follow q.
+pub struct BodyField {
+    pub name: String,
+    pub field: Field,
+    motion: Motion,
+    /// (first q index, file modes x scene modes) of the body's modes, when elastic.
+    modes: Option<(usize, DMatrix<f64>)>,
+}
+
+/// The bodies of a scene that have a field file in `fe_dir`.
+pub struct Recovery {
+    pub bodies: Vec<BodyField>,
+    pub n: usize,
+}
+
+/// q_file = T q_scene for a body's modal data (identity when not truncated).
+fn basis(d: &ModalData, file_modes: usize) -> DMatrix<f64> {
+    match &d.basis {
+        Some(b) => DMatrix::from_row_slice(file_modes, b.len() / file_modes, b),
+        None => DMatrix::identity(file_modes, d.modes()),
+    }
+}
+
+/// The field belongs to this modal data: its check point's shapes, carried through the
+/// scene's basis, are the data's.
+fn check(field: &Field, d: &ModalData, t: &DMatrix<f64>) -> Result<(), String> {
+    let h = &field.header;
+    let p = d
+        .point(&h.check_point)
+        .ok_or_else(|| format!("{}: the modal data has no point {}", h.body, h.check_point))?;
+    if t.nrows() != field.modes() {
+        return Err(format!(
+            "the field of `{}` has {} modes, its modal data {} (regenerate both with `washdyn fe \
+             modal`)",
+            h.body,
+            field.modes(),
+            t.nrows()
+        ));
+    }
+    let scale = h
+        .check_w
+        .iter()
+        .flatten()
+        .fold(0.0f64, |m, v| m.max(v.abs()));
+    for a in 0..3 {
+        for (j, want) in p.w[a].iter().enumerate() {
+            let got: f64 = (0..t.nrows()).map(|k| h.check_w[a][k] * t[(k, j)]).sum();
+            if (got - want).abs() > 1e-8 * scale {
+                return Err(format!(
+                    "the field of `{}` has other mode shapes than its modal data (regenerate \
+                     both with `washdyn fe modal`)",
+                    h.body
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+fn modal(b: &ModalBody, field: &Field) -> Result<(usize, DMatrix<f64>), String> {
+    let t = basis(b.data(), field.modes());
+    check(field, b.data(), &t)?;
+    Ok((b.start, t))
+}
+
+impl Recovery {
+    /// The scene's bodies whose `<body>.field.bin` is in `fe_dir`.
+    pub fn new(model: &Model, eq: &Equations, fe_dir: &Path) -> Result<Recovery, String> {
+        let mut bodies = Vec::new();
+        for name in ["tub", "drum", "cabinet"] {
+            let path = fe_dir.join(format!("{name}.field.bin"));
+            if !path.exists() {
+                continue;
+            }
+            let field = Field::read(&path)?;
+            let (motion, modes) = match name {
+                "tub" => (
+                    Motion::Tub { p0: model.tub.cog },
+                    eq.tub_modes
+                        .as_ref()
+                        .map(|b| modal(b, &field))
+                        .transpose()?,
+                ),
+                "drum" => {
+                    let Some(r) = eq.rotors.iter().find(|r| r.name == "drum") else {
+                        continue;
+                    };
+                    (
+                        Motion::Drum {
+                            mount: r.mount.clone(),
+                            axis: r.axis,
+                        },
+                        eq.drum
+                            .as_ref()
+                            .map(|d| modal(&d.modes, &field))
+                            .transpose()?,
+                    )
+                }
+                _ => match &eq.cabinet {
+                    Some(b) => (Motion::Cabinet, Some(modal(b, &field)?)),
+                    None => continue,
+                },
+            };
+            bodies.push(BodyField {
+                name: name.into(),
+                field,
+                motion,
+                modes,
+            });
+        }
+        if bodies.is_empty() {
+            return Err(format!(
+                "no field files (<body>.field.bin) in {}: `washdyn fe modal` writes them there \
+                 (with CalculiX)",
+                fe_dir.display()
+            ));
+        }
+        Ok(Recovery {
+            bodies,
+            n: eq.layout.n(),
+        })
+    }
+
+    /// Points (the drum turned by phi) and nodal displacements (m, global) of `b` at state q.
+    pub fn displacement(
+        &self,
+        b: &BodyField,
+        phi: f64,
+        q: &[f64],
+    ) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
+        let h = &b.field.header;
+        let qf: Option<Vec<f64>> = b.modes.as_ref().map(|(start, t)| {
+            let qs = &q[*start..*start + t.ncols()];
+            (0..t.nrows())
+                .map(|k| (0..t.ncols()).map(|j| t[(k, j)] * qs[j]).sum())
+                .collect()
+        });
+        let elastic = |i: usize| -> [f64; 3] {
+            let mut w = [0.0; 3];
+            if let Some(qf) = &qf {
+                for (k, x) in qf.iter().enumerate() {
+                    let s = b.field.shape(k, i);
+                    for a in 0..3 {
+                        w[a] += s[a] * x;
+                    }
+                }
+            }
+            w
+        };
+        let zero = vec![0.0; q.len()];
+        let state = BodyState::new(q, &zero);
+        let mut points = Vec::with_capacity(h.nodes.len());
+        let mut disp = Vec::with_capacity(h.nodes.len());
+        for (i, x) in h.nodes.iter().enumerate() {
+            let w = elastic(i);
+            match &b.motion {
+                Motion::Tub { p0 } => {
+                    let u = state.tub.u + state.tub.alpha.cross(V::c(sub(*x, *p0)));
+                    points.push(*x);
+                    disp.push(add(u.0, w));
+                }
+                Motion::Drum { mount, axis } => {
+                    let m = mount.state(&state);
+                    let e = V::c(*axis);
+                    let (c, s) = (phi.cos(), phi.sin());
+                    let r = rotate(e, c, s, V::c(sub(*x, mount.point)));
+                    let p = add(mount.point, r.0);
+                    let d = (m.pos - V::c(mount.point)) + m.rot.cross(r) + rotate(e, c, s, V::c(w));
+                    points.push(p);
+                    disp.push(d.0);
+                }
+                Motion::Cabinet => {
+                    points.push(*x);
+                    disp.push(w);
+                }
+            }
+        }
+        (points, disp)
+    }
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+
+/// Which instants to recover.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Times {
+    List(Vec<f64>),
+    /// from, to, step (s).
+    Range(f64, f64, f64),
+    /// One drum revolution from this time, in `REVOLUTION_FRAMES` frames.
+    Revolution(f64),
+}
+
+/// Frames of one revolution (every 10 degrees).
+pub const REVOLUTION_FRAMES: usize = 36;
+
+/// The states a run wrote: time, drum angle and q per sample.
+pub struct States {
+    pub t: Vec<f64>,
+    pub phi: Vec<f64>,
+    pub q: Vec<Vec<f64>>,
+}
+
+impl States {
+    pub fn read(path: &Path) -> Result<States, String> {
+        let (names, cols) = crate::results::read_parquet_f64(path)?;
+        if names.len() < 3 || names[0] != "time_s" || names[1] != "drum_angle_rad" {
+            return Err(format!(
+                "{}: not a states file (time_s, drum_angle_rad, q...)",
+                path.display()
+            ));
+        }
+        let mut cols = cols.into_iter();
+        let t = cols.next().expect("checked");
+        let phi = cols.next().expect("checked");
+        Ok(States {
+            t,
+            phi,
+            q: cols.collect(),
+        })
+    }
+
+    /// (phi, q) at time `t`, linear between samples; an error outside the run.
+    pub fn at(&self, t: f64) -> Result<(f64, Vec<f64>), String> {
+        let n = self.t.len();
+        if n == 0 || t < self.t[0] - 1e-12 || t > self.t[n - 1] + 1e-12 {
+            return Err(format!(
+                "t = {t} s is outside the stored states ({} to {} s)",
+                self.t.first().unwrap_or(&0.0),
+                self.t.last().unwrap_or(&0.0)
+            ));
+        }
+        let i = self.t.partition_point(|&x| x <= t).clamp(1, n.max(2) - 1);
+        let (t0, t1) = (self.t[i - 1], self.t[i.min(n - 1)]);
+        let f = if t1 > t0 {
+            ((t - t0) / (t1 - t0)).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let lerp = |v: &[f64]| v[i - 1] + f * (v[i.min(n - 1)] - v[i - 1]);
+        Ok((lerp(&self.phi), self.q.iter().map(|c| lerp(c)).collect()))
+    }
+
+    /// The instants `times` asks for.
+    pub fn instants(&self, times: &Times) -> Result<Vec<f64>, String> {
+        Ok(match times {
+            Times::List(v) => v.clone(),
+            Times::Range(a, b, dt) => {
+                if !(*dt > 0.0 && b >= a) {
+                    return Err(format!(
+                        "--range {a}:{b}:{dt}: need from <= to and step > 0"
+                    ));
+                }
+                let n = ((b - a) / dt + 1e-9).floor() as usize;
+                (0..=n).map(|k| a + k as f64 * dt).collect()
+            }
+            Times::Revolution(t0) => {
+                // Frames at equal drum angles over one turn.
+                let (phi0, _) = self.at(*t0)?;
+                let mut out = vec![*t0];
+                let step = 2.0 * std::f64::consts::PI / REVOLUTION_FRAMES as f64;
+                for k in 1..REVOLUTION_FRAMES {
+                    let target = phi0 + k as f64 * step;
+                    let i = self.phi.partition_point(|&p| p < target);
+                    if i == 0 || i >= self.t.len() {
+                        return Err(format!(
+                            "the run ends before one revolution from t = {t0} s"
+                        ));
+                    }
+                    let f = (target - self.phi[i - 1]) / (self.phi[i] - self.phi[i - 1]);
+                    out.push(self.t[i - 1] + f * (self.t[i] - self.t[i - 1]));
+                }
+                out
+            }
+        })
+    }
+}
+
+/// What `washdyn fields` wrote.
+pub struct Written {
+    pub files: Vec<PathBuf>,
+    pub bytes: u64,
+    pub seconds: f64,
+    /// Largest displacement: (body, m, node id, time).
+    pub largest: Option<(String, f64, usize, f64)>,
+}
+
+/// Recover the fields of every body at `instants` into `out` (`<body>_<k>.vtu`, `<body>.pvd`).
+pub fn write_fields(
+    rec: &Recovery,
+    states: &States,
+    instants: &[f64],
+    out: &Path,
+) -> Result<Written, String> {
+    let start = std::time::Instant::now();
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    if states.q.len() != rec.n {
+        return Err(format!(
+            "the states have {} coordinates, the scene {}: another scene's run?",
+            states.q.len(),
+            rec.n
+        ));
+    }
+    let mut w = Written {
+        files: Vec::new(),
+        bytes: 0,
+        seconds: 0.0,
+        largest: None,
+    };
+    for b in &rec.bodies {
+        let cells: Vec<Cell> = b
+            .field
+            .header
+            .cells
+            .iter()
+            .map(|c| Cell {
+                vtk: c.vtk,
+                nodes: &c.nodes,
+            })
+            .collect();
+        let mut steps = Vec::new();
+        for (k, &t) in instants.iter().enumerate() {
+            let (phi, q) = states.at(t)?;
+            let (points, disp) = rec.displacement(b, phi, &q);
+            for (i, d) in disp.iter().enumerate() {
+                let m = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+                if w.largest.as_ref().is_none_or(|l| m > l.1) {
+                    w.largest = Some((b.name.clone(), m, b.field.header.ids[i], t));
+                }
+            }
+            let flat: Vec<f64> = disp.iter().flatten().copied().collect();
+            let file = format!("{}_{k:05}.vtu", b.name);
+            let path = out.join(&file);
+            w.bytes += write_vtu(
+                &path,
+                &points,
+                &cells,
+                &[Data {
+                    name: "displacement_m",
+                    components: 3,
+                    values: &flat,
+                }],
+                &[],
+            )?;
+            w.files.push(path);
+            steps.push((t, file));
+        }
+        let pvd = out.join(format!("{}.pvd", b.name));
+        write_pvd(&pvd, &steps)?;
+        w.files.push(pvd);
+    }
+    w.seconds = start.elapsed().as_secs_f64();
+    Ok(w)
+}
+
+/// `washdyn fields`: the run in `run_dir` (its summary names model and scene; `model` overrides
+/// the model, for model files), fields at `times` into `out` (default `run_dir/fields`).
+pub fn fields_command(
+    run_dir: &Path,
+    model: Option<&str>,
+    times: &Times,
+    fe_dir: &Path,
+    out: Option<&Path>,
+) -> Result<Written, String> {
+    let summary = std::fs::read_to_string(run_dir.join("summary.json"))
+        .map_err(|e| format!("{}/summary.json: {e}", run_dir.display()))?;
+    let summary: serde_json::Value =
+        serde_json::from_str(&summary).map_err(|e| format!("summary.json: {e}"))?;
+    let text = |k: &str| {
+        summary[k]
+            .as_str()
+            .map(str::to_string)
+            .ok_or_else(|| format!("summary.json: no {k}"))
+    };
+    let spec = match model {
+        Some(m) => m.to_string(),
+        None => text("model")?,
+    };
+    let (model, _) = crate::commands::resolve_model(&spec)?;
+    let scene = model
+        .scene(Some(&text("scene")?))
+        .map_err(|e| e.to_string())?;
+    let eq = Equations::new(&model, &scene);
+    let rec = Recovery::new(&model, &eq, fe_dir)?;
+    let states = States::read(&run_dir.join("states.parquet"))
+        .map_err(|e| format!("{e} (run with --states to keep the states for field recovery)"))?;
+    let instants = states.instants(times)?;
+    let out = out.map_or_else(|| run_dir.join("fields"), Path::to_path_buf);
+    write_fields(&rec, &states, &instants, &out)
+}

@@ -1,0 +1,181 @@
+//! Field recovery on the FE meshes (`washdyn fields`), through CalculiX and an independent VTK
+//! reader: the tub's and the drum's modal data and field files are built with ccx, the
+//! reference machine's elastic scene is put at its static rest position, and
+//! - meshio (Python) reads the written grid: node count, cell types, and one node's
+//!   displacement equal to u + alpha x (x - p0) + W q computed here from the stored shapes;
+//! - the drum's bearing node, where the drum is clamped, moves with the tub's bearing patch.
+//!
+//! Without ccx or meshio the test skips, except under CI (`CI=true`), where it fails.
+
+mod common;
+
+use std::process::Command;
+use washdyn::fields::{Recovery, States, write_fields};
+use washdyn_fe::pipeline::build;
+use washdyn_runtime::equations::Equations;
+use washdyn_runtime::system::Interpreter;
+
+fn tools() -> bool {
+    let meshio = Command::new("python3")
+        .args(["-c", "import meshio"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    common::required_tool(
+        washdyn_fe::ccx::available(),
+        "CalculiX",
+        "apt-get install calculix-ccx",
+    ) && common::required_tool(meshio, "meshio", "python3 -m pip install meshio")
+}
+
+#[test]
+fn recovered_fields_are_read_back_by_meshio_and_continuous_at_the_bearing() {
+    if !tools() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let specs = washdyn_fe::bodies::builtin();
+    for spec in &specs[..2] {
+        build(spec, dir.path()).unwrap_or_else(|e| panic!("{e}"));
+    }
+    let model = washdyn_models::built_in("reference").unwrap().unwrap();
+    let scene = model.scene(Some("elastic")).unwrap();
+    let eq = Equations::new(&model, &scene);
+    // The fields must belong to the committed modal data (same solve): Recovery checks it.
+    let rec = Recovery::new(&model, &eq, dir.path()).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        rec.bodies
+            .iter()
+            .map(|b| b.name.as_str())
+            .collect::<Vec<_>>(),
+        ["tub", "drum"]
+    );
+    let mut sys = Interpreter::new(&model, &scene);
+    let q = washdyn_runtime::statics::static_equilibrium(&mut sys, 0.0).unwrap();
+    let states = States {
+        t: vec![0.0, 1.0],
+        phi: vec![0.0, 0.0],
+        q: q.iter().map(|&x| vec![x, x]).collect(),
+    };
+    let out = dir.path().join("fields");
+    let written = write_fields(&rec, &states, &[0.5], &out).unwrap();
+    assert_eq!(
+        written.files.len(),
+        4,
+        "two bodies, one grid and one .pvd each"
+    );
+
+    // By hand: a tub node on the measurement point MP_TUB1, u + alpha x (x - p0) + W q over
+    // the scene's tub modes (the first modes of the file: no correction modes on the tub).
+    let tub = &rec.bodies[0];
+    let h = &tub.field.header;
+    let id = specs[0].mesh.nsets["MP_TUB1"][0];
+    let i = h.ids.iter().position(|&x| x == id).unwrap();
+    let x = h.nodes[i];
+    let p0 = model.tub.cog;
+    let r = [x[0] - p0[0], x[1] - p0[1], x[2] - p0[2]];
+    let a = [q[3], q[4], q[5]];
+    let mut want = [
+        q[0] + a[1] * r[2] - a[2] * r[1],
+        q[1] + a[2] * r[0] - a[0] * r[2],
+        q[2] + a[0] * r[1] - a[1] * r[0],
+    ];
+    let tub_modes = eq.tub_modes.as_ref().unwrap();
+    for k in 0..tub_modes.n {
+        let s = tub.field.shape(k, i);
+        for c in 0..3 {
+            want[c] += s[c] * q[tub_modes.start + k];
+        }
+    }
+    let script = format!(
+        "import meshio, json\n\
+         m = meshio.read('{}')\n\
+         print(json.dumps({{'points': len(m.points), 'types': sorted(c.type for c in m.cells), \
+         'u': m.point_data['displacement_m'][{i}].tolist()}}))",
+        out.join("tub_00000.vtu").display()
+    );
+    let o = Command::new("python3")
+        .args(["-c", &script])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let read: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    eprintln!("meshio: {read}; by hand {want:?}");
+    assert_eq!(read["points"].as_u64().unwrap() as usize, h.nodes.len());
+    let types: Vec<&str> = read["types"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_str().unwrap())
+        .collect();
+    // The tub: S8R shells, C3D20 bricks (hub), B32 beams (stator truss).
+    for t in ["hexahedron20", "line3", "quad8"] {
+        assert!(types.contains(&t), "{types:?}");
+    }
+    let norm = (want[0].powi(2) + want[1].powi(2) + want[2].powi(2)).sqrt();
+    assert!(norm > 1e-4, "the rest position moves the tub ({norm} m)");
+    for c in 0..3 {
+        let u = read["u"][c].as_f64().unwrap();
+        // Written as f64: equal to round-off.
+        assert!(
+            (u - want[c]).abs() <= 1e-12 * norm,
+            "{c}: {u} vs {}",
+            want[c]
+        );
+    }
+
+    // Continuity: the drum's clamped bearing node against the tub's BEARING node set, read as
+    // the drum's mount reads it: the least-squares rigid motion of the set's recovered nodal
+    // displacements, evaluated at the bearing point.
+    let drum = &rec.bodies[1];
+    let (_, du) = rec.displacement(drum, 0.0, &q);
+    let bid = specs[1].mesh.nsets["BEARING"][0];
+    let bi = drum
+        .field
+        .header
+        .ids
+        .iter()
+        .position(|&x| x == bid)
+        .unwrap();
+    let b = drum.field.header.nodes[bi];
+    let (_, tu) = rec.displacement(tub, 0.0, &q);
+    let patch = &specs[0].mesh.nsets["BEARING"];
+    let w: std::collections::HashMap<usize, [f64; 3]> = patch
+        .iter()
+        .map(|id| (*id, tu[h.ids.iter().position(|x| x == id).unwrap()]))
+        .collect();
+    let (uc, th, c) = washdyn_fe::modal::rigid_fit(&specs[0].mesh, patch, &w).unwrap();
+    let rb = [b[0] - c[0], b[1] - c[1], b[2] - c[2]];
+    let fit = [
+        uc[0] + th[1] * rb[2] - th[2] * rb[1],
+        uc[1] + th[2] * rb[0] - th[0] * rb[2],
+        uc[2] + th[0] * rb[1] - th[1] * rb[0],
+    ];
+    let dist = |a: [f64; 3], b: [f64; 3]| {
+        ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+    };
+    let gap = dist(du[bi], fit);
+    let size = dist(fit, [0.0; 3]);
+    // How far the set's nodes themselves depart from that rigid motion (its own deformation).
+    let spread = patch
+        .iter()
+        .map(|id| {
+            let x = specs[0].mesh.nodes[id - 1];
+            let r = [x[0] - c[0], x[1] - c[1], x[2] - c[2]];
+            let rigid = [
+                uc[0] + th[1] * r[2] - th[2] * r[1],
+                uc[1] + th[2] * r[0] - th[0] * r[2],
+                uc[2] + th[0] * r[1] - th[1] * r[0],
+            ];
+            dist(w[id], rigid)
+        })
+        .fold(0.0, f64::max);
+    eprintln!(
+        "bearing: drum {:?}, tub set's rigid fit {fit:?}: gap {gap:.2e} m; the set's nodes \
+         depart from its rigid motion by up to {spread:.2e} m",
+        du[bi]
+    );
+    assert!(size > 1e-4);
+    // The same motion through two paths (modal rows at the point vs the fit of the recovered
+    // nodes): equal to round-off.
+    assert!(gap < 1e-9 * size, "gap {gap} m against {size} m");
+}

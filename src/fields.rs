@@ -391,12 +391,20 @@ pub fn write_fields(
     Ok(w)
 }
 
+/// What `washdyn fields` makes.
+pub enum Request {
+    /// Grids at these instants.
+    Fields(Times),
+    /// The drum's front edge over the run, every `stride`-th sample (`svg`: also SVG).
+    DrumEdge { stride: usize, svg: bool },
+}
+
 /// `washdyn fields`: the run in `run_dir` (its summary names model and scene; `model` overrides
-/// the model, for model files), fields at `times` into `out` (default `run_dir/fields`).
+/// the model, for model files), into `out` (default `run_dir/fields`).
 pub fn fields_command(
     run_dir: &Path,
     model: Option<&str>,
-    times: &Times,
+    request: &Request,
     fe_dir: &Path,
     out: Option<&Path>,
 ) -> Result<Written, String> {
@@ -422,7 +430,158 @@ pub fn fields_command(
     let rec = Recovery::new(&model, &eq, fe_dir)?;
     let states = States::read(&run_dir.join("states.parquet"))
         .map_err(|e| format!("{e} (run with --states to keep the states for field recovery)"))?;
-    let instants = states.instants(times)?;
     let out = out.map_or_else(|| run_dir.join("fields"), Path::to_path_buf);
-    write_fields(&rec, &states, &instants, &out)
+    match request {
+        Request::Fields(times) => {
+            let instants = states.instants(times)?;
+            write_fields(&rec, &states, &instants, &out)
+        }
+        Request::DrumEdge { stride, svg } => {
+            let start = std::time::Instant::now();
+            let rows = drum_edge(&rec, &states, *stride)?;
+            let files = write_drum_edge(&rows, &out, *svg)?;
+            let top = rows.iter().max_by(|a, b| a.max_m.total_cmp(&b.max_m));
+            Ok(Written {
+                bytes: files
+                    .iter()
+                    .filter_map(|f| std::fs::metadata(f).ok())
+                    .map(|m| m.len())
+                    .sum(),
+                files,
+                seconds: start.elapsed().as_secs_f64(),
+                largest: top.map(|r| ("drum front edge".into(), r.max_m, r.node, r.t)),
+            })
+        }
+    }
+}
+
+/// One row of the drum's front edge over a run.
+pub struct EdgeRow {
+    pub t: f64,
+    pub rpm: f64,
+    /// Largest elastic displacement (the drum's own modes, drum frame) over the front rim, m.
+    pub max_m: f64,
+    /// FE node id where it occurs.
+    pub node: usize,
+}
+
+/// The drum's front edge (the rim nodes within 1 mm of its front) over the stored states, every
+/// `stride`-th sample: the seed paper's Figure 11 (drum deformation against speed). Only the
+/// drum's own modes count: its deformation, not the tub's motion that carries it.
+pub fn drum_edge(rec: &Recovery, states: &States, stride: usize) -> Result<Vec<EdgeRow>, String> {
+    let drum = rec
+        .bodies
+        .iter()
+        .find(|b| b.name == "drum")
+        .ok_or("no drum field")?;
+    let (start, t) = drum
+        .modes
+        .as_ref()
+        .ok_or("the drum is rigid in this scene: no deformation to show")?;
+    let h = &drum.field.header;
+    let front = h.nodes.iter().map(|x| x[0]).fold(f64::MIN, f64::max);
+    let rim: Vec<usize> = (0..h.nodes.len())
+        .filter(|&i| h.nodes[i][0] >= front - 1e-3)
+        .collect();
+    let n = states.t.len();
+    let mut rows = Vec::new();
+    for s in (0..n).step_by(stride.max(1)) {
+        let (a, b) = (s.saturating_sub(1), (s + 1).min(n - 1));
+        let rpm = if b > a {
+            (states.phi[b] - states.phi[a]) / (states.t[b] - states.t[a]) * 30.0
+                / std::f64::consts::PI
+        } else {
+            0.0
+        };
+        let qs: Vec<f64> = (0..t.ncols()).map(|j| states.q[start + j][s]).collect();
+        let qf: Vec<f64> = (0..t.nrows())
+            .map(|k| (0..t.ncols()).map(|j| t[(k, j)] * qs[j]).sum())
+            .collect();
+        let (mut max_m, mut node) = (0.0f64, 0);
+        for &i in &rim {
+            let mut w = [0.0; 3];
+            for (k, x) in qf.iter().enumerate() {
+                let sh = drum.field.shape(k, i);
+                for c in 0..3 {
+                    w[c] += sh[c] * x;
+                }
+            }
+            let m = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+            if m > max_m {
+                (max_m, node) = (m, h.ids[i]);
+            }
+        }
+        rows.push(EdgeRow {
+            t: states.t[s],
+            rpm,
+            max_m,
+            node,
+        });
+    }
+    Ok(rows)
+}
+
+/// `drum_edge.csv` and its plot over speed (PNG, and SVG with `svg`).
+pub fn write_drum_edge(rows: &[EdgeRow], out: &Path, svg: bool) -> Result<Vec<PathBuf>, String> {
+    use plotters::prelude::*;
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    let csv = out.join("drum_edge.csv");
+    let mut text = String::from("time_s,drum_rpm,front_edge_max_m,node\n");
+    for r in rows {
+        text += &format!("{},{},{},{}\n", r.t, r.rpm, r.max_m, r.node);
+    }
+    std::fs::write(&csv, text).map_err(|e| format!("{}: {e}", csv.display()))?;
+    let mut files = vec![csv];
+    crate::analysis::plot::init_fonts();
+    let png = out.join("drum_edge.png");
+    draw_edge(
+        &BitMapBackend::new(&png, (1024, 640)).into_drawing_area(),
+        rows,
+    )
+    .map_err(|x| format!("{}: {x}", png.display()))?;
+    files.push(png);
+    if svg {
+        let p = out.join("drum_edge.svg");
+        draw_edge(&SVGBackend::new(&p, (1024, 640)).into_drawing_area(), rows)
+            .map_err(|x| format!("{}: {x}", p.display()))?;
+        files.push(p);
+    }
+    Ok(files)
+}
+
+type PResult = Result<(), Box<dyn std::error::Error + Send + Sync>>;
+
+fn draw_edge<DB: plotters::prelude::DrawingBackend>(
+    root: &plotters::prelude::DrawingArea<DB, plotters::coord::Shift>,
+    rows: &[EdgeRow],
+) -> PResult
+where
+    DB::ErrorType: 'static,
+{
+    use plotters::prelude::*;
+    root.fill(&WHITE)?;
+    let rpm_max = rows.iter().map(|r| r.rpm).fold(1.0, f64::max);
+    let mm_max = rows.iter().map(|r| r.max_m * 1e3).fold(1e-6, f64::max) * 1.05;
+    let mut chart = ChartBuilder::on(root)
+        .caption(
+            "drum front edge: largest elastic displacement over speed",
+            ("sans-serif", 24),
+        )
+        .margin(20)
+        .x_label_area_size(50)
+        .y_label_area_size(70)
+        .build_cartesian_2d(0.0..rpm_max, 0.0..mm_max)?;
+    chart
+        .configure_mesh()
+        .x_desc("drum speed [rpm]")
+        .y_desc("displacement [mm]")
+        .label_style(("sans-serif", 18))
+        .axis_desc_style(("sans-serif", 20))
+        .draw()?;
+    chart.draw_series(
+        rows.iter()
+            .map(|r| Circle::new((r.rpm, r.max_m * 1e3), 1, BLUE.filled())),
+    )?;
+    root.present()?;
+    Ok(())
 }

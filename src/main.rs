@@ -107,6 +107,13 @@ enum Cmd {
         /// One drum revolution from this time, s (36 frames).
         #[arg(long)]
         revolution: Option<f64>,
+        /// Instead of grids: the drum's front-edge deformation over the run against speed
+        /// (drum_edge.csv, .png), every STRIDE-th stored sample.
+        #[arg(long, value_name = "STRIDE")]
+        drum_edge: Option<usize>,
+        /// Also write the drum-edge plot as SVG.
+        #[arg(long)]
+        svg: bool,
         /// Where `washdyn fe modal` left the field files (<body>.field.bin).
         #[arg(long, default_value = "out/fe/work")]
         fe: PathBuf,
@@ -497,17 +504,23 @@ fn main() -> ExitCode {
             times,
             range,
             revolution,
+            drum_edge,
+            svg,
             fe,
             out,
         } => {
-            let times = match (times, range, revolution) {
-                (Some(t), None, None) => Ok(washdyn::fields::Times::List(t)),
-                (None, Some(r), None) => parse_range(&r),
-                (None, None, Some(t)) => Ok(washdyn::fields::Times::Revolution(t)),
-                _ => Err("give exactly one of --times, --range, --revolution".to_string()),
+            use washdyn::fields::{Request, Times};
+            let request = match (times, range, revolution, drum_edge) {
+                (Some(t), None, None, None) => Ok(Request::Fields(Times::List(t))),
+                (None, Some(r), None, None) => parse_range(&r).map(Request::Fields),
+                (None, None, Some(t), None) => Ok(Request::Fields(Times::Revolution(t))),
+                (None, None, None, Some(stride)) => Ok(Request::DrumEdge { stride, svg }),
+                _ => Err(
+                    "give exactly one of --times, --range, --revolution, --drum-edge".to_string(),
+                ),
             };
-            match times.and_then(|t| {
-                washdyn::fields::fields_command(&run, model.as_deref(), &t, &fe, out.as_deref())
+            match request.and_then(|r| {
+                washdyn::fields::fields_command(&run, model.as_deref(), &r, &fe, out.as_deref())
             }) {
                 Ok(w) => {
                     println!(
@@ -518,7 +531,7 @@ fn main() -> ExitCode {
                     );
                     if let Some((body, m, node, t)) = w.largest {
                         println!(
-                            "largest displacement {:.3} mm: {body} node {node} at t = {t:.3} s",
+                            "largest displacement {:.4} mm: {body} node {node} at t = {t:.3} s",
                             m * 1e3
                         );
                     }

@@ -154,6 +154,110 @@ impl Recovery {
         })
     }
 
+    /// The body's coordinates in its field's (file) modes, q_file = T q_scene.
+    fn file_coordinates(b: &BodyField, q: &[f64]) -> Option<Vec<f64>> {
+        b.modes.as_ref().map(|(start, t)| {
+            let qs = &q[*start..*start + t.ncols()];
+            (0..t.nrows())
+                .map(|k| (0..t.ncols()).map(|j| t[(k, j)] * qs[j]).sum())
+                .collect()
+        })
+    }
+
+    /// Stresses at each node of `b` (global components), from the modal stresses: per node,
+    /// the stress point (face) with the largest von Mises stress. None for a rigid body or a
+    /// field without stresses.
+    pub fn stresses(&self, b: &BodyField, phi: f64, q: &[f64]) -> Option<NodeStresses> {
+        let f = &b.field;
+        if !f.has_stresses() {
+            return None;
+        }
+        let qf = Self::file_coordinates(b, q)?;
+        // The drum's modal stresses are in its own frame: sigma_global = R sigma R^T.
+        let rot = match &b.motion {
+            Motion::Drum { axis, .. } => {
+                let e = V::c(*axis);
+                let (c, s) = (phi.cos(), phi.sin());
+                let cols: Vec<[f64; 3]> = (0..3)
+                    .map(|j| {
+                        let mut u = [0.0; 3];
+                        u[j] = 1.0;
+                        rotate(e, c, s, V::c(u)).0
+                    })
+                    .collect();
+                Some(nalgebra::Matrix3::from_fn(|i, j| cols[j][i]))
+            }
+            _ => None,
+        };
+        let n = f.header.nodes.len();
+        let mut out = NodeStresses {
+            von_mises: Vec::with_capacity(n),
+            tensor: Vec::with_capacity(n),
+            principal: Vec::with_capacity(n),
+        };
+        for i in 0..n {
+            let mut best = (0.0f64, [0.0; 6]);
+            for p in f.stress_points(i) {
+                let mut sg = [0.0; 6];
+                for (k, x) in qf.iter().enumerate() {
+                    let sk = f.stress(k, p);
+                    for c in 0..6 {
+                        sg[c] += sk[c] * x;
+                    }
+                }
+                let vm = washdyn_fe::stress::von_mises(&sg);
+                if vm >= best.0 {
+                    best = (vm, sg);
+                }
+            }
+            let [xx, yy, zz, xy, yz, zx] = best.1;
+            let mut m = nalgebra::Matrix3::new(xx, xy, zx, xy, yy, yz, zx, yz, zz);
+            if let Some(r) = &rot {
+                m = r * m * r.transpose();
+            }
+            let mut ev: Vec<f64> = m.symmetric_eigenvalues().iter().copied().collect();
+            ev.sort_by(|a, b| b.total_cmp(a));
+            out.von_mises.push(best.0);
+            out.tensor.push([
+                m[(0, 0)],
+                m[(1, 1)],
+                m[(2, 2)],
+                m[(0, 1)],
+                m[(1, 2)],
+                m[(0, 2)],
+            ]);
+            out.principal.push([ev[0], ev[1], ev[2]]);
+        }
+        Some(out)
+    }
+
+    /// The largest von Mises stress over `b`'s nodes (Pa) and its node id (invariant: no frame
+    /// rotation needed). None without stresses.
+    pub fn peak_von_mises(&self, b: &BodyField, q: &[f64]) -> Option<(f64, usize)> {
+        let f = &b.field;
+        if !f.has_stresses() {
+            return None;
+        }
+        let qf = Self::file_coordinates(b, q)?;
+        let mut best = (0.0f64, 0);
+        for i in 0..f.header.nodes.len() {
+            for p in f.stress_points(i) {
+                let mut sg = [0.0; 6];
+                for (k, x) in qf.iter().enumerate() {
+                    let sk = f.stress(k, p);
+                    for c in 0..6 {
+                        sg[c] += sk[c] * x;
+                    }
+                }
+                let vm = washdyn_fe::stress::von_mises(&sg);
+                if vm > best.0 {
+                    best = (vm, f.header.ids[i]);
+                }
+            }
+        }
+        Some(best)
+    }
+
     /// Points (the drum turned by phi) and nodal displacements (m, global) of `b` at state q.
     pub fn displacement(
         &self,
@@ -162,12 +266,7 @@ impl Recovery {
         q: &[f64],
     ) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
         let h = &b.field.header;
-        let qf: Option<Vec<f64>> = b.modes.as_ref().map(|(start, t)| {
-            let qs = &q[*start..*start + t.ncols()];
-            (0..t.nrows())
-                .map(|k| (0..t.ncols()).map(|j| t[(k, j)] * qs[j]).sum())
-                .collect()
-        });
+        let qf = Self::file_coordinates(b, q);
         let elastic = |i: usize| -> [f64; 3] {
             let mut w = [0.0; 3];
             if let Some(qf) = &qf {
@@ -217,6 +316,14 @@ fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 }
 fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+
+/// Recovered stresses per node: von Mises (Pa), the tensor (xx, yy, zz, xy, yz, xz; Pa,
+/// global) and the principal stresses (descending) at the node's most loaded face.
+pub struct NodeStresses {
+    pub von_mises: Vec<f64>,
+    pub tensor: Vec<[f64; 6]>,
+    pub principal: Vec<[f64; 3]>,
 }
 
 /// Which instants to recover.
@@ -321,6 +428,8 @@ pub struct Written {
     pub seconds: f64,
     /// Largest displacement: (body, m, node id, time).
     pub largest: Option<(String, f64, usize, f64)>,
+    /// Largest von Mises stress: (body, Pa, node id, time).
+    pub peak_stress: Option<(String, f64, usize, f64)>,
 }
 
 /// Recover the fields of every body at `instants` into `out` (`<body>_<k>.vtu`, `<body>.pvd`).
@@ -344,6 +453,7 @@ pub fn write_fields(
         bytes: 0,
         seconds: 0.0,
         largest: None,
+        peak_stress: None,
     };
     for b in &rec.bodies {
         let cells: Vec<Cell> = b
@@ -369,17 +479,44 @@ pub fn write_fields(
             let flat: Vec<f64> = disp.iter().flatten().copied().collect();
             let file = format!("{}_{k:05}.vtu", b.name);
             let path = out.join(&file);
-            w.bytes += write_vtu(
-                &path,
-                &points,
-                &cells,
-                &[Data {
-                    name: "displacement_m",
+            let mut data = vec![Data {
+                name: "displacement_m",
+                components: 3,
+                values: &flat,
+            }];
+            let st = rec.stresses(b, phi, &q);
+            let (tensor, principal): (Vec<f64>, Vec<f64>) = st.as_ref().map_or_else(
+                || (Vec::new(), Vec::new()),
+                |s| {
+                    (
+                        s.tensor.iter().flatten().copied().collect(),
+                        s.principal.iter().flatten().copied().collect(),
+                    )
+                },
+            );
+            if let Some(s) = &st {
+                data.push(Data {
+                    name: "von_mises_Pa",
+                    components: 1,
+                    values: &s.von_mises,
+                });
+                data.push(Data {
+                    name: "stress_Pa",
+                    components: 6,
+                    values: &tensor,
+                });
+                data.push(Data {
+                    name: "principal_stress_Pa",
                     components: 3,
-                    values: &flat,
-                }],
-                &[],
-            )?;
+                    values: &principal,
+                });
+                for (i, v) in s.von_mises.iter().enumerate() {
+                    if w.peak_stress.as_ref().is_none_or(|l| *v > l.1) {
+                        w.peak_stress = Some((b.name.clone(), *v, b.field.header.ids[i], t));
+                    }
+                }
+            }
+            w.bytes += write_vtu(&path, &points, &cells, &data, &[])?;
             w.files.push(path);
             steps.push((t, file));
         }
@@ -441,6 +578,10 @@ pub fn fields_command(
             let rows = drum_edge(&rec, &states, *stride)?;
             let files = write_drum_edge(&rows, &out, *svg)?;
             let top = rows.iter().max_by(|a, b| a.max_m.total_cmp(&b.max_m));
+            let peak = rows
+                .iter()
+                .filter_map(|r| r.peak.map(|p| (p, r.t)))
+                .max_by(|a, b| a.0.0.total_cmp(&b.0.0));
             Ok(Written {
                 bytes: files
                     .iter()
@@ -450,6 +591,7 @@ pub fn fields_command(
                 files,
                 seconds: start.elapsed().as_secs_f64(),
                 largest: top.map(|r| ("drum front edge".into(), r.max_m, r.node, r.t)),
+                peak_stress: peak.map(|((pa, node), t)| ("drum".into(), pa, node, t)),
             })
         }
     }
@@ -463,6 +605,8 @@ pub struct EdgeRow {
     pub max_m: f64,
     /// FE node id where it occurs.
     pub node: usize,
+    /// The drum's largest von Mises stress (Pa) and its node, when the field has stresses.
+    pub peak: Option<(f64, usize)>,
 }
 
 /// The drum's front edge (the rim nodes within 1 mm of its front) over the stored states, every
@@ -511,11 +655,13 @@ pub fn drum_edge(rec: &Recovery, states: &States, stride: usize) -> Result<Vec<E
                 (max_m, node) = (m, h.ids[i]);
             }
         }
+        let q: Vec<f64> = states.q.iter().map(|c| c[s]).collect();
         rows.push(EdgeRow {
             t: states.t[s],
             rpm,
             max_m,
             node,
+            peak: rec.peak_von_mises(drum, &q),
         });
     }
     Ok(rows)
@@ -526,9 +672,11 @@ pub fn write_drum_edge(rows: &[EdgeRow], out: &Path, svg: bool) -> Result<Vec<Pa
     use plotters::prelude::*;
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let csv = out.join("drum_edge.csv");
-    let mut text = String::from("time_s,drum_rpm,front_edge_max_m,node\n");
+    let mut text =
+        String::from("time_s,drum_rpm,front_edge_max_m,node,peak_von_mises_Pa,peak_node\n");
     for r in rows {
-        text += &format!("{},{},{},{}\n", r.t, r.rpm, r.max_m, r.node);
+        let (p, pn) = r.peak.map_or((f64::NAN, 0), |p| p);
+        text += &format!("{},{},{},{},{p},{pn}\n", r.t, r.rpm, r.max_m, r.node);
     }
     std::fs::write(&csv, text).map_err(|e| format!("{}: {e}", csv.display()))?;
     let mut files = vec![csv];

@@ -535,6 +535,12 @@ fn main() -> ExitCode {
                             m * 1e3
                         );
                     }
+                    if let Some((body, pa, node, t)) = w.peak_stress {
+                        println!(
+                            "peak von Mises stress {:.2} MPa: {body} node {node} at t = {t:.3} s",
+                            pa * 1e-6
+                        );
+                    }
                     ExitCode::SUCCESS
                 }
                 Err(e) => {

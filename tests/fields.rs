@@ -179,3 +179,163 @@ fn recovered_fields_are_read_back_by_meshio_and_continuous_at_the_bearing() {
     // nodes): equal to round-off.
     assert!(gap < 1e-9 * size, "gap {gap} m against {size} m");
 }
+
+/// The paper's route as the reference for stresses: the drum's nodal displacements recovered
+/// from a combination of its modes, imposed on its CalculiX model (`*BOUNDARY` on every
+/// structural node, `*STATIC`); ccx's von Mises stress at the faces against the modal
+/// superposition of the stored modal stresses, node by node.
+#[test]
+fn drum_stresses_by_modal_superposition_match_calculix_under_the_same_displacements() {
+    if !tools() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let spec = washdyn_fe::bodies::builtin().remove(1);
+    build(&spec, dir.path()).unwrap_or_else(|e| panic!("{e}"));
+    let field = washdyn_fe::field::Field::read(&dir.path().join("drum.field.bin")).unwrap();
+    assert!(field.has_stresses());
+    let h = &field.header;
+    // Every mode takes part, with alternating signs (m kg^0.5).
+    let q: Vec<f64> = (0..field.modes())
+        .map(|k| 2e-3 * if k % 2 == 0 { 1.0 } else { -0.7 } / (k + 1) as f64)
+        .collect();
+    let disp = |i: usize| {
+        let mut u = [0.0; 3];
+        for (k, x) in q.iter().enumerate() {
+            let s = field.shape(k, i);
+            for c in 0..3 {
+                u[c] += s[c] * x;
+            }
+        }
+        u
+    };
+    // Ours: per node, the largest von Mises over its stress points.
+    let ours: Vec<f64> = (0..h.nodes.len())
+        .map(|i| {
+            field
+                .stress_points(i)
+                .map(|p| {
+                    let mut s = [0.0; 6];
+                    for (k, x) in q.iter().enumerate() {
+                        let sk = field.stress(k, p);
+                        for c in 0..6 {
+                            s[c] += sk[c] * x;
+                        }
+                    }
+                    washdyn_fe::stress::von_mises(&s)
+                })
+                .fold(0.0, f64::max)
+        })
+        .collect();
+
+    // ccx: the same displacements imposed on every structural node outside the rigid pulley
+    // (its nodes follow their *RIGID BODY) and the clamped bearing.
+    let mesh = &spec.mesh;
+    let mut skip: std::collections::HashSet<usize> = mesh.printed_nodes().into_iter().collect();
+    skip.extend(&mesh.nsets["BEARING"]);
+    let mut d = mesh.model_deck();
+    d.line("*STEP").line("*STATIC").line("*BOUNDARY");
+    for (i, id) in h.ids.iter().enumerate() {
+        if skip.contains(id) {
+            continue;
+        }
+        let u = disp(i);
+        for c in 0..3 {
+            d.line(&format!("{id}, {}, {}, {:.12e}", c + 1, c + 1, u[c]));
+        }
+    }
+    d.line("*NODE FILE")
+        .line("U")
+        .line("*EL FILE")
+        .line("S")
+        .line("*END STEP");
+    let deck = dir.path().join("imposed.inp");
+    std::fs::write(&deck, d.text()).unwrap();
+    let run = washdyn_fe::ccx::run(&deck).unwrap_or_else(|e| panic!("{e}"));
+    let frd = washdyn_fe::frd::parse(&std::fs::read_to_string(run.frd()).unwrap()).unwrap();
+    // A static step's stress block.
+    let stress = read_static_stress(&std::fs::read_to_string(run.frd()).unwrap());
+    let points = washdyn_fe::stress::associate(mesh, &frd).unwrap();
+    let peak = ours.iter().copied().fold(0.0, f64::max);
+    let (mut worst, mut at, mut compared) = (0.0f64, 0, 0);
+    let mut errs = Vec::new();
+    let mut ccx_peak = 0.0f64;
+    for (i, id) in h.ids.iter().enumerate() {
+        let Some(exp) = points.get(id) else { continue };
+        if skip.contains(id) {
+            continue;
+        }
+        let theirs = exp
+            .iter()
+            .filter_map(|e| stress.get(e))
+            .map(washdyn_fe::stress::von_mises)
+            .fold(0.0, f64::max);
+        ccx_peak = ccx_peak.max(theirs);
+        let err = (theirs - ours[i]).abs() / peak;
+        errs.push((err, *id));
+        compared += 1;
+        if err > worst {
+            (worst, at) = (err, *id);
+        }
+    }
+    eprintln!(
+        "{compared} nodes; peak von Mises: ours {:.4} MPa, ccx {:.4} MPa; worst node {at}: {worst:.2e} of the peak",
+        peak * 1e-6,
+        ccx_peak * 1e-6
+    );
+    errs.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let part = |id: usize| {
+        mesh.parts
+            .iter()
+            .find(|p| p.elements.iter().any(|e| e.contains(&id)))
+            .map_or("?".to_string(), |p| p.name.clone())
+    };
+    for (e, id) in errs.iter().take(12) {
+        eprintln!(
+            "  node {id} ({}): {e:.2e} at {:?}",
+            part(*id),
+            mesh.nodes[id - 1]
+        );
+    }
+    let pct = |q: f64| errs[((1.0 - q) * errs.len() as f64) as usize].0;
+    eprintln!(
+        "  node error (of the peak): median {:.1e}, 90 % {:.1e}, 99 % {:.1e}",
+        pct(0.5),
+        pct(0.9),
+        pct(0.99)
+    );
+    // Measured: the peak (181.6 MPa) to 1.5e-4; 90 % of the nodes within 1.6e-2 of the peak.
+    // The worst nodes (17 %) lie on the 0.5 mm back wall near r = 0.19 m, where the spider's
+    // brick arms join it: with only translations imposed, the shell's rotations there settle
+    // to static equilibrium rather than to the modes' own (the stiff bricks against the thin
+    // wall make them sensitive), so the bound there is loose.
+    assert!(compared > 5000);
+    assert!(
+        (ccx_peak - peak).abs() < 1e-3 * peak,
+        "{ccx_peak} vs {peak}"
+    );
+    assert!(pct(0.9) < 3e-2, "{}", pct(0.9));
+    assert!(worst < 0.25, "{worst} at node {at}");
+}
+
+/// The stress block of a static step in an .frd (6 values per node).
+fn read_static_stress(text: &str) -> std::collections::HashMap<usize, [f64; 6]> {
+    let mut out = std::collections::HashMap::new();
+    let mut on = false;
+    for l in text.lines() {
+        if l.starts_with(" -4") {
+            on = l.contains("STRESS");
+            continue;
+        }
+        if l.starts_with(" -3") {
+            on = false;
+        }
+        if on && l.starts_with(" -1") {
+            let id: usize = l[3..13].trim().parse().unwrap();
+            let v: [f64; 6] =
+                std::array::from_fn(|k| l[13 + 12 * k..25 + 12 * k].trim().parse().unwrap());
+            out.insert(id, v);
+        }
+    }
+    out
+}

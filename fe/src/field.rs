@@ -5,7 +5,8 @@
 //! frequencies and one point's shapes, so a field from another solve is refused, not misread.
 //!
 //! Format: the magic `WDFIELD1`, the header's length (u64 LE), the header (JSON), then the
-//! shapes as f64 LE, mode-major: value[(k * nodes + i) * 3 + a].
+//! shapes as f64 LE, mode-major: value[(k * nodes + i) * 3 + a], then the modal stresses at
+//! the stress points, mode-major: value[(k * points + p) * 6 + c].
 
 use crate::mesh::{Mesh, Section};
 use crate::modal::Shapes;
@@ -14,6 +15,18 @@ use std::io::{Read, Write};
 use std::path::Path;
 
 const MAGIC: &[u8; 8] = b"WDFIELD1";
+
+/// Running sums: the first stress point of each node, and the total last.
+fn starts(counts: &[u32]) -> Vec<usize> {
+    let mut v = Vec::with_capacity(counts.len() + 1);
+    let mut s = 0;
+    v.push(0);
+    for c in counts {
+        s += *c as usize;
+        v.push(s);
+    }
+    v
+}
 
 /// VTK cell types of the quadratic elements ccx uses.
 pub const VTK_QUADRATIC_EDGE: u8 = 21;
@@ -40,6 +53,10 @@ pub struct FieldHeader {
     /// The modal data's first point (name) and its w[a][k]: a sign check against the data.
     pub check_point: String,
     pub check_w: [Vec<f64>; 3],
+    /// Stress points (ccx's expanded nodes: a shell node's two faces, a beam node's section
+    /// corners, a solid's node itself) per node; empty when the field has no stresses.
+    #[serde(default)]
+    pub stress_points: Vec<u32>,
 }
 
 /// Mode shapes at every structural node of a body.
@@ -48,6 +65,11 @@ pub struct Field {
     pub header: FieldHeader,
     /// value[(k * nodes + i) * 3 + a].
     pub shapes: Vec<f64>,
+    /// Modal stresses, Pa per unit coordinate: value[(k * points + p) * 6 + c], stress points p
+    /// in node order, c over xx, yy, zz, xy, yz, zx.
+    pub stresses: Vec<f64>,
+    /// First stress point of each node (len nodes + 1).
+    pub stress_start: Vec<usize>,
 }
 
 impl Field {
@@ -56,6 +78,7 @@ impl Field {
         mesh: &Mesh,
         modes: &[Shapes],
         data: &washdyn_runtime::ir::modal::ModalData,
+        stress: Option<&crate::stress::ModalStress>,
     ) -> Result<Field, String> {
         let ids = mesh.element_nodes();
         let ids: Vec<usize> = ids
@@ -102,7 +125,23 @@ impl Field {
                 shapes[(k * n + i) * 3..(k * n + i) * 3 + 3].copy_from_slice(&w);
             }
         }
+        let mut stress_points = Vec::new();
+        let mut stresses = Vec::new();
+        if let Some(st) = stress {
+            let none = Vec::new();
+            let pts: Vec<&Vec<usize>> = ids
+                .iter()
+                .map(|id| st.points.get(id).unwrap_or(&none))
+                .collect();
+            stress_points = pts.iter().map(|v| v.len() as u32).collect();
+            for m in &st.per_mode {
+                for e in pts.iter().copied().flatten() {
+                    stresses.extend_from_slice(&m.get(e).copied().unwrap_or([0.0; 6]));
+                }
+            }
+        }
         let p = data.points.first().ok_or("modal data without points")?;
+        let stress_start = starts(&stress_points);
         Ok(Field {
             header: FieldHeader {
                 body: format!("{:?}", data.body).to_lowercase(),
@@ -112,9 +151,29 @@ impl Field {
                 frequencies: data.frequencies.clone(),
                 check_point: p.name.clone(),
                 check_w: p.w.clone(),
+                stress_points,
             },
             shapes,
+            stresses,
+            stress_start,
         })
+    }
+
+    /// Does the field carry stresses?
+    pub fn has_stresses(&self) -> bool {
+        !self.stresses.is_empty()
+    }
+
+    /// The stress points of node index i (a range into the points).
+    pub fn stress_points(&self, i: usize) -> std::ops::Range<usize> {
+        self.stress_start[i]..self.stress_start[i + 1]
+    }
+
+    /// Modal stress of mode k at stress point p.
+    pub fn stress(&self, k: usize, p: usize) -> [f64; 6] {
+        let n = *self.stress_start.last().unwrap_or(&0);
+        let o = (k * n + p) * 6;
+        std::array::from_fn(|c| self.stresses[o + c])
     }
 
     pub fn modes(&self) -> usize {
@@ -136,7 +195,7 @@ impl Field {
         f.write_all(&(head.len() as u64).to_le_bytes())
             .map_err(err)?;
         f.write_all(&head).map_err(err)?;
-        for v in &self.shapes {
+        for v in self.shapes.iter().chain(&self.stresses) {
             f.write_all(&v.to_le_bytes()).map_err(err)?;
         }
         f.flush().map_err(err)
@@ -158,18 +217,27 @@ impl Field {
         let header: FieldHeader =
             serde_json::from_slice(body).map_err(|e| err(format!("header: {e}")))?;
         let rest = &bytes[16 + len..];
-        let want = header.frequencies.len() * header.nodes.len() * 3;
-        if rest.len() != want * 8 {
+        let stress_start = starts(&header.stress_points);
+        let n_shapes = header.frequencies.len() * header.nodes.len() * 3;
+        let n_stress = header.frequencies.len() * stress_start.last().unwrap_or(&0) * 6;
+        if rest.len() != (n_shapes + n_stress) * 8 {
             return Err(err(format!(
-                "{} shape values, expected {want}",
-                rest.len() / 8
+                "{} values, expected {}",
+                rest.len() / 8,
+                n_shapes + n_stress
             )));
         }
-        let shapes = rest
+        let mut values = rest
             .chunks_exact(8)
-            .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
-            .collect();
-        Ok(Field { header, shapes })
+            .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")));
+        let shapes = values.by_ref().take(n_shapes).collect();
+        let stresses = values.collect();
+        Ok(Field {
+            header,
+            shapes,
+            stresses,
+            stress_start,
+        })
     }
 
     /// Is this the field of `data` (same solve)? Frequencies to 1e-9 and the check point's

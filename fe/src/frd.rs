@@ -19,6 +19,12 @@ pub struct Frd {
     pub modes: Vec<Mode>,
     /// Displacements of each `*STATIC` step's result block, in file order.
     pub statics: Vec<Vec<(usize, [f64; 3])>>,
+    /// Stresses (xx, yy, zz, xy, yz, zx; Pa per unit modal coordinate) per eigenmode, in file
+    /// order, when the deck asked for them (`*EL FILE` / `S`).
+    pub stresses: Vec<Vec<(usize, [f64; 6])>>,
+    /// Elements as ccx writes them (number, nodes): with 3-D output, the expanded shells and
+    /// beams (20-node bricks) under their original numbers.
+    pub elements: Vec<(usize, Vec<usize>)>,
 }
 
 /// A ` -1` record: node id and up to three values.
@@ -29,6 +35,23 @@ fn record(l: &str, line: usize) -> Result<(usize, [f64; 3]), String> {
         .and_then(|s| s.trim().parse::<usize>().ok())
         .ok_or_else(|| bad("no node number"))?;
     let mut v = [0.0; 3];
+    for (k, x) in v.iter_mut().enumerate() {
+        let s = l
+            .get(13 + 12 * k..25 + 12 * k)
+            .ok_or_else(|| bad("short record"))?;
+        *x = s.trim().parse().map_err(|_| bad("not a number"))?;
+    }
+    Ok((id, v))
+}
+
+/// A ` -1` record with six values (stresses).
+fn record6(l: &str, line: usize) -> Result<(usize, [f64; 6]), String> {
+    let bad = |what: &str| format!("line {line}: {what} in `{l}`");
+    let id = l
+        .get(3..13)
+        .and_then(|s| s.trim().parse::<usize>().ok())
+        .ok_or_else(|| bad("no node number"))?;
+    let mut v = [0.0; 6];
     for (k, x) in v.iter_mut().enumerate() {
         let s = l
             .get(13 + 12 * k..25 + 12 * k)
@@ -52,6 +75,32 @@ pub fn parse(text: &str) -> Result<Frd, String> {
                 }
                 if l.starts_with(" -1") {
                     frd.nodes.push(record(l, k + 1)?);
+                }
+            }
+        } else if t.starts_with("3C") {
+            // Elements: ` -1 number type group material`, then ` -2` lines of node numbers.
+            for (k, l) in lines.by_ref() {
+                if l.starts_with(" -3") {
+                    break;
+                }
+                if l.starts_with(" -1") {
+                    let n = l
+                        .split_whitespace()
+                        .nth(1)
+                        .and_then(|x| x.parse::<usize>().ok())
+                        .ok_or_else(|| format!("line {}: no element number", k + 1))?;
+                    frd.elements.push((n, Vec::new()));
+                } else if l.starts_with(" -2") {
+                    let e = frd
+                        .elements
+                        .last_mut()
+                        .ok_or_else(|| format!("line {}: nodes before an element", k + 1))?;
+                    for x in l.split_whitespace().skip(1) {
+                        e.1.push(
+                            x.parse()
+                                .map_err(|_| format!("line {}: bad node number", k + 1))?,
+                        );
+                    }
                 }
             }
         } else if t.starts_with("100CL") && !t.contains("MODAL") {
@@ -85,10 +134,12 @@ pub fn parse(text: &str) -> Result<Frd, String> {
                 .and_then(|w| w.trim_end_matches("MODAL").parse::<usize>().ok())
                 .unwrap_or(frd.modes.len() + 1);
             let mut disp = Vec::new();
-            let mut is_disp = false;
+            let mut stress = Vec::new();
+            let (mut is_disp, mut is_stress) = (false, false);
             for (k, l) in lines.by_ref() {
                 if l.starts_with(" -4") {
                     is_disp = l.contains("DISP");
+                    is_stress = l.contains("STRESS");
                 }
                 if l.starts_with(" -3") {
                     break;
@@ -96,6 +147,12 @@ pub fn parse(text: &str) -> Result<Frd, String> {
                 if is_disp && l.starts_with(" -1") {
                     disp.push(record(l, k + 1)?);
                 }
+                if is_stress && l.starts_with(" -1") {
+                    stress.push(record6(l, k + 1)?);
+                }
+            }
+            if is_stress {
+                frd.stresses.push(stress);
             }
             if is_disp {
                 frd.modes.push(Mode {

@@ -18,3 +18,4 @@ pub mod mesh;
 pub mod modal;
 pub mod pipeline;
 pub mod rotating;
+pub mod stress;

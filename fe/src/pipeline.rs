@@ -145,7 +145,20 @@ pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), String>
         prestress_fit_residual = Some(x.residual.iter().copied().fold(0.0, f64::max));
         data.geometric_stiffness = Some(x.stiffness);
     }
-    crate::field::Field::new(&spec.mesh, &modes, &data)?
+    // Modal stresses for recovery; not for correction modes yet (their static solutions are
+    // solved with 2-D output only).
+    let stress = if spec.correction.is_empty() {
+        Some(crate::stress::modal_stresses(
+            &spec.mesh,
+            dir,
+            &format!("{}_stress", spec.name),
+            spec.solve_modes,
+            &modes,
+        )?)
+    } else {
+        None
+    };
+    crate::field::Field::new(&spec.mesh, &modes, &data, stress.as_ref())?
         .write(&dir.join(format!("{}.field.bin", spec.name)))?;
     let translation_coupling = data
         .elementary

@@ -239,9 +239,8 @@ fn drum_stresses_by_modal_superposition_match_calculix_under_the_same_displaceme
         if skip.contains(id) {
             continue;
         }
-        let u = disp(i);
-        for c in 0..3 {
-            d.line(&format!("{id}, {}, {}, {:.12e}", c + 1, c + 1, u[c]));
+        for (c, u) in disp(i).iter().enumerate() {
+            d.line(&format!("{id}, {}, {}, {u:.12e}", c + 1, c + 1));
         }
     }
     d.line("*NODE FILE")

@@ -115,9 +115,9 @@ fn recovered_fields_are_read_back_by_meshio_and_continuous_at_the_bearing() {
     assert!(norm > 1e-4, "the rest position moves the tub ({norm} m)");
     for c in 0..3 {
         let u = read["u"][c].as_f64().unwrap();
-        // Written as f64: equal to round-off.
+        // Written as Float32: equal to its rounding (6e-8 relative).
         assert!(
-            (u - want[c]).abs() <= 1e-12 * norm,
+            (u - want[c]).abs() <= 1e-7 * norm,
             "{c}: {u} vs {}",
             want[c]
         );

@@ -22,6 +22,40 @@ pub struct Corrected {
     pub participation: Vec<f64>,
     /// ccx's wall time for the static steps, s.
     pub solve_s: f64,
+    /// The load cases' nodal forces.
+    pub forces: Vec<Vec<(usize, [f64; 3])>>,
+    /// Correction mode c = sum_j combination[(j, c)] Psi_r,j.
+    pub combination: nalgebra::DMatrix<f64>,
+}
+
+/// The static deck of the load cases (one `*STATIC` step each), with 2-D displacement output,
+/// or with 3-D displacements and stresses (`stress`).
+pub fn static_deck(
+    mesh: &Mesh,
+    forces: &[Vec<(usize, [f64; 3])>],
+    stress: bool,
+) -> crate::deck::Deck {
+    let mut d = mesh.model_deck();
+    for f in forces {
+        d.line("*STEP").line("*STATIC").line("*CLOAD, OP=NEW");
+        for (id, v) in f {
+            for (c, x) in v.iter().enumerate() {
+                if *x != 0.0 {
+                    d.line(&format!("{id}, {}, {x:.12e}", c + 1));
+                }
+            }
+        }
+        if stress {
+            d.line("*NODE FILE").line("U").line("*EL FILE").line("S");
+        } else {
+            d.line("*NODE FILE, OUTPUT=2D").line("U");
+            if !mesh.rigid.is_empty() {
+                d.line("*NODE PRINT, NSET=WD_PRINT").line("U");
+            }
+        }
+        d.line("*END STEP");
+    }
+    d
 }
 
 /// Nodal forces of a unit force `direction` at the modal point (`set`, `position`).
@@ -72,22 +106,7 @@ pub fn correction_modes(
             nodal_load(mesh, p.0, p.1, l.direction)
         })
         .collect::<Result<Vec<_>, _>>()?;
-    let mut d = mesh.model_deck();
-    for f in &forces {
-        d.line("*STEP").line("*STATIC").line("*CLOAD, OP=NEW");
-        for (id, v) in f {
-            for (c, x) in v.iter().enumerate() {
-                if *x != 0.0 {
-                    d.line(&format!("{id}, {}, {x:.12e}", c + 1));
-                }
-            }
-        }
-        d.line("*NODE FILE, OUTPUT=2D").line("U");
-        if !mesh.rigid.is_empty() {
-            d.line("*NODE PRINT, NSET=WD_PRINT").line("U");
-        }
-        d.line("*END STEP");
-    }
+    let d = static_deck(mesh, &forces, false);
     let solved = crate::modal::solve_deck(mesh, &d, dir, job)?;
     if solved.frd.statics.len() != loads.len() {
         return Err(format!(
@@ -177,5 +196,7 @@ pub fn correction_modes(
         shapes,
         participation,
         solve_s: solved.run.wall_s,
+        forces,
+        combination: x,
     })
 }

@@ -22,6 +22,8 @@ pub struct Frd {
     /// Stresses (xx, yy, zz, xy, yz, zx; Pa per unit modal coordinate) per eigenmode, in file
     /// order, when the deck asked for them (`*EL FILE` / `S`).
     pub stresses: Vec<Vec<(usize, [f64; 6])>>,
+    /// Stresses of each `*STATIC` step, in file order, when asked for.
+    pub static_stresses: Vec<Vec<(usize, [f64; 6])>>,
     /// Elements as ccx writes them (number, nodes): with 3-D output, the expanded shells and
     /// beams (20-node bricks) under their original numbers.
     pub elements: Vec<(usize, Vec<usize>)>,
@@ -106,10 +108,12 @@ pub fn parse(text: &str) -> Result<Frd, String> {
         } else if t.starts_with("100CL") && !t.contains("MODAL") {
             // A static step's result block.
             let mut disp = Vec::new();
-            let mut is_disp = false;
+            let mut stress = Vec::new();
+            let (mut is_disp, mut is_stress) = (false, false);
             for (k, l) in lines.by_ref() {
                 if l.starts_with(" -4") {
                     is_disp = l.contains("DISP");
+                    is_stress = l.contains("STRESS");
                 }
                 if l.starts_with(" -3") {
                     break;
@@ -117,9 +121,15 @@ pub fn parse(text: &str) -> Result<Frd, String> {
                 if is_disp && l.starts_with(" -1") {
                     disp.push(record(l, k + 1)?);
                 }
+                if is_stress && l.starts_with(" -1") {
+                    stress.push(record6(l, k + 1)?);
+                }
             }
             if is_disp {
                 frd.statics.push(disp);
+            }
+            if is_stress {
+                frd.static_stresses.push(stress);
             }
         } else if t.starts_with("100CL") {
             let f: Vec<&str> = t.split_whitespace().collect();

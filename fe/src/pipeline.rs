@@ -70,6 +70,7 @@ pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), String>
     }
     let points: Vec<(&str, [f64; 3])> = spec.points.iter().map(|(s, p)| (s.as_str(), *p)).collect();
     let mut correction = None;
+    let mut correction_solved: Option<crate::correction::Corrected> = None;
     if !spec.correction.is_empty() {
         if spec.spin.is_some() || spec.support == Support::FreeFree {
             // A spinning body's K_G comes from prestressed eigenmodes, which do not span a
@@ -92,12 +93,14 @@ pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), String>
             Correction {
                 loads: spec.correction.clone(),
                 modes: c.shapes.len(),
-                participation: c.participation,
+                participation: c.participation.clone(),
             },
             c.shapes.iter().map(|s| s.frequency_hz).collect::<Vec<_>>(),
             c.solve_s,
         ));
-        modes.extend(c.shapes);
+        let mut c = c;
+        modes.append(&mut c.shapes);
+        correction_solved = Some(c);
     }
     let mut data = modal::Import {
         body: spec.kind,
@@ -145,19 +148,27 @@ pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), String>
         prestress_fit_residual = Some(x.residual.iter().copied().fold(0.0, f64::max));
         data.geometric_stiffness = Some(x.stiffness);
     }
-    // Modal stresses for recovery; not for correction modes yet (their static solutions are
-    // solved with 2-D output only).
-    let stress = if spec.correction.is_empty() {
-        Some(crate::stress::modal_stresses(
+    // Modal stresses for recovery: the eigenmodes', then the correction modes'.
+    let eigen = data.eigenmodes();
+    let mut stress = crate::stress::modal_stresses(
+        &spec.mesh,
+        dir,
+        &format!("{}_stress", spec.name),
+        spec.solve_modes,
+        &modes[..eigen],
+    )?;
+    if let Some(c) = &correction_solved {
+        let more = crate::stress::correction_stresses(
             &spec.mesh,
             dir,
-            &format!("{}_stress", spec.name),
-            spec.solve_modes,
-            &modes,
-        )?)
-    } else {
-        None
-    };
+            &format!("{}_correction_stress", spec.name),
+            &modes[..eigen],
+            &stress,
+            c,
+        )?;
+        stress.per_mode.extend(more);
+    }
+    let stress = Some(stress);
     crate::field::Field::new(&spec.mesh, &modes, &data, stress.as_ref())?
         .write(&dir.join(format!("{}.field.bin", spec.name)))?;
     let translation_coupling = data

@@ -147,6 +147,72 @@ pub fn modal_stresses(
     })
 }
 
+/// The stresses of the correction modes, formed as their shapes are: ccx's 3-D static
+/// solutions of the same load cases, less the eigenmodes' share (sum_k S_k (f_j . Phi_k) /
+/// omega_k^2, with the eigenmodes' stresses `eigen`), combined as the shapes
+/// (`Corrected::combination`).
+pub fn correction_stresses(
+    mesh: &Mesh,
+    dir: &std::path::Path,
+    job: &str,
+    modes: &[Shapes],
+    eigen: &ModalStress,
+    c: &crate::correction::Corrected,
+) -> Result<Vec<HashMap<usize, [f64; 6]>>, String> {
+    let path = dir.join(format!("{job}.inp"));
+    std::fs::write(
+        &path,
+        crate::correction::static_deck(mesh, &c.forces, true).text(),
+    )
+    .map_err(|e| format!("{}: {e}", path.display()))?;
+    let run = crate::ccx::run(&path).map_err(|e| e.to_string())?;
+    let text =
+        std::fs::read_to_string(run.frd()).map_err(|e| format!("{}: {e}", run.frd().display()))?;
+    let frd = crate::frd::parse(&text).map_err(|e| format!("{job}.frd: {e}"))?;
+    let j = c.forces.len();
+    if frd.static_stresses.len() != j {
+        return Err(format!(
+            "{job}.frd: {} stress blocks for {j} load cases",
+            frd.static_stresses.len()
+        ));
+    }
+    let residual: Vec<HashMap<usize, [f64; 6]>> = frd
+        .static_stresses
+        .iter()
+        .enumerate()
+        .map(|(col, block)| {
+            let mut m: HashMap<usize, [f64; 6]> = block.iter().copied().collect();
+            for (k, (shape, sk)) in modes.iter().zip(&eigen.per_mode).enumerate() {
+                let w2 = (2.0 * std::f64::consts::PI * shape.frequency_hz).powi(2);
+                let a = c.participation[k * j + col] / w2;
+                for (id, v) in m.iter_mut() {
+                    if let Some(s) = sk.get(id) {
+                        for x in 0..6 {
+                            v[x] -= a * s[x];
+                        }
+                    }
+                }
+            }
+            m
+        })
+        .collect();
+    Ok((0..c.combination.ncols())
+        .map(|col| {
+            let mut out: HashMap<usize, [f64; 6]> = HashMap::new();
+            for (r, m) in residual.iter().enumerate() {
+                let a = c.combination[(r, col)];
+                for (id, v) in m {
+                    let e = out.entry(*id).or_insert([0.0; 6]);
+                    for x in 0..6 {
+                        e[x] += a * v[x];
+                    }
+                }
+            }
+            out
+        })
+        .collect())
+}
+
 /// Von Mises stress of (xx, yy, zz, xy, yz, zx).
 pub fn von_mises(s: &[f64; 6]) -> f64 {
     let [xx, yy, zz, xy, yz, zx] = *s;

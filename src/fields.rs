@@ -681,16 +681,18 @@ pub fn write_drum_edge(rows: &[EdgeRow], out: &Path, svg: bool) -> Result<Vec<Pa
     std::fs::write(&csv, text).map_err(|e| format!("{}: {e}", csv.display()))?;
     let mut files = vec![csv];
     crate::analysis::plot::init_fonts();
+    let size = if rows.iter().any(|r| r.peak.is_some()) {
+        (1024, 1100)
+    } else {
+        (1024, 640)
+    };
     let png = out.join("drum_edge.png");
-    draw_edge(
-        &BitMapBackend::new(&png, (1024, 640)).into_drawing_area(),
-        rows,
-    )
-    .map_err(|x| format!("{}: {x}", png.display()))?;
+    draw_edge(&BitMapBackend::new(&png, size).into_drawing_area(), rows)
+        .map_err(|x| format!("{}: {x}", png.display()))?;
     files.push(png);
     if svg {
         let p = out.join("drum_edge.svg");
-        draw_edge(&SVGBackend::new(&p, (1024, 640)).into_drawing_area(), rows)
+        draw_edge(&SVGBackend::new(&p, size).into_drawing_area(), rows)
             .map_err(|x| format!("{}: {x}", p.display()))?;
         files.push(p);
     }
@@ -699,6 +701,8 @@ pub fn write_drum_edge(rows: &[EdgeRow], out: &Path, svg: bool) -> Result<Vec<Pa
 
 type PResult = Result<(), Box<dyn std::error::Error + Send + Sync>>;
 
+/// The front edge's displacement over speed and, below it when the field has stresses, the
+/// drum's peak von Mises stress.
 fn draw_edge<DB: plotters::prelude::DrawingBackend>(
     root: &plotters::prelude::DrawingArea<DB, plotters::coord::Shift>,
     rows: &[EdgeRow],
@@ -708,28 +712,94 @@ where
 {
     use plotters::prelude::*;
     root.fill(&WHITE)?;
+    let stressed = rows.iter().any(|r| r.peak.is_some());
+    let areas = if stressed {
+        root.split_evenly((2, 1))
+    } else {
+        vec![root.clone()]
+    };
+    scatter(
+        &areas[0],
+        rows,
+        "drum front edge: largest elastic displacement over speed",
+        "displacement [mm]",
+        |r| Some(r.max_m * 1e3),
+    )?;
+    if stressed {
+        scatter(
+            &areas[1],
+            rows,
+            "drum: peak von Mises stress over speed",
+            "von Mises [MPa]",
+            |r| r.peak.map(|p| p.0 * 1e-6),
+        )?;
+    }
+    root.present()?;
+    Ok(())
+}
+
+fn scatter<DB: plotters::prelude::DrawingBackend>(
+    area: &plotters::prelude::DrawingArea<DB, plotters::coord::Shift>,
+    rows: &[EdgeRow],
+    caption: &str,
+    y_desc: &str,
+    value: impl Fn(&EdgeRow) -> Option<f64>,
+) -> PResult
+where
+    DB::ErrorType: 'static,
+{
+    use plotters::prelude::*;
     let rpm_max = rows.iter().map(|r| r.rpm).fold(1.0, f64::max);
-    let mm_max = rows.iter().map(|r| r.max_m * 1e3).fold(1e-6, f64::max) * 1.05;
-    let mut chart = ChartBuilder::on(root)
-        .caption(
-            "drum front edge: largest elastic displacement over speed",
-            ("sans-serif", 24),
-        )
+    let y_max = rows.iter().filter_map(&value).fold(1e-6, f64::max) * 1.05;
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, ("sans-serif", 24))
         .margin(20)
         .x_label_area_size(50)
         .y_label_area_size(70)
-        .build_cartesian_2d(0.0..rpm_max, 0.0..mm_max)?;
+        .build_cartesian_2d(0.0..rpm_max, 0.0..y_max)?;
     chart
         .configure_mesh()
         .x_desc("drum speed [rpm]")
-        .y_desc("displacement [mm]")
+        .y_desc(y_desc)
         .label_style(("sans-serif", 18))
         .axis_desc_style(("sans-serif", 20))
         .draw()?;
     chart.draw_series(
         rows.iter()
-            .map(|r| Circle::new((r.rpm, r.max_m * 1e3), 1, BLUE.filled())),
+            .filter_map(|r| value(r).map(|v| Circle::new((r.rpm, v), 1, BLUE.filled()))),
     )?;
-    root.present()?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn drum_edge_table_and_plot() {
+        let rows: Vec<EdgeRow> = (0..50)
+            .map(|i| {
+                let rpm = 30.0 * i as f64;
+                EdgeRow {
+                    t: i as f64,
+                    rpm,
+                    max_m: 1e-8 * rpm * rpm,
+                    node: 7,
+                    peak: Some((1e2 * rpm * rpm, 9)),
+                }
+            })
+            .collect();
+        let dir = tempfile::tempdir().unwrap();
+        let files = write_drum_edge(&rows, dir.path(), true).unwrap();
+        assert_eq!(files.len(), 3);
+        let csv = std::fs::read_to_string(&files[0]).unwrap();
+        let lines: Vec<&str> = csv.lines().collect();
+        assert_eq!(
+            lines[0],
+            "time_s,drum_rpm,front_edge_max_m,node,peak_von_mises_Pa,peak_node"
+        );
+        assert_eq!(lines.len(), 51);
+        assert_eq!(lines[2], "1,30,0.000009,7,90000,9");
+        assert!(std::fs::metadata(&files[1]).unwrap().len() > 10_000);
+    }
 }

@@ -131,6 +131,11 @@ pub struct Summary {
     pub jacobian_evals: u64,
     pub lu_decompositions: u64,
     pub newton_iterations: u64,
+    /// Steps an explicit method took on its stability boundary (Hairer's test; dopri5), and
+    /// the time from which it called the problem stiff, if it did.
+    pub stiff_steps: u64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stiff_at: Option<f64>,
     pub samples: u64,
     pub wall_time_s: f64,
     /// "ok", "failed" or "interrupted".
@@ -163,6 +168,8 @@ impl Summary {
             jacobian_evals: 0,
             lu_decompositions: 0,
             newton_iterations: 0,
+            stiff_steps: 0,
+            stiff_at: None,
             samples: 0,
             wall_time_s: 0.0,
             status: "ok".into(),
@@ -179,6 +186,18 @@ impl Summary {
         self.jacobian_evals = s.jacobian_evals;
         self.lu_decompositions = s.lu_decompositions;
         self.newton_iterations = s.newton_iterations;
+        self.stiff_steps = s.stiff_steps;
+        if let Some(t) = s.stiff_at
+            && self.stiff_at.is_none()
+        {
+            self.stiff_at = Some(t);
+            self.warnings.push(format!(
+                "{} ran on its stability limit from t = {t:.4} s ({} of {} steps; Hairer's \
+                 stiffness test): its step is set by stability there, not by the tolerance; an \
+                 implicit method (sdirk4) would take larger steps",
+                self.integrator, s.stiff_steps, s.steps
+            ));
+        }
     }
 }
 

@@ -5,6 +5,13 @@
 //! h_new = h * clamp(0.9 * err^-(0.2 - 0.75*beta) * err_prev^beta, 0.2, 10), beta = 0.04; after a
 //! rejection the step may not grow. A trial step whose stages are not finite is rejected with
 //! h / 10; ten such trials in a row end the integration with `NonFinite` at the last good time.
+//!
+//! Stiffness detection (Hairer & Wanner I, Section IV.2; Hairer's dopri5.f): stages 6 and 7 sit
+//! at the same time, so h rho ~ h |k7 - k6| / |y7 - y6| estimates h times the dominant
+//! eigenvalue for free. Above 3.25 (the stability boundary along the negative axis) the step is
+//! counted as stiff; 15 such steps with fewer than 6 non-stiff ones between them mark the
+//! problem stiff (`Stats::stiff_at`): the run then chatters on the stability limit and an
+//! implicit method would take larger steps.
 
 use super::common::{after_landing, all_finite, error_norm, initial_step, propose_step};
 use super::tableau::{DOPRI5, DOPRI5_DENSE_D};
@@ -17,6 +24,12 @@ const FAC_MIN: f64 = 0.2;
 const FAC_MAX: f64 = 10.0;
 /// Consecutive non-finite trial steps tolerated before giving up.
 const MAX_NONFINITE_TRIALS: u32 = 10;
+/// Hairer's stiffness test: h rho above this is on the stability boundary ...
+const STIFF_H_RHO: f64 = 3.25;
+/// ... this many times ...
+const STIFF_COUNT: u32 = 15;
+/// ... unless this many non-stiff steps came in between.
+const NONSTIFF_RESET: u32 = 6;
 
 pub struct Dopri5 {
     opts: Options,
@@ -38,6 +51,9 @@ pub struct Dopri5 {
     /// Dense output coefficients of the last accepted step (Hairer's r1..r5).
     dense: [Vec<f64>; 5],
     stats: Stats,
+    /// Hairer's stiffness counters: stiff steps so far, non-stiff steps since the last one.
+    stiff_count: u32,
+    nonstiff_count: u32,
 }
 
 impl Dopri5 {
@@ -58,6 +74,8 @@ impl Dopri5 {
             err: v(),
             dense: [v(), v(), v(), v(), v()],
             stats: Stats::default(),
+            stiff_count: 0,
+            nonstiff_count: 0,
         }
     }
 
@@ -69,6 +87,35 @@ impl Dopri5 {
     /// Restart the work counters (they accumulate across `init` calls).
     pub fn reset_stats(&mut self) {
         self.stats = Stats::default();
+    }
+
+    /// Hairer's test on the accepted step (before the FSAL swap): k7 - k6 against
+    /// y7 - y6 = h sum_j (a7j - a6j) k_j, both at t + h.
+    fn detect_stiffness(&mut self, h: f64, t_new: f64) {
+        let a = &DOPRI5.a;
+        let (mut num, mut den) = (0.0, 0.0);
+        for i in 0..self.n {
+            let dk = self.k[6][i] - self.k[5][i];
+            let mut dy = 0.0;
+            for j in 0..6 {
+                dy += (a[6][j] - a[5][j]) * self.k[j][i];
+            }
+            num += dk * dk;
+            den += (h * dy) * (h * dy);
+        }
+        if den > 0.0 && h * (num / den).sqrt() > STIFF_H_RHO {
+            self.stats.stiff_steps += 1;
+            self.nonstiff_count = 0;
+            self.stiff_count += 1;
+            if self.stiff_count >= STIFF_COUNT && self.stats.stiff_at.is_none() {
+                self.stats.stiff_at = Some(t_new);
+            }
+        } else {
+            self.nonstiff_count += 1;
+            if self.nonstiff_count >= NONSTIFF_RESET {
+                self.stiff_count = 0;
+            }
+        }
     }
 
     /// Stages 2..7 and the new solution for step size h; returns the error norm.
@@ -246,6 +293,7 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Dopri5 {
                 }
                 self.dense[4][i] = h * acc;
             }
+            self.detect_stiffness(h, t_new);
             std::mem::swap(&mut self.y_prev, &mut self.y);
             std::mem::swap(&mut self.y, &mut self.y_new);
             // FSAL: f(t_new, y_new) becomes the first stage of the next step.

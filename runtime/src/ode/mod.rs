@@ -69,6 +69,12 @@ pub struct Stats {
     pub jacobian_evals: u64,
     pub lu_decompositions: u64,
     pub newton_iterations: u64,
+    /// Explicit methods with stiffness detection (dopri5): accepted steps on which h times
+    /// the estimated spectral radius exceeded the stability boundary (Hairer's test).
+    pub stiff_steps: u64,
+    /// The first time Hairer's test called the problem stiff (15 such steps with fewer than 6
+    /// non-stiff ones between them): the method runs on its stability limit from there.
+    pub stiff_at: Option<f64>,
 }
 
 /// Step control and budgets.

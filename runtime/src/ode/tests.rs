@@ -639,3 +639,29 @@ fn no_stall_below_the_time_resolution() {
         assert!(s.stats().steps < 100_000);
     }
 }
+
+/// Hairer's stiffness test in dopri5: on y' = -k (y - cos t) with k = 1e4 the step is held at
+/// the stability limit (h k ~ 3.3) once the transient has died, and the test fires early; on the
+/// harmonic oscillator and the non-stiff van der Pol cycle it never counts a stiff step.
+#[test]
+fn dopri5_detects_stiffness_and_only_there() {
+    let mut stiff = StiffDecay { k: 1e4 };
+    let mut s = Dopri5::new(1, tols(1e-6, 1e-9));
+    let st = integrate(&mut s, &mut stiff, 0.0, &[0.0], 1.0).unwrap();
+    println!(
+        "stiff decay: {} steps, {} stiff, stiff from t = {:?}",
+        st.steps, st.stiff_steps, st.stiff_at
+    );
+    let at = st.stiff_at.expect("the stiff problem is detected");
+    assert!(at < 0.05, "{at}");
+    assert!(st.stiff_steps > st.steps / 2, "{st:?}");
+    let mut h = Harmonic { omega: 1.0 };
+    let mut s = Dopri5::new(2, tols(1e-8, 1e-8));
+    let st = integrate(&mut s, &mut h, 0.0, &[1.0, 0.0], 20.0).unwrap();
+    assert_eq!((st.stiff_steps, st.stiff_at), (0, None), "{st:?}");
+    let mut v = VanDerPolClassic { mu: 1.0 };
+    let mut s = Dopri5::new(2, tols(1e-6, 1e-6));
+    let y0 = [VanDerPolClassic::MU1_AMPLITUDE, 0.0];
+    let st = integrate(&mut s, &mut v, 0.0, &y0, VanDerPolClassic::MU1_PERIOD).unwrap();
+    assert_eq!(st.stiff_at, None, "{st:?}");
+}

@@ -29,14 +29,14 @@ pub struct Frd {
     pub elements: Vec<(usize, Vec<usize>)>,
 }
 
-/// A ` -1` record: node id and up to three values.
-fn record(l: &str, line: usize) -> Result<(usize, [f64; 3]), String> {
+/// A ` -1` record: node id and N values (3 for coordinates and displacements, 6 for stresses).
+fn record<const N: usize>(l: &str, line: usize) -> Result<(usize, [f64; N]), String> {
     let bad = |what: &str| format!("line {line}: {what} in `{l}`");
     let id = l
         .get(3..13)
         .and_then(|s| s.trim().parse::<usize>().ok())
         .ok_or_else(|| bad("no node number"))?;
-    let mut v = [0.0; 3];
+    let mut v = [0.0; N];
     for (k, x) in v.iter_mut().enumerate() {
         let s = l
             .get(13 + 12 * k..25 + 12 * k)
@@ -46,21 +46,38 @@ fn record(l: &str, line: usize) -> Result<(usize, [f64; 3]), String> {
     Ok((id, v))
 }
 
-/// A ` -1` record with six values (stresses).
-fn record6(l: &str, line: usize) -> Result<(usize, [f64; 6]), String> {
-    let bad = |what: &str| format!("line {line}: {what} in `{l}`");
-    let id = l
-        .get(3..13)
-        .and_then(|s| s.trim().parse::<usize>().ok())
-        .ok_or_else(|| bad("no node number"))?;
-    let mut v = [0.0; 6];
-    for (k, x) in v.iter_mut().enumerate() {
-        let s = l
-            .get(13 + 12 * k..25 + 12 * k)
-            .ok_or_else(|| bad("short record"))?;
-        *x = s.trim().parse().map_err(|_| bad("not a number"))?;
+/// The displacement and stress records of one result block (up to its ` -3`), each `Some` when
+/// the block held that quantity.
+type Block = (
+    Option<Vec<(usize, [f64; 3])>>,
+    Option<Vec<(usize, [f64; 6])>>,
+);
+
+fn result_block<'a>(lines: &mut impl Iterator<Item = (usize, &'a str)>) -> Result<Block, String> {
+    let (mut disp, mut stress) = (None, None);
+    let (mut is_disp, mut is_stress) = (false, false);
+    for (k, l) in lines {
+        if l.starts_with(" -4") {
+            is_disp = l.contains("DISP");
+            is_stress = l.contains("STRESS");
+        }
+        if l.starts_with(" -3") {
+            break;
+        }
+        if is_disp {
+            let d = disp.get_or_insert_with(Vec::new);
+            if l.starts_with(" -1") {
+                d.push(record(l, k + 1)?);
+            }
+        }
+        if is_stress {
+            let s = stress.get_or_insert_with(Vec::new);
+            if l.starts_with(" -1") {
+                s.push(record(l, k + 1)?);
+            }
+        }
     }
-    Ok((id, v))
+    Ok((disp, stress))
 }
 
 /// Parse an `.frd` text; errors name the line.
@@ -107,30 +124,9 @@ pub fn parse(text: &str) -> Result<Frd, String> {
             }
         } else if t.starts_with("100CL") && !t.contains("MODAL") {
             // A static step's result block.
-            let mut disp = Vec::new();
-            let mut stress = Vec::new();
-            let (mut is_disp, mut is_stress) = (false, false);
-            for (k, l) in lines.by_ref() {
-                if l.starts_with(" -4") {
-                    is_disp = l.contains("DISP");
-                    is_stress = l.contains("STRESS");
-                }
-                if l.starts_with(" -3") {
-                    break;
-                }
-                if is_disp && l.starts_with(" -1") {
-                    disp.push(record(l, k + 1)?);
-                }
-                if is_stress && l.starts_with(" -1") {
-                    stress.push(record6(l, k + 1)?);
-                }
-            }
-            if is_disp {
-                frd.statics.push(disp);
-            }
-            if is_stress {
-                frd.static_stresses.push(stress);
-            }
+            let (disp, stress) = result_block(&mut lines)?;
+            frd.statics.extend(disp);
+            frd.static_stresses.extend(stress);
         } else if t.starts_with("100CL") {
             let f: Vec<&str> = t.split_whitespace().collect();
             let frequency_hz = f
@@ -143,28 +139,9 @@ pub fn parse(text: &str) -> Result<Frd, String> {
                 .find(|w| w.ends_with("MODAL"))
                 .and_then(|w| w.trim_end_matches("MODAL").parse::<usize>().ok())
                 .unwrap_or(frd.modes.len() + 1);
-            let mut disp = Vec::new();
-            let mut stress = Vec::new();
-            let (mut is_disp, mut is_stress) = (false, false);
-            for (k, l) in lines.by_ref() {
-                if l.starts_with(" -4") {
-                    is_disp = l.contains("DISP");
-                    is_stress = l.contains("STRESS");
-                }
-                if l.starts_with(" -3") {
-                    break;
-                }
-                if is_disp && l.starts_with(" -1") {
-                    disp.push(record(l, k + 1)?);
-                }
-                if is_stress && l.starts_with(" -1") {
-                    stress.push(record6(l, k + 1)?);
-                }
-            }
-            if is_stress {
-                frd.stresses.push(stress);
-            }
-            if is_disp {
+            let (disp, stress) = result_block(&mut lines)?;
+            frd.stresses.extend(stress);
+            if let Some(disp) = disp {
                 frd.modes.push(Mode {
                     number,
                     frequency_hz,

@@ -54,45 +54,9 @@ fn basis(d: &ModalData, file_modes: usize) -> DMatrix<f64> {
     }
 }
 
-/// The field belongs to this modal data: its check point's shapes, carried through the
-/// scene's basis, are the data's.
-fn check(field: &Field, d: &ModalData, t: &DMatrix<f64>) -> Result<(), String> {
-    let h = &field.header;
-    let p = d
-        .point(&h.check_point)
-        .ok_or_else(|| format!("{}: the modal data has no point {}", h.body, h.check_point))?;
-    if t.nrows() != field.modes() {
-        return Err(format!(
-            "the field of `{}` has {} modes, its modal data {} (regenerate both with `washdyn fe \
-             modal`)",
-            h.body,
-            field.modes(),
-            t.nrows()
-        ));
-    }
-    let scale = h
-        .check_w
-        .iter()
-        .flatten()
-        .fold(0.0f64, |m, v| m.max(v.abs()));
-    for a in 0..3 {
-        for (j, want) in p.w[a].iter().enumerate() {
-            let got: f64 = (0..t.nrows()).map(|k| h.check_w[a][k] * t[(k, j)]).sum();
-            if (got - want).abs() > 1e-8 * scale {
-                return Err(format!(
-                    "the field of `{}` has other mode shapes than its modal data (regenerate \
-                     both with `washdyn fe modal`)",
-                    h.body
-                ));
-            }
-        }
-    }
-    Ok(())
-}
-
 fn modal(b: &ModalBody, field: &Field) -> Result<(usize, DMatrix<f64>), String> {
     let t = basis(b.data(), field.modes());
-    check(field, b.data(), &t)?;
+    field.matches(b.data(), &t)?;
     Ok((b.start, t))
 }
 
@@ -196,20 +160,7 @@ impl Recovery {
             principal: Vec::with_capacity(n),
         };
         for i in 0..n {
-            let mut best = (0.0f64, [0.0; 6]);
-            for p in f.stress_points(i) {
-                let mut sg = [0.0; 6];
-                for (k, x) in qf.iter().enumerate() {
-                    let sk = f.stress(k, p);
-                    for c in 0..6 {
-                        sg[c] += sk[c] * x;
-                    }
-                }
-                let vm = washdyn_fe::stress::von_mises(&sg);
-                if vm >= best.0 {
-                    best = (vm, sg);
-                }
-            }
+            let best = f.node_stress(i, &qf);
             let [xx, yy, zz, xy, yz, zx] = best.1;
             let mut m = nalgebra::Matrix3::new(xx, xy, zx, xy, yy, yz, zx, yz, zz);
             if let Some(r) = &rot {
@@ -231,33 +182,6 @@ impl Recovery {
         Some(out)
     }
 
-    /// The largest von Mises stress over `b`'s nodes (Pa) and its node id (invariant: no frame
-    /// rotation needed). None without stresses.
-    pub fn peak_von_mises(&self, b: &BodyField, q: &[f64]) -> Option<(f64, usize)> {
-        let f = &b.field;
-        if !f.has_stresses() {
-            return None;
-        }
-        let qf = Self::file_coordinates(b, q)?;
-        let mut best = (0.0f64, 0);
-        for i in 0..f.header.nodes.len() {
-            for p in f.stress_points(i) {
-                let mut sg = [0.0; 6];
-                for (k, x) in qf.iter().enumerate() {
-                    let sk = f.stress(k, p);
-                    for c in 0..6 {
-                        sg[c] += sk[c] * x;
-                    }
-                }
-                let vm = washdyn_fe::stress::von_mises(&sg);
-                if vm > best.0 {
-                    best = (vm, f.header.ids[i]);
-                }
-            }
-        }
-        Some(best)
-    }
-
     /// Points (the drum turned by phi) and nodal displacements (m, global) of `b` at state q.
     pub fn displacement(
         &self,
@@ -267,17 +191,9 @@ impl Recovery {
     ) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
         let h = &b.field.header;
         let qf = Self::file_coordinates(b, q);
-        let elastic = |i: usize| -> [f64; 3] {
-            let mut w = [0.0; 3];
-            if let Some(qf) = &qf {
-                for (k, x) in qf.iter().enumerate() {
-                    let s = b.field.shape(k, i);
-                    for a in 0..3 {
-                        w[a] += s[a] * x;
-                    }
-                }
-            }
-            w
+        let elastic = |i: usize| {
+            qf.as_ref()
+                .map_or([0.0; 3], |qf| b.field.displacement(i, qf))
         };
         let zero = vec![0.0; q.len()];
         let state = BodyState::new(q, &zero);
@@ -316,6 +232,22 @@ fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 }
 fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+
+/// The largest von Mises stress over a field's nodes for file coordinates qf, and its node
+/// id; None without stresses.
+fn peak_von_mises(f: &Field, qf: &[f64]) -> Option<(f64, usize)> {
+    if !f.has_stresses() {
+        return None;
+    }
+    let mut best = (0.0f64, 0);
+    for i in 0..f.header.nodes.len() {
+        let vm = f.node_stress(i, qf).0;
+        if vm > best.0 {
+            best = (vm, f.header.ids[i]);
+        }
+    }
+    Some(best)
 }
 
 /// Recovered stresses per node: von Mises (Pa), the tensor (xx, yy, zz, xy, yz, xz; Pa,
@@ -618,10 +550,9 @@ pub fn drum_edge(rec: &Recovery, states: &States, stride: usize) -> Result<Vec<E
         .iter()
         .find(|b| b.name == "drum")
         .ok_or("no drum field")?;
-    let (start, t) = drum
-        .modes
-        .as_ref()
-        .ok_or("the drum is rigid in this scene: no deformation to show")?;
+    if drum.modes.is_none() {
+        return Err("the drum is rigid in this scene: no deformation to show".into());
+    }
     let h = &drum.field.header;
     let front = h.nodes.iter().map(|x| x[0]).fold(f64::MIN, f64::max);
     let rim: Vec<usize> = (0..h.nodes.len())
@@ -637,31 +568,22 @@ pub fn drum_edge(rec: &Recovery, states: &States, stride: usize) -> Result<Vec<E
         } else {
             0.0
         };
-        let qs: Vec<f64> = (0..t.ncols()).map(|j| states.q[start + j][s]).collect();
-        let qf: Vec<f64> = (0..t.nrows())
-            .map(|k| (0..t.ncols()).map(|j| t[(k, j)] * qs[j]).sum())
-            .collect();
+        let q: Vec<f64> = states.q.iter().map(|c| c[s]).collect();
+        let qf = Recovery::file_coordinates(drum, &q).expect("checked: the drum is elastic");
         let (mut max_m, mut node) = (0.0f64, 0);
         for &i in &rim {
-            let mut w = [0.0; 3];
-            for (k, x) in qf.iter().enumerate() {
-                let sh = drum.field.shape(k, i);
-                for c in 0..3 {
-                    w[c] += sh[c] * x;
-                }
-            }
+            let w = drum.field.displacement(i, &qf);
             let m = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
             if m > max_m {
                 (max_m, node) = (m, h.ids[i]);
             }
         }
-        let q: Vec<f64> = states.q.iter().map(|c| c[s]).collect();
         rows.push(EdgeRow {
             t: states.t[s],
             rpm,
             max_m,
             node,
-            peak: rec.peak_von_mises(drum, &q),
+            peak: peak_von_mises(&drum.field, &qf),
         });
     }
     Ok(rows)

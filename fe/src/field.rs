@@ -240,38 +240,83 @@ impl Field {
         })
     }
 
-    /// Is this the field of `data` (same solve)? Frequencies to 1e-9 and the check point's
-    /// shapes to 1e-9 relative (a sign flip or another mesh fails).
-    pub fn matches(&self, data: &washdyn_runtime::ir::modal::ModalData) -> Result<(), String> {
+    /// Is this the field of `data` (same solve), whose modes are the file's through
+    /// `t` (q_file = T q_data; identity for untruncated data)? The check point's shapes,
+    /// carried through `t`, must be the data's to 1e-8 of their largest value: another solve
+    /// (a turned degenerate pair, a sign flip) or another mesh fails.
+    pub fn matches(
+        &self,
+        data: &washdyn_runtime::ir::modal::ModalData,
+        t: &nalgebra::DMatrix<f64>,
+    ) -> Result<(), String> {
         let h = &self.header;
-        let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(b.abs()).max(1e-30);
-        if h.frequencies.len() != data.frequencies.len()
-            || h.frequencies
-                .iter()
-                .zip(&data.frequencies)
-                .any(|(a, b)| !close(*a, *b))
-        {
-            return Err(format!(
-                "the field of `{}` has other modes than its modal data (regenerate both with \
-                 `washdyn fe modal`)",
-                h.body
-            ));
-        }
         let p = data
             .point(&h.check_point)
-            .ok_or_else(|| format!("the modal data has no point {}", h.check_point))?;
-        let scale = p.w.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+            .ok_or_else(|| format!("{}: the modal data has no point {}", h.body, h.check_point))?;
+        if t.nrows() != self.modes() {
+            return Err(format!(
+                "the field of `{}` has {} modes, its modal data {} (regenerate both with \
+                 `washdyn fe modal`)",
+                h.body,
+                self.modes(),
+                t.nrows()
+            ));
+        }
+        let scale = h
+            .check_w
+            .iter()
+            .flatten()
+            .fold(0.0f64, |m, v| m.max(v.abs()));
         for a in 0..3 {
-            for (x, y) in p.w[a].iter().zip(&h.check_w[a]) {
-                if (x - y).abs() > 1e-9 * scale {
+            for (j, want) in p.w[a].iter().enumerate() {
+                let got: f64 = (0..t.nrows()).map(|k| h.check_w[a][k] * t[(k, j)]).sum();
+                if (got - want).abs() > 1e-8 * scale {
                     return Err(format!(
-                        "the field of `{}` has other mode shapes than its modal data (regenerate \
-                         both with `washdyn fe modal`)",
+                        "the field of `{}` has other mode shapes than its modal data \
+                         (regenerate both with `washdyn fe modal`)",
                         h.body
                     ));
                 }
             }
         }
         Ok(())
+    }
+
+    /// Displacement of node index i for modal coordinates q (the file's modes): sum W_k q_k.
+    pub fn displacement(&self, i: usize, q: &[f64]) -> [f64; 3] {
+        let mut u = [0.0; 3];
+        for (k, x) in q.iter().enumerate() {
+            let s = self.shape(k, i);
+            for c in 0..3 {
+                u[c] += s[c] * x;
+            }
+        }
+        u
+    }
+
+    /// Stress at stress point p for modal coordinates q: sum S_k q_k.
+    pub fn stress_at(&self, p: usize, q: &[f64]) -> [f64; 6] {
+        let mut s = [0.0; 6];
+        for (k, x) in q.iter().enumerate() {
+            let sk = self.stress(k, p);
+            for c in 0..6 {
+                s[c] += sk[c] * x;
+            }
+        }
+        s
+    }
+
+    /// The stress at node index i's most loaded face for modal coordinates q: (von Mises,
+    /// tensor); zeros for a node without stress points.
+    pub fn node_stress(&self, i: usize, q: &[f64]) -> (f64, [f64; 6]) {
+        let mut best = (0.0f64, [0.0; 6]);
+        for p in self.stress_points(i) {
+            let s = self.stress_at(p, q);
+            let vm = crate::stress::von_mises(&s);
+            if vm >= best.0 {
+                best = (vm, s);
+            }
+        }
+        best
     }
 }

@@ -35,27 +35,32 @@ fn python(script: &str, args: &[&Path]) -> String {
     String::from_utf8(out.stdout).unwrap()
 }
 
+/// The reference's default scene, generated, dopri5 at 1e-6, Parquet, samples kept.
+fn reference_run(dir: &Path, t_end: f64, sample_rate: f64, states: bool) -> RunArgs {
+    RunArgs {
+        model: "reference".into(),
+        t_end: Some(t_end),
+        out: Some(dir.to_path_buf()),
+        integrator: Method::Dopri5,
+        tol: 1e-6,
+        step: None,
+        backend: Some(Backend::Generated),
+        scene: None,
+        sample_rate,
+        max_steps: None,
+        format: Format::Parquet,
+        keep_samples: true,
+        states,
+    }
+}
+
 #[test]
 fn sensor_file_reads_back_bit_for_bit_in_pyarrow() {
     if !pyarrow() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    let args = RunArgs {
-        model: "reference".into(),
-        t_end: Some(6.0),
-        out: Some(dir.path().to_path_buf()),
-        integrator: Method::Dopri5,
-        tol: 1e-6,
-        step: None,
-        backend: Some(Backend::Generated),
-        scene: None,
-        sample_rate: 500.0,
-        max_steps: None,
-        format: Format::Parquet,
-        keep_samples: true,
-        states: false,
-    };
+    let args = reference_run(dir.path(), 6.0, 500.0, false);
     let o = run_command(&args, &mut |_| {}).unwrap();
     assert!(o.error.is_none());
     let (names, cols) = o.samples.unwrap();
@@ -153,21 +158,7 @@ fn analysis_tables_read_in_pyarrow() {
 #[test]
 fn states_file_holds_every_sample_with_the_drum_angle() {
     let dir = tempfile::tempdir().unwrap();
-    let args = RunArgs {
-        model: "reference".into(),
-        t_end: Some(2.0),
-        out: Some(dir.path().to_path_buf()),
-        integrator: Method::Dopri5,
-        tol: 1e-6,
-        step: None,
-        backend: Some(Backend::Generated),
-        scene: None,
-        sample_rate: 1000.0,
-        max_steps: None,
-        format: Format::Parquet,
-        keep_samples: true,
-        states: true,
-    };
+    let args = reference_run(dir.path(), 2.0, 1000.0, true);
     let o = run_command(&args, &mut |_| {}).unwrap();
     assert!(o.error.is_none());
     let (names, cols) = o.samples.unwrap();

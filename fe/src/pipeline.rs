@@ -36,6 +36,9 @@ pub struct BodySpec {
     pub spin: Option<Spin>,
     /// Unit loads at points whose static response static correction modes carry (empty: none).
     pub correction: Vec<LoadCase>,
+    /// Also write `<name>.field.bin` for recovery on the mesh (a second, 3-D ccx solve for the
+    /// modal stresses, and for correction modes a third); a study of the modes alone skips it.
+    pub recovery: bool,
 }
 
 /// What a build measured, for the report.
@@ -148,29 +151,9 @@ pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), String>
         prestress_fit_residual = Some(x.residual.iter().copied().fold(0.0, f64::max));
         data.geometric_stiffness = Some(x.stiffness);
     }
-    // Modal stresses for recovery: the eigenmodes', then the correction modes'.
-    let eigen = data.eigenmodes();
-    let mut stress = crate::stress::modal_stresses(
-        &spec.mesh,
-        dir,
-        &format!("{}_stress", spec.name),
-        spec.solve_modes,
-        &modes[..eigen],
-    )?;
-    if let Some(c) = &correction_solved {
-        let more = crate::stress::correction_stresses(
-            &spec.mesh,
-            dir,
-            &format!("{}_correction_stress", spec.name),
-            &modes[..eigen],
-            &stress,
-            c,
-        )?;
-        stress.per_mode.extend(more);
+    if spec.recovery {
+        write_field(spec, dir, &modes, &data, correction_solved.as_ref())?;
     }
-    let stress = Some(stress);
-    crate::field::Field::new(&spec.mesh, &modes, &data, stress.as_ref())?
-        .write(&dir.join(format!("{}.field.bin", spec.name)))?;
     let translation_coupling = data
         .elementary
         .c
@@ -192,6 +175,38 @@ pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), String>
         correction,
     };
     Ok((data, report))
+}
+
+/// The shapes and modal stresses on the whole mesh (`<name>.field.bin`): the eigenmodes'
+/// stresses, then the correction modes'.
+fn write_field(
+    spec: &BodySpec,
+    dir: &Path,
+    modes: &[crate::modal::Shapes],
+    data: &ModalData,
+    correction: Option<&crate::correction::Corrected>,
+) -> Result<(), String> {
+    let eigen = data.eigenmodes();
+    let mut stress = crate::stress::modal_stresses(
+        &spec.mesh,
+        dir,
+        &format!("{}_stress", spec.name),
+        spec.solve_modes,
+        &modes[..eigen],
+    )?;
+    if let Some(c) = correction {
+        let more = crate::stress::correction_stresses(
+            &spec.mesh,
+            dir,
+            &format!("{}_correction_stress", spec.name),
+            &modes[..eigen],
+            &stress,
+            c,
+        )?;
+        stress.per_mode.extend(more);
+    }
+    crate::field::Field::new(&spec.mesh, modes, data, Some(&stress))?
+        .write(&dir.join(format!("{}.field.bin", spec.name)))
 }
 
 impl std::fmt::Display for Report {

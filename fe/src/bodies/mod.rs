@@ -157,6 +157,7 @@ pub fn builtin() -> Vec<BodySpec> {
             spin: None,
             // Free-free: no static solution to correct with (ccx has no inertia relief).
             correction: Vec::new(),
+            recovery: true,
         },
         BodySpec {
             name: "drum".into(),
@@ -180,6 +181,7 @@ pub fn builtin() -> Vec<BodySpec> {
             }),
             // K_G comes from prestressed eigenmodes, which hold no local dent.
             correction: Vec::new(),
+            recovery: true,
         },
         BodySpec {
             name: "cabinet".into(),
@@ -195,6 +197,7 @@ pub fn builtin() -> Vec<BodySpec> {
             points: own(cab_all),
             spin: None,
             correction: cabinet_loads(),
+            recovery: true,
         },
     ]
 }

@@ -14,6 +14,7 @@ use std::path::{Path, PathBuf};
 use washdyn_fe::field::Field;
 use washdyn_runtime::equations::{BodyState, Equations, MarkerDef, ModalBody, rotate};
 use washdyn_runtime::geom::V;
+use washdyn_runtime::geom::f::{add, sub};
 use washdyn_runtime::ir::Model;
 use washdyn_runtime::ir::modal::ModalData;
 
@@ -197,6 +198,12 @@ impl Recovery {
         };
         let zero = vec![0.0; q.len()];
         let state = BodyState::new(q, &zero);
+        // The drum's mount and the turn by phi are the same for every node.
+        let mount_state = match &b.motion {
+            Motion::Drum { mount, .. } => Some(mount.state(&state)),
+            _ => None,
+        };
+        let (c, s) = (phi.cos(), phi.sin());
         let mut points = Vec::with_capacity(h.nodes.len());
         let mut disp = Vec::with_capacity(h.nodes.len());
         for (i, x) in h.nodes.iter().enumerate() {
@@ -208,9 +215,8 @@ impl Recovery {
                     disp.push(add(u.0, w));
                 }
                 Motion::Drum { mount, axis } => {
-                    let m = mount.state(&state);
+                    let m = mount_state.as_ref().expect("set above for the drum");
                     let e = V::c(*axis);
-                    let (c, s) = (phi.cos(), phi.sin());
                     let r = rotate(e, c, s, V::c(sub(*x, mount.point)));
                     let p = add(mount.point, r.0);
                     let d = (m.pos - V::c(mount.point)) + m.rot.cross(r) + rotate(e, c, s, V::c(w));
@@ -225,13 +231,6 @@ impl Recovery {
         }
         (points, disp)
     }
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
 }
 
 /// The largest von Mises stress over a field's nodes for file coordinates qf, and its node

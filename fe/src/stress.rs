@@ -83,13 +83,8 @@ pub fn modal_stresses(
     solve_modes: usize,
     kept: &[Shapes],
 ) -> Result<ModalStress, String> {
-    let path = dir.join(format!("{job}.inp"));
-    std::fs::write(&path, deck(mesh, solve_modes).text())
-        .map_err(|e| format!("{}: {e}", path.display()))?;
-    let run = crate::ccx::run(&path).map_err(|e| e.to_string())?;
-    let text =
-        std::fs::read_to_string(run.frd()).map_err(|e| format!("{}: {e}", run.frd().display()))?;
-    let frd = crate::frd::parse(&text).map_err(|e| format!("{job}.frd: {e}"))?;
+    let crate::modal::Solved { run, frd, .. } =
+        crate::modal::solve_deck(mesh, &deck(mesh, solve_modes), dir, job)?;
     if frd.stresses.len() != frd.modes.len() {
         return Err(format!(
             "{job}.frd: {} stress blocks for {} modes",
@@ -159,16 +154,13 @@ pub fn correction_stresses(
     eigen: &ModalStress,
     c: &crate::correction::Corrected,
 ) -> Result<Vec<HashMap<usize, [f64; 6]>>, String> {
-    let path = dir.join(format!("{job}.inp"));
-    std::fs::write(
-        &path,
-        crate::correction::static_deck(mesh, &c.forces, true).text(),
-    )
-    .map_err(|e| format!("{}: {e}", path.display()))?;
-    let run = crate::ccx::run(&path).map_err(|e| e.to_string())?;
-    let text =
-        std::fs::read_to_string(run.frd()).map_err(|e| format!("{}: {e}", run.frd().display()))?;
-    let frd = crate::frd::parse(&text).map_err(|e| format!("{job}.frd: {e}"))?;
+    let frd = crate::modal::solve_deck(
+        mesh,
+        &crate::correction::static_deck(mesh, &c.forces, true),
+        dir,
+        job,
+    )?
+    .frd;
     let j = c.forces.len();
     if frd.static_stresses.len() != j {
         return Err(format!(

@@ -696,6 +696,43 @@ where
 mod tests {
     use super::*;
 
+    /// Bad requests are refused with a message before anything is written.
+    #[test]
+    fn bad_requests_are_refused() {
+        let st = States {
+            t: vec![0.0, 1.0, 2.0],
+            phi: vec![0.0, 0.5, 1.0],
+            q: vec![vec![0.0; 3]],
+        };
+        let e = st.at(2.5).unwrap_err();
+        assert!(e.contains("outside the stored states (0 to 2 s)"), "{e}");
+        let e = st.instants(&Times::Range(1.0, 0.0, 0.1)).unwrap_err();
+        assert!(e.contains("need from <= to and step > 0"), "{e}");
+        let e = st.instants(&Times::Revolution(0.0)).unwrap_err();
+        assert!(e.contains("ends before one revolution"), "{e}");
+        // A run directory without a summary, and one whose model has no field files.
+        let dir = tempfile::tempdir().unwrap();
+        let req = Request::Fields(Times::List(vec![0.0]));
+        let e = fields_command(dir.path(), None, &req, dir.path(), None)
+            .err()
+            .unwrap();
+        assert!(e.contains("summary.json"), "{e}");
+        std::fs::write(
+            dir.path().join("summary.json"),
+            r#"{"model": "reference", "scene": "full"}"#,
+        )
+        .unwrap();
+        let e = fields_command(dir.path(), None, &req, dir.path(), None)
+            .err()
+            .unwrap();
+        assert!(e.contains("no field files"), "{e}");
+        assert!(!dir.path().join("fields").exists());
+        // Not a field file.
+        std::fs::write(dir.path().join("tub.field.bin"), b"garbage").unwrap();
+        let e = washdyn_fe::field::Field::read(&dir.path().join("tub.field.bin")).unwrap_err();
+        assert!(e.contains("not a washdyn field file"), "{e}");
+    }
+
     #[test]
     fn drum_edge_table_and_plot() {
         let rows: Vec<EdgeRow> = (0..50)

@@ -150,6 +150,9 @@ impl<S: Mechanical> OdeSystem for FirstOrder<S> {
     fn dim(&self) -> usize {
         2 * self.layout.n()
     }
+    fn second_order(&self) -> Option<usize> {
+        Some(self.layout.n())
+    }
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) {
         let n = self.layout.n();
         let (q, qd) = y.split_at(n);

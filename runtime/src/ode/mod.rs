@@ -6,18 +6,22 @@ use thiserror::Error;
 
 mod common;
 pub mod dopri5;
+pub mod generalized_alpha;
 pub mod lu;
 pub mod method;
 pub mod problems;
 pub mod rk4;
+pub mod rodas4;
 pub mod sdirk4;
 pub mod tableau;
 #[cfg(test)]
 mod tests;
 
 pub use dopri5::Dopri5;
+pub use generalized_alpha::GeneralizedAlpha;
 pub use method::{AnySolver, Method, UnknownMethod};
 pub use rk4::Rk4;
+pub use rodas4::Rodas4;
 pub use sdirk4::Sdirk4;
 
 /// A first-order ODE system y' = f(t, y).
@@ -29,6 +33,12 @@ pub trait OdeSystem {
     /// analytic Jacobian: the implicit integrators then use finite differences.
     fn jacobian(&mut self, _t: f64, _y: &[f64], _jac: &mut [f64]) -> bool {
         false
+    }
+    /// `Some(n)` when the state is y = [q; q'] with n positions and f = [q'; q''] (a
+    /// mechanical system in first-order form): methods for second-order equations
+    /// (generalized-alpha) need it.
+    fn second_order(&self) -> Option<usize> {
+        None
     }
 }
 
@@ -45,6 +55,8 @@ pub enum OdeError {
     StepBudget { t: f64, steps: u64 },
     #[error("singular iteration matrix at t = {t} s")]
     Singular { t: f64 },
+    #[error("the method needs a second-order system y = [q; q'] (at t = {t} s)")]
+    NotSecondOrder { t: f64 },
 }
 
 impl OdeError {
@@ -55,7 +67,8 @@ impl OdeError {
             | OdeError::NewtonDivergence { t, .. }
             | OdeError::NonFinite { t }
             | OdeError::StepBudget { t, .. }
-            | OdeError::Singular { t } => t,
+            | OdeError::Singular { t }
+            | OdeError::NotSecondOrder { t } => t,
         }
     }
 }

@@ -126,6 +126,102 @@ pub const SDIRK4: Tableau<5> = Tableau {
 /// The diagonal entry of [`SDIRK4`].
 pub const SDIRK4_GAMMA: f64 = 0.25;
 
+/// A Rosenbrock method in Hairer's transformed variables u_i (Solving ODEs II, Section IV.7,
+/// eq. 7.4'): with W = I / (h gamma) - J,
+/// W u_i = f(t + c_i h, y + sum_j a_ij u_j) + sum_j (cm_ij / h) u_j + h d_i f_t,
+/// y1 = y + sum_i b_i u_i, error estimate sum_i e_i u_i. Strictly lower triangular `a`, `cm`.
+#[derive(Clone, Copy, Debug)]
+pub struct Rosenbrock<const S: usize> {
+    pub gamma: f64,
+    pub a: [[f64; S]; S],
+    pub cm: [[f64; S]; S],
+    pub b: [f64; S],
+    pub e: [f64; S],
+    pub c: [f64; S],
+    pub d: [f64; S],
+    /// Order of `b` and of the embedded solution `b - e`.
+    pub order: u32,
+    pub order_hat: u32,
+}
+
+/// RODAS4: six stages, order 4 with an embedded order 3, L-stable and stiffly accurate
+/// (Hairer & Wanner, Solving ODEs II, Section VI.4, Table 4.2; coefficients of their `rodas`
+/// code, METH = 1). Stage 6 is evaluated at the stage-5 result, so b = row 6 of `a` with
+/// b_6 = 1, and the last stage itself is the error estimate.
+pub const RODAS4: Rosenbrock<6> = {
+    let a51 = 1.221_224_509_226_641;
+    let a52 = 6.019_134_481_288_629;
+    let a53 = 12.537_083_329_320_87;
+    let a54 = -0.687_886_036_105_895;
+    Rosenbrock {
+        gamma: 0.25,
+        a: [
+            [0.0; 6],
+            [1.544, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [
+                0.946_678_528_081_582_6,
+                0.255_701_169_898_328_4,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+            ],
+            [
+                3.314_825_187_068_521,
+                2.896_124_015_972_201,
+                0.998_641_913_997_781_7,
+                0.0,
+                0.0,
+                0.0,
+            ],
+            [a51, a52, a53, a54, 0.0, 0.0],
+            [a51, a52, a53, a54, 1.0, 0.0],
+        ],
+        cm: [
+            [0.0; 6],
+            [-5.6688, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [
+                -2.430_093_356_833_875,
+                -0.206_359_915_709_191_5,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+            ],
+            [
+                -0.107_352_905_815_137_5,
+                -9.594_562_251_023_355,
+                -20.470_286_148_096_16,
+                0.0,
+                0.0,
+                0.0,
+            ],
+            [
+                7.496_443_313_967_647,
+                -10.246_804_314_643_52,
+                -33.999_903_528_199_05,
+                11.708_908_932_061_6,
+                0.0,
+                0.0,
+            ],
+            [
+                8.083_246_795_921_522,
+                -7.981_132_988_064_893,
+                -31.521_594_328_743_71,
+                16.319_305_431_231_36,
+                -6.058_818_238_834_054,
+                0.0,
+            ],
+        ],
+        b: [a51, a52, a53, a54, 1.0, 1.0],
+        e: [0.0, 0.0, 0.0, 0.0, 0.0, 1.0],
+        c: [0.0, 0.386, 0.21, 0.63, 1.0, 1.0],
+        d: [0.25, -0.1043, 0.1035, -0.036_200_000_000_000_23, 0.0, 0.0],
+        order: 4,
+        order_hat: 3,
+    }
+};
+
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
@@ -297,6 +393,70 @@ pub(crate) mod tests {
                     "theta {theta}, condition {k}: {v} vs {e}"
                 );
             }
+        }
+    }
+
+    /// R(z) of a Rosenbrock tableau on y' = lambda y (J = lambda, z = h lambda): the stages
+    /// solve (1/gamma - z) u_i = z (1 + sum a_ij u_j) + sum cm_ij u_j.
+    fn rosenbrock_r<const S: usize>(m: &Rosenbrock<S>, z: f64) -> f64 {
+        let mut u = [0.0; S];
+        for i in 0..S {
+            let rhs = z * (1.0 + dot(&m.a[i], &u)) + dot(&m.cm[i], &u);
+            u[i] = rhs / (1.0 / m.gamma - z);
+        }
+        1.0 + dot(&m.b, &u)
+    }
+
+    /// RODAS4 on the test equation: R(z) - e^z = O(z^5) (order 4; halving z divides the
+    /// defect by about 2^5), the embedded solution has order 3, and R(-inf) = 0 (L-stable).
+    #[test]
+    fn rodas4_stability_function_has_order_4_and_vanishes_at_infinity() {
+        let m = &RODAS4;
+        let defect = |z: f64| (rosenbrock_r(m, z) - z.exp()).abs();
+        let ratio = defect(-0.02) / defect(-0.01);
+        assert!(
+            (ratio.log2() - 5.0).abs() < 0.2,
+            "order 4 gives ratio 2^5: {ratio}"
+        );
+        let mut emb = *m;
+        for i in 0..6 {
+            emb.b[i] = m.b[i] - m.e[i];
+        }
+        let d_emb = |z: f64| (rosenbrock_r(&emb, z) - z.exp()).abs();
+        let ratio = d_emb(-0.02) / d_emb(-0.01);
+        assert!(
+            (ratio.log2() - 4.0).abs() < 0.2,
+            "embedded order 3: {ratio}"
+        );
+        for z in [-1e4, -1e8] {
+            let r = rosenbrock_r(m, z);
+            assert!(r.abs() < 50.0 / z.abs(), "R({z}) = {r}");
+        }
+        // A-stable along the imaginary axis.
+        for w in [0.1, 1.0, 10.0, 1e3] {
+            let mut u = [(0.0f64, 0.0f64); 6];
+            let mul = |a: (f64, f64), b: (f64, f64)| (a.0 * b.0 - a.1 * b.1, a.0 * b.1 + a.1 * b.0);
+            let z = (0.0, w);
+            for i in 0..6 {
+                let mut acc = (1.0, 0.0);
+                let mut cacc = (0.0, 0.0);
+                for j in 0..i {
+                    acc.0 += m.a[i][j] * u[j].0;
+                    acc.1 += m.a[i][j] * u[j].1;
+                    cacc.0 += m.cm[i][j] * u[j].0;
+                    cacc.1 += m.cm[i][j] * u[j].1;
+                }
+                let num = mul(z, acc);
+                let num = (num.0 + cacc.0, num.1 + cacc.1);
+                let den = (1.0 / m.gamma, -w);
+                let dd = den.0 * den.0 + den.1 * den.1;
+                u[i] = mul(num, (den.0 / dd, -den.1 / dd));
+            }
+            let r = (
+                1.0 + (0..6).map(|i| m.b[i] * u[i].0).sum::<f64>(),
+                (0..6).map(|i| m.b[i] * u[i].1).sum::<f64>(),
+            );
+            assert!(r.0.hypot(r.1) <= 1.0 + 1e-12, "|R(i {w})| = {:?}", r);
         }
     }
 }

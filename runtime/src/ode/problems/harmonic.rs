@@ -21,6 +21,9 @@ impl OdeSystem for Harmonic {
     fn dim(&self) -> usize {
         2
     }
+    fn second_order(&self) -> Option<usize> {
+        Some(1)
+    }
     fn rhs(&mut self, _t: f64, y: &[f64], dy: &mut [f64]) {
         dy[0] = y[1];
         dy[1] = -self.omega * self.omega * y[0];

@@ -24,6 +24,9 @@ impl OdeSystem for VanDerPol {
     fn dim(&self) -> usize {
         2
     }
+    fn second_order(&self) -> Option<usize> {
+        Some(1)
+    }
     fn rhs(&mut self, _t: f64, y: &[f64], f: &mut [f64]) {
         f[0] = y[1];
         f[1] = ((1.0 - y[0] * y[0]) * y[1] - y[0]) / self.eps;
@@ -55,6 +58,9 @@ impl VanDerPolClassic {
 impl OdeSystem for VanDerPolClassic {
     fn dim(&self) -> usize {
         2
+    }
+    fn second_order(&self) -> Option<usize> {
+        Some(1)
     }
     fn rhs(&mut self, _t: f64, y: &[f64], f: &mut [f64]) {
         f[0] = y[1];

@@ -1,0 +1,496 @@
+//! The generalized-alpha method (Chung & Hulbert 1993) on the second-order equations
+//! q'' = A(t, q, q'), in Arnold & Bruels' form (Multibody System Dynamics 18, 2007), which
+//! multibody codes use by default: second order, unconditionally stable for linear systems,
+//! with numerical damping of the highest frequencies set by one number, the spectral radius
+//! rho_inf at h omega -> infinity (1: none, 0: asymptotic annihilation).
+//!
+//! With the pseudo-accelerations a_n:
+//!   q1 = q0 + h v0 + h^2 (1/2 - beta) a0 + h^2 beta a1,   v1 = v0 + h (1 - gamma) a0 + h gamma a1,
+//!   (1 - alpha_m) a1 + alpha_m a0 = (1 - alpha_f) q''1 + alpha_f q''0,   q''1 = A(t1, q1, v1).
+//! The unknown is q''1; Newton's matrix is I - beta' (h^2 beta dA/dq + h gamma dA/dv) with
+//! beta' = (1 - alpha_f) / (1 - alpha_m): n x n, half the size of a first-order method's.
+//!
+//! * The system says it is second order through `OdeSystem::second_order` (y = [q; q'],
+//!   f = [q'; q'']); any other system is refused with `OdeError::NotSecondOrder`.
+//! * Jacobian: the lower half of `sys.jacobian` when analytic, else forward differences in q
+//!   and q' (2n evaluations). Kept across steps while Newton contracts well, as in `sdirk4`.
+//! * Error estimate (Zienkiewicz & Xie's for Newmark-type methods): the local error of q is
+//!   h^2 (beta - 1/6) (q''1 - q''0); only the positions enter the norm. Step factor
+//!   0.9 err^(-1/3), in [0.2, 5].
+//! * Dense output: cubic Hermite from (y0, f0, y1, f1).
+
+use super::common::{after_landing, all_finite, error_norm, hermite, initial_step, propose_step};
+use super::lu::{lu_factor, lu_solve};
+use super::{OdeError, OdeSystem, Options, Solver, Stats, Stepper};
+
+/// Multibody codes' usual numerical damping (e.g. the default of HHT-type integrators).
+pub const DEFAULT_RHO_INF: f64 = 0.8;
+const SAFETY: f64 = 0.9;
+const FAC_MIN: f64 = 0.2;
+const FAC_MAX: f64 = 5.0;
+const MAX_NEWTON: u32 = 8;
+const THETA_REFRESH: f64 = 0.1;
+const FREEZE: f64 = 1.2;
+const MAX_NONFINITE_TRIALS: u32 = 10;
+const KAPPA: f64 = 0.03;
+
+enum Attempt {
+    Done(f64),
+    NewtonFailed,
+    NonFinite,
+    Singular,
+}
+
+/// The method's four parameters from rho_inf (Chung & Hulbert's optimal choice).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AlphaParams {
+    pub alpha_m: f64,
+    pub alpha_f: f64,
+    pub beta: f64,
+    pub gamma: f64,
+}
+
+impl AlphaParams {
+    pub fn from_rho_inf(rho: f64) -> Self {
+        let alpha_m = (2.0 * rho - 1.0) / (rho + 1.0);
+        let alpha_f = rho / (rho + 1.0);
+        let gamma = 0.5 + alpha_f - alpha_m;
+        AlphaParams {
+            alpha_m,
+            alpha_f,
+            gamma,
+            beta: 0.25 * (gamma + 0.5) * (gamma + 0.5),
+        }
+    }
+}
+
+pub struct GeneralizedAlpha {
+    opts: Options,
+    p: AlphaParams,
+    /// Positions (half the state).
+    n: usize,
+    t: f64,
+    t_prev: f64,
+    h: f64,
+    y: Vec<f64>,
+    y_prev: Vec<f64>,
+    y_new: Vec<f64>,
+    f: Vec<f64>,
+    f_prev: Vec<f64>,
+    ftmp: Vec<f64>,
+    /// Pseudo-accelerations a_n, which approximate q''(t_n + (alpha_m - alpha_f) h_acc).
+    acc: Vec<f64>,
+    h_acc: f64,
+    /// a_n moved to the trial step's h (see `shift_acc`).
+    a0: Vec<f64>,
+    /// The Newton unknown q''_(n+1) and its correction.
+    x: Vec<f64>,
+    dx: Vec<f64>,
+    /// dA/dq and dA/dv (n x n), and the full first-order Jacobian buffer (2n x 2n).
+    aq: Vec<f64>,
+    av: Vec<f64>,
+    jac: Vec<f64>,
+    lu: Vec<f64>,
+    piv: Vec<usize>,
+    jac_valid: bool,
+    jac_fresh: bool,
+    lu_h: f64,
+    scale: Vec<f64>,
+    err: Vec<f64>,
+    /// A(t, y), the base of the difference quotients.
+    base: Vec<f64>,
+    eta: f64,
+    theta_max: f64,
+    stats: Stats,
+}
+
+impl GeneralizedAlpha {
+    /// For a first-order state of dimension `dim` = 2n, with rho_inf = [`DEFAULT_RHO_INF`].
+    pub fn new(dim: usize, options: Options) -> Self {
+        Self::with_rho_inf(dim, options, DEFAULT_RHO_INF)
+    }
+
+    pub fn with_rho_inf(dim: usize, options: Options, rho_inf: f64) -> Self {
+        let n = dim / 2;
+        let v = |k: usize| vec![0.0; k];
+        GeneralizedAlpha {
+            opts: options,
+            p: AlphaParams::from_rho_inf(rho_inf),
+            n,
+            t: 0.0,
+            t_prev: 0.0,
+            h: 0.0,
+            y: v(dim),
+            y_prev: v(dim),
+            y_new: v(dim),
+            f: v(dim),
+            f_prev: v(dim),
+            ftmp: v(dim),
+            acc: v(n),
+            h_acc: 0.0,
+            a0: v(n),
+            x: v(n),
+            dx: v(n),
+            aq: v(n * n),
+            av: v(n * n),
+            jac: v(dim * dim),
+            lu: v(n * n),
+            piv: vec![0; n],
+            jac_valid: false,
+            jac_fresh: false,
+            lu_h: 0.0,
+            scale: v(dim),
+            err: v(n),
+            base: v(n),
+            eta: 1.0,
+            theta_max: 0.0,
+            stats: Stats::default(),
+        }
+    }
+
+    pub fn params(&self) -> AlphaParams {
+        self.p
+    }
+
+    pub fn reset_stats(&mut self) {
+        self.stats = Stats::default();
+    }
+
+    /// dA/dq, dA/dv at (t, y): the lower half of the analytic Jacobian, or forward differences.
+    fn compute_jacobian<S: OdeSystem + ?Sized>(&mut self, sys: &mut S) {
+        let n = self.n;
+        let m = 2 * n;
+        self.stats.jacobian_evals += 1;
+        if sys.jacobian(self.t, &self.y, &mut self.jac) {
+            for i in 0..n {
+                let row = &self.jac[(n + i) * m..(n + i + 1) * m];
+                self.aq[i * n..(i + 1) * n].copy_from_slice(&row[..n]);
+                self.av[i * n..(i + 1) * n].copy_from_slice(&row[n..]);
+            }
+            return;
+        }
+        // A(t, y) afresh: the stored one is the Newton unknown, not an exact evaluation.
+        sys.rhs(self.t, &self.y, &mut self.ftmp);
+        self.base.copy_from_slice(&self.ftmp[n..]);
+        self.y_new.copy_from_slice(&self.y);
+        for j in 0..m {
+            let yj = self.y[j];
+            self.y_new[j] = yj + (f64::EPSILON * yj.abs().max(1e-5)).sqrt();
+            let d = self.y_new[j] - yj;
+            sys.rhs(self.t, &self.y_new, &mut self.ftmp);
+            let target = if j < n { &mut self.aq } else { &mut self.av };
+            let col = j % n;
+            for i in 0..n {
+                target[i * n + col] = (self.ftmp[n + i] - self.base[i]) / d;
+            }
+            self.y_new[j] = yj;
+        }
+        self.stats.rhs_evals += m as u64 + 1;
+    }
+
+    fn attempt<S: OdeSystem + ?Sized>(&mut self, sys: &mut S, h: f64) -> Attempt {
+        let n = self.n;
+        let AlphaParams {
+            alpha_m,
+            alpha_f,
+            beta,
+            gamma,
+        } = self.p;
+        let bp = (1.0 - alpha_f) / (1.0 - alpha_m);
+        if !self.jac_valid {
+            self.compute_jacobian(sys);
+            self.jac_valid = true;
+            self.jac_fresh = true;
+            self.lu_h = 0.0;
+        }
+        if self.lu_h != h {
+            let (cq, cv) = (bp * h * h * beta, bp * h * gamma);
+            for k in 0..n * n {
+                self.lu[k] = -cq * self.aq[k] - cv * self.av[k];
+            }
+            for i in 0..n {
+                self.lu[i * n + i] += 1.0;
+            }
+            self.stats.lu_decompositions += 1;
+            if lu_factor(&mut self.lu, n, &mut self.piv).is_err() {
+                self.lu_h = 0.0;
+                return Attempt::Singular;
+            }
+            self.lu_h = h;
+        }
+        for i in 0..2 * n {
+            self.scale[i] = self.opts.atol + self.opts.rtol * self.y[i].abs();
+        }
+        self.shift_acc(h);
+        let t1 = self.t + h;
+        // Start from q''_n.
+        self.x.copy_from_slice(&self.f[n..]);
+        let kappa = (10.0 * f64::EPSILON / self.opts.rtol).max(KAPPA);
+        let mut eta = self.eta.max(f64::EPSILON).powf(0.8);
+        let mut dnorm_old = 0.0;
+        self.theta_max = 0.0;
+        for it in 0..MAX_NEWTON {
+            self.update_state(h);
+            sys.rhs(t1, &self.y_new, &mut self.ftmp);
+            self.stats.rhs_evals += 1;
+            self.stats.newton_iterations += 1;
+            for i in 0..n {
+                self.dx[i] = self.ftmp[n + i] - self.x[i];
+            }
+            lu_solve(&self.lu, n, &self.piv, &mut self.dx);
+            // The correction's size in the state: dq = h^2 beta beta' dx, dv = h gamma beta' dx.
+            let mut sum = 0.0;
+            for i in 0..n {
+                let dq = h * h * beta * bp * self.dx[i] / self.scale[i];
+                let dv = h * gamma * bp * self.dx[i] / self.scale[n + i];
+                sum += dq * dq + dv * dv;
+            }
+            let dnorm = if n > 0 {
+                (sum / (2 * n) as f64).sqrt()
+            } else {
+                0.0
+            };
+            if !dnorm.is_finite() {
+                return Attempt::NonFinite;
+            }
+            if it > 0 {
+                let theta = dnorm / dnorm_old;
+                self.theta_max = self.theta_max.max(theta);
+                if theta >= 0.99 {
+                    return Attempt::NewtonFailed;
+                }
+                eta = theta / (1.0 - theta);
+                let left = (MAX_NEWTON - 1 - it) as i32;
+                if eta * theta.powi(left) * dnorm > kappa {
+                    return Attempt::NewtonFailed;
+                }
+            }
+            for i in 0..n {
+                self.x[i] += self.dx[i];
+            }
+            if eta * dnorm <= kappa || dnorm == 0.0 {
+                self.eta = eta;
+                self.update_state(h);
+                if !all_finite(&self.y_new) {
+                    return Attempt::NonFinite;
+                }
+                let c = h * h * (beta - 1.0 / 6.0);
+                for i in 0..n {
+                    self.err[i] = c * (self.x[i] - self.f[n + i]);
+                }
+                let err = error_norm(
+                    &self.err,
+                    &self.y[..n],
+                    &self.y_new[..n],
+                    self.opts.rtol,
+                    self.opts.atol,
+                );
+                return if err.is_finite() {
+                    Attempt::Done(err)
+                } else {
+                    Attempt::NonFinite
+                };
+            }
+            dnorm_old = dnorm;
+        }
+        Attempt::NewtonFailed
+    }
+
+    /// a_n belongs to the step size it was formed with: it approximates q'' at
+    /// t_n + (alpha_m - alpha_f) h_acc. A step of another size needs it at
+    /// t_n + (alpha_m - alpha_f) h, else every change of h costs an O(h) error in a and the
+    /// method drops to first order on variable steps. The shift takes the third derivative
+    /// from the last step's accelerations.
+    fn shift_acc(&mut self, h: f64) {
+        let n = self.n;
+        let dt = self.t - self.t_prev;
+        let k = if dt > 0.0 {
+            (self.p.alpha_m - self.p.alpha_f) * (h - self.h_acc) / dt
+        } else {
+            0.0
+        };
+        for i in 0..n {
+            self.a0[i] = self.acc[i] + k * (self.f[n + i] - self.f_prev[n + i]);
+        }
+    }
+
+    /// y_new = (q1, v1) from the current unknown x = q''_(n+1); a1 is recomputed on acceptance.
+    fn update_state(&mut self, h: f64) {
+        let n = self.n;
+        let AlphaParams {
+            alpha_m,
+            alpha_f,
+            beta,
+            gamma,
+        } = self.p;
+        for i in 0..n {
+            let a0 = self.a0[i];
+            let a1 = (alpha_f * self.f[n + i] - alpha_m * a0 + (1.0 - alpha_f) * self.x[i])
+                / (1.0 - alpha_m);
+            self.y_new[i] = self.y[i] + h * self.y[n + i] + h * h * ((0.5 - beta) * a0 + beta * a1);
+            self.y_new[n + i] = self.y[n + i] + h * ((1.0 - gamma) * a0 + gamma * a1);
+        }
+    }
+}
+
+impl Stepper for GeneralizedAlpha {
+    fn name(&self) -> &'static str {
+        "galpha"
+    }
+    fn t(&self) -> f64 {
+        self.t
+    }
+    fn y(&self) -> &[f64] {
+        &self.y
+    }
+    fn t_prev(&self) -> f64 {
+        self.t_prev
+    }
+    fn interpolate(&self, t: f64, out: &mut [f64]) {
+        hermite(
+            self.t_prev,
+            self.t - self.t_prev,
+            &self.y_prev,
+            &self.f_prev,
+            &self.y,
+            &self.f,
+            t,
+            out,
+        );
+    }
+    fn stats(&self) -> Stats {
+        self.stats
+    }
+}
+
+impl<S: OdeSystem + ?Sized> Solver<S> for GeneralizedAlpha {
+    fn init(&mut self, sys: &mut S, t0: f64, y0: &[f64]) -> Result<(), OdeError> {
+        if sys.second_order() != Some(self.n) || y0.len() != 2 * self.n {
+            return Err(OdeError::NotSecondOrder { t: t0 });
+        }
+        self.t = t0;
+        self.t_prev = t0;
+        self.y.copy_from_slice(y0);
+        self.y_prev.copy_from_slice(y0);
+        self.jac_valid = false;
+        self.jac_fresh = false;
+        self.lu_h = 0.0;
+        self.eta = 1.0;
+        if !all_finite(y0) {
+            return Err(OdeError::NonFinite { t: t0 });
+        }
+        sys.rhs(t0, &self.y, &mut self.f);
+        self.stats.rhs_evals += 1;
+        self.f_prev.copy_from_slice(&self.f);
+        if !all_finite(&self.f) {
+            return Err(OdeError::NonFinite { t: t0 });
+        }
+        let n = self.n;
+        self.acc.copy_from_slice(&self.f[n..]);
+        self.h_acc = 0.0;
+        self.h = if self.opts.h0 > 0.0 {
+            self.opts.h0.min(self.opts.h_max)
+        } else {
+            initial_step(
+                sys,
+                t0,
+                &self.y,
+                &self.f,
+                2,
+                &self.opts,
+                &mut self.y_new,
+                &mut self.ftmp,
+                &mut self.stats,
+            )
+        };
+        Ok(())
+    }
+
+    fn step(&mut self, sys: &mut S, t_stop: f64) -> Result<(), OdeError> {
+        if t_stop.is_nan() || t_stop <= self.t {
+            return Ok(());
+        }
+        let mut rejected_last = false;
+        let mut nonfinite_trials = 0;
+        loop {
+            let (h, lands, h_prop) = propose_step(self.t, self.h, t_stop, &self.opts, &self.stats)?;
+            let err = match self.attempt(sys, h) {
+                Attempt::Done(err) => err,
+                Attempt::Singular => return Err(OdeError::Singular { t: self.t }),
+                Attempt::NewtonFailed => {
+                    self.stats.rejected_steps += 1;
+                    rejected_last = true;
+                    if !self.jac_fresh {
+                        self.jac_valid = false;
+                        continue;
+                    }
+                    if h <= self.opts.h_min {
+                        return Err(OdeError::NewtonDivergence { t: self.t, h });
+                    }
+                    self.h = (0.5 * h).max(self.opts.h_min);
+                    continue;
+                }
+                Attempt::NonFinite => {
+                    self.stats.rejected_steps += 1;
+                    rejected_last = true;
+                    nonfinite_trials += 1;
+                    if nonfinite_trials >= MAX_NONFINITE_TRIALS {
+                        return Err(OdeError::NonFinite { t: self.t });
+                    }
+                    if !self.jac_fresh {
+                        self.jac_valid = false;
+                    }
+                    self.h = 0.1 * h;
+                    continue;
+                }
+            };
+            let fac = SAFETY * err.max(1e-10).powf(-1.0 / 3.0);
+            if err > 1.0 {
+                self.stats.rejected_steps += 1;
+                rejected_last = true;
+                self.h = h * fac.clamp(FAC_MIN, 1.0);
+                if !self.jac_fresh {
+                    self.jac_valid = false;
+                }
+                continue;
+            }
+            let mut fac = fac.clamp(FAC_MIN, FAC_MAX);
+            if rejected_last {
+                fac = fac.min(1.0);
+            }
+            let slow = self.theta_max > THETA_REFRESH;
+            if (1.0..=FREEZE).contains(&fac) && !slow {
+                fac = 1.0;
+            }
+            self.h = after_landing((h * fac).min(self.opts.h_max), h_prop, lands, rejected_last);
+            if slow {
+                self.jac_valid = false;
+            }
+            self.jac_fresh = false;
+
+            let n = self.n;
+            let AlphaParams {
+                alpha_m, alpha_f, ..
+            } = self.p;
+            for i in 0..n {
+                self.acc[i] = (alpha_f * self.f[n + i] - alpha_m * self.a0[i]
+                    + (1.0 - alpha_f) * self.x[i])
+                    / (1.0 - alpha_m);
+            }
+            self.h_acc = h;
+            let t_new = if lands { t_stop } else { self.t + h };
+            std::mem::swap(&mut self.y_prev, &mut self.y);
+            std::mem::swap(&mut self.y, &mut self.y_new);
+            std::mem::swap(&mut self.f_prev, &mut self.f);
+            self.f[..n].copy_from_slice(&self.y[n..]);
+            self.f[n..].copy_from_slice(&self.x);
+            self.stats.steps += 1;
+            self.t_prev = self.t;
+            self.t = t_new;
+            if !all_finite(&self.y) {
+                return Err(OdeError::NonFinite { t: t_new });
+            }
+            return Ok(());
+        }
+    }
+}

@@ -1,0 +1,305 @@
+//! RODAS4, a linearly implicit (Rosenbrock) method of order 4 with an embedded order 3,
+//! L-stable and stiffly accurate (Hairer & Wanner, Solving ODEs II, Section VI.4; tableau
+//! [`RODAS4`](super::tableau::RODAS4)). No Newton iteration: each step solves six linear systems
+//! with the one matrix W = I / (h gamma) - J, so its cost is predictable and it cannot diverge,
+//! but it needs a Jacobian at every step (analytic when the system has one).
+//!
+//! * Jacobian and df/dt at every accepted point; df/dt by a forward difference in t (one extra
+//!   f evaluation), as Hairer's `rodas` does for non-autonomous systems. After a rejection
+//!   the same J is refactorised with the new h.
+//! * Error estimate: the last stage (e = (0,..,0,1)), in Hairer's RMS norm; h_new = h * 0.9 *
+//!   err^(-1/4), limited to [h/5, 6h], no growth after a rejection.
+//! * The right-hand side at the new point is the next step's first stage, so dense output is the
+//!   cubic Hermite interpolant from (y0, f0, y1, f1) at no extra cost (third order).
+
+use super::common::{after_landing, all_finite, error_norm, hermite, initial_step, propose_step};
+use super::lu::{lu_factor, lu_solve};
+use super::tableau::RODAS4;
+use super::{OdeError, OdeSystem, Options, Solver, Stats, Stepper};
+
+const STAGES: usize = 6;
+const SAFETY: f64 = 0.9;
+const FAC_MIN: f64 = 0.2;
+const FAC_MAX: f64 = 6.0;
+const MAX_NONFINITE_TRIALS: u32 = 10;
+
+pub struct Rodas4 {
+    opts: Options,
+    n: usize,
+    t: f64,
+    t_prev: f64,
+    h: f64,
+    y: Vec<f64>,
+    y_prev: Vec<f64>,
+    y_new: Vec<f64>,
+    /// f at (t, y) and (t_prev, y_prev).
+    f: Vec<f64>,
+    f_prev: Vec<f64>,
+    /// df/dt at (t, y).
+    ft: Vec<f64>,
+    jac: Vec<f64>,
+    /// The Jacobian belongs to the current (t, y).
+    jac_valid: bool,
+    lu: Vec<f64>,
+    piv: Vec<usize>,
+    /// Step size the LU of W belongs to (0 = none).
+    lu_h: f64,
+    u: [Vec<f64>; STAGES],
+    ytmp: Vec<f64>,
+    ftmp: Vec<f64>,
+    err: Vec<f64>,
+    stats: Stats,
+}
+
+impl Rodas4 {
+    pub fn new(dim: usize, options: Options) -> Self {
+        let v = || vec![0.0; dim];
+        Rodas4 {
+            opts: options,
+            n: dim,
+            t: 0.0,
+            t_prev: 0.0,
+            h: 0.0,
+            y: v(),
+            y_prev: v(),
+            y_new: v(),
+            f: v(),
+            f_prev: v(),
+            ft: v(),
+            jac: vec![0.0; dim * dim],
+            jac_valid: false,
+            lu: vec![0.0; dim * dim],
+            piv: vec![0; dim],
+            lu_h: 0.0,
+            u: [v(), v(), v(), v(), v(), v()],
+            ytmp: v(),
+            ftmp: v(),
+            err: v(),
+            stats: Stats::default(),
+        }
+    }
+
+    /// Restart the work counters (they accumulate across `init` calls).
+    pub fn reset_stats(&mut self) {
+        self.stats = Stats::default();
+    }
+
+    /// J and df/dt at (t, y); `self.f` holds f(t, y). Forward differences for J when the
+    /// system has no analytic Jacobian (increments as in `sdirk4`).
+    fn jacobian<S: OdeSystem + ?Sized>(&mut self, sys: &mut S) {
+        let n = self.n;
+        self.stats.jacobian_evals += 1;
+        if !sys.jacobian(self.t, &self.y, &mut self.jac) {
+            self.ytmp.copy_from_slice(&self.y);
+            for j in 0..n {
+                let yj = self.y[j];
+                self.ytmp[j] = yj + (f64::EPSILON * yj.abs().max(1e-5)).sqrt();
+                let d = self.ytmp[j] - yj;
+                sys.rhs(self.t, &self.ytmp, &mut self.ftmp);
+                for i in 0..n {
+                    self.jac[i * n + j] = (self.ftmp[i] - self.f[i]) / d;
+                }
+                self.ytmp[j] = yj;
+            }
+            self.stats.rhs_evals += n as u64;
+        }
+        let dt = (f64::EPSILON * self.t.abs().max(1e-5)).sqrt();
+        let dt = (self.t + dt) - self.t;
+        sys.rhs(self.t + dt, &self.y, &mut self.ft);
+        self.stats.rhs_evals += 1;
+        for i in 0..n {
+            self.ft[i] = (self.ft[i] - self.f[i]) / dt;
+        }
+        self.jac_valid = true;
+        self.lu_h = 0.0;
+    }
+
+    /// One trial step of size h into `y_new`; the error norm, or `None` for non-finite
+    /// values, or `Err` for a singular W.
+    fn attempt<S: OdeSystem + ?Sized>(&mut self, sys: &mut S, h: f64) -> Result<Option<f64>, ()> {
+        let n = self.n;
+        let m = &RODAS4;
+        if self.lu_h != h {
+            let diag = 1.0 / (h * m.gamma);
+            for (w, j) in self.lu.iter_mut().zip(&self.jac) {
+                *w = -j;
+            }
+            for i in 0..n {
+                self.lu[i * n + i] += diag;
+            }
+            self.stats.lu_decompositions += 1;
+            if lu_factor(&mut self.lu, n, &mut self.piv).is_err() {
+                self.lu_h = 0.0;
+                return Err(());
+            }
+            self.lu_h = h;
+        }
+        for st in 0..STAGES {
+            let (done, rest) = self.u.split_at_mut(st);
+            let ui = &mut rest[0];
+            if st == 0 {
+                ui.copy_from_slice(&self.f);
+            } else {
+                for i in 0..n {
+                    let mut acc = self.y[i];
+                    for (j, uj) in done.iter().enumerate() {
+                        acc += m.a[st][j] * uj[i];
+                    }
+                    self.ytmp[i] = acc;
+                }
+                sys.rhs(self.t + m.c[st] * h, &self.ytmp, ui);
+                self.stats.rhs_evals += 1;
+            }
+            for i in 0..n {
+                let mut acc = ui[i] + h * m.d[st] * self.ft[i];
+                for (j, uj) in done.iter().enumerate() {
+                    acc += m.cm[st][j] / h * uj[i];
+                }
+                ui[i] = acc;
+            }
+            lu_solve(&self.lu, n, &self.piv, ui);
+        }
+        for i in 0..n {
+            let mut y = self.y[i];
+            let mut e = 0.0;
+            for st in 0..STAGES {
+                y += m.b[st] * self.u[st][i];
+                e += m.e[st] * self.u[st][i];
+            }
+            self.y_new[i] = y;
+            self.err[i] = e;
+        }
+        if !all_finite(&self.y_new) {
+            return Ok(None);
+        }
+        let err = error_norm(
+            &self.err,
+            &self.y,
+            &self.y_new,
+            self.opts.rtol,
+            self.opts.atol,
+        );
+        Ok(err.is_finite().then_some(err))
+    }
+}
+
+impl Stepper for Rodas4 {
+    fn name(&self) -> &'static str {
+        "rodas4"
+    }
+    fn t(&self) -> f64 {
+        self.t
+    }
+    fn y(&self) -> &[f64] {
+        &self.y
+    }
+    fn t_prev(&self) -> f64 {
+        self.t_prev
+    }
+    fn interpolate(&self, t: f64, out: &mut [f64]) {
+        hermite(
+            self.t_prev,
+            self.t - self.t_prev,
+            &self.y_prev,
+            &self.f_prev,
+            &self.y,
+            &self.f,
+            t,
+            out,
+        );
+    }
+    fn stats(&self) -> Stats {
+        self.stats
+    }
+}
+
+impl<S: OdeSystem + ?Sized> Solver<S> for Rodas4 {
+    fn init(&mut self, sys: &mut S, t0: f64, y0: &[f64]) -> Result<(), OdeError> {
+        assert_eq!(y0.len(), self.n, "state dimension");
+        self.t = t0;
+        self.t_prev = t0;
+        self.y.copy_from_slice(y0);
+        self.y_prev.copy_from_slice(y0);
+        self.jac_valid = false;
+        self.lu_h = 0.0;
+        if !all_finite(y0) {
+            return Err(OdeError::NonFinite { t: t0 });
+        }
+        sys.rhs(t0, &self.y, &mut self.f);
+        self.stats.rhs_evals += 1;
+        self.f_prev.copy_from_slice(&self.f);
+        if !all_finite(&self.f) {
+            return Err(OdeError::NonFinite { t: t0 });
+        }
+        self.h = if self.opts.h0 > 0.0 {
+            self.opts.h0.min(self.opts.h_max)
+        } else {
+            initial_step(
+                sys,
+                t0,
+                &self.y,
+                &self.f,
+                RODAS4.order,
+                &self.opts,
+                &mut self.ytmp,
+                &mut self.ftmp,
+                &mut self.stats,
+            )
+        };
+        Ok(())
+    }
+
+    fn step(&mut self, sys: &mut S, t_stop: f64) -> Result<(), OdeError> {
+        if t_stop.is_nan() || t_stop <= self.t {
+            return Ok(());
+        }
+        let mut rejected_last = false;
+        let mut nonfinite_trials = 0;
+        loop {
+            let (h, lands, h_prop) = propose_step(self.t, self.h, t_stop, &self.opts, &self.stats)?;
+            if !self.jac_valid {
+                self.jacobian(sys);
+            }
+            let err = match self.attempt(sys, h) {
+                Err(()) => return Err(OdeError::Singular { t: self.t }),
+                Ok(None) => {
+                    self.stats.rejected_steps += 1;
+                    rejected_last = true;
+                    nonfinite_trials += 1;
+                    if nonfinite_trials >= MAX_NONFINITE_TRIALS {
+                        return Err(OdeError::NonFinite { t: self.t });
+                    }
+                    self.h = 0.1 * h;
+                    continue;
+                }
+                Ok(Some(err)) => err,
+            };
+            let fac = SAFETY * err.max(1e-10).powf(-0.25);
+            if err > 1.0 {
+                self.stats.rejected_steps += 1;
+                rejected_last = true;
+                self.h = h * fac.clamp(FAC_MIN, 1.0);
+                continue;
+            }
+            let mut fac = fac.clamp(FAC_MIN, FAC_MAX);
+            if rejected_last {
+                fac = fac.min(1.0);
+            }
+            self.h = after_landing((h * fac).min(self.opts.h_max), h_prop, lands, rejected_last);
+            let t_new = if lands { t_stop } else { self.t + h };
+            std::mem::swap(&mut self.y_prev, &mut self.y);
+            std::mem::swap(&mut self.y, &mut self.y_new);
+            std::mem::swap(&mut self.f_prev, &mut self.f);
+            sys.rhs(t_new, &self.y, &mut self.f);
+            self.stats.rhs_evals += 1;
+            self.stats.steps += 1;
+            self.t_prev = self.t;
+            self.t = t_new;
+            self.jac_valid = false;
+            if !all_finite(&self.y) || !all_finite(&self.f) {
+                return Err(OdeError::NonFinite { t: t_new });
+            }
+            return Ok(());
+        }
+    }
+}

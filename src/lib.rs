@@ -1,5 +1,6 @@
 //! washdyn: the command-line tool's library: model resolution, the `run` command and
 //! post-processing.
+pub mod accuracy;
 pub mod analysis;
 pub mod campbell;
 pub mod commands;

@@ -32,7 +32,8 @@ struct Sim {
     /// End time, s (default: the end of the speed profile).
     #[arg(long)]
     t_end: Option<f64>,
-    /// rk4 (fixed step), dopri5 (adaptive, explicit), sdirk4 (adaptive, L-stable implicit).
+    /// rk4 (fixed step), dopri5 (adaptive, explicit), sdirk4 (L-stable SDIRK), rodas4
+    /// (L-stable Rosenbrock), galpha (generalized-alpha on the second-order equations).
     #[arg(long, default_value = "dopri5")]
     integrator: Method,
     /// Relative tolerance of the adaptive integrators (absolute: 1e-3 x this, in m and rad).
@@ -147,6 +148,27 @@ enum Cmd {
     },
     /// Check a model file and list its scenes.
     Check { model: String },
+    /// What accuracy costs in time: every method over a sweep of tolerances against a
+    /// confirmed reference, modal truncation, scenes, back ends. Writes accuracy.md,
+    /// accuracy.json and a work-precision plot per scene (PNG, SVG).
+    Accuracy {
+        /// A built-in model or a model file.
+        #[arg(long, default_value = "reference")]
+        model: String,
+        /// Scenes and windows: NAME (the whole speed profile) or NAME:T0:T1, repeatable
+        /// [default: full and elastic:150:152].
+        #[arg(long)]
+        scene: Vec<String>,
+        /// End of the window of scenes given without one, s.
+        #[arg(long)]
+        t_end: Option<f64>,
+        /// Output directory (the repository keeps the study in docs/).
+        #[arg(long, default_value = "out/accuracy")]
+        out: PathBuf,
+        /// Two settings a method and looser references: a first look in seconds.
+        #[arg(long)]
+        quick: bool,
+    },
     /// The spinning drum's frequencies over speed from its modal data (rotating frame:
     /// Coriolis, spin softening, stress stiffening), with the excitation orders: campbell.csv
     /// and campbell.png (.svg).
@@ -340,6 +362,9 @@ fn main() -> ExitCode {
                         s.rhs_evals,
                         s.wall_time_s
                     );
+                    if let Some(c) = &s.error_class {
+                        let _ = writeln!(out, "error class: {c}");
+                    }
                     let _ = writeln!(out, "wrote {} and summary.json", o.sensors.display());
                     for w in &s.warnings {
                         eprintln!("warning: {w}");
@@ -540,6 +565,53 @@ fn main() -> ExitCode {
                             "peak von Mises stress {:.2} MPa: {body} node {node} at t = {t:.3} s",
                             pa * 1e-6
                         );
+                    }
+                    ExitCode::SUCCESS
+                }
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    ExitCode::from(2)
+                }
+            }
+        }
+        Cmd::Accuracy {
+            model,
+            scene,
+            t_end,
+            out,
+            quick,
+        } => {
+            let scenes = if scene.is_empty() {
+                vec!["full".to_string(), "elastic:150:152".to_string()]
+            } else {
+                scene
+            };
+            let mut windows = Vec::new();
+            for sc in &scenes {
+                match sc.parse::<washdyn::accuracy::Window>() {
+                    Ok(mut w) => {
+                        if let (true, Some(t)) = (w.t1.is_nan(), t_end) {
+                            w.t1 = t;
+                        }
+                        windows.push(w)
+                    }
+                    Err(e) => {
+                        eprintln!("error: --scene {e}");
+                        return ExitCode::from(2);
+                    }
+                }
+            }
+            let args = washdyn::accuracy::AccuracyArgs {
+                model,
+                windows,
+                out: out.clone(),
+                quick,
+            };
+            let study = washdyn::accuracy::study(&args, &mut |l| println!("{l}"));
+            match study.and_then(|s| washdyn::accuracy::write(&s, &out)) {
+                Ok(files) => {
+                    for f in files {
+                        println!("wrote {}", f.display());
                     }
                     ExitCode::SUCCESS
                 }

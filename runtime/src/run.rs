@@ -19,6 +19,21 @@ pub enum Start {
     Static,
     /// q = 0, q' = 0: the model's reference position.
     Reference,
+    /// Rest under gravity and the mean loads at the start speed: rotating unbalances are
+    /// left to the dynamics (`statics::mean_load_equilibrium`).
+    MeanLoad,
+}
+
+impl std::str::FromStr for Start {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Start, String> {
+        match s {
+            "static" => Ok(Start::Static),
+            "mean" => Ok(Start::MeanLoad),
+            "reference" => Ok(Start::Reference),
+            _ => Err(format!("unknown start `{s}` (static, mean, reference)")),
+        }
+    }
 }
 
 #[derive(Clone, Debug)]
@@ -146,6 +161,10 @@ pub struct Summary {
     pub warnings: Vec<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub error: Option<String>,
+    /// The error class the study in docs/accuracy.md measured for this model, scene, method
+    /// and tolerance (set by the CLI, which carries the study).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub error_class: Option<String>,
 }
 
 impl Summary {
@@ -176,6 +195,7 @@ impl Summary {
             validity: Extremes::default(),
             warnings: Vec::new(),
             error: None,
+            error_class: None,
         }
     }
 
@@ -395,6 +415,8 @@ where
     }
     let q0 = match opts.start {
         Start::Static => static_equilibrium(&mut sys.sys, t0)
+            .map_err(|reason| RunError::Setup { t: t0, reason })?,
+        Start::MeanLoad => crate::statics::mean_load_equilibrium(&mut sys.sys, t0)
             .map_err(|reason| RunError::Setup { t: t0, reason })?,
         Start::Reference => vec![0.0; n],
     };

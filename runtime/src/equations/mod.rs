@@ -428,13 +428,27 @@ impl Equations {
             qdd
         };
         let elastic = s.at.modal.as_ref().map_or(V::zero(), |r| r.motion(x).0);
-        let _ = qd;
         match s.at.body {
             BodyRef::Cabinet => elastic.0,
             BodyRef::Tub | BodyRef::Drum => {
                 let u = V::from_slice(&x[0..3]);
                 let a = V::from_slice(&x[3..6]);
-                (u + a.cross(V::c(s.at.s)) + elastic).0
+                let r = V::c(s.at.s);
+                // The rotation's second-order terms, with alpha a rotation vector
+                // (R = I + [alpha] + [alpha]^2 / 2 + ...): the dynamics are linear in alpha, but
+                // a sensor reads the material point's motion, whose centripetal part
+                // alpha' x (alpha' x r) and position term alpha x (alpha x r) / 2 carry
+                // the even orders (2x the rocking frequency) into the channels.
+                let al = V::from_slice(&q[3..6]);
+                let second = match s.kind {
+                    SensorKind::Displacement => al.cross(al.cross(r)).scale(T::c(0.5)),
+                    SensorKind::Acceleration => {
+                        let ald = V::from_slice(&qd[3..6]);
+                        ald.cross(ald.cross(r))
+                            + (a.cross(al.cross(r)) + al.cross(a.cross(r))).scale(T::c(0.5))
+                    }
+                };
+                (u + a.cross(r) + second + elastic).0
             }
         }
     }

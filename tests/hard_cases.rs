@@ -1,0 +1,316 @@
+//! Hard cases: each names what it stresses. For each, the implicit methods complete with finite
+//! values, and the energy balance closes: the change of kinetic energy T = q'^T M(t) q' / 2
+//! equals the work of all generalised forces, W = integral of q'^T h + q'^T (dM/dt) q' / 2
+//! (the work-energy theorem for M(t) q'' = h: every spring, damper, friction, gravity, gasket
+//! and drive force is in h). W is integrated along each method's own dense output with
+//! 3-point Gauss-Legendre per step, so the closure measures the integration, not sampling.
+//! It is stated relative to the energy throughput, the integral of |P|. Explicit methods
+//! complete or stop with a typed error within their step budget; when they run on their
+//! stability limit, Hairer's test says so (`Stats::stiff_at`).
+//!
+//! Not here, and why: the friction damper with its own mass (the seed paper's poorly
+//! conditioned alternative) needs a new coordinate kind in the layout; the modes up to 2 kHz
+//! need modal data beyond the committed files (the tub's go to 850 Hz, the cabinet's to 251 Hz):
+//! the case below keeps every mode the files hold.
+//!
+//! Run with `--nocapture` for the table of methods, steps, time and closure.
+
+use std::time::Instant;
+use washdyn::commands::resolve_model;
+use washdyn_runtime::ir::{EffectSet, Model, Scene};
+use washdyn_runtime::ode::{AnySolver, Method, OdeError, Options, Solver, Stepper};
+use washdyn_runtime::statics::mean_load_equilibrium;
+use washdyn_runtime::system::{FirstOrder, Interpreter, Mechanical};
+
+struct Outcome {
+    method: Method,
+    result: Result<(), OdeError>,
+    steps: u64,
+    wall_s: f64,
+    /// |T1 - T0 - W| / integral |P|.
+    closure: f64,
+    finite: bool,
+    stiff_at: Option<f64>,
+}
+
+/// Kinetic energy and power at (t, y): T = q'^T M q' / 2, P = q'^T h + q'^T M' q' / 2, with
+/// M1' by a central difference in t (M1 depends on t only).
+fn energy_and_power(sys: &mut Interpreter, t: f64, y: &[f64], buf: &mut Buffers) -> (f64, f64) {
+    let lay = sys.layout();
+    let (n, n1, n2) = (lay.n(), lay.n1, lay.n2);
+    let (q, qd) = y.split_at(n);
+    sys.eval(t, q, qd, &mut buf.m1, &mut buf.h);
+    let dt = 1e-6;
+    sys.eval(t + dt, q, qd, &mut buf.m1p, &mut buf.hp);
+    sys.eval(t - dt, q, qd, &mut buf.m1m, &mut buf.hp);
+    let m2 = sys.m2().to_vec();
+    let (mut kin, mut pow) = (0.0, 0.0);
+    for i in 0..n1 {
+        for j in 0..n1 {
+            kin += 0.5 * qd[i] * buf.m1[i * n1 + j] * qd[j];
+            pow += 0.5 * qd[i] * (buf.m1p[i * n1 + j] - buf.m1m[i * n1 + j]) / (2.0 * dt) * qd[j];
+        }
+    }
+    for i in 0..n2 {
+        for j in 0..n2 {
+            kin += 0.5 * qd[n1 + i] * m2[i * n2 + j] * qd[n1 + j];
+        }
+    }
+    pow += qd.iter().zip(&buf.h).map(|(v, f)| v * f).sum::<f64>();
+    (kin, pow)
+}
+
+struct Buffers {
+    m1: Vec<f64>,
+    m1p: Vec<f64>,
+    m1m: Vec<f64>,
+    h: Vec<f64>,
+    hp: Vec<f64>,
+}
+
+/// Integrates `scene` of `model` over [t0, t1] from the mean-load rest (interpreted back end:
+/// the models are changed at run time), restarting at the speed profile's breakpoints.
+fn run(
+    model: &Model,
+    scene: &EffectSet,
+    method: Method,
+    tol: f64,
+    (t0, t1): (f64, f64),
+    max_steps: u64,
+) -> Outcome {
+    let mut sys = FirstOrder::new(Interpreter::new(model, scene));
+    let n = sys.layout().n();
+    let q0 =
+        mean_load_equilibrium(&mut sys.sys, t0).unwrap_or_else(|e| panic!("rest position: {e}"));
+    let mut y = vec![0.0; 2 * n];
+    y[..n].copy_from_slice(&q0);
+    let opts = Options {
+        rtol: tol,
+        atol: tol * 1e-3,
+        max_steps,
+        ..Options::default()
+    };
+    let mut solver = AnySolver::new(method, 2 * n, opts);
+    let lay = sys.layout();
+    let mut buf = Buffers {
+        m1: vec![0.0; lay.n1 * lay.n1],
+        m1p: vec![0.0; lay.n1 * lay.n1],
+        m1m: vec![0.0; lay.n1 * lay.n1],
+        h: vec![0.0; n],
+        hp: vec![0.0; n],
+    };
+    let (kin0, _) = energy_and_power(&mut sys.sys, t0, &y, &mut buf);
+    let mut stops: Vec<f64> = sys
+        .sys
+        .speed()
+        .breakpoints()
+        .iter()
+        .copied()
+        .filter(|b| *b > t0 && *b < t1)
+        .collect();
+    stops.push(t1);
+    let (mut work, mut throughput) = (0.0, 0.0);
+    // 3-point Gauss-Legendre nodes and weights on [0, 1].
+    let g = (0.6f64).sqrt() / 2.0;
+    let nodes = [
+        (0.5 - g, 5.0 / 18.0),
+        (0.5, 8.0 / 18.0),
+        (0.5 + g, 5.0 / 18.0),
+    ];
+    let mut yi = vec![0.0; 2 * n];
+    let start = Instant::now();
+    let mut t = t0;
+    let mut result = Ok(());
+    'outer: for stop in stops {
+        if let Err(e) = solver.init(&mut sys, t, &y) {
+            result = Err(e);
+            break;
+        }
+        while solver.t() < stop {
+            if let Err(e) = solver.step(&mut sys, stop) {
+                result = Err(e);
+                break 'outer;
+            }
+            let (a, b) = (solver.t_prev(), solver.t());
+            for (x, w) in nodes {
+                let ti = a + x * (b - a);
+                solver.interpolate(ti, &mut yi);
+                let (_, p) = energy_and_power(&mut sys.sys, ti, &yi, &mut buf);
+                work += w * (b - a) * p;
+                throughput += w * (b - a) * p.abs();
+            }
+        }
+        t = solver.t();
+        y.copy_from_slice(solver.y());
+    }
+    let wall_s = start.elapsed().as_secs_f64();
+    let y_end = solver.y().to_vec();
+    let finite = y_end.iter().all(|v| v.is_finite());
+    let (kin1, _) = energy_and_power(&mut sys.sys, solver.t(), &y_end, &mut buf);
+    let st = solver.stats();
+    Outcome {
+        method,
+        result,
+        steps: st.steps,
+        wall_s,
+        closure: (kin1 - kin0 - work).abs() / throughput.max(1e-300),
+        finite,
+        stiff_at: st.stiff_at,
+    }
+}
+
+fn reference() -> Model {
+    resolve_model("reference").unwrap().0
+}
+
+fn print(case: &str, o: &Outcome) {
+    println!(
+        "{case}: {} {}: {} steps, {:.2} s, closure {:.1e}, finite {}, stiff from {:?}",
+        o.method,
+        match &o.result {
+            Ok(()) => "completed".to_string(),
+            Err(e) => format!("stopped: {e}"),
+        },
+        o.steps,
+        o.wall_s,
+        o.closure,
+        o.finite,
+        o.stiff_at
+    );
+}
+
+const IMPLICIT: [Method; 3] = [Method::Sdirk4, Method::Rodas4, Method::GeneralizedAlpha];
+
+/// The implicit methods complete with finite values and a closed balance; the explicit one
+/// completes or stops with a typed error inside its budget.
+fn check_case(case: &str, model: &Model, scene: &EffectSet, window: (f64, f64), bound: f64) {
+    for m in IMPLICIT {
+        let o = run(model, scene, m, 1e-6, window, 5_000_000);
+        print(case, &o);
+        assert!(o.result.is_ok(), "{case}: {m} failed: {:?}", o.result);
+        assert!(o.finite, "{case}: {m}");
+        assert!(o.closure < bound, "{case}: {m}: closure {:.2e}", o.closure);
+    }
+    let budget = 2_000_000;
+    let o = run(model, scene, Method::Dopri5, 1e-6, window, budget);
+    print(case, &o);
+    match &o.result {
+        Ok(()) => {
+            assert!(o.finite);
+            assert!(
+                o.closure < bound,
+                "{case}: dopri5: closure {:.2e}",
+                o.closure
+            );
+        }
+        Err(OdeError::StepBudget { steps, .. }) => assert!(*steps <= budget),
+        Err(e) => panic!("{case}: dopri5 stopped with {e}, not within its budget"),
+    }
+}
+
+/// Friction slope s from 1e2 to 1e6 s/m: the arctan law tends to Coulomb friction, the
+/// dampers' stiffness in the stick phase (2 Fmax s / pi per m/s) grows 1e4-fold. Window: the
+/// hold at 93 rpm and the start of the ramp, where the dampers stick and slip.
+#[test]
+fn friction_slope_towards_coulomb() {
+    for s in [1e2, 1e4, 1e6] {
+        let mut m = reference();
+        for d in &mut m.friction_dampers {
+            d.slope = s;
+        }
+        let scene = m.scene(Some("full")).unwrap();
+        check_case(&format!("slope {s:e}"), &m, &scene, (12.0, 17.0), 1e-3);
+        if s >= 1e4 {
+            // dopri5 must say it runs on its stability limit.
+            let o = run(&m, &scene, Method::Dopri5, 1e-6, (12.0, 13.0), 2_000_000);
+            assert!(o.stiff_at.is_some(), "slope {s}: stiffness not detected");
+        }
+    }
+}
+
+/// A 5 kg unbalance (8 x the seed paper's test mass) at 1180 rpm: 18 kN rotating load,
+/// tub motion past the small-motion bounds; the equations must stay finite and balanced.
+#[test]
+fn five_kilogram_unbalance() {
+    let mut m = reference();
+    for u in &mut m.unbalances {
+        if u.rotor == "drum" {
+            u.mass = 5.0;
+        }
+    }
+    let scene = m.scene(Some("full")).unwrap();
+    check_case("5 kg unbalance", &m, &scene, (150.0, 152.0), 1e-3);
+}
+
+/// A slow passage (0 to 300 rpm in 120 s) through the rigid suspension resonances with little
+/// damping: no friction dampers, only the gasket's damping. (With no damping at all the tub's
+/// roll grows past 0.3 rad by 100 s and the spring geometry folds: the model, not the
+/// integration, ends there; both dopri5 and generalized-alpha then stop with a step size
+/// underflow at t = 102.5-102.8 s.)
+#[test]
+fn slow_resonance_passage_with_little_damping() {
+    let mut m = reference();
+    m.speed.table = vec![[0.0, 0.0], [120.0, 300.0]];
+    m.scenes.push(Scene {
+        name: "lightly_damped".into(),
+        effects: vec![
+            "gyroscopic".into(),
+            "unbalance.drum".into(),
+            "gasket_damping".into(),
+            "element_geometry".into(),
+        ],
+        max_order: None,
+    });
+    let scene = m.scene(Some("lightly_damped")).unwrap();
+    check_case("slow passage", &m, &scene, (0.0, 120.0), 1e-3);
+}
+
+/// A 600 s run-up (the reference profile stretched from 178 s): long integration, drift.
+#[test]
+fn six_hundred_second_run_up() {
+    let mut m = reference();
+    let k = 600.0 / m.speed.table.last().unwrap()[0];
+    for r in &mut m.speed.table {
+        r[0] *= k;
+    }
+    let scene = m.scene(Some("full")).unwrap();
+    for method in [Method::GeneralizedAlpha, Method::Rodas4] {
+        let o = run(&m, &scene, method, 1e-6, (0.0, 600.0), 20_000_000);
+        print("600 s run-up", &o);
+        assert!(o.result.is_ok() && o.finite, "{:?}", o.result);
+        assert!(o.closure < 1e-3, "closure {:.2e}", o.closure);
+    }
+}
+
+/// Every mode the modal data holds (tub to 850 Hz, drum to 196 Hz, cabinet to 251 Hz) at
+/// 1180 rpm: the widest spread of time scales the committed data can give.
+#[test]
+fn all_modes_of_the_modal_data() {
+    let m = reference();
+    let scene = EffectSet {
+        mode_cutoff: Some(1e5),
+        ..m.scene(Some("elastic")).unwrap()
+    };
+    let lean = m.scene(Some("elastic")).unwrap();
+    let n_all = Interpreter::new(&m, &scene).eq.layout.n();
+    let n_lean = Interpreter::new(&m, &lean).eq.layout.n();
+    assert!(n_all > n_lean, "{n_all} vs {n_lean}");
+    let o = run(
+        &m,
+        &scene,
+        Method::GeneralizedAlpha,
+        1e-5,
+        (150.0, 150.5),
+        5_000_000,
+    );
+    print(&format!("all modes ({n_all} coordinates)"), &o);
+    assert!(o.result.is_ok() && o.finite, "{:?}", o.result);
+    assert!(o.closure < 1e-3, "closure {:.2e}", o.closure);
+    let o = run(&m, &scene, Method::Dopri5, 1e-5, (150.0, 150.5), 2_000_000);
+    print(&format!("all modes ({n_all} coordinates)"), &o);
+    match &o.result {
+        Ok(()) => assert!(o.finite && o.stiff_at.is_some()),
+        Err(OdeError::StepBudget { .. }) => {}
+        Err(e) => panic!("dopri5: {e}"),
+    }
+}

@@ -934,4 +934,25 @@ mod tests {
         assert_eq!(r[1].1.unwrap().method, "c");
         assert_eq!(r[2].1.unwrap().method, "c");
     }
+
+    /// The committed study answers for the settings it measured, with the measured error
+    /// inside the class it names, and nothing for a scene or model it did not study.
+    #[test]
+    fn error_class_comes_from_the_committed_study() {
+        let s: Study = serde_json::from_str(COMMITTED).expect("docs/accuracy.json parses");
+        let w = &s.windows[0];
+        let t = w.trials.iter().find(|t| t.accel_err.is_some()).unwrap();
+        let m: Method = t.method.parse().unwrap();
+        let c = error_class(&s.model, &w.window.scene, m, t.tol).unwrap();
+        let err = t.accel_err.unwrap();
+        let class = CLASSES.iter().rev().find(|c| err <= **c);
+        match class {
+            Some(cl) => assert!(c.starts_with(&format!("{cl:.0e}")), "{c}"),
+            None => assert!(c.starts_with("worse than"), "{c}"),
+        }
+        assert_eq!(error_class(&s.model, "no_such_scene", m, t.tol), None);
+        assert_eq!(error_class("no_such_model", &w.window.scene, m, t.tol), None);
+        // Two decades off every measured tolerance: no claim.
+        assert_eq!(error_class(&s.model, &w.window.scene, m, 1e-12), None);
+    }
 }

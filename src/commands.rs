@@ -63,6 +63,8 @@ pub struct RunArgs {
     pub keep_samples: bool,
     /// Write the states (`states.parquet`) for field recovery.
     pub states: bool,
+    /// How the run starts: static equilibrium (default), or at rest under the mean loads.
+    pub start: Start,
 }
 
 /// Outcome of a run: where the files are, and the summary.
@@ -204,7 +206,7 @@ pub fn run_command_with(
         t_start: 0.0,
         t_end,
         sample_rate: args.sample_rate,
-        start: Start::Static,
+        start: args.start,
     };
     let labels = Labels {
         model: model.name.clone(),

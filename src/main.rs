@@ -90,6 +90,11 @@ enum Cmd {
         /// `washdyn fields`.
         #[arg(long)]
         states: bool,
+        /// How the run starts: `static` (equilibrium under every load at t = 0, a rotating
+        /// unbalance's centrifugal force included as if it stood still) or `mean` (at rest
+        /// under gravity and the mean loads at the start speed: for constant-speed studies).
+        #[arg(long, default_value = "static")]
+        start: washdyn_runtime::run::Start,
     },
     /// Displacement fields on the FE meshes from a run's states (`run --states`), as VTK grids
     /// with a .pvd collection per body (ParaView).
@@ -294,6 +299,7 @@ fn main() -> ExitCode {
             no_validity_stop,
             allow_large_output,
             states,
+            start,
         } => {
             let args = RunArgs {
                 model,
@@ -309,6 +315,7 @@ fn main() -> ExitCode {
                 format,
                 keep_samples: !no_plots,
                 states,
+                start,
             };
             let bar = ProgressBar::new(1000);
             bar.set_style(

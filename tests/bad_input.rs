@@ -31,6 +31,7 @@ fn args(tag: &str) -> RunArgs {
         format: washdyn::results::Format::Parquet,
         keep_samples: false,
         states: false,
+        start: washdyn_runtime::run::Start::Static,
     }
 }
 

@@ -51,6 +51,7 @@ fn reference_run(dir: &Path, t_end: f64, sample_rate: f64, states: bool) -> RunA
         format: Format::Parquet,
         keep_samples: true,
         states,
+        start: washdyn_runtime::run::Start::Static,
     }
 }
 

@@ -214,7 +214,7 @@ impl Summary {
             self.warnings.push(format!(
                 "{} ran on its stability limit from t = {t:.4} s ({} of {} steps; Hairer's \
                  stiffness test): its step is set by stability there, not by the tolerance; an \
-                 implicit method (sdirk4) would take larger steps",
+                 implicit method (galpha, sdirk4, rodas4; docs/accuracy.md) would take larger steps",
                 self.integrator, s.stiff_steps, s.steps
             ));
         }

@@ -439,8 +439,11 @@ impl Equations {
                 // a sensor reads the material point's motion, whose centripetal part
                 // alpha' x (alpha' x r) and position term alpha x (alpha x r) / 2 carry
                 // the even orders (2x the rocking frequency) into the channels.
+                // A scene that linearises its elements (no `element_geometry`) reads its
+                // sensors to first order too, so its only nonlinearity stays the friction law.
                 let al = V::from_slice(&q[3..6]);
                 let second = match s.kind {
+                    _ if !self.exact_geometry => V::zero(),
                     SensorKind::Displacement => al.cross(al.cross(r)).scale(T::c(0.5)),
                     SensorKind::Acceleration => {
                         let ald = V::from_slice(&qd[3..6]);

@@ -951,7 +951,10 @@ mod tests {
             None => assert!(c.starts_with("worse than"), "{c}"),
         }
         assert_eq!(error_class(&s.model, "no_such_scene", m, t.tol), None);
-        assert_eq!(error_class("no_such_model", &w.window.scene, m, t.tol), None);
+        assert_eq!(
+            error_class("no_such_model", &w.window.scene, m, t.tol),
+            None
+        );
         // Two decades off every measured tolerance: no claim.
         assert_eq!(error_class(&s.model, &w.window.scene, m, 1e-12), None);
     }

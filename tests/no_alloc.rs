@@ -93,7 +93,7 @@ fn interpreted_run_allocates_only_at_set_up() {
         (washdyn_models::elastic_cabinet::model(), "elastic"),
     ] {
         let scene = m.scene(Some(scene)).unwrap();
-        for method in [Method::Dopri5, Method::Rk4, Method::Sdirk4] {
+        for method in Method::ALL {
             let (short, ns) = allocations(Interpreter::new(&m, &scene), method, 1.0);
             let (long, nl) = allocations(Interpreter::new(&m, &scene), method, 10.0);
             assert!(
@@ -110,7 +110,7 @@ fn interpreted_run_allocates_only_at_set_up() {
     // are 35 us (dopri5).
     let m = washdyn_models::reference();
     let scene = m.scene(Some("elastic")).unwrap();
-    for method in [Method::Dopri5, Method::Sdirk4] {
+    for method in [Method::Dopri5, Method::Sdirk4, Method::GeneralizedAlpha] {
         let (short, ns) = allocations(Interpreter::new(&m, &scene), method, 0.05);
         let (long, nl) = allocations(Interpreter::new(&m, &scene), method, 0.5);
         assert!(nl > 9 * ns, "{method}: {nl} vs {ns}");
@@ -128,7 +128,12 @@ fn generated_run_allocates_only_at_set_up() {
         ("reference", "rigid_low_speed"),
         ("elastic_cabinet", "elastic"),
     ] {
-        for method in [Method::Dopri5, Method::Sdirk4] {
+        for method in [
+            Method::Dopri5,
+            Method::Sdirk4,
+            Method::Rodas4,
+            Method::GeneralizedAlpha,
+        ] {
             let sys = || washdyn_models::generated(model, scene).unwrap();
             let (short, ns) = allocations(sys(), method, 1.0);
             let (long, nl) = allocations(sys(), method, 10.0);

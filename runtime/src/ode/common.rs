@@ -158,3 +158,81 @@ pub fn after_landing(h_next: f64, h_prop: f64, lands: bool, rejected_last: bool)
         h_next
     }
 }
+
+/// The buffers [`start`] fills.
+pub struct StartBuffers<'a> {
+    pub y: &'a mut [f64],
+    pub y_prev: &'a mut [f64],
+    pub f: &'a mut [f64],
+    pub f_prev: &'a mut [f64],
+    /// Scratch for the initial step guess.
+    pub ytmp: &'a mut [f64],
+    pub ftmp: &'a mut [f64],
+}
+
+/// The start shared by the methods with Hermite dense output (sdirk4, rodas4, galpha):
+/// y = y_prev = y0, f = f_prev = f(t0, y0), both checked finite, and the first step size
+/// (`h0`, or Hairer's guess for a method of order `order`).
+pub fn start<S: OdeSystem + ?Sized>(
+    sys: &mut S,
+    t0: f64,
+    y0: &[f64],
+    order: u32,
+    opts: &Options,
+    b: StartBuffers,
+    stats: &mut Stats,
+) -> Result<f64, OdeError> {
+    b.y.copy_from_slice(y0);
+    b.y_prev.copy_from_slice(y0);
+    if !all_finite(y0) {
+        return Err(OdeError::NonFinite { t: t0 });
+    }
+    sys.rhs(t0, b.y, b.f);
+    stats.rhs_evals += 1;
+    b.f_prev.copy_from_slice(b.f);
+    if !all_finite(b.f) {
+        return Err(OdeError::NonFinite { t: t0 });
+    }
+    Ok(if opts.h0 > 0.0 {
+        opts.h0.min(opts.h_max)
+    } else {
+        initial_step(sys, t0, b.y, b.f, order, opts, b.ytmp, b.ftmp, stats)
+    })
+}
+
+/// `Stepper` for a method whose dense output is the cubic Hermite interpolant of its fields
+/// `t_prev`, `t`, `y_prev`, `y`, `f_prev`, `f` and whose counters are `stats`.
+macro_rules! hermite_stepper {
+    ($ty:ty, $name:expr) => {
+        impl $crate::ode::Stepper for $ty {
+            fn name(&self) -> &'static str {
+                $name
+            }
+            fn t(&self) -> f64 {
+                self.t
+            }
+            fn y(&self) -> &[f64] {
+                &self.y
+            }
+            fn t_prev(&self) -> f64 {
+                self.t_prev
+            }
+            fn interpolate(&self, t: f64, out: &mut [f64]) {
+                $crate::ode::common::hermite(
+                    self.t_prev,
+                    self.t - self.t_prev,
+                    &self.y_prev,
+                    &self.f_prev,
+                    &self.y,
+                    &self.f,
+                    t,
+                    out,
+                );
+            }
+            fn stats(&self) -> $crate::ode::Stats {
+                self.stats
+            }
+        }
+    };
+}
+pub(crate) use hermite_stepper;

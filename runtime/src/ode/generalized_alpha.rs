@@ -19,9 +19,11 @@
 //!   0.9 err^(-1/3), in [0.2, 5].
 //! * Dense output: cubic Hermite from (y0, f0, y1, f1).
 
-use super::common::{after_landing, all_finite, error_norm, hermite, initial_step, propose_step};
+use super::common::{
+    StartBuffers, after_landing, all_finite, error_norm, hermite_stepper, propose_step, start,
+};
 use super::lu::{lu_factor, lu_solve};
-use super::{OdeError, OdeSystem, Options, Solver, Stats, Stepper};
+use super::{OdeError, OdeSystem, Options, Solver, Stats};
 
 /// Multibody codes' usual numerical damping (e.g. the default of HHT-type integrators).
 pub const DEFAULT_RHO_INF: f64 = 0.8;
@@ -333,35 +335,7 @@ impl GeneralizedAlpha {
     }
 }
 
-impl Stepper for GeneralizedAlpha {
-    fn name(&self) -> &'static str {
-        "galpha"
-    }
-    fn t(&self) -> f64 {
-        self.t
-    }
-    fn y(&self) -> &[f64] {
-        &self.y
-    }
-    fn t_prev(&self) -> f64 {
-        self.t_prev
-    }
-    fn interpolate(&self, t: f64, out: &mut [f64]) {
-        hermite(
-            self.t_prev,
-            self.t - self.t_prev,
-            &self.y_prev,
-            &self.f_prev,
-            &self.y,
-            &self.f,
-            t,
-            out,
-        );
-    }
-    fn stats(&self) -> Stats {
-        self.stats
-    }
-}
+hermite_stepper!(GeneralizedAlpha, "galpha");
 
 impl<S: OdeSystem + ?Sized> Solver<S> for GeneralizedAlpha {
     fn init(&mut self, sys: &mut S, t0: f64, y0: &[f64]) -> Result<(), OdeError> {
@@ -370,39 +344,29 @@ impl<S: OdeSystem + ?Sized> Solver<S> for GeneralizedAlpha {
         }
         self.t = t0;
         self.t_prev = t0;
-        self.y.copy_from_slice(y0);
-        self.y_prev.copy_from_slice(y0);
         self.jac_valid = false;
         self.jac_fresh = false;
         self.lu_h = 0.0;
         self.eta = 1.0;
-        if !all_finite(y0) {
-            return Err(OdeError::NonFinite { t: t0 });
-        }
-        sys.rhs(t0, &self.y, &mut self.f);
-        self.stats.rhs_evals += 1;
-        self.f_prev.copy_from_slice(&self.f);
-        if !all_finite(&self.f) {
-            return Err(OdeError::NonFinite { t: t0 });
-        }
+        self.h = start(
+            sys,
+            t0,
+            y0,
+            2,
+            &self.opts,
+            StartBuffers {
+                y: &mut self.y,
+                y_prev: &mut self.y_prev,
+                f: &mut self.f,
+                f_prev: &mut self.f_prev,
+                ytmp: &mut self.y_new,
+                ftmp: &mut self.ftmp,
+            },
+            &mut self.stats,
+        )?;
         let n = self.n;
         self.acc.copy_from_slice(&self.f[n..]);
         self.h_acc = 0.0;
-        self.h = if self.opts.h0 > 0.0 {
-            self.opts.h0.min(self.opts.h_max)
-        } else {
-            initial_step(
-                sys,
-                t0,
-                &self.y,
-                &self.f,
-                2,
-                &self.opts,
-                &mut self.y_new,
-                &mut self.ftmp,
-                &mut self.stats,
-            )
-        };
         Ok(())
     }
 

@@ -12,10 +12,12 @@
 //! * The right-hand side at the new point is the next step's first stage, so dense output is the
 //!   cubic Hermite interpolant from (y0, f0, y1, f1) at no extra cost (third order).
 
-use super::common::{after_landing, all_finite, error_norm, hermite, initial_step, propose_step};
+use super::common::{
+    StartBuffers, after_landing, all_finite, error_norm, hermite_stepper, propose_step, start,
+};
 use super::lu::{lu_factor, lu_solve};
 use super::tableau::RODAS4;
-use super::{OdeError, OdeSystem, Options, Solver, Stats, Stepper};
+use super::{OdeError, OdeSystem, Options, Solver, Stats};
 
 const STAGES: usize = 6;
 const SAFETY: f64 = 0.9;
@@ -183,69 +185,31 @@ impl Rodas4 {
     }
 }
 
-impl Stepper for Rodas4 {
-    fn name(&self) -> &'static str {
-        "rodas4"
-    }
-    fn t(&self) -> f64 {
-        self.t
-    }
-    fn y(&self) -> &[f64] {
-        &self.y
-    }
-    fn t_prev(&self) -> f64 {
-        self.t_prev
-    }
-    fn interpolate(&self, t: f64, out: &mut [f64]) {
-        hermite(
-            self.t_prev,
-            self.t - self.t_prev,
-            &self.y_prev,
-            &self.f_prev,
-            &self.y,
-            &self.f,
-            t,
-            out,
-        );
-    }
-    fn stats(&self) -> Stats {
-        self.stats
-    }
-}
+hermite_stepper!(Rodas4, "rodas4");
 
 impl<S: OdeSystem + ?Sized> Solver<S> for Rodas4 {
     fn init(&mut self, sys: &mut S, t0: f64, y0: &[f64]) -> Result<(), OdeError> {
         assert_eq!(y0.len(), self.n, "state dimension");
         self.t = t0;
         self.t_prev = t0;
-        self.y.copy_from_slice(y0);
-        self.y_prev.copy_from_slice(y0);
         self.jac_valid = false;
         self.lu_h = 0.0;
-        if !all_finite(y0) {
-            return Err(OdeError::NonFinite { t: t0 });
-        }
-        sys.rhs(t0, &self.y, &mut self.f);
-        self.stats.rhs_evals += 1;
-        self.f_prev.copy_from_slice(&self.f);
-        if !all_finite(&self.f) {
-            return Err(OdeError::NonFinite { t: t0 });
-        }
-        self.h = if self.opts.h0 > 0.0 {
-            self.opts.h0.min(self.opts.h_max)
-        } else {
-            initial_step(
-                sys,
-                t0,
-                &self.y,
-                &self.f,
-                RODAS4.order,
-                &self.opts,
-                &mut self.ytmp,
-                &mut self.ftmp,
-                &mut self.stats,
-            )
-        };
+        self.h = start(
+            sys,
+            t0,
+            y0,
+            RODAS4.order,
+            &self.opts,
+            StartBuffers {
+                y: &mut self.y,
+                y_prev: &mut self.y_prev,
+                f: &mut self.f,
+                f_prev: &mut self.f_prev,
+                ytmp: &mut self.ytmp,
+                ftmp: &mut self.ftmp,
+            },
+            &mut self.stats,
+        )?;
         Ok(())
     }
 

@@ -91,8 +91,9 @@ enum Cmd {
         #[arg(long)]
         states: bool,
         /// How the run starts: `static` (equilibrium under every load at t = 0, a rotating
-        /// unbalance's centrifugal force included as if it stood still) or `mean` (at rest
-        /// under gravity and the mean loads at the start speed: for constant-speed studies).
+        /// unbalance's centrifugal force included as if it stood still), `mean` (at rest
+        /// under gravity and the mean loads at the start speed) or `periodic` (on the
+        /// periodic steady state by shooting; constant speed only).
         #[arg(long, default_value = "static")]
         start: washdyn_runtime::run::Start,
     },

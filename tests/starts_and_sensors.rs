@@ -214,3 +214,63 @@ fn second_order_sensor_terms_carry_order_2() {
     );
     assert!(worst_new < 0.1 * worst_lin, "{worst_new} vs {worst_lin}");
 }
+
+/// The periodic start (shooting) at a constant 600 rpm against the independent path: a long run
+/// from the mean-load start, read at the same phase after 80 periods = 32 s (the
+/// friction-damped transient has died out). Both end states and the periodicity of the shooting solution over
+/// one more period are checked; a run-up is refused.
+#[test]
+fn periodic_start_is_the_state_a_long_run_settles_to() {
+    use washdyn_runtime::periodic::periodic_state;
+    let rpm = 600.0;
+    let m = at_constant_speed(rpm);
+    let scene = m.scene(Some("full")).unwrap();
+    let mut fo = FirstOrder::new(Interpreter::new(&m, &scene));
+    let n = fo.layout().n();
+    let t0 = 0.0;
+    let period = 4.0 * 60.0 / rpm;
+    let yp = periodic_state(&mut fo, t0).unwrap();
+    let run = |fo: &mut FirstOrder<Interpreter>, y0: &[f64], t1: f64| -> Vec<f64> {
+        let mut s = Dopri5::new(
+            2 * n,
+            Options {
+                rtol: 1e-10,
+                atol: 1e-13,
+                ..Options::default()
+            },
+        );
+        s.init(fo, t0, y0).unwrap();
+        while s.t() < t1 {
+            s.step(fo, t1).unwrap();
+        }
+        s.y().to_vec()
+    };
+    let after_one = run(&mut fo, &yp, t0 + period);
+    let q0 = mean_load_equilibrium(&mut fo.sys, t0).unwrap();
+    let mut ym = vec![0.0; 2 * n];
+    ym[..n].copy_from_slice(&q0);
+    let settled = run(&mut fo, &ym, t0 + 80.0 * period);
+    let diff = |a: &[f64], b: &[f64], k: usize| {
+        (0..3).fold(0.0f64, |m, i| m.max((a[k + i] - b[k + i]).abs()))
+    };
+    let amp = (0..3).fold(0.0f64, |m, i| m.max((yp[i] - q0[i]).abs()));
+    println!(
+        "periodic start: translation {:.3e} m off the mean-load rest; one period later it repeats \
+         to {:.1e} m; a run of 80 periods from the mean-load start ends {:.1e} m from it \
+         ({:.1e} m/s in velocity)",
+        amp,
+        diff(&after_one, &yp, 0),
+        diff(&settled, &yp, 0),
+        diff(&settled, &yp, n)
+    );
+    assert!(diff(&after_one, &yp, 0) < 1e-8);
+    // Measured 5.9e-14 m: the bound says "the same state", with room for another machine.
+    assert!(diff(&settled, &yp, 0) < 1e-8, "not the settled state");
+
+    // A run-up has no periodic solution: refused with a message.
+    let m = resolve_model("reference").unwrap().0;
+    let scene = m.scene(Some("full")).unwrap();
+    let mut fo = FirstOrder::new(Interpreter::new(&m, &scene));
+    let e = periodic_state(&mut fo, 100.0).unwrap_err();
+    assert!(e.contains("not constant"), "{e}");
+}

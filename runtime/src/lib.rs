@@ -10,6 +10,7 @@ pub mod ir;
 pub mod linalg;
 pub mod ode;
 pub mod output;
+pub mod periodic;
 pub mod run;
 pub mod scalar;
 pub mod speed;

@@ -22,6 +22,8 @@ pub enum Start {
     /// Rest under gravity and the mean loads at the start speed: rotating unbalances are
     /// left to the dynamics (`statics::mean_load_equilibrium`).
     MeanLoad,
+    /// On the periodic steady state at constant speed (`periodic::periodic_state`, shooting).
+    Periodic,
 }
 
 impl std::str::FromStr for Start {
@@ -31,7 +33,10 @@ impl std::str::FromStr for Start {
             "static" => Ok(Start::Static),
             "mean" => Ok(Start::MeanLoad),
             "reference" => Ok(Start::Reference),
-            _ => Err(format!("unknown start `{s}` (static, mean, reference)")),
+            "periodic" => Ok(Start::Periodic),
+            _ => Err(format!(
+                "unknown start `{s}` (static, mean, periodic, reference)"
+            )),
         }
     }
 }
@@ -413,15 +418,18 @@ where
             ),
         });
     }
-    let q0 = match opts.start {
-        Start::Static => static_equilibrium(&mut sys.sys, t0)
-            .map_err(|reason| RunError::Setup { t: t0, reason })?,
-        Start::MeanLoad => crate::statics::mean_load_equilibrium(&mut sys.sys, t0)
-            .map_err(|reason| RunError::Setup { t: t0, reason })?,
-        Start::Reference => vec![0.0; n],
-    };
+    let setup = |reason| RunError::Setup { t: t0, reason };
     let mut y = vec![0.0; 2 * n];
-    y[..n].copy_from_slice(&q0);
+    match opts.start {
+        Start::Static => {
+            y[..n].copy_from_slice(&static_equilibrium(&mut sys.sys, t0).map_err(setup)?)
+        }
+        Start::MeanLoad => y[..n].copy_from_slice(
+            &crate::statics::mean_load_equilibrium(&mut sys.sys, t0).map_err(setup)?,
+        ),
+        Start::Periodic => y = crate::periodic::periodic_state(sys, t0).map_err(setup)?,
+        Start::Reference => {}
+    }
     let mut qdd = vec![0.0; n];
     let mut vals = vec![0.0; names.len()];
     let io = |t: f64| move |source| RunError::Io { t, source };

@@ -235,15 +235,21 @@ pub fn run_command_with(
         Err((e, s)) => (s, Some(e.to_string())),
     };
     let mut summary = summary;
-    summary.error_class = crate::accuracy::error_class(
-        &model.name,
-        &scene.name,
-        args.integrator,
-        match (args.integrator, args.step) {
-            (Method::Rk4, h) => h.unwrap_or(ode.h0),
-            _ => args.tol,
-        },
-    );
+    // A run that failed reached no class.
+    summary.error_class = error
+        .is_none()
+        .then(|| {
+            crate::accuracy::error_class(
+                &model.name,
+                &scene.name,
+                args.integrator,
+                match (args.integrator, args.step) {
+                    (Method::Rk4, h) => h.unwrap_or(ode.h0),
+                    _ => args.tol,
+                },
+            )
+        })
+        .flatten();
     let finished = sink.finish();
     write_summary(&out_dir, &summary)?;
     finished.map_err(|e| format!("cannot write {}: {e}", sink.path().display()))?;

@@ -236,3 +236,45 @@ macro_rules! hermite_stepper {
     };
 }
 pub(crate) use hermite_stepper;
+
+/// Trials with non-finite values a step may take in a row (each with h / 10) before it fails.
+pub const MAX_NONFINITE_TRIALS: u32 = 10;
+
+/// The rejected trials within one `step` call of an adaptive method.
+#[derive(Debug, Default)]
+pub struct Trials {
+    /// The last trial was rejected: the next accepted step may not grow.
+    pub rejected_last: bool,
+    nonfinite: u32,
+}
+
+impl Trials {
+    /// A trial that gave non-finite values: rejected, retried with h / 10; after
+    /// [`MAX_NONFINITE_TRIALS`] of them the step fails at the last good time `t`.
+    pub fn non_finite(&mut self, t: f64, h: f64, stats: &mut Stats) -> Result<f64, OdeError> {
+        stats.rejected_steps += 1;
+        self.rejected_last = true;
+        self.nonfinite += 1;
+        if self.nonfinite >= MAX_NONFINITE_TRIALS {
+            return Err(OdeError::NonFinite { t });
+        }
+        Ok(h * 0.1)
+    }
+
+    /// Any other rejected trial (error estimate above 1, Newton failure).
+    pub fn rejected(&mut self, stats: &mut Stats) {
+        stats.rejected_steps += 1;
+        self.rejected_last = true;
+    }
+
+    /// The growth factor after an accepted step: within [fac_min, fac_max], and at most 1
+    /// right after a rejection.
+    pub fn accept_factor(&self, fac: f64, fac_min: f64, fac_max: f64) -> f64 {
+        let fac = fac.clamp(fac_min, fac_max);
+        if self.rejected_last {
+            fac.min(1.0)
+        } else {
+            fac
+        }
+    }
+}

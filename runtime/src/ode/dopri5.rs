@@ -13,7 +13,7 @@
 //! problem stiff (`Stats::stiff_at`): the run then chatters on the stability limit and an
 //! implicit method would take larger steps.
 
-use super::common::{after_landing, all_finite, error_norm, initial_step, propose_step};
+use super::common::{Trials, after_landing, all_finite, error_norm, initial_step, propose_step};
 use super::tableau::{DOPRI5, DOPRI5_DENSE_D};
 use super::{OdeError, OdeSystem, Options, Solver, Stats, Stepper};
 
@@ -22,8 +22,6 @@ const BETA: f64 = 0.04;
 const ALPHA: f64 = 0.2 - 0.75 * BETA;
 const FAC_MIN: f64 = 0.2;
 const FAC_MAX: f64 = 10.0;
-/// Consecutive non-finite trial steps tolerated before giving up.
-const MAX_NONFINITE_TRIALS: u32 = 10;
 /// Hairer's stiffness test: h rho above this is on the stability boundary ...
 const STIFF_H_RHO: f64 = 3.25;
 /// ... this many times ...
@@ -241,39 +239,36 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Dopri5 {
         if t_stop.is_nan() || t_stop <= self.t {
             return Ok(());
         }
-        let mut rejected_last = false;
-        let mut nonfinite_trials = 0;
+        let mut trials = Trials::default();
         loop {
             let (h, lands, h_prop) = propose_step(self.t, self.h, t_stop, &self.opts, &self.stats)?;
             let err = self.attempt(sys, h);
 
             if !err.is_finite() {
-                nonfinite_trials += 1;
-                self.stats.rejected_steps += 1;
-                if nonfinite_trials >= MAX_NONFINITE_TRIALS {
-                    return Err(OdeError::NonFinite { t: self.t });
-                }
-                self.h = h * 0.1;
-                rejected_last = true;
+                self.h = trials.non_finite(self.t, h, &mut self.stats)?;
                 continue;
             }
             if err > 1.0 {
-                self.stats.rejected_steps += 1;
+                trials.rejected(&mut self.stats);
                 let fac = (SAFETY * err.powf(-ALPHA)).clamp(FAC_MIN, 1.0);
                 self.h = h * fac;
-                rejected_last = true;
                 continue;
             }
 
             // Accepted: PI controller for the next step.
             let err_c = err.max(1e-10);
-            let mut fac = SAFETY * err_c.powf(-ALPHA) * self.err_prev.powf(BETA);
-            fac = fac.clamp(FAC_MIN, FAC_MAX);
-            if rejected_last {
-                fac = fac.min(1.0);
-            }
+            let fac = trials.accept_factor(
+                SAFETY * err_c.powf(-ALPHA) * self.err_prev.powf(BETA),
+                FAC_MIN,
+                FAC_MAX,
+            );
             self.err_prev = err.max(1e-4);
-            self.h = after_landing((h * fac).min(self.opts.h_max), h_prop, lands, rejected_last);
+            self.h = after_landing(
+                (h * fac).min(self.opts.h_max),
+                h_prop,
+                lands,
+                trials.rejected_last,
+            );
 
             let t_new = if lands { t_stop } else { self.t + h };
             // Dense output coefficients (Hairer's continuous extension).

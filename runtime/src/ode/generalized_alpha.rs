@@ -13,35 +13,23 @@
 //! * The system says it is second order through `OdeSystem::second_order` (y = [q; q'],
 //!   f = [q'; q'']); any other system is refused with `OdeError::NotSecondOrder`.
 //! * Jacobian: the lower half of `sys.jacobian` when analytic, else forward differences in q
-//!   and q' (2n evaluations). Kept across steps while Newton contracts well, as in `sdirk4`.
+//!   and q' (2n evaluations). Newton's stop rule, the Jacobian's reuse and the step control
+//!   after a trial are `sdirk4`'s (`newton.rs`).
 //! * Error estimate (Zienkiewicz & Xie's for Newmark-type methods): the local error of q is
 //!   h^2 (beta - 1/6) (q''1 - q''0); only the positions enter the norm. Step factor
 //!   0.9 err^(-1/3), in [0.2, 5].
 //! * Dense output: cubic Hermite from (y0, f0, y1, f1).
 
 use super::common::{
-    StartBuffers, after_landing, all_finite, error_norm, hermite_stepper, propose_step, start,
+    StartBuffers, Trials, all_finite, error_norm, hermite_stepper, propose_step, start,
 };
 use super::lu::{lu_factor, lu_solve};
+use super::newton::{self, Attempt, Jacobian, Rate, Verdict};
 use super::{OdeError, OdeSystem, Options, Solver, Stats};
 
 /// Multibody codes' usual numerical damping (e.g. the default of HHT-type integrators).
 pub const DEFAULT_RHO_INF: f64 = 0.8;
-const SAFETY: f64 = 0.9;
-const FAC_MIN: f64 = 0.2;
-const FAC_MAX: f64 = 5.0;
 const MAX_NEWTON: u32 = 8;
-const THETA_REFRESH: f64 = 0.1;
-const FREEZE: f64 = 1.2;
-const MAX_NONFINITE_TRIALS: u32 = 10;
-const KAPPA: f64 = 0.03;
-
-enum Attempt {
-    Done(f64),
-    NewtonFailed,
-    NonFinite,
-    Singular,
-}
 
 /// The method's four parameters from rho_inf (Chung & Hulbert's optimal choice).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -94,8 +82,8 @@ pub struct GeneralizedAlpha {
     jac: Vec<f64>,
     lu: Vec<f64>,
     piv: Vec<usize>,
-    jac_valid: bool,
-    jac_fresh: bool,
+    /// Whether the stored Jacobian may be used, and whether it is from the current point.
+    jac_age: Jacobian,
     lu_h: f64,
     scale: Vec<f64>,
     err: Vec<f64>,
@@ -138,8 +126,7 @@ impl GeneralizedAlpha {
             jac: v(dim * dim),
             lu: v(n * n),
             piv: vec![0; n],
-            jac_valid: false,
-            jac_fresh: false,
+            jac_age: Jacobian::default(),
             lu_h: 0.0,
             scale: v(dim),
             err: v(n),
@@ -199,10 +186,12 @@ impl GeneralizedAlpha {
             gamma,
         } = self.p;
         let bp = (1.0 - alpha_f) / (1.0 - alpha_m);
-        if !self.jac_valid {
+        if !self.jac_age.valid {
             self.compute_jacobian(sys);
-            self.jac_valid = true;
-            self.jac_fresh = true;
+            self.jac_age = Jacobian {
+                valid: true,
+                fresh: true,
+            };
             self.lu_h = 0.0;
         }
         if self.lu_h != h {
@@ -227,9 +216,7 @@ impl GeneralizedAlpha {
         let t1 = self.t + h;
         // Start from q''_n.
         self.x.copy_from_slice(&self.f[n..]);
-        let kappa = (10.0 * f64::EPSILON / self.opts.rtol).max(KAPPA);
-        let mut eta = self.eta.max(f64::EPSILON).powf(0.8);
-        let mut dnorm_old = 0.0;
+        let mut rate = Rate::new(self.eta, newton::tolerance(&self.opts), MAX_NEWTON);
         self.theta_max = 0.0;
         for it in 0..MAX_NEWTON {
             self.update_state(h);
@@ -255,23 +242,15 @@ impl GeneralizedAlpha {
             if !dnorm.is_finite() {
                 return Attempt::NonFinite;
             }
-            if it > 0 {
-                let theta = dnorm / dnorm_old;
-                self.theta_max = self.theta_max.max(theta);
-                if theta >= 0.99 {
-                    return Attempt::NewtonFailed;
-                }
-                eta = theta / (1.0 - theta);
-                let left = (MAX_NEWTON - 1 - it) as i32;
-                if eta * theta.powi(left) * dnorm > kappa {
-                    return Attempt::NewtonFailed;
-                }
+            let verdict = rate.judge(it, dnorm, &mut self.theta_max);
+            if verdict == Verdict::Failed {
+                return Attempt::NewtonFailed;
             }
             for i in 0..n {
                 self.x[i] += self.dx[i];
             }
-            if eta * dnorm <= kappa || dnorm == 0.0 {
-                self.eta = eta;
+            if verdict == Verdict::Converged {
+                self.eta = rate.eta();
                 self.update_state(h);
                 if !all_finite(&self.y_new) {
                     return Attempt::NonFinite;
@@ -293,7 +272,6 @@ impl GeneralizedAlpha {
                     Attempt::NonFinite
                 };
             }
-            dnorm_old = dnorm;
         }
         Attempt::NewtonFailed
     }
@@ -344,8 +322,7 @@ impl<S: OdeSystem + ?Sized> Solver<S> for GeneralizedAlpha {
         }
         self.t = t0;
         self.t_prev = t0;
-        self.jac_valid = false;
-        self.jac_fresh = false;
+        self.jac_age = Jacobian::default();
         self.lu_h = 0.0;
         self.eta = 1.0;
         self.h = start(
@@ -374,63 +351,25 @@ impl<S: OdeSystem + ?Sized> Solver<S> for GeneralizedAlpha {
         if t_stop.is_nan() || t_stop <= self.t {
             return Ok(());
         }
-        let mut rejected_last = false;
-        let mut nonfinite_trials = 0;
+        let mut trials = Trials::default();
         loop {
             let (h, lands, h_prop) = propose_step(self.t, self.h, t_stop, &self.opts, &self.stats)?;
-            let err = match self.attempt(sys, h) {
-                Attempt::Done(err) => err,
-                Attempt::Singular => return Err(OdeError::Singular { t: self.t }),
-                Attempt::NewtonFailed => {
-                    self.stats.rejected_steps += 1;
-                    rejected_last = true;
-                    if !self.jac_fresh {
-                        self.jac_valid = false;
-                        continue;
-                    }
-                    if h <= self.opts.h_min {
-                        return Err(OdeError::NewtonDivergence { t: self.t, h });
-                    }
-                    self.h = (0.5 * h).max(self.opts.h_min);
-                    continue;
-                }
-                Attempt::NonFinite => {
-                    self.stats.rejected_steps += 1;
-                    rejected_last = true;
-                    nonfinite_trials += 1;
-                    if nonfinite_trials >= MAX_NONFINITE_TRIALS {
-                        return Err(OdeError::NonFinite { t: self.t });
-                    }
-                    if !self.jac_fresh {
-                        self.jac_valid = false;
-                    }
-                    self.h = 0.1 * h;
-                    continue;
-                }
-            };
-            let fac = SAFETY * err.max(1e-10).powf(-1.0 / 3.0);
-            if err > 1.0 {
-                self.stats.rejected_steps += 1;
-                rejected_last = true;
-                self.h = h * fac.clamp(FAC_MIN, 1.0);
-                if !self.jac_fresh {
-                    self.jac_valid = false;
-                }
+            let outcome = self.attempt(sys, h);
+            let accepted = newton::after_trial(
+                outcome,
+                1.0 / 3.0,
+                (h, h_prop, lands),
+                self.theta_max,
+                self.t,
+                &self.opts,
+                &mut self.stats,
+                &mut trials,
+                &mut self.jac_age,
+                &mut self.h,
+            )?;
+            if !accepted {
                 continue;
             }
-            let mut fac = fac.clamp(FAC_MIN, FAC_MAX);
-            if rejected_last {
-                fac = fac.min(1.0);
-            }
-            let slow = self.theta_max > THETA_REFRESH;
-            if (1.0..=FREEZE).contains(&fac) && !slow {
-                fac = 1.0;
-            }
-            self.h = after_landing((h * fac).min(self.opts.h_max), h_prop, lands, rejected_last);
-            if slow {
-                self.jac_valid = false;
-            }
-            self.jac_fresh = false;
 
             let n = self.n;
             let AlphaParams {

@@ -9,6 +9,7 @@ pub mod dopri5;
 pub mod generalized_alpha;
 pub mod lu;
 pub mod method;
+mod newton;
 pub mod problems;
 pub mod rk4;
 pub mod rodas4;

@@ -7,9 +7,9 @@
 //! Dense output is cubic Hermite from (y0, f0, y1, f1); f1 is the first stage of the next step,
 //! so a step costs 4 right-hand side evaluations.
 
-use super::common::{all_finite, check_budget, clip_step, hermite, min_step};
+use super::common::{all_finite, check_budget, clip_step, hermite_stepper, min_step};
 use super::tableau::RK4;
-use super::{OdeError, OdeSystem, Options, Solver, Stats, Stepper};
+use super::{OdeError, OdeSystem, Options, Solver, Stats};
 
 pub struct Rk4 {
     opts: Options,
@@ -62,40 +62,7 @@ impl Rk4 {
     }
 }
 
-impl Stepper for Rk4 {
-    fn name(&self) -> &'static str {
-        "rk4"
-    }
-
-    fn t(&self) -> f64 {
-        self.t
-    }
-
-    fn y(&self) -> &[f64] {
-        &self.y
-    }
-
-    fn t_prev(&self) -> f64 {
-        self.t_prev
-    }
-
-    fn interpolate(&self, t: f64, out: &mut [f64]) {
-        hermite(
-            self.t_prev,
-            self.t - self.t_prev,
-            &self.y_prev,
-            &self.f_prev,
-            &self.y,
-            &self.f,
-            t,
-            out,
-        );
-    }
-
-    fn stats(&self) -> Stats {
-        self.stats
-    }
-}
+hermite_stepper!(Rk4, "rk4");
 
 impl<S: OdeSystem + ?Sized> Solver<S> for Rk4 {
     fn init(&mut self, sys: &mut S, t0: f64, y0: &[f64]) -> Result<(), OdeError> {

@@ -13,7 +13,8 @@
 //!   cubic Hermite interpolant from (y0, f0, y1, f1) at no extra cost (third order).
 
 use super::common::{
-    StartBuffers, after_landing, all_finite, error_norm, hermite_stepper, propose_step, start,
+    StartBuffers, Trials, after_landing, all_finite, error_norm, hermite_stepper, propose_step,
+    start,
 };
 use super::lu::{lu_factor, lu_solve};
 use super::tableau::RODAS4;
@@ -23,7 +24,6 @@ const STAGES: usize = 6;
 const SAFETY: f64 = 0.9;
 const FAC_MIN: f64 = 0.2;
 const FAC_MAX: f64 = 6.0;
-const MAX_NONFINITE_TRIALS: u32 = 10;
 
 pub struct Rodas4 {
     opts: Options,
@@ -217,8 +217,7 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Rodas4 {
         if t_stop.is_nan() || t_stop <= self.t {
             return Ok(());
         }
-        let mut rejected_last = false;
-        let mut nonfinite_trials = 0;
+        let mut trials = Trials::default();
         loop {
             let (h, lands, h_prop) = propose_step(self.t, self.h, t_stop, &self.opts, &self.stats)?;
             if !self.jac_valid {
@@ -227,29 +226,24 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Rodas4 {
             let err = match self.attempt(sys, h) {
                 Err(()) => return Err(OdeError::Singular { t: self.t }),
                 Ok(None) => {
-                    self.stats.rejected_steps += 1;
-                    rejected_last = true;
-                    nonfinite_trials += 1;
-                    if nonfinite_trials >= MAX_NONFINITE_TRIALS {
-                        return Err(OdeError::NonFinite { t: self.t });
-                    }
-                    self.h = 0.1 * h;
+                    self.h = trials.non_finite(self.t, h, &mut self.stats)?;
                     continue;
                 }
                 Ok(Some(err)) => err,
             };
             let fac = SAFETY * err.max(1e-10).powf(-0.25);
             if err > 1.0 {
-                self.stats.rejected_steps += 1;
-                rejected_last = true;
+                trials.rejected(&mut self.stats);
                 self.h = h * fac.clamp(FAC_MIN, 1.0);
                 continue;
             }
-            let mut fac = fac.clamp(FAC_MIN, FAC_MAX);
-            if rejected_last {
-                fac = fac.min(1.0);
-            }
-            self.h = after_landing((h * fac).min(self.opts.h_max), h_prop, lands, rejected_last);
+            let fac = trials.accept_factor(fac, FAC_MIN, FAC_MAX);
+            self.h = after_landing(
+                (h * fac).min(self.opts.h_max),
+                h_prop,
+                lands,
+                trials.rejected_last,
+            );
             let t_new = if lands { t_stop } else { self.t + h };
             std::mem::swap(&mut self.y_prev, &mut self.y);
             std::mem::swap(&mut self.y, &mut self.y_new);

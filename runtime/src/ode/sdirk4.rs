@@ -13,43 +13,23 @@
 //!   so that the factorisation can be reused (Hairer's trick).
 //! * Newton start: the previous step's Hermite interpolant extrapolated to t + c_i h (an
 //!   O(h^4) guess) when h <= 3 h_prev; else (and on the first step) k_i = k_(i-1).
-//! * Newton stop: eta * |dz| <= kappa with eta = theta / (1 - theta), theta the observed
-//!   contraction, kappa = 0.03 in the error norm (Hairer & Wanner IV.8 recommend 0.01..0.1);
-//!   divergence (theta >= 0.99), a predicted miss within 7 iterations, or non-finite values fail
-//!   the attempt: first with a fresh Jacobian, then with h / 2.
+//! * Newton stop, Jacobian reuse and the step control after a trial: `newton.rs` (shared with
+//!   generalized-alpha); at most 7 iterations a stage.
 //! * Error estimate: the embedded difference sum (b_i - b^_i) h k_i filtered through M^-1, as
 //!   Hairer does, so the estimate does not blow up on stiff components.
 //! * Dense output: cubic Hermite from (y0, f0, y1, f1) with f1 = k_5, the derivative at the
 //!   (stiffly accurate) last stage; third order, no extra right-hand side evaluation.
 
 use super::common::{
-    StartBuffers, after_landing, all_finite, error_norm, hermite, hermite_stepper, propose_step,
-    start,
+    StartBuffers, Trials, all_finite, error_norm, hermite, hermite_stepper, propose_step, start,
 };
 use super::lu::{lu_factor, lu_solve};
+use super::newton::{self, Attempt, Jacobian, Rate, Verdict};
 use super::tableau::{SDIRK4, SDIRK4_GAMMA};
 use super::{OdeError, OdeSystem, Options, Solver, Stats};
 
 const STAGES: usize = 5;
-const SAFETY: f64 = 0.9;
-const FAC_MIN: f64 = 0.2;
-const FAC_MAX: f64 = 5.0;
 const MAX_NEWTON: u32 = 7;
-/// Newton contraction above which the Jacobian is refreshed for the next step.
-const THETA_REFRESH: f64 = 0.1;
-/// Proposed growth factors in [1, FREEZE] keep the old h (and its LU).
-const FREEZE: f64 = 1.2;
-const MAX_NONFINITE_TRIALS: u32 = 10;
-/// Newton tolerance, relative to the error tolerance.
-const KAPPA: f64 = 0.03;
-
-enum Attempt {
-    /// Newton converged; the error norm of the step.
-    Done(f64),
-    NewtonFailed,
-    NonFinite,
-    Singular,
-}
 
 pub struct Sdirk4 {
     opts: Options,
@@ -66,10 +46,8 @@ pub struct Sdirk4 {
     jac: Vec<f64>,
     lu: Vec<f64>,
     piv: Vec<usize>,
-    /// A Jacobian is stored and may be used.
-    jac_valid: bool,
-    /// The stored Jacobian was computed at the current (t, y).
-    jac_fresh: bool,
+    /// Whether the stored Jacobian may be used, and whether it is from the current point.
+    jac_age: Jacobian,
     /// Step size the LU of M belongs to (0 = none).
     lu_h: f64,
     /// h k_i for the stages.
@@ -104,8 +82,7 @@ impl Sdirk4 {
             jac: vec![0.0; dim * dim],
             lu: vec![0.0; dim * dim],
             piv: vec![0; dim],
-            jac_valid: false,
-            jac_fresh: false,
+            jac_age: Jacobian::default(),
             lu_h: 0.0,
             hk: [v(), v(), v(), v(), v()],
             z: v(),
@@ -128,10 +105,6 @@ impl Sdirk4 {
     /// Restart the work counters (they accumulate across `init` calls).
     pub fn reset_stats(&mut self) {
         self.stats = Stats::default();
-    }
-
-    fn newton_tol(&self) -> f64 {
-        (10.0 * f64::EPSILON / self.opts.rtol).max(KAPPA)
     }
 
     /// df/dy at (t, y) into `jac`: analytic if the system has it, else forward differences
@@ -165,10 +138,12 @@ impl Sdirk4 {
         let n = self.n;
         let g = SDIRK4_GAMMA;
         let tab = &SDIRK4;
-        if !self.jac_valid {
+        if !self.jac_age.valid {
             self.compute_jacobian(sys);
-            self.jac_valid = true;
-            self.jac_fresh = true;
+            self.jac_age = Jacobian {
+                valid: true,
+                fresh: true,
+            };
             self.lu_h = 0.0;
         }
         if self.lu_h != h {
@@ -188,7 +163,7 @@ impl Sdirk4 {
         for i in 0..n {
             self.scale[i] = self.opts.atol + self.opts.rtol * self.y[i].abs();
         }
-        let kappa = self.newton_tol();
+        let kappa = newton::tolerance(&self.opts);
         self.theta_max = 0.0;
 
         // After the first step, guesses come from extrapolating the last step's interpolant,
@@ -230,8 +205,7 @@ impl Sdirk4 {
                     self.z[i] = self.ytmp[i] - self.y[i];
                 }
             }
-            let mut eta = self.eta.max(f64::EPSILON).powf(0.8);
-            let mut dnorm_old = 0.0;
+            let mut rate = Rate::new(self.eta, kappa, MAX_NEWTON);
             let mut converged = false;
             for it in 0..MAX_NEWTON {
                 for i in 0..n {
@@ -253,32 +227,22 @@ impl Sdirk4 {
                 if !dnorm.is_finite() {
                     return Attempt::NonFinite;
                 }
-                if it > 0 {
-                    let theta = dnorm / dnorm_old;
-                    self.theta_max = self.theta_max.max(theta);
-                    if theta >= 0.99 {
-                        return Attempt::NewtonFailed;
-                    }
-                    eta = theta / (1.0 - theta);
-                    // Predicted error after the remaining iterations still too large.
-                    let left = (MAX_NEWTON - 1 - it) as i32;
-                    if eta * theta.powi(left) * dnorm > kappa {
-                        return Attempt::NewtonFailed;
-                    }
+                let verdict = rate.judge(it, dnorm, &mut self.theta_max);
+                if verdict == Verdict::Failed {
+                    return Attempt::NewtonFailed;
                 }
                 for i in 0..n {
                     self.z[i] += self.delta[i];
                 }
-                if eta * dnorm <= kappa || dnorm == 0.0 {
+                if verdict == Verdict::Converged {
                     converged = true;
                     break;
                 }
-                dnorm_old = dnorm;
             }
             if !converged {
                 return Attempt::NewtonFailed;
             }
-            self.eta = eta;
+            self.eta = rate.eta();
             for i in 0..n {
                 self.hk[st][i] = (self.z[i] - self.s[i]) / g;
             }
@@ -320,8 +284,7 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Sdirk4 {
         assert_eq!(y0.len(), self.n, "state dimension");
         self.t = t0;
         self.t_prev = t0;
-        self.jac_valid = false;
-        self.jac_fresh = false;
+        self.jac_age = Jacobian::default();
         self.lu_h = 0.0;
         self.eta = 1.0;
         self.h = start(
@@ -348,66 +311,25 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Sdirk4 {
         if t_stop.is_nan() || t_stop <= self.t {
             return Ok(());
         }
-        let mut rejected_last = false;
-        let mut nonfinite_trials = 0;
+        let mut trials = Trials::default();
         loop {
             let (h, lands, h_prop) = propose_step(self.t, self.h, t_stop, &self.opts, &self.stats)?;
-            let err = match self.attempt(sys, h) {
-                Attempt::Done(err) => err,
-                Attempt::Singular => return Err(OdeError::Singular { t: self.t }),
-                Attempt::NewtonFailed => {
-                    self.stats.rejected_steps += 1;
-                    rejected_last = true;
-                    if !self.jac_fresh {
-                        // Retry the same h with a Jacobian at the current point.
-                        self.jac_valid = false;
-                        continue;
-                    }
-                    if h <= self.opts.h_min {
-                        return Err(OdeError::NewtonDivergence { t: self.t, h });
-                    }
-                    self.h = (0.5 * h).max(self.opts.h_min);
-                    continue;
-                }
-                Attempt::NonFinite => {
-                    self.stats.rejected_steps += 1;
-                    rejected_last = true;
-                    nonfinite_trials += 1;
-                    if nonfinite_trials >= MAX_NONFINITE_TRIALS {
-                        return Err(OdeError::NonFinite { t: self.t });
-                    }
-                    if !self.jac_fresh {
-                        self.jac_valid = false;
-                    }
-                    self.h = 0.1 * h;
-                    continue;
-                }
-            };
-            let fac = SAFETY * err.max(1e-10).powf(-0.25);
-            if err > 1.0 {
-                self.stats.rejected_steps += 1;
-                rejected_last = true;
-                self.h = h * fac.clamp(FAC_MIN, 1.0);
-                if !self.jac_fresh {
-                    self.jac_valid = false;
-                }
+            let outcome = self.attempt(sys, h);
+            let accepted = newton::after_trial(
+                outcome,
+                0.25,
+                (h, h_prop, lands),
+                self.theta_max,
+                self.t,
+                &self.opts,
+                &mut self.stats,
+                &mut trials,
+                &mut self.jac_age,
+                &mut self.h,
+            )?;
+            if !accepted {
                 continue;
             }
-
-            // Accepted.
-            let mut fac = fac.clamp(FAC_MIN, FAC_MAX);
-            if rejected_last {
-                fac = fac.min(1.0);
-            }
-            let slow = self.theta_max > THETA_REFRESH;
-            if (1.0..=FREEZE).contains(&fac) && !slow {
-                fac = 1.0;
-            }
-            self.h = after_landing((h * fac).min(self.opts.h_max), h_prop, lands, rejected_last);
-            if slow {
-                self.jac_valid = false;
-            }
-            self.jac_fresh = false;
 
             let t_new = if lands { t_stop } else { self.t + h };
             std::mem::swap(&mut self.y_prev, &mut self.y);

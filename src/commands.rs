@@ -236,20 +236,14 @@ pub fn run_command_with(
     };
     let mut summary = summary;
     // A run that failed reached no class.
-    summary.error_class = error
-        .is_none()
-        .then(|| {
-            crate::accuracy::error_class(
-                &model.name,
-                &scene.name,
-                args.integrator,
-                match (args.integrator, args.step) {
-                    (Method::Rk4, h) => h.unwrap_or(ode.h0),
-                    _ => args.tol,
-                },
-            )
-        })
-        .flatten();
+    if error.is_none() {
+        let tol = match (args.integrator, args.step) {
+            (Method::Rk4, h) => h.unwrap_or(ode.h0),
+            _ => args.tol,
+        };
+        summary.error_class =
+            crate::accuracy::error_class(&model.name, &scene.name, args.integrator, tol);
+    }
     let finished = sink.finish();
     write_summary(&out_dir, &summary)?;
     finished.map_err(|e| format!("cannot write {}: {e}", sink.path().display()))?;

@@ -43,7 +43,7 @@ fn energy_and_power(sys: &mut Interpreter, t: f64, y: &[f64], buf: &mut Buffers)
     let dt = 1e-6;
     sys.eval(t + dt, q, qd, &mut buf.m1p, &mut buf.hp);
     sys.eval(t - dt, q, qd, &mut buf.m1m, &mut buf.hp);
-    let m2 = sys.m2().to_vec();
+    let m2 = sys.m2();
     let (mut kin, mut pow) = (0.0, 0.0);
     for i in 0..n1 {
         for j in 0..n1 {

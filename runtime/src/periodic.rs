@@ -97,13 +97,12 @@ pub fn periodic_state<S: Mechanical>(sys: &mut FirstOrder<S>, t0: f64) -> Result
                 jac[i * m + j] = (pp[i] - py[i]) / d - if i == j { 1.0 } else { 0.0 };
             }
         }
-        let mut lu = jac.clone();
-        lu_factor(&mut lu, m, &mut piv).map_err(|_| {
+        lu_factor(&mut jac, m, &mut piv).map_err(|_| {
             "periodic start: singular shooting matrix (an undamped motion with the period?)"
                 .to_string()
         })?;
         let mut dy: Vec<f64> = r.iter().map(|v| -v).collect();
-        lu_solve(&lu, m, &piv, &mut dy);
+        lu_solve(&jac, m, &piv, &mut dy);
         for i in 0..m {
             y[i] += dy[i];
         }

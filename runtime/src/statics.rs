@@ -48,14 +48,16 @@ fn equilibrium_avg<S: Mechanical>(
     let mut h = vec![0.0; n];
     let mut hp = vec![0.0; n];
     let eps = 1e-7;
-    let mut hk = vec![0.0; n];
+    // h(q, 0, t) at each sample time, kept as the base of the difference quotients.
+    let mut base = vec![0.0; samples * n];
+    let mut qp = vec![0.0; n];
+    let time = |k: usize| t0 + span * k as f64 / samples as f64;
     for _ in 0..50 {
         h.fill(0.0);
         // The largest load sampled: the average cancels it to round-off, not to zero.
         let mut scale = 0.0f64;
-        for k in 0..samples {
-            let t = t0 + span * k as f64 / samples as f64;
-            sys.eval(t, &q, &zero, &mut m1, &mut hk);
+        for (k, hk) in base.chunks_mut(n).enumerate() {
+            sys.eval(time(k), &q, &zero, &mut m1, hk);
             for i in 0..n {
                 h[i] += hk[i] / samples as f64;
                 scale = scale.max(hk[i].abs());
@@ -68,13 +70,12 @@ fn equilibrium_avg<S: Mechanical>(
         // Row-major dh/dq by forward differences, averaged like the residual (a rotating load
         // tilted with the tub has a large stiffness at each instant and none on average).
         let mut k = vec![0.0; n * n];
-        for s in 0..samples {
-            let t = t0 + span * s as f64 / samples as f64;
-            sys.eval(t, &q, &zero, &mut m1, &mut hk);
+        qp.copy_from_slice(&q);
+        for (s, hk) in base.chunks(n).enumerate() {
             for j in 0..n {
-                let mut qp = q.clone();
-                qp[j] += eps;
-                sys.eval(t, &qp, &zero, &mut m1, &mut hp);
+                qp[j] = q[j] + eps;
+                sys.eval(time(s), &qp, &zero, &mut m1, &mut hp);
+                qp[j] = q[j];
                 for i in 0..n {
                     k[i * n + j] += (hp[i] - hk[i]) / eps / samples as f64;
                 }

@@ -188,6 +188,9 @@ pub fn run_command_with(
         analysis_band_hz: ctl.analysis_band_hz,
         allow_large_output: ctl.allow_large_output,
     })?;
+    if args.start == Start::Periodic {
+        washdyn_runtime::periodic::period(mech.speed(), 0.0)?;
+    }
     let out_dir = args
         .out
         .clone()

@@ -552,3 +552,18 @@ fn fe_and_campbell_arguments_are_refused_before_anything_is_written() {
     assert!(e.contains("neither a built-in model"), "{e}");
     assert!(!dir.exists(), "something was written to {}", dir.display());
 }
+
+/// A periodic start needs constant speed: on the reference run-up (standing at t = 0) it is
+/// refused before anything is written.
+#[test]
+fn periodic_start_without_constant_speed() {
+    let a = RunArgs {
+        start: washdyn_runtime::run::Start::Periodic,
+        ..args("periodic")
+    };
+    refused(
+        &a,
+        &RunControl::default(),
+        "periodic start: the drum stands still at the start",
+    );
+}

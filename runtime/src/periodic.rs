@@ -9,6 +9,7 @@
 
 use crate::ode::lu::{lu_factor, lu_solve};
 use crate::ode::{Dopri5, Options, Solver, Stepper};
+use crate::speed::Speed;
 use crate::statics::{MEAN_REVOLUTIONS, mean_load_equilibrium};
 use crate::system::{FirstOrder, Mechanical};
 
@@ -40,10 +41,11 @@ fn flow<S: Mechanical>(
     Ok(())
 }
 
-/// The state [q; q'] at t0 on the periodic steady state. Refuses a speed that is not constant
-/// over the period from t0 (a run-up has no periodic solution).
-pub fn periodic_state<S: Mechanical>(sys: &mut FirstOrder<S>, t0: f64) -> Result<Vec<f64>, String> {
-    let d0 = sys.sys.speed().drive(t0);
+/// The period of the steady state from t0 (4 drum revolutions), or why there is none: the
+/// drum stands still, or its speed is not constant over that period (a run-up). The CLI asks
+/// this before it writes anything.
+pub fn period(speed: &Speed, t0: f64) -> Result<f64, String> {
+    let d0 = speed.drive(t0);
     let omega = d0.omega.abs();
     if omega < 1e-9 {
         return Err(
@@ -51,10 +53,8 @@ pub fn periodic_state<S: Mechanical>(sys: &mut FirstOrder<S>, t0: f64) -> Result
         );
     }
     let period = MEAN_REVOLUTIONS * 2.0 * std::f64::consts::PI / omega;
-    let d1 = sys.sys.speed().drive(t0 + period);
-    let inside = sys
-        .sys
-        .speed()
+    let d1 = speed.drive(t0 + period);
+    let inside = speed
         .breakpoints()
         .iter()
         .any(|&b| b > t0 && b < t0 + period);
@@ -68,6 +68,13 @@ pub fn periodic_state<S: Mechanical>(sys: &mut FirstOrder<S>, t0: f64) -> Result
              (a periodic steady state needs constant speed)"
         ));
     }
+    Ok(period)
+}
+
+/// The state [q; q'] at t0 on the periodic steady state. Refuses a speed that is not constant
+/// over the period from t0 (a run-up has no periodic solution).
+pub fn periodic_state<S: Mechanical>(sys: &mut FirstOrder<S>, t0: f64) -> Result<Vec<f64>, String> {
+    let period = period(sys.sys.speed(), t0)?;
     let n = sys.layout().n();
     let m = 2 * n;
     let q0 = mean_load_equilibrium(&mut sys.sys, t0)?;

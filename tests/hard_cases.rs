@@ -100,15 +100,7 @@ fn run(
         hp: vec![0.0; n],
     };
     let (kin0, _) = energy_and_power(&mut sys.sys, t0, &y, &mut buf);
-    let mut stops: Vec<f64> = sys
-        .sys
-        .speed()
-        .breakpoints()
-        .iter()
-        .copied()
-        .filter(|b| *b > t0 && *b < t1)
-        .collect();
-    stops.push(t1);
+    let stops = sys.sys.speed().stops(t0, t1);
     let (mut work, mut throughput) = (0.0, 0.0);
     // 3-point Gauss-Legendre nodes and weights on [0, 1].
     let g = (0.6f64).sqrt() / 2.0;

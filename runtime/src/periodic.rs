@@ -54,10 +54,7 @@ pub fn period(speed: &Speed, t0: f64) -> Result<f64, String> {
     }
     let period = MEAN_REVOLUTIONS * 2.0 * std::f64::consts::PI / omega;
     let d1 = speed.drive(t0 + period);
-    let inside = speed
-        .breakpoints()
-        .iter()
-        .any(|&b| b > t0 && b < t0 + period);
+    let inside = speed.stops(t0, t0 + period).len() > 1;
     if (d1.omega - d0.omega).abs() > 1e-9 * omega
         || d0.omega_dot.abs() > 1e-12
         || d1.omega_dot.abs() > 1e-12

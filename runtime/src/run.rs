@@ -436,15 +436,7 @@ where
     sink.header(&names).map_err(io(t0))?;
 
     // Restart points: the profile's breakpoints inside (t0, t_end), then t_end.
-    let mut stops: Vec<f64> = sys
-        .sys
-        .speed()
-        .breakpoints()
-        .iter()
-        .copied()
-        .filter(|&b| b > t0 && b < t_end)
-        .collect();
-    stops.push(t_end);
+    let stops = sys.sys.speed().stops(t0, t_end);
 
     let dt = 1.0 / opts.sample_rate;
     let n_samples = ((t_end - t0) * opts.sample_rate + 1e-9).floor() as u64 + 1;

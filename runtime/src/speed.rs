@@ -66,6 +66,18 @@ impl Speed {
         &self.t
     }
 
+    /// Where an integration over (t0, t1] restarts: the breakpoints inside, then t1.
+    pub fn stops(&self, t0: f64, t1: f64) -> Vec<f64> {
+        let mut stops: Vec<f64> = self
+            .t
+            .iter()
+            .copied()
+            .filter(|&b| b > t0 && b < t1)
+            .collect();
+        stops.push(t1);
+        stops
+    }
+
     /// The last breakpoint: the end of the profile.
     pub fn end(&self) -> f64 {
         *self.t.last().expect("non-empty")

@@ -3,6 +3,8 @@
 use crate::results::{Format, SensorRecorder, StateRecorder};
 use std::fs;
 use std::path::{Path, PathBuf};
+use washdyn_runtime::clearance::Watch;
+use washdyn_runtime::equations::Equations;
 use washdyn_runtime::ir::Model;
 use washdyn_runtime::ir::toml_file::load_file;
 use washdyn_runtime::ode::{AnySolver, Method, Options};
@@ -222,6 +224,7 @@ pub fn run_command_with(
     let guard = Guard {
         fixed_step: (args.integrator == Method::Rk4).then_some(ode.h0),
         elements: element_tub_ends(&model),
+        watch: Watch::new(&model, &Equations::new(&model, &scene)),
         ..ctl.guard.clone()
     };
     let (summary, error) = match run_guarded(

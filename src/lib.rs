@@ -5,6 +5,8 @@ pub mod analysis;
 pub mod campbell;
 pub mod commands;
 pub mod fields;
+pub mod full_mesh;
+pub mod modes;
 pub mod results;
 pub mod sweep;
 pub mod validate;

@@ -196,6 +196,18 @@ enum Cmd {
         #[arg(long)]
         svg: bool,
     },
+    /// The rigid modes of the suspended tub (at rest, friction released) with each damper's
+    /// stroke per mode, as markdown on stdout and in DIR/modes.md.
+    Modes {
+        /// A built-in model or a model file.
+        model: String,
+        /// A scene of the model (default: its first scene); elastic bodies are taken rigid.
+        #[arg(long)]
+        scene: Option<String>,
+        /// Output directory (default: out/<model name>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
     /// Run variants (unbalance position, mass, speed profile) on all cores: one folder each
     /// and a comparison table DIR/sweep.csv.
     Sweep {
@@ -243,6 +255,29 @@ enum FeCmd {
         /// Only these bodies (comma-separated: tub, drum, cabinet).
         #[arg(long, value_delimiter = ',')]
         only: Vec<String>,
+    },
+    /// The full-mesh reference: the linear machine assembled from the tub's and the cabinet's
+    /// meshes in CalculiX (`*STEADY STATE DYNAMICS`, drum order 1) against washdyn's Ritz model
+    /// of it, every sensor channel; writes full-mesh.md and full-mesh.json.
+    Reference {
+        /// A built-in model or a model file.
+        #[arg(long, default_value = "reference")]
+        model: String,
+        /// Output directory (the repository keeps the study in docs/).
+        #[arg(long, default_value = "out/full-mesh")]
+        out: PathBuf,
+        /// Scratch directory for the deck and ccx's files.
+        #[arg(long, default_value = "out/full-mesh/work")]
+        work: PathBuf,
+        /// ccx's mode counts (comma-separated, ascending; the last is the reference).
+        #[arg(long, value_delimiter = ',', default_values_t = washdyn::full_mesh::MODES)]
+        modes: Vec<usize>,
+        /// Drum speeds, rpm (comma-separated).
+        #[arg(long, value_delimiter = ',', default_values_t = washdyn::full_mesh::SPEEDS_RPM)]
+        speeds: Vec<f64>,
+        /// Skip the table of the Ritz model's convergence with its mode counts.
+        #[arg(long)]
+        no_convergence: bool,
     },
 }
 
@@ -629,6 +664,18 @@ fn main() -> ExitCode {
                 }
             }
         }
+        Cmd::Modes { model, scene, out } => {
+            match washdyn::modes::run(&model, scene.as_deref(), out.as_deref()) {
+                Ok(file) => {
+                    println!("wrote {}", file.display());
+                    ExitCode::SUCCESS
+                }
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    ExitCode::from(2)
+                }
+            }
+        }
         Cmd::Campbell {
             source,
             max_rpm,
@@ -665,6 +712,40 @@ fn main() -> ExitCode {
                 ExitCode::from(2)
             }
         },
+        Cmd::Fe {
+            cmd:
+                FeCmd::Reference {
+                    model,
+                    out,
+                    work,
+                    modes,
+                    speeds,
+                    no_convergence,
+                },
+        } => {
+            let args = washdyn::full_mesh::Args {
+                model,
+                modes,
+                speeds_rpm: speeds,
+                spec: washdyn_fe::assembly::LinearSpec::default(),
+                work,
+                convergence: !no_convergence,
+            };
+            match washdyn::full_mesh::study(&args, &mut |l| println!("{l}"))
+                .and_then(|s| washdyn::full_mesh::write(&s, &out))
+            {
+                Ok(files) => {
+                    for f in files {
+                        println!("wrote {}", f.display());
+                    }
+                    ExitCode::SUCCESS
+                }
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    ExitCode::from(2)
+                }
+            }
+        }
         Cmd::Fe {
             cmd: FeCmd::Solve { deck },
         } => match washdyn_fe::ccx::run(&deck) {

@@ -77,10 +77,7 @@ fn tub_on_springs_in_an_elastic_cabinet_matches_calculix() {
         spin: None,
         // Static correction modes for the spring forces at the tops.
         correction: (0..3)
-            .map(|i| LoadCase {
-                point: format!("TOP_{}", i + 1),
-                direction: [0.0, 0.0, 1.0],
-            })
+            .map(|i| LoadCase::force(&format!("TOP_{}", i + 1), [0.0, 0.0, 1.0]))
             .collect(),
         // Frequencies only: no field files.
         recovery: false,

@@ -1,41 +1,77 @@
 //! Static correction (residual flexibility) modes. A point load bends a thin rail or panel
 //! locally, and no eigenmode of an affordable basis holds that dent: the cabinet's 60 modes to
 //! 86 Hz answer the springs' preloads 26-36 % short. ccx solves the body statically under a
-//! unit force at each load point (the consistent nodal load of the modal point's rigid fit), the
-//! eigenmodes' share is removed, Psi_r = Psi - sum_k Phi_k (f . Phi_k) / omega_k^2 (stiffness-
-//! and consistent-mass-orthogonal to every eigenmode, exactly), and the residual shapes are
-//! made orthonormal on their own: K_rr = Psi_r^T f (exact: K Psi = f) and M_rr over the HRZ
-//! masses, as the rest of the modal data. The body needs a support (a free-free tub has no
-//! static solution without inertia relief).
+//! unit force or moment at each load point (the consistent nodal load of the modal point's rigid
+//! fit), the eigenmodes' share is removed, Psi_r = Psi - sum_k Phi_k (f . Phi_k) / omega_k^2
+//! (stiffness- and consistent-mass-orthogonal to every eigenmode, exactly: it is the
+//! M-orthogonal projection in ccx's own mass, Phi_k^T M Psi = Phi_k^T K Psi / omega_k^2), and the
+//! residual shapes are made orthonormal on their own: K_rr = Psi_r^T f (exact: K Psi = f) and
+//! M_rr with the consistent mass (`consistent.rs`), as the rest of the modal data.
+//!
+//! A free body (the tub) has no static solution to a load that is not in equilibrium, and ccx
+//! has no inertia relief, so we apply it ourselves: the load less the rigid-body inertia it
+//! drives, f - M Phi_r (Phi_r^T M Phi_r)^-1 Phi_r^T f (Phi_r the six rigid motions about the
+//! CoG, with the consistent M and the rigid parts), is self-equilibrated; ccx solves it on a
+//! statically determinate 3-2-1 support (three far-apart nodes: no reaction, no constraint
+//! stress); the rigid motion the support adds is removed by making the result M-orthogonal to
+//! Phi_r. That is the elastic (mean-axis) response the free-free modes describe.
 
-use crate::lumping::Lumped;
+use crate::consistent::MassMatrix;
 use crate::mesh::Mesh;
-use crate::modal::{Shapes, elementary, point_reading};
-use std::collections::HashMap;
-use washdyn_runtime::ir::modal::{LoadCase, generalised_eigen};
+use crate::modal::{Shapes, point_reading_full};
+use nalgebra::DMatrix;
+use std::collections::{BTreeMap, HashMap};
+use washdyn_runtime::geom::f::{cross, norm, sub};
+use washdyn_runtime::ir::modal::{LoadCase, LoadKind, generalised_eigen};
+
+/// Nodal loads: (node id, value). A rigid part's ROT NODE carries a moment.
+pub type Loads = Vec<(usize, [f64; 3])>;
 
 /// The correction modes of a body and the eigenmodes' generalised forces of the load cases.
 pub struct Corrected {
-    /// Mass-normalised (HRZ) residual shapes, frequencies ascending.
+    /// Mass-normalised (consistent mass) residual shapes, frequencies ascending.
     pub shapes: Vec<Shapes>,
-    /// f_j . Phi_k, row k (eigenmode), column j (load case), row-major.
+    /// f_j . Phi_k of the unit loads, row k (eigenmode), column j (load case), row-major.
     pub participation: Vec<f64>,
     /// ccx's wall time for the static steps, s.
     pub solve_s: f64,
-    /// The load cases' nodal forces.
-    pub forces: Vec<Vec<(usize, [f64; 3])>>,
+    /// The loads ccx solved: the unit loads, for a free body less their inertia relief.
+    pub forces: Vec<Loads>,
+    /// The support ccx held a free body with: (node, dof) of a 3-2-1 support; empty otherwise.
+    pub support: Vec<(usize, usize)>,
+    /// The eigenmodes' share removed from each static solution, (Phi_k . f_j) / omega_k^2
+    /// (eigenmode x load case).
+    pub share: DMatrix<f64>,
     /// Correction mode c = sum_j combination[(j, c)] Psi_r,j.
-    pub combination: nalgebra::DMatrix<f64>,
+    pub combination: DMatrix<f64>,
+    /// Free body: the largest support reaction over the largest nodal load of a load case
+    /// (zero for a self-equilibrated load, up to ccx's solver).
+    pub reaction: Option<f64>,
 }
 
-/// The static deck of the load cases (one `*STATIC` step each), with 2-D displacement output,
-/// or with 3-D displacements and stresses (`stress`).
+/// Node set of a free body's 3-2-1 support (for its reaction prints).
+const SUPPORT_SET: &str = "WD_SUPPORT";
+
+/// The static deck of the load cases (one `*STATIC` step each) on `support` ((node, dof) held
+/// besides the mesh's own boundary), with 2-D displacement output, or with 3-D displacements
+/// and stresses (`stress`).
 pub fn static_deck(
     mesh: &Mesh,
-    forces: &[Vec<(usize, [f64; 3])>],
+    forces: &[Loads],
+    support: &[(usize, usize)],
     stress: bool,
 ) -> crate::deck::Deck {
     let mut d = mesh.model_deck();
+    if !support.is_empty() {
+        let mut ids: Vec<usize> = support.iter().map(|s| s.0).collect();
+        ids.sort_unstable();
+        ids.dedup();
+        d.nset(SUPPORT_SET, &ids);
+        d.line("*BOUNDARY");
+        for (id, dof) in support {
+            d.line(&format!("{id}, {dof}, {dof}"));
+        }
+    }
     for f in forces {
         d.line("*STEP").line("*STATIC").line("*CLOAD, OP=NEW");
         for (id, v) in f {
@@ -52,61 +88,225 @@ pub fn static_deck(
             if !mesh.rigid.is_empty() {
                 d.line("*NODE PRINT, NSET=WD_PRINT").line("U");
             }
+            if !support.is_empty() {
+                d.line(&format!("*NODE PRINT, NSET={SUPPORT_SET}"))
+                    .line("RF");
+            }
         }
         d.line("*END STEP");
     }
     d
 }
 
-/// Nodal forces of a unit force `direction` at the modal point (`set`, `position`).
+/// Nodal loads of a unit load case at the modal point (`set`, `position`): R_i^T d for a
+/// force, T_i^T d for a moment (`modal::point_reading_full`).
 fn nodal_load(
     mesh: &Mesh,
     set: &str,
     position: [f64; 3],
-    direction: [f64; 3],
-) -> Result<Vec<(usize, [f64; 3])>, String> {
-    Ok(point_reading(mesh, set, position)?
+    load: &LoadCase,
+) -> Result<Loads, String> {
+    let d = load.direction;
+    Ok(point_reading_full(mesh, set, position)?
         .into_iter()
-        .map(|(id, r)| {
+        .map(|(id, r, t)| {
+            let m = match load.kind {
+                LoadKind::Force => r,
+                LoadKind::Moment => t,
+            };
             (
                 id,
-                std::array::from_fn(|d| (0..3).map(|a| r[a][d] * direction[a]).sum()),
+                std::array::from_fn(|c| (0..3).map(|a| m[a][c] * d[a]).sum()),
             )
         })
         .collect())
 }
 
-fn dot(w: &HashMap<usize, [f64; 3]>, f: &[(usize, [f64; 3])]) -> f64 {
+/// The work of loads `f` on shape `s`: translations at nodes, rotations at ROT NODEs.
+pub fn work(s: &Shapes, f: &[(usize, [f64; 3])]) -> f64 {
     f.iter()
         .map(|(id, v)| {
-            w.get(id)
+            s.w.get(id)
+                .or_else(|| s.rot.get(id))
                 .map_or(0.0, |u| u[0] * v[0] + u[1] * v[1] + u[2] * v[2])
         })
         .sum()
 }
 
+/// `f` less its inertia relief: f - M u_r with u_r the rigid acceleration f drives,
+/// a + alpha x (x - c), m a = sum f, I alpha = sum (x - c) x f (about the CoG c; moments at
+/// ROT NODEs count as they are). The result is self-equilibrated.
+pub fn relieved(mesh: &Mesh, mass: &MassMatrix, f: &[(usize, [f64; 3])]) -> Loads {
+    let p = mass.rigid_inertia(mesh);
+    let rot_nodes: Vec<usize> = mass.rigid.iter().map(|r| r.rot_node).collect();
+    let (mut force, mut moment) = ([0.0; 3], [0.0; 3]);
+    for (id, v) in f {
+        if rot_nodes.contains(id) {
+            moment = add3(moment, *v);
+        } else {
+            force = add3(force, *v);
+            moment = add3(moment, cross(sub(mesh.nodes[id - 1], p.cog), *v));
+        }
+    }
+    let a = force.map(|x| x / p.mass);
+    let i = nalgebra::Matrix3::from_fn(|r, c| p.inertia[r][c]);
+    let alpha = i
+        .try_inverse()
+        .expect("a body with mass has an invertible inertia")
+        * nalgebra::Vector3::from_column_slice(&moment);
+    let inertial = mass.rigid_motion_load(mesh, a, [alpha[0], alpha[1], alpha[2]], p.cog);
+    let mut out: BTreeMap<usize, [f64; 3]> = f.iter().copied().collect();
+    for (id, v) in inertial {
+        let e = out.entry(id).or_insert([0.0; 3]);
+        for c in 0..3 {
+            e[c] -= v[c];
+        }
+    }
+    out.into_iter().collect()
+}
+
+fn add3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+
+/// Remove from `s` its rigid part in the mass `mass`: s - (v + omega x (x - c)) with
+/// [m E, 0; 0, I] [v; omega] = [sum dm s; sum dm (x - c) x s] (about the CoG c), so that the
+/// result is M-orthogonal to the six rigid motions.
+pub fn remove_rigid_motion(mesh: &Mesh, mass: &MassMatrix, s: &mut Shapes) -> Result<(), String> {
+    let p = mass.rigid_inertia(mesh);
+    let el = mass.elementary(mesh, std::slice::from_ref(s))?;
+    let lin: [f64; 3] = std::array::from_fn(|a| el.c[a][0]);
+    // sum dm (x - c) x s: eps_abc (s[b][c] - c_b lin_c).
+    let first = |b: usize, c: usize| el.s[b][c][0] - p.cog[b] * lin[c];
+    let ang = [
+        first(1, 2) - first(2, 1),
+        first(2, 0) - first(0, 2),
+        first(0, 1) - first(1, 0),
+    ];
+    let i = nalgebra::Matrix3::from_fn(|r, c| p.inertia[r][c]);
+    let om = i.try_inverse().ok_or("the body's inertia is singular")?
+        * nalgebra::Vector3::from_column_slice(&ang);
+    let (v, om) = (lin.map(|x| x / p.mass), [om[0], om[1], om[2]]);
+    for (id, u) in s.w.iter_mut() {
+        let r = add3(v, cross(om, sub(mesh.nodes[id - 1], p.cog)));
+        for c in 0..3 {
+            u[c] -= r[c];
+        }
+    }
+    for u in s.rot.values_mut() {
+        for c in 0..3 {
+            u[c] -= om[c];
+        }
+    }
+    Ok(())
+}
+
+/// A statically determinate (3-2-1) support of a free body: three structural nodes far apart
+/// (the farthest from the centroid, the farthest from it, the farthest from the line through
+/// both; not in a rigid part), holding 3, 2 and 1 translations chosen so that the six
+/// constraints fix the six rigid motions best (largest determinant).
+pub fn determinate_support(mesh: &Mesh) -> Result<Vec<(usize, usize)>, String> {
+    let in_rigid: Vec<usize> = mesh
+        .rigid
+        .iter()
+        .flat_map(|r| mesh.nsets.get(&r.nset).into_iter().flatten().copied())
+        .collect();
+    let mut nodes: Vec<usize> = mesh
+        .parts
+        .iter()
+        .filter(|p| p.section.material().is_some())
+        .flat_map(|p| p.elements.iter().flatten().copied())
+        .filter(|id| !in_rigid.contains(id))
+        .collect();
+    nodes.sort_unstable();
+    nodes.dedup();
+    if nodes.len() < 3 {
+        return Err("a 3-2-1 support needs three structural nodes".into());
+    }
+    let x = |id: usize| mesh.nodes[id - 1];
+    let mut centre = [0.0; 3];
+    for &id in &nodes {
+        centre = add3(centre, x(id).map(|v| v / nodes.len() as f64));
+    }
+    let far = |from: &dyn Fn([f64; 3]) -> f64| -> usize {
+        *nodes
+            .iter()
+            .max_by(|a, b| from(x(**a)).total_cmp(&from(x(**b))))
+            .expect("nodes")
+    };
+    let a = far(&|p| norm(sub(p, centre)));
+    let b = far(&|p| norm(sub(p, x(a))));
+    let ab = sub(x(b), x(a));
+    let c = far(&|p| norm(cross(sub(p, x(a)), ab)));
+    let len = norm(ab);
+    if norm(cross(sub(x(c), x(a)), ab)) < 1e-6 * len * len {
+        return Err("the structural nodes are collinear: no 3-2-1 support".into());
+    }
+    // Rows: constrained (node, dof); columns: translations and rotations (times len) about A.
+    let row = |id: usize, dof: usize| -> [f64; 6] {
+        let r = sub(x(id), x(a));
+        let mut v = [0.0; 6];
+        v[dof] = 1.0;
+        for k in 0..3 {
+            let mut e = [0.0; 3];
+            e[k] = len;
+            v[3 + k] = cross(e, r)[dof] / len;
+        }
+        v
+    };
+    let mut best: Option<(f64, Vec<(usize, usize)>)> = None;
+    for skip_b in 0..3 {
+        for keep_c in 0..3 {
+            let mut s: Vec<(usize, usize)> = (0..3).map(|d| (a, d)).collect();
+            s.extend((0..3).filter(|&d| d != skip_b).map(|d| (b, d)));
+            s.push((c, keep_c));
+            let m = DMatrix::from_fn(6, 6, |i, j| row(s[i].0, s[i].1)[j]);
+            let det = m.determinant().abs();
+            if best.as_ref().is_none_or(|(d, _)| det > *d) {
+                best = Some((det, s));
+            }
+        }
+    }
+    let (det, s) = best.expect("nine candidates");
+    if det < 1e-6 {
+        return Err(format!(
+            "no 3-2-1 support fixes the rigid motions (det {det:.1e})"
+        ));
+    }
+    Ok(s.into_iter().map(|(id, d)| (id, d + 1)).collect())
+}
+
 /// The correction modes for `loads` (points named in `points`) of `mesh` with eigenmodes
-/// `modes`; the static deck is `<dir>/<job>.inp`.
+/// `modes`; a `free` body gets inertia relief and a 3-2-1 support. The static deck is
+/// `<dir>/<job>.inp`.
+#[allow(clippy::too_many_arguments)]
 pub fn correction_modes(
     mesh: &Mesh,
-    lumped: &Lumped,
+    mass: &MassMatrix,
     modes: &[Shapes],
     points: &[(&str, [f64; 3])],
     loads: &[LoadCase],
+    free: bool,
     dir: &std::path::Path,
     job: &str,
 ) -> Result<Corrected, String> {
-    let forces = loads
+    let unit = loads
         .iter()
         .map(|l| {
             let p = points
                 .iter()
                 .find(|(n, _)| *n == l.point)
                 .ok_or_else(|| format!("load case at `{}`: no such point", l.point))?;
-            nodal_load(mesh, p.0, p.1, l.direction)
+            nodal_load(mesh, p.0, p.1, l)
         })
         .collect::<Result<Vec<_>, _>>()?;
-    let d = static_deck(mesh, &forces, false);
+    let (forces, support) = if free {
+        let f: Vec<Loads> = unit.iter().map(|f| relieved(mesh, mass, f)).collect();
+        (f, determinate_support(mesh)?)
+    } else {
+        (unit.clone(), Vec::new())
+    };
+    let d = static_deck(mesh, &forces, &support, false);
     let solved = crate::modal::solve_deck(mesh, &d, dir, job)?;
     if solved.frd.statics.len() != loads.len() {
         return Err(format!(
@@ -115,6 +315,34 @@ pub fn correction_modes(
             loads.len()
         ));
     }
+    let reaction = if support.is_empty() {
+        None
+    } else {
+        // ccx's RF at a node is K u there: the reaction plus the node's own load.
+        let rf = crate::dat::reactions(&solved.dat, SUPPORT_SET)
+            .map_err(|e| format!("{job}.dat: {e}"))?;
+        let mut worst = 0.0f64;
+        for (r, f) in rf.iter().zip(&forces) {
+            let top = f
+                .iter()
+                .flat_map(|x| x.1)
+                .fold(0.0f64, |m, v| m.max(v.abs()));
+            for (id, v) in r {
+                let own = f.iter().find(|x| x.0 == *id).map_or([0.0; 3], |x| x.1);
+                for c in 0..3 {
+                    worst = worst.max((v[c] - own[c]).abs() / top);
+                }
+            }
+        }
+        // ccx prints 7 digits: measured 1e-6 on a test body.
+        if worst > 1e-4 {
+            return Err(format!(
+                "{job}: the 3-2-1 support carries {worst:.1e} of the largest load: the relieved \
+                 loads are not in equilibrium"
+            ));
+        }
+        Some(worst)
+    };
     let rot_ids: Vec<usize> = mesh.rigid.iter().map(|r| r.rot_node).collect();
     let (n, j) = (modes.len(), loads.len());
     let w2: Vec<f64> = modes
@@ -123,10 +351,13 @@ pub fn correction_modes(
         .collect();
     let mut participation = vec![0.0; n * j];
     for (k, m) in modes.iter().enumerate() {
-        for (c, f) in forces.iter().enumerate() {
-            participation[k * j + c] = dot(&m.w, f);
+        for (c, f) in unit.iter().enumerate() {
+            participation[k * j + c] = work(m, f);
         }
     }
+    // The share of the loads as solved: the same as the unit loads' for eigenmodes orthogonal
+    // to the rigid motions; this one makes Psi_r exactly K-orthogonal to them.
+    let share = DMatrix::from_fn(n, j, |k, c| work(&modes[k], &forces[c]) / w2[k]);
     // The residual shapes Psi_r.
     let mut residual = Vec::with_capacity(j);
     for (c, disp) in solved.frd.statics.iter().enumerate() {
@@ -139,37 +370,33 @@ pub fn correction_modes(
                 w.entry(id).or_insert(v);
             }
         }
+        let mut s = Shapes {
+            frequency_hz: 0.0,
+            w,
+            rot,
+        };
+        if free {
+            remove_rigid_motion(mesh, mass, &mut s)?;
+        }
         for (k, m) in modes.iter().enumerate() {
-            let a = participation[k * j + c] / w2[k];
-            for (id, u) in w.iter_mut() {
-                if let Some(p) = m.w.get(id) {
-                    for x in 0..3 {
-                        u[x] -= a * p[x];
-                    }
-                }
-            }
-            for (id, u) in rot.iter_mut() {
-                if let Some(p) = m.rot.get(id) {
-                    for x in 0..3 {
-                        u[x] -= a * p[x];
+            let a = share[(k, c)];
+            for (map, src) in [(&mut s.w, &m.w), (&mut s.rot, &m.rot)] {
+                for (id, u) in map.iter_mut() {
+                    if let Some(p) = src.get(id) {
+                        for x in 0..3 {
+                            u[x] -= a * p[x];
+                        }
                     }
                 }
             }
         }
-        residual.push(Shapes {
-            frequency_hz: 0.0,
-            w,
-            rot,
-        });
+        residual.push(s);
     }
-    let stiff = nalgebra::DMatrix::from_fn(j, j, |a, b| {
-        0.5 * (dot(&residual[a].w, &forces[b]) + dot(&residual[b].w, &forces[a]))
+    let stiff = DMatrix::from_fn(j, j, |a, b| {
+        0.5 * (work(&residual[a], &forces[b]) + work(&residual[b], &forces[a]))
     });
-    let el = elementary(mesh, lumped, &residual)?;
-    let mass = nalgebra::DMatrix::from_fn(j, j, |a, b| {
-        (0..3).map(|x| el.g[x][x][a * j + b]).sum::<f64>()
-    });
-    let (x, lambda) = generalised_eigen(&mass, &stiff);
+    let m_rr = mass.inner(mesh, &residual, &residual)?;
+    let (x, lambda) = generalised_eigen(&m_rr, &stiff);
     let shapes = (0..lambda.len())
         .map(|c| {
             let mut w: HashMap<usize, [f64; 3]> = HashMap::new();
@@ -197,6 +424,47 @@ pub fn correction_modes(
         participation,
         solve_s: solved.run.wall_s,
         forces,
+        support,
+        share,
         combination: x,
+        reaction,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::consistent::{consistent, tests::mixed};
+
+    #[test]
+    fn relieved_loads_are_in_equilibrium_and_the_support_fixes_the_rigid_motions() {
+        // A unit force off the CoG and a moment on the rigid part: less their inertia relief
+        // (with the rigid part, the shells' rotary inertia, a free point mass), the resultant
+        // and the moment vanish to round-off.
+        let m = mixed(true);
+        let mass = consistent(&m);
+        let rot = m.rigid[0].rot_node;
+        let f = vec![(1, [0.3, -1.0, 0.5]), (rot, [0.0, 0.2, 0.1])];
+        let r = relieved(&m, &mass, &f);
+        let (mut force, mut moment) = ([0.0; 3], [0.0; 3]);
+        for (id, v) in &r {
+            if *id == rot {
+                moment = add3(moment, *v);
+            } else {
+                force = add3(force, *v);
+                moment = add3(moment, cross(m.nodes[id - 1], *v));
+            }
+        }
+        assert!(
+            force.iter().chain(&moment).all(|x| x.abs() < 1e-14),
+            "{force:?} {moment:?}"
+        );
+        // 3 + 2 + 1 translations on three distinct structural nodes, not on the rigid part.
+        let s = determinate_support(&m).unwrap();
+        assert_eq!(s.len(), 6);
+        let mut ids: Vec<usize> = s.iter().map(|x| x.0).collect();
+        ids.dedup();
+        assert_eq!(ids.len(), 3);
+        assert!(ids.iter().all(|id| !m.nsets["R"].contains(id)));
+    }
 }

@@ -7,11 +7,21 @@ pub type Print = Vec<(usize, [f64; 3])>;
 
 /// Per eigenmode (in file order), the printed nodes of set `set` with their three values.
 pub fn node_prints(dat: &str, set: &str) -> Result<Vec<Print>, String> {
+    node_table(dat, "displacements (vx,vy,vz)", set)
+}
+
+/// Per step (in file order), the reaction forces (`*NODE PRINT` / `RF`) of set `set`.
+pub fn reactions(dat: &str, set: &str) -> Result<Vec<Print>, String> {
+    node_table(dat, "forces (fx,fy,fz)", set)
+}
+
+/// The blocks "`what` for set SET and time ..." of a `.dat`, one line per node.
+fn node_table(dat: &str, what: &str, set: &str) -> Result<Vec<Print>, String> {
     let head = format!("for set {} and time", set.to_ascii_uppercase());
     let mut out = Vec::new();
     let mut lines = dat.lines().enumerate().peekable();
     while let Some((_, l)) = lines.next() {
-        if !(l.contains("displacements (vx,vy,vz)") && l.contains(&head)) {
+        if !(l.contains(what) && l.contains(&head)) {
             continue;
         }
         let mut block = Vec::new();

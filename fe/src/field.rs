@@ -95,7 +95,7 @@ impl Field {
             let (vtk, order): (u8, &[usize]) = match p.section {
                 // ccx's S8R and C3D20 node orders are VTK's; B32 has its middle node second.
                 Section::Shell { .. } => (VTK_QUADRATIC_QUAD, &[0, 1, 2, 3, 4, 5, 6, 7]),
-                Section::Solid { .. } => (
+                Section::Solid { .. } | Section::ReducedSolid { .. } => (
                     VTK_QUADRATIC_HEXAHEDRON,
                     &[
                         0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19,

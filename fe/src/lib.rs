@@ -6,8 +6,10 @@
 // Index loops read as the formulas they implement (sums over axes and modes).
 #![allow(clippy::needless_range_loop)]
 
+pub mod assembly;
 pub mod bodies;
 pub mod ccx;
+pub mod consistent;
 pub mod correction;
 pub mod dat;
 pub mod deck;

@@ -1,12 +1,14 @@
-//! HRZ lumping (Hinton, Rock and Zienkiewicz; Cook, Malkus and Plesha, "Concepts and Applications
-//! of Finite Element Analysis", 3rd ed., 1989, sec. 13.3): each element's nodal mass is the
-//! diagonal of its consistent mass matrix, scaled so the element keeps its total mass. The seed
-//! paper's elementary matrices are sums over nodes with these masses.
+//! Element integration (shape functions, Gauss points, mass properties) and HRZ lumping
+//! (Hinton, Rock and Zienkiewicz; Cook, Malkus and Plesha, "Concepts and Applications of Finite
+//! Element Analysis", 3rd ed., 1989, sec. 13.3): each element's nodal mass is the diagonal of its
+//! consistent mass matrix, scaled so the element keeps its total mass. The seed paper formed its
+//! elementary matrices with these masses; we use the consistent mass (`consistent.rs`) and keep
+//! HRZ for comparison.
 //!
 //! Point masses that belong to a rigid part are not lumped onto their nodes: they make up the
 //! rigid part (mass, CoG, inertia), which enters the elementary matrices through the paper's
-//! expansion with the part's rotation (ccx's ROT NODE). Rotary inertia of shell and beam nodes
-//! (of order rho t^3 / 12 per area) is left out: at 1.2 mm it is ~1e-7 of the translational terms.
+//! expansion with the part's rotation (ccx's ROT NODE). HRZ leaves out the rotary inertia of
+//! shell and beam nodes (rho t^3 / 12 per area); the mass properties include it.
 
 use crate::mesh::{Mesh, Section};
 use washdyn_runtime::geom::f::{cross, norm};
@@ -17,6 +19,32 @@ const G3: [(f64, f64); 3] = [
     (0.0, 8.0 / 9.0),
     (0.774_596_669_241_483_4, 5.0 / 9.0),
 ];
+const G2: [(f64, f64); 2] = [
+    (-0.577_350_269_189_625_8, 1.0),
+    (0.577_350_269_189_625_8, 1.0),
+];
+
+/// Which Gauss points integrate an element's mass.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Rule {
+    /// 3 per direction: exact for straight-edged elements (the HRZ diagonal).
+    Exact,
+    /// ccx's own points: its e_c3d.f integrates the mass at the stiffness's points, and S8R is
+    /// expanded into C3D20R (2 x 2 x 2), so a shell's in-plane integral takes 2 x 2 points;
+    /// C3D20 and B32 (expanded into C3D20) take 3 per direction. The consistent mass matrix
+    /// (`consistent.rs`) must be the one ccx normalised its modes with.
+    Ccx,
+}
+
+impl Rule {
+    /// Points and weights along one direction of an element of `section`.
+    pub(crate) fn points(self, section: &Section) -> &'static [(f64, f64)] {
+        match (self, section) {
+            (Rule::Ccx, Section::Shell { .. } | Section::ReducedSolid { .. }) => &G2,
+            _ => &G3,
+        }
+    }
+}
 
 /// A rigid part's lumped inertia: mass, CoG and inertia tensor about the CoG (global axes).
 #[derive(Clone, Debug, PartialEq)]
@@ -190,15 +218,30 @@ pub fn hex20_jacobian(d: &[[f64; 3]; 20], x: impl Fn(usize) -> [f64; 3]) -> [[f6
     j
 }
 
-/// Visit the Gauss points of one element: shape function values, position and volume weight
-/// (m^3; shells times thickness, beams times section area). Rules exact for the mass of
+/// One Gauss point of an element, as `gauss` visits it.
+pub(crate) struct GaussPoint<'a> {
+    /// Shape function values.
+    pub n: &'a [f64],
+    /// Shells: d N / d (xi, eta); beams: (d N / d xi, 0); solids: empty.
+    pub dn: &'a [[f64; 2]],
+    /// Position.
+    pub x: [f64; 3],
+    /// Volume weight, m^3 (shells times thickness, beams times section area).
+    pub dv: f64,
+    /// Shells: d x / d xi, d x / d eta; beams: d x / d xi, 0.
+    pub tangents: [[f64; 3]; 2],
+}
+
+/// Visit the Gauss points of one element. `Rule::Exact` is exact for the mass of
 /// straight-edged elements: 3 x 3 (S8R), 3 x 3 x 3 (C3D20), 3 (B32).
-fn gauss(
+pub(crate) fn gauss(
     mesh: &Mesh,
     section: &Section,
     nodes: &[usize],
-    mut visit: impl FnMut(&[f64], [f64; 3], f64),
+    rule: Rule,
+    mut visit: impl FnMut(&GaussPoint),
 ) {
+    let g = rule.points(section);
     let x = |k: usize| mesh.nodes[nodes[k] - 1];
     let at = |n: &[f64]| -> [f64; 3] {
         let mut p = [0.0; 3];
@@ -211,8 +254,8 @@ fn gauss(
     };
     match section {
         Section::Shell { thickness, .. } => {
-            for &(a, wa) in &G3 {
-                for &(b, wb) in &G3 {
+            for &(a, wa) in g {
+                for &(b, wb) in g {
                     let (n, d) = quad8(a, b);
                     let mut t = [[0.0; 3]; 2];
                     for k in 0..8 {
@@ -221,53 +264,108 @@ fn gauss(
                             t[1][i] += d[k][1] * x(k)[i];
                         }
                     }
-                    visit(&n, at(&n), norm(cross(t[0], t[1])) * wa * wb * thickness);
+                    visit(&GaussPoint {
+                        n: &n,
+                        dn: &d,
+                        x: at(&n),
+                        dv: norm(cross(t[0], t[1])) * wa * wb * thickness,
+                        tangents: t,
+                    });
                 }
             }
         }
-        Section::Solid { .. } => {
-            for &(a, wa) in &G3 {
-                for &(b, wb) in &G3 {
-                    for &(c, wc) in &G3 {
+        Section::Solid { .. } | Section::ReducedSolid { .. } => {
+            for &(a, wa) in g {
+                for &(b, wb) in g {
+                    for &(c, wc) in g {
                         let (n, d) = hex20([a, b, c]);
                         let j = hex20_jacobian(&d, x);
-                        visit(&n, at(&n), det3(j).abs() * wa * wb * wc);
+                        visit(&GaussPoint {
+                            n: &n,
+                            dn: &[],
+                            x: at(&n),
+                            dv: det3(j).abs() * wa * wb * wc,
+                            tangents: [[0.0; 3]; 2],
+                        });
                     }
                 }
             }
         }
         Section::Beam { width, height, .. } => {
-            for &(a, wa) in &G3 {
+            for &(a, wa) in g {
                 let n = [0.5 * a * (a - 1.0), 1.0 - a * a, 0.5 * a * (a + 1.0)];
-                let dn = [a - 0.5, -2.0 * a, a + 0.5];
+                let dn = [[a - 0.5, 0.0], [-2.0 * a, 0.0], [a + 0.5, 0.0]];
                 let mut t = [0.0; 3];
                 for k in 0..3 {
                     for i in 0..3 {
-                        t[i] += dn[k] * x(k)[i];
+                        t[i] += dn[k][0] * x(k)[i];
                     }
                 }
-                visit(&n, at(&n), norm(t) * wa * width * height);
+                visit(&GaussPoint {
+                    n: &n,
+                    dn: &dn,
+                    x: at(&n),
+                    dv: norm(t) * wa * width * height,
+                    tangents: [t, [0.0; 3]],
+                });
             }
         }
         Section::Mass { .. } | Section::Ground { .. } => {}
     }
 }
 
+/// The through-section second moments of a shell or beam at a Gauss point, per unit volume:
+/// (axis e, k^2) with sum_sections int r r^T dA / A = sum e e^T k^2: a shell's normal with
+/// t^2 / 12; a beam's section axes p (along `normal`, `width`) and q with width^2 / 12 and
+/// height^2 / 12. The material at a distance from the mid-surface or axis: what ccx's
+/// expanded 3-D elements carry beyond the reference surface's translations.
+pub(crate) fn section_axes(section: &Section, gp: &GaussPoint) -> Vec<([f64; 3], f64)> {
+    match section {
+        Section::Shell { thickness, .. } => {
+            let c = cross(gp.tangents[0], gp.tangents[1]);
+            let l = norm(c);
+            vec![(c.map(|v| v / l), thickness * thickness / 12.0)]
+        }
+        Section::Beam {
+            width,
+            height,
+            normal,
+            ..
+        } => {
+            let (p, q) = beam_axes(gp.tangents[0], *normal);
+            vec![(p, width * width / 12.0), (q, height * height / 12.0)]
+        }
+        _ => Vec::new(),
+    }
+}
+
+/// A beam's section axes at tangent `t`: p = `normal` made normal to t (ccx's 1-direction),
+/// q = t x p.
+pub(crate) fn beam_axes(t: [f64; 3], normal: [f64; 3]) -> ([f64; 3], [f64; 3]) {
+    let l = norm(t);
+    let t = t.map(|v| v / l);
+    let d = normal[0] * t[0] + normal[1] * t[1] + normal[2] * t[2];
+    let p: [f64; 3] = std::array::from_fn(|i| normal[i] - d * t[i]);
+    let lp = norm(p);
+    let p = p.map(|v| v / lp);
+    (p, cross(t, p))
+}
+
 /// Consistent-mass diagonal (per unit density) and element volume of one element.
 fn element_diag(mesh: &Mesh, section: &Section, nodes: &[usize]) -> (Vec<f64>, f64) {
     let (mut diag, mut vol) = (vec![0.0; nodes.len()], 0.0);
-    gauss(mesh, section, nodes, |n, _, dv| {
-        vol += dv;
-        for (k, nk) in n.iter().enumerate() {
-            diag[k] += nk * nk * dv;
+    gauss(mesh, section, nodes, Rule::Exact, |gp| {
+        vol += gp.dv;
+        for (k, nk) in gp.n.iter().enumerate() {
+            diag[k] += nk * nk * gp.dv;
         }
     });
     (diag, vol)
 }
 
 /// The mass properties of the continuous (not lumped) model: element integrals of rho, rho x
-/// and rho x x^T at the Gauss points, plus every point mass. What ccx's `EMAS` totals report,
-/// up to the shells' and beams' through-section terms (of order t^2 / 12).
+/// and rho (x x^T + the section's own second moments) at ccx's Gauss points, plus every point
+/// mass. What ccx's `EMAS` totals report.
 pub fn consistent_mass_props(mesh: &Mesh) -> MassProps {
     mass_props_of(mesh, true)
 }
@@ -280,12 +378,15 @@ pub fn continuum_mass_props(mesh: &Mesh) -> MassProps {
 
 fn mass_props_of(mesh: &Mesh, points: bool) -> MassProps {
     let (mut m, mut s1, mut s2) = (0.0, [0.0; 3], [[0.0; 3]; 3]);
-    let mut add = |dm: f64, p: [f64; 3]| {
+    let mut add = |dm: f64, p: [f64; 3], axes: &[([f64; 3], f64)]| {
         m += dm;
         for i in 0..3 {
             s1[i] += dm * p[i];
             for j in 0..3 {
                 s2[i][j] += dm * p[i] * p[j];
+                for (e, k2) in axes {
+                    s2[i][j] += dm * k2 * e[i] * e[j];
+                }
             }
         }
     };
@@ -293,9 +394,11 @@ fn mass_props_of(mesh: &Mesh, points: bool) -> MassProps {
         let rho = part.section.material().map_or(0.0, |m| m.rho);
         for e in &part.elements {
             match part.section {
-                Section::Mass { kg } if points => add(kg, mesh.nodes[e[0] - 1]),
+                Section::Mass { kg } if points => add(kg, mesh.nodes[e[0] - 1], &[]),
                 Section::Mass { .. } => {}
-                _ => gauss(mesh, &part.section, e, |_, p, dv| add(rho * dv, p)),
+                _ => gauss(mesh, &part.section, e, Rule::Ccx, |gp| {
+                    add(rho * gp.dv, gp.x, &section_axes(&part.section, gp))
+                }),
             }
         }
     }
@@ -316,34 +419,24 @@ fn mass_props_of(mesh: &Mesh, points: bool) -> MassProps {
     }
 }
 
-/// HRZ-lumped nodal masses and the rigid parts of `mesh`.
-pub fn lump(mesh: &Mesh) -> Lumped {
-    let mut node_mass = vec![0.0; mesh.nodes.len()];
-    let rigid_nodes: Vec<(usize, &[usize])> = mesh
+/// The rigid parts of `mesh` (the point masses on each `*RIGID BODY` set as one mass, CoG and
+/// inertia) and the other point masses, (node id, kg).
+pub fn rigid_parts(mesh: &Mesh) -> (Vec<RigidLump>, Vec<(usize, f64)>) {
+    let rigid_nodes: Vec<&[usize]> = mesh
         .rigid
         .iter()
-        .enumerate()
-        .map(|(i, r)| (i, mesh.nsets.get(&r.nset).map_or(&[][..], |v| &v[..])))
+        .map(|r| mesh.nsets.get(&r.nset).map_or(&[][..], |v| &v[..]))
         .collect();
     let mut rigid_points: Vec<Vec<(f64, [f64; 3])>> = vec![Vec::new(); mesh.rigid.len()];
+    let mut free = Vec::new();
     for part in &mesh.parts {
-        for e in &part.elements {
-            if let Section::Mass { kg } = part.section {
+        if let Section::Mass { kg } = part.section {
+            for e in &part.elements {
                 let id = e[0];
-                match rigid_nodes.iter().find(|(_, ns)| ns.contains(&id)) {
-                    Some((i, _)) => rigid_points[*i].push((kg, mesh.nodes[id - 1])),
-                    None => node_mass[id - 1] += kg,
+                match rigid_nodes.iter().position(|ns| ns.contains(&id)) {
+                    Some(i) => rigid_points[i].push((kg, mesh.nodes[id - 1])),
+                    None => free.push((id, kg)),
                 }
-                continue;
-            }
-            let rho = part.section.material().map_or(0.0, |m| m.rho);
-            let (diag, vol) = element_diag(mesh, &part.section, e);
-            let sum: f64 = diag.iter().sum();
-            if sum <= 0.0 {
-                continue;
-            }
-            for (k, &id) in e.iter().enumerate() {
-                node_mass[id - 1] += rho * vol * diag[k] / sum;
             }
         }
     }
@@ -371,6 +464,32 @@ pub fn lump(mesh: &Mesh) -> Lumped {
             }
         })
         .collect();
+    (rigid, free)
+}
+
+/// HRZ-lumped nodal masses and the rigid parts of `mesh`.
+pub fn lump(mesh: &Mesh) -> Lumped {
+    let mut node_mass = vec![0.0; mesh.nodes.len()];
+    let (rigid, free) = rigid_parts(mesh);
+    for (id, kg) in free {
+        node_mass[id - 1] += kg;
+    }
+    for part in &mesh.parts {
+        if part.section.material().is_none() {
+            continue;
+        }
+        for e in &part.elements {
+            let rho = part.section.material().map_or(0.0, |m| m.rho);
+            let (diag, vol) = element_diag(mesh, &part.section, e);
+            let sum: f64 = diag.iter().sum();
+            if sum <= 0.0 {
+                continue;
+            }
+            for (k, &id) in e.iter().enumerate() {
+                node_mass[id - 1] += rho * vol * diag[k] / sum;
+            }
+        }
+    }
     Lumped { node_mass, rigid }
 }
 

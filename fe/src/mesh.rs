@@ -24,6 +24,11 @@ pub enum Section {
     Shell { thickness: f64, material: Material },
     /// C3D20: 20-node brick in ccx node order.
     Solid { material: Material },
+    /// C3D20R: the same brick with reduced (2 x 2 x 2) integration, ccx's element for a sheet
+    /// as one layer of bricks (a full-integration layer locks in bending: a 0.5 mm drum shell
+    /// as C3D20 rocks at 135 Hz, as C3D20R at 107.7, as S8R at 107.5). ccx integrates its mass
+    /// at the same 8 points.
+    ReducedSolid { material: Material },
     /// B32: 3-node beam (end, middle, end), rectangular section: `width` along `normal` (ccx's
     /// 1-direction), `height` across it, m.
     Beam {
@@ -43,6 +48,7 @@ impl Section {
         match self {
             Section::Shell { .. } => "S8R",
             Section::Solid { .. } => "C3D20",
+            Section::ReducedSolid { .. } => "C3D20R",
             Section::Beam { .. } => "B32",
             Section::Mass { .. } => "MASS",
             Section::Ground { .. } => "SPRING1",
@@ -51,7 +57,7 @@ impl Section {
     pub fn nodes_per_element(&self) -> usize {
         match self {
             Section::Shell { .. } => 8,
-            Section::Solid { .. } => 20,
+            Section::Solid { .. } | Section::ReducedSolid { .. } => 20,
             Section::Beam { .. } => 3,
             Section::Mass { .. } | Section::Ground { .. } => 1,
         }
@@ -60,6 +66,7 @@ impl Section {
         match self {
             Section::Shell { material, .. }
             | Section::Solid { material }
+            | Section::ReducedSolid { material }
             | Section::Beam { material, .. } => Some(material),
             _ => None,
         }
@@ -265,7 +272,7 @@ impl Mesh {
                     ))
                     .line(&format!("{thickness:.9e}"));
                 }
-                Section::Solid { material } => {
+                Section::Solid { material } | Section::ReducedSolid { material } => {
                     d.line(&format!(
                         "*SOLID SECTION, ELSET={}, MATERIAL={}",
                         p.name, material.name

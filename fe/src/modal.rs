@@ -1,13 +1,13 @@
-//! FE results -> modal data: the kept modes, the seed paper's elementary matrices over HRZ
-//! masses (with the attached rigid parts through their CoG and inertia), and the mode shapes at
-//! the named points (a rigid fit of each node set).
+//! FE results -> modal data: the kept modes, the seed paper's elementary matrices over the
+//! body's mass matrix (`consistent.rs`, with the attached rigid parts through their CoG and
+//! inertia), and the mode shapes at the named points (a rigid fit of each node set).
 
+use crate::consistent::MassMatrix;
 use crate::frd::Frd;
-use crate::lumping::{Lumped, RigidLump};
 use crate::mesh::Mesh;
 use std::collections::HashMap;
 use washdyn_runtime::geom::f::{add, cross, sub};
-use washdyn_runtime::ir::modal::{ElasticBodyKind, Elementary, ModalData, ModalPoint, Support};
+use washdyn_runtime::ir::modal::{ElasticBodyKind, ModalData, ModalPoint, Support};
 
 /// Which modes to keep.
 #[derive(Clone, Copy, Debug)]
@@ -68,115 +68,6 @@ pub fn select(
         });
     }
     Ok(out)
-}
-
-/// Second moments J = sum dm r r^T about the CoG from the inertia tensor I = tr(J) E - J.
-fn second_moments(i: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
-    let half_tr = 0.5 * (i[0][0] + i[1][1] + i[2][2]);
-    std::array::from_fn(|a| std::array::from_fn(|b| if a == b { half_tr } else { 0.0 } - i[a][b]))
-}
-
-/// A rigid part's motion in one mode: translation of its CoG and rotation.
-fn rigid_motion(mesh: &Mesh, r: &RigidLump, s: &Shapes) -> Result<([f64; 3], [f64; 3]), String> {
-    let theta = *s
-        .rot
-        .get(&r.rot_node)
-        .ok_or_else(|| format!("no rotation printed for ROT NODE {}", r.rot_node))?;
-    let w_ref =
-        *s.w.get(&r.ref_node)
-            .ok_or_else(|| format!("no displacement for REF NODE {}", r.ref_node))?;
-    let arm = sub(r.cog, mesh.nodes[r.ref_node - 1]);
-    Ok((add(w_ref, cross(theta, arm)), theta))
-}
-
-/// The elementary matrices of the kept modes: sums over the nodes with HRZ masses, plus, for
-/// each rigid part of mass m, CoG c and second moments J about c, moving with W_c + theta x rho
-/// (the seed paper's expansion for attached rigid parts, fig. 3):
-/// sum dm W_a = m W_c,a; sum dm x_a W_b = m c_a W_c,b + (theta x J_a)_b with J_a = row a of J;
-/// sum dm W_a,k W_b,l = m W_c,a,k W_c,b,l + sum_df eps_acd eps_bef theta_c,k theta_e,l J_df.
-pub fn elementary(mesh: &Mesh, lumped: &Lumped, modes: &[Shapes]) -> Result<Elementary, String> {
-    let n = modes.len();
-    let mut c: [Vec<f64>; 3] = std::array::from_fn(|_| vec![0.0; n]);
-    let mut s: [[Vec<f64>; 3]; 3] = std::array::from_fn(|_| std::array::from_fn(|_| vec![0.0; n]));
-    let mut g: [[Vec<f64>; 3]; 3] =
-        std::array::from_fn(|_| std::array::from_fn(|_| vec![0.0; n * n]));
-    for (i, &dm) in lumped.node_mass.iter().enumerate() {
-        if dm == 0.0 {
-            continue;
-        }
-        let id = i + 1;
-        let x0 = mesh.nodes[i];
-        let w: Vec<[f64; 3]> = modes
-            .iter()
-            .map(|m| {
-                m.w.get(&id)
-                    .copied()
-                    .ok_or_else(|| format!("node {id} has mass but no mode shape in the .frd"))
-            })
-            .collect::<Result<_, _>>()?;
-        for k in 0..n {
-            for a in 0..3 {
-                c[a][k] += dm * w[k][a];
-                for b in 0..3 {
-                    s[a][b][k] += dm * x0[a] * w[k][b];
-                }
-            }
-        }
-        for a in 0..3 {
-            for b in 0..3 {
-                let gab = &mut g[a][b];
-                for k in 0..n {
-                    let wk = dm * w[k][a];
-                    for l in 0..n {
-                        gab[k * n + l] += wk * w[l][b];
-                    }
-                }
-            }
-        }
-    }
-    for r in lumped.rigid.iter().filter(|r| r.mass > 0.0) {
-        let j = second_moments(&r.inertia);
-        let motion: Vec<([f64; 3], [f64; 3])> = modes
-            .iter()
-            .map(|s| rigid_motion(mesh, r, s))
-            .collect::<Result<_, _>>()?;
-        for (k, (wc, th)) in motion.iter().enumerate() {
-            for a in 0..3 {
-                c[a][k] += r.mass * wc[a];
-                let tj = cross(*th, j[a]);
-                for b in 0..3 {
-                    s[a][b][k] += r.mass * r.cog[a] * wc[b] + tj[b];
-                }
-            }
-        }
-        for a in 0..3 {
-            for b in 0..3 {
-                for k in 0..n {
-                    for l in 0..n {
-                        let (wk, tk) = motion[k];
-                        let (wl, tl) = motion[l];
-                        // sum dm (theta_k x rho)_a (theta_l x rho)_b
-                        let mut rot = 0.0;
-                        for d in 0..3 {
-                            for f in 0..3 {
-                                let ea = eps_row(a, d, tk);
-                                let eb = eps_row(b, f, tl);
-                                rot += ea * eb * j[d][f];
-                            }
-                        }
-                        g[a][b][k * n + l] += r.mass * wk[a] * wl[b] + rot;
-                    }
-                }
-            }
-        }
-    }
-    Ok(Elementary { c, s, g })
-}
-
-/// sum_c eps_acd theta_c: the (a, d) entry of theta~ (cross-product matrix).
-fn eps_row(a: usize, d: usize, t: [f64; 3]) -> f64 {
-    let m = [[0.0, -t[2], t[1]], [t[2], 0.0, -t[0]], [-t[1], t[0], 0.0]];
-    m[a][d]
 }
 
 /// Least-squares rigid motion of the nodes `ids` in one mode, as (translation at the nodes'
@@ -266,21 +157,23 @@ pub fn point(
     })
 }
 
-/// Per node of a set, the 3 x 3 block R_i with w_p = sum_i R_i u_i.
-pub type Reading = Vec<(usize, [[f64; 3]; 3])>;
+/// Per node of a set, the 3 x 3 blocks R_i and T_i with w_p = sum_i R_i u_i (translation at
+/// the point) and phi_p = sum_i T_i u_i (rotation).
+pub type Reading = Vec<(usize, [[f64; 3]; 3], [[f64; 3]; 3])>;
 
-/// How the modal point at `position` of node set `nset` reads the nodes: w_p = sum_i R_i u_i
-/// (the rigid fit is linear in the nodal displacements). Returns (node, R_i) per node. A force F
-/// at the point does the work of nodal forces R_i^T F: the consistent load that the equations
-/// apply through the point's W.
-pub fn point_reading(mesh: &Mesh, nset: &str, position: [f64; 3]) -> Result<Reading, String> {
+/// How the modal point at `position` of node set `nset` reads the nodes: w_p = sum_i R_i u_i,
+/// phi_p = sum_i T_i u_i (the rigid fit is linear in the nodal displacements). Returns
+/// (node, R_i, T_i) per node. A force F at the point does the work of nodal forces R_i^T F, a
+/// moment C that of T_i^T C: the consistent loads that the equations apply through the point's
+/// W and Phi.
+pub fn point_reading_full(mesh: &Mesh, nset: &str, position: [f64; 3]) -> Result<Reading, String> {
     let ids = mesh
         .nsets
         .get(nset)
         .ok_or_else(|| format!("no node set {nset}"))?;
     let mut out = Vec::with_capacity(ids.len());
     for &id in ids {
-        let mut r = [[0.0; 3]; 3];
+        let (mut r, mut t) = ([[0.0; 3]; 3], [[0.0; 3]; 3]);
         for d in 0..3 {
             let mut w: HashMap<usize, [f64; 3]> = ids.iter().map(|&i| (i, [0.0; 3])).collect();
             w.get_mut(&id).expect("in the set")[d] = 1.0;
@@ -288,11 +181,27 @@ pub fn point_reading(mesh: &Mesh, nset: &str, position: [f64; 3]) -> Result<Read
             let wp = add(u, cross(th, sub(position, c)));
             for a in 0..3 {
                 r[a][d] = wp[a];
+                t[a][d] = th[a];
             }
         }
-        out.push((id, r));
+        out.push((id, r, t));
     }
     Ok(out)
+}
+
+/// Per node of a set, the 3 x 3 block R_i with w_p = sum_i R_i u_i.
+pub type TranslationReading = Vec<(usize, [[f64; 3]; 3])>;
+
+/// The translation part of `point_reading_full`: (node, R_i) with w_p = sum_i R_i u_i.
+pub fn point_reading(
+    mesh: &Mesh,
+    nset: &str,
+    position: [f64; 3],
+) -> Result<TranslationReading, String> {
+    Ok(point_reading_full(mesh, nset, position)?
+        .into_iter()
+        .map(|(id, r, _)| (id, r))
+        .collect())
 }
 
 /// Everything for one body's modal data file.
@@ -301,7 +210,8 @@ pub struct Import<'a> {
     pub support: Support,
     pub source: String,
     pub mesh: &'a Mesh,
-    pub lumped: &'a Lumped,
+    /// The mass the elementary matrices and the mass properties are formed with.
+    pub mass: &'a MassMatrix,
     pub modes: &'a [Shapes],
     /// (node set, point) of every marker and sensor on the body.
     pub points: &'a [(&'a str, [f64; 3])],
@@ -309,7 +219,7 @@ pub struct Import<'a> {
 
 impl Import<'_> {
     pub fn modal_data(&self) -> Result<ModalData, String> {
-        let props = self.lumped.mass_props(self.mesh);
+        let props = self.mass.mass_props(self.mesh);
         let points = self
             .points
             .iter()
@@ -323,11 +233,12 @@ impl Import<'_> {
             mass: props.mass,
             cog: props.cog,
             inertia: props.inertia,
-            elementary: elementary(self.mesh, self.lumped, self.modes)?,
+            elementary: self.mass.elementary(self.mesh, self.modes)?,
             points,
             geometric_stiffness: None,
             correction: None,
             basis: None,
+            support_springs: Vec::new(),
         })
     }
 }

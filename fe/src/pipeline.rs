@@ -1,14 +1,17 @@
-//! One body from FE model to modal data: write the deck, solve it with ccx, lump, keep the
-//! wanted modes, form the elementary matrices and points, and for a spinning body extract the
-//! geometric stiffness, and the shapes on the whole mesh for field recovery (`field.rs`). The
-//! CLI's `washdyn fe modal` runs this for the built-in bodies.
+//! One body from FE model to modal data: write the deck, solve it with ccx, assemble the
+//! consistent mass, keep the wanted modes, form the elementary matrices and points, and for a
+//! spinning body extract the geometric stiffness, and the shapes on the whole mesh for field
+//! recovery (`field.rs`). The CLI's `washdyn fe modal` runs this for the built-in bodies.
 
+use crate::consistent;
 use crate::lumping::{MassProps, lump};
 use crate::mesh::Mesh;
 use crate::modal::{self, Keep};
 use crate::rotating;
 use std::path::Path;
-use washdyn_runtime::ir::modal::{Correction, ElasticBodyKind, LoadCase, ModalData, Support};
+use washdyn_runtime::ir::modal::{
+    Correction, ElasticBodyKind, LoadCase, ModalData, Support, SupportSpring,
+};
 
 /// How a body spins (the drum): about `axis` through `axis_point`; the prestress is computed at
 /// `reference_speed` (rad/s) with `modes` prestressed modes.
@@ -51,22 +54,36 @@ pub struct Report {
     pub prestress_solve_s: Option<f64>,
     /// All of ccx's frequencies (Hz), rigid ones included.
     pub all_frequencies: Vec<f64>,
-    /// The lumped body (HRZ + rigid parts).
-    pub lumped: MassProps,
-    /// max |sum dm W^T W - I|.
-    pub lumping_error: f64,
+    /// The body from the consistent mass (+ rigid parts): what the modal data holds.
+    pub mass_props: MassProps,
+    /// max |W^T M W - I| of the modal data (consistent M, every mode).
+    pub mass_error: f64,
+    /// The same for the eigenmodes with HRZ-lumped masses (the seed paper's), for comparison.
+    pub hrz_error: f64,
     /// max |sum dm W| / sqrt(m) (free-free: orthogonality to translation).
     pub translation_coupling: f64,
     /// Worst relative residual of the kept modes in the prestressed basis.
     pub prestress_fit_residual: Option<f64>,
-    /// Frequencies of the static correction modes (Hz) and ccx's time for them (s).
-    pub correction: Option<(Vec<f64>, f64)>,
+    /// The static correction modes, if any.
+    pub correction: Option<CorrectionReport>,
+}
+
+/// What the static correction solve measured.
+#[derive(Clone, Debug)]
+pub struct CorrectionReport {
+    /// The correction modes' frequencies, Hz.
+    pub frequencies: Vec<f64>,
+    /// ccx's time for the static steps, s.
+    pub solve_s: f64,
+    /// A free body's largest support reaction over its largest nodal load (inertia relief
+    /// leaves the 3-2-1 support unloaded).
+    pub reaction: Option<f64>,
 }
 
 /// Build `spec` in `dir` (the deck and ccx's files land there).
 pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), String> {
     let solved = modal::solve(&spec.mesh, dir, &spec.name, spec.solve_modes)?;
-    let lumped = lump(&spec.mesh);
+    let mass = consistent::consistent(&spec.mesh);
     let mut modes = modal::select(&spec.mesh, &solved.frd, &solved.prints, spec.keep)?;
     if modes.is_empty() {
         return Err(format!("{}: no mode kept", spec.name));
@@ -75,20 +92,22 @@ pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), String>
     let mut correction = None;
     let mut correction_solved: Option<crate::correction::Corrected> = None;
     if !spec.correction.is_empty() {
-        if spec.spin.is_some() || spec.support == Support::FreeFree {
+        if spec.spin.is_some() {
             // A spinning body's K_G comes from prestressed eigenmodes, which do not span a
-            // local dent; a free body has no static solution.
+            // local dent.
             return Err(format!(
-                "{}: static correction modes need a non-spinning, supported body",
+                "{}: static correction modes need a non-spinning body",
                 spec.name
             ));
         }
+        // A free body gets inertia relief (`correction.rs`).
         let c = crate::correction::correction_modes(
             &spec.mesh,
-            &lumped,
+            &mass,
             &modes,
             &points,
             &spec.correction,
+            spec.support == Support::FreeFree,
             dir,
             &format!("{}_correction", spec.name),
         )?;
@@ -98,8 +117,11 @@ pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), String>
                 modes: c.shapes.len(),
                 participation: c.participation.clone(),
             },
-            c.shapes.iter().map(|s| s.frequency_hz).collect::<Vec<_>>(),
-            c.solve_s,
+            CorrectionReport {
+                frequencies: c.shapes.iter().map(|s| s.frequency_hz).collect(),
+                solve_s: c.solve_s,
+                reaction: c.reaction,
+            },
         ));
         let mut c = c;
         modes.append(&mut c.shapes);
@@ -109,21 +131,22 @@ pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), String>
         body: spec.kind,
         support: spec.support,
         source: format!(
-            "washdyn fe: {}.inp ({} nodes, {} elements), CalculiX {}; HRZ-lumped",
+            "washdyn fe: {}.inp ({} nodes, {} elements), CalculiX {}; consistent mass",
             spec.name,
             spec.mesh.nodes.len(),
             spec.mesh.element_count(),
             crate::ccx::version().unwrap_or_else(|| "?".into())
         ),
         mesh: &spec.mesh,
-        lumped: &lumped,
+        mass: &mass,
         modes: &modes,
         points: &points,
     }
     .modal_data()?;
-    let correction = correction.map(|(c, f, t)| {
+    data.support_springs = support_springs(&spec.mesh, &points)?;
+    let correction = correction.map(|(c, r)| {
         data.correction = Some(c);
-        (f, t)
+        r
     });
     let mut prestress_solve_s = None;
     let mut prestress_fit_residual = None;
@@ -140,7 +163,8 @@ pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), String>
         )?;
         prestress_solve_s = Some(t.elapsed().as_secs_f64());
         let x = rotating::geometric_stiffness(
-            &lumped,
+            &spec.mesh,
+            &mass,
             &modes,
             &pre,
             &data.elementary,
@@ -161,6 +185,9 @@ pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), String>
         .flatten()
         .fold(0.0f64, |m, v| m.max(v.abs()))
         / data.mass.sqrt();
+    let eigen = data.eigenmodes();
+    let hrz_error =
+        consistent::hrz(&lump(&spec.mesh)).normalisation_error(&spec.mesh, &modes[..eigen])?;
     let report = Report {
         name: spec.name.clone(),
         nodes: spec.mesh.nodes.len(),
@@ -168,13 +195,64 @@ pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), String>
         solve_s: solved.run.wall_s,
         prestress_solve_s,
         all_frequencies: solved.frd.modes.iter().map(|m| m.frequency_hz).collect(),
-        lumped: lumped.mass_props(&spec.mesh),
-        lumping_error: data.mass_normalisation_error(),
+        mass_props: mass.mass_props(&spec.mesh),
+        mass_error: data.mass_normalisation_error(),
+        hrz_error,
         translation_coupling,
         prestress_fit_residual,
         correction,
     };
     Ok((data, report))
+}
+
+/// The mesh's springs to the ground (SPRING1, `Section::Ground`), each at the modal point whose
+/// node set is that one node (the cabinet's FOOT_k), per point in `points` order. All or none:
+/// without any such point the body records no springs (and no model can ask for their
+/// damping); springs only partly at points are an error, since the strain energy of the others
+/// would go missing from every mode's share.
+pub fn support_springs(
+    mesh: &Mesh,
+    points: &[(&str, [f64; 3])],
+) -> Result<Vec<SupportSpring>, String> {
+    let mut out: Vec<SupportSpring> = Vec::new();
+    let mut missing = None;
+    for part in &mesh.parts {
+        let crate::mesh::Section::Ground { dof, k } = part.section else {
+            continue;
+        };
+        for e in &part.elements {
+            let Some(name) = points
+                .iter()
+                .map(|(set, _)| *set)
+                .find(|set| mesh.nsets.get(*set).is_some_and(|ids| ids[..] == e[..]))
+            else {
+                missing = Some((part.name.as_str(), e[0]));
+                continue;
+            };
+            let i = match out.iter().position(|s| s.point == name) {
+                Some(i) => i,
+                None => {
+                    out.push(SupportSpring {
+                        point: name.to_string(),
+                        stiffness: [0.0; 3],
+                    });
+                    out.len() - 1
+                }
+            };
+            out[i].stiffness[dof - 1] += k;
+        }
+    }
+    if let Some((part, node)) = missing
+        && !out.is_empty()
+    {
+        return Err(format!(
+            "{part}: the spring to the ground at node {node} is at no one-node point, while \
+             others are (add a point there, as FOOT_k)"
+        ));
+    }
+    let order = |s: &SupportSpring| points.iter().position(|(p, _)| *p == s.point);
+    out.sort_by_key(order);
+    Ok(out)
 }
 
 /// The shapes and modal stresses on the whole mesh (`<name>.field.bin`): the eigenmodes'
@@ -211,7 +289,7 @@ fn write_field(
 
 impl std::fmt::Display for Report {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let p = &self.lumped;
+        let p = &self.mass_props;
         writeln!(
             f,
             "{}: {} nodes, {} elements, ccx {:.1} s{}",
@@ -224,24 +302,29 @@ impl std::fmt::Display for Report {
         )?;
         writeln!(
             f,
-            "  lumped mass {:.4} kg, CoG ({:.4}, {:.4}, {:.4}) m, inertia about CoG diag ({:.4}, {:.4}, {:.4}) kg m^2",
+            "  mass {:.4} kg, CoG ({:.4}, {:.4}, {:.4}) m, inertia about CoG diag ({:.4}, {:.4}, {:.4}) kg m^2",
             p.mass, p.cog[0], p.cog[1], p.cog[2], p.inertia[0][0], p.inertia[1][1], p.inertia[2][2]
         )?;
         writeln!(
             f,
-            "  lumping error max|sum dm W^T W - I| = {:.2e}; max|sum dm W|/sqrt(m) = {:.2e}",
-            self.lumping_error, self.translation_coupling
+            "  mass normalisation max|W^T M W - I| = {:.2e} (consistent M; HRZ: {:.2e}); \
+             max|sum dm W|/sqrt(m) = {:.2e}",
+            self.mass_error, self.hrz_error, self.translation_coupling
         )?;
         if let Some(r) = self.prestress_fit_residual {
             writeln!(f, "  prestressed-basis fit residual {r:.2e}")?;
         }
-        if let Some((fr, t)) = &self.correction {
-            let fr: Vec<String> = fr.iter().map(|x| format!("{x:.0}")).collect();
+        if let Some(c) = &self.correction {
+            let fr: Vec<String> = c.frequencies.iter().map(|x| format!("{x:.0}")).collect();
             writeln!(
                 f,
-                "  {} static correction modes (ccx {t:.1} s): {} Hz",
+                "  {} static correction modes (ccx {:.1} s): {} Hz{}",
                 fr.len(),
-                fr.join(", ")
+                c.solve_s,
+                fr.join(", "),
+                c.reaction.map_or(String::new(), |r| format!(
+                    "; inertia relief, 3-2-1 support reaction {r:.1e} of the largest load"
+                ))
             )?;
         }
         Ok(())

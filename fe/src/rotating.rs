@@ -13,8 +13,8 @@
 //! spin-softening term plus this K_G give back ccx's prestressed stiffness. The residual of the
 //! fit is the truncation error, reported.
 
+use crate::consistent::MassMatrix;
 use crate::frd::Frd;
-use crate::lumping::Lumped;
 use crate::mesh::Mesh;
 use crate::modal::Shapes;
 use nalgebra::DMatrix;
@@ -128,8 +128,12 @@ pub struct Extracted {
 }
 
 /// K_G / Omega^2 from the kept modes at rest `base` and the prestressed modes `pre` at `omega`.
+/// The fit Phi ~ Psi A is least squares in the mass `mass` (the consistent one):
+/// A = (Psi^T M Psi)^-1 Psi^T M Phi, residual |Phi - Psi A|_M / |Phi|_M per kept mode.
+#[allow(clippy::too_many_arguments)]
 pub fn geometric_stiffness(
-    lumped: &Lumped,
+    mesh: &Mesh,
+    mass: &MassMatrix,
     base: &[Shapes],
     pre: &[Shapes],
     elementary: &Elementary,
@@ -143,39 +147,22 @@ pub fn geometric_stiffness(
             "{m} prestressed modes cannot represent {n} kept modes"
         ));
     }
-    // Mass-weighted rows: sqrt(dm) times each translation component.
-    let nodes: Vec<(usize, f64)> = lumped
-        .node_mass
-        .iter()
-        .enumerate()
-        .filter(|(_, dm)| **dm > 0.0)
-        .map(|(i, dm)| (i + 1, dm.sqrt()))
-        .collect();
-    let rows = 3 * nodes.len();
-    let fill = |modes: &[Shapes]| -> Result<DMatrix<f64>, String> {
-        let mut a = DMatrix::zeros(rows, modes.len());
-        for (k, s) in modes.iter().enumerate() {
-            for (r, (id, sq)) in nodes.iter().enumerate() {
-                let w =
-                    s.w.get(id)
-                        .ok_or_else(|| format!("node {id}: no mode shape"))?;
-                for c in 0..3 {
-                    a[(3 * r + c, k)] = sq * w[c];
-                }
-            }
-        }
-        Ok(a)
-    };
-    let phi = fill(base)?;
-    let psi = fill(pre)?;
-    let a = psi
+    let g = mass.inner(mesh, pre, pre)?;
+    let b = mass.inner(mesh, pre, base)?;
+    let pp = mass.inner(mesh, base, base)?;
+    let a = g
         .clone()
         .svd(true, true)
-        .solve(&phi, 1e-12)
+        .solve(&b, 1e-12)
         .map_err(|e| e.to_string())?;
-    let fit = &psi * &a;
+    // |Phi - Psi A|^2 = Phi^T M Phi - 2 A^T B + A^T G A (per column).
+    let ga = &g * &a;
     let residual = (0..n)
-        .map(|k| (phi.column(k) - fit.column(k)).norm() / phi.column(k).norm())
+        .map(|k| {
+            let r2 =
+                pp[(k, k)] - 2.0 * a.column(k).dot(&b.column(k)) + a.column(k).dot(&ga.column(k));
+            (r2.max(0.0) / pp[(k, k)]).sqrt()
+        })
         .collect();
     let lambda = DMatrix::from_diagonal(&nalgebra::DVector::from_iterator(
         m,

@@ -143,9 +143,10 @@ pub fn modal_stresses(
 }
 
 /// The stresses of the correction modes, formed as their shapes are: ccx's 3-D static
-/// solutions of the same load cases, less the eigenmodes' share (sum_k S_k (f_j . Phi_k) /
-/// omega_k^2, with the eigenmodes' stresses `eigen`), combined as the shapes
-/// (`Corrected::combination`).
+/// solutions of the same load cases (on the same support), less the eigenmodes' share
+/// (sum_k S_k (f_j . Phi_k) / omega_k^2, `Corrected::share`, with the eigenmodes' stresses
+/// `eigen`), combined as the shapes (`Corrected::combination`). A free body's rigid motion
+/// carries no stress.
 pub fn correction_stresses(
     mesh: &Mesh,
     dir: &std::path::Path,
@@ -156,7 +157,7 @@ pub fn correction_stresses(
 ) -> Result<Vec<HashMap<usize, [f64; 6]>>, String> {
     let frd = crate::modal::solve_deck(
         mesh,
-        &crate::correction::static_deck(mesh, &c.forces, true),
+        &crate::correction::static_deck(mesh, &c.forces, &c.support, true),
         dir,
         job,
     )?
@@ -174,9 +175,8 @@ pub fn correction_stresses(
         .enumerate()
         .map(|(col, block)| {
             let mut m: HashMap<usize, [f64; 6]> = block.iter().copied().collect();
-            for (k, (shape, sk)) in modes.iter().zip(&eigen.per_mode).enumerate() {
-                let w2 = (2.0 * std::f64::consts::PI * shape.frequency_hz).powi(2);
-                let a = c.participation[k * j + col] / w2;
+            for (k, sk) in eigen.per_mode.iter().enumerate().take(modes.len()) {
+                let a = c.share[(k, col)];
                 for (id, v) in m.iter_mut() {
                     if let Some(s) = sk.get(id) {
                         for x in 0..6 {

@@ -6,7 +6,7 @@
 mod common;
 use common::have_ccx;
 
-use washdyn_fe::lumping::lump;
+use washdyn_fe::consistent::consistent;
 use washdyn_fe::mesh::{Material, Mesh, Section};
 use washdyn_fe::modal::{self, Keep};
 use washdyn_fe::rotating;
@@ -53,7 +53,7 @@ fn stress_stiffened_frequencies_come_back_from_the_stored_data() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path().to_path_buf();
     let (axis_point, axis) = ([0.0; 3], [0.0, 0.0, 1.0]);
-    let lumped = lump(&mesh);
+    let mass = consistent(&mesh);
     let keep = Keep {
         rigid_below_hz: 0.0,
         max_hz: 1e9,
@@ -61,12 +61,13 @@ fn stress_stiffened_frequencies_come_back_from_the_stored_data() {
     };
     let rest = modal::solve(&mesh, &dir, "rest", 4).unwrap();
     let base = modal::select(&mesh, &rest.frd, &rest.prints, keep).unwrap();
-    let el = modal::elementary(&mesh, &lumped, &base).unwrap();
+    let el = mass.elementary(&mesh, &base).unwrap();
     let reference = 200.0;
     let (_, pre) =
         rotating::solve_prestressed(&mesh, &dir, "pre", reference, axis_point, axis, 16).unwrap();
-    let x = rotating::geometric_stiffness(&lumped, &base, &pre, &el, reference, axis_point, axis)
-        .unwrap();
+    let x =
+        rotating::geometric_stiffness(&mesh, &mass, &base, &pre, &el, reference, axis_point, axis)
+            .unwrap();
     eprintln!("fit residuals {:?}", x.residual);
     let f0: Vec<f64> = base.iter().map(|s| s.frequency_hz).collect();
     for omega in [100.0, 200.0, 300.0] {
@@ -179,8 +180,10 @@ fn disk_rotor(rim: bool) -> Mesh {
 fn campbell_of_a_disk_rotor_matches_calculix_coriolis() {
     // The reduced rotating-frame problem (Coriolis, spin softening, stress stiffening from the
     // modal sums) against ccx's *COMPLEX FREQUENCY, CORIOLIS on the same model: the whirl
-    // pair, the axial mode and the next, at 400 and 1400 rpm. Measured: within 7e-4 at
-    // 400 rpm, 2.6e-3 at 1400 (4.3e-3 with the shell rim); bound 1e-2.
+    // pair, the axial mode and the next, at 400 and 1400 rpm. Measured with the consistent
+    // mass: within 7e-6 at both speeds without the rim (bound 1e-4; 2.6e-3 with HRZ masses),
+    // 6.5e-3 with the shell rim, whose knots (MPCs) ccx's Coriolis matrix gets wrong
+    // (design-notes.md; bound 1e-2).
     if !have_ccx() {
         return;
     }
@@ -196,15 +199,16 @@ fn campbell_of_a_disk_rotor_matches_calculix_coriolis() {
         };
         let rest = modal::solve(&mesh, dir, "rest", 8).unwrap();
         let base = modal::select(&mesh, &rest.frd, &rest.prints, keep).unwrap();
-        let lumped = lump(&mesh);
-        let el = modal::elementary(&mesh, &lumped, &base).unwrap();
+        let mass = consistent(&mesh);
+        let el = mass.elementary(&mesh, &base).unwrap();
         let reference = 400.0 * std::f64::consts::PI / 30.0;
         let (_, pre) =
             rotating::solve_prestressed(&mesh, dir, "pre", reference, axis_point, axis, 20)
                 .unwrap();
-        let x =
-            rotating::geometric_stiffness(&lumped, &base, &pre, &el, reference, axis_point, axis)
-                .unwrap();
+        let x = rotating::geometric_stiffness(
+            &mesh, &mass, &base, &pre, &el, reference, axis_point, axis,
+        )
+        .unwrap();
         let f0: Vec<f64> = base.iter().map(|s| s.frequency_hz).collect();
         for rpm in [400.0, 1400.0] {
             let omega = rpm * std::f64::consts::PI / 30.0;
@@ -226,7 +230,8 @@ fn campbell_of_a_disk_rotor_matches_calculix_coriolis() {
             );
             for k in 0..4 {
                 let rel = (ours[k] - ccx[k].0) / ccx[k].0;
-                assert!(rel.abs() < 1e-2, "rim {rim}, {rpm} rpm, mode {k}: {rel:e}");
+                let bound = if rim { 1e-2 } else { 1e-4 };
+                assert!(rel.abs() < bound, "rim {rim}, {rpm} rpm, mode {k}: {rel:e}");
             }
         }
     }

@@ -345,3 +345,76 @@ fn names_and_kinds_are_validated() {
         "{msgs:#?}"
     );
 }
+
+#[test]
+fn an_elastic_entry_takes_support_and_stiffness_damping() {
+    // The committed cabinet data with its feet as support springs (the stiffness its modes
+    // were computed with, reference-machine.md: 2e5 N/m vertical, 5e4 horizontal), so the
+    // strain energy shares stay within [0, 1].
+    let dir = scratch("support");
+    let committed = here().join("../models/fe/cabinet.modal.toml");
+    let mut d = washdyn_runtime::ir::modal::read_file(&committed, "cabinet.modal.toml").unwrap();
+    d.support_springs = (1..=4)
+        .map(|k| washdyn_runtime::ir::modal::SupportSpring {
+            point: format!("FOOT_{k}"),
+            stiffness: [5e4, 5e4, 2e5],
+        })
+        .collect();
+    std::fs::write(dir.join("cab.modal.toml"), d.to_toml()).unwrap();
+    let entry = |keys: &str| {
+        machine(&format!(
+            "    elastic cabinet {{ file: \"cab.modal.toml\", damping: 0.02, {keys} }}"
+        ))
+    };
+    let src = entry("support_damping: 0.06, stiffness_damping: 2e-4");
+    let (_, model, _) =
+        analyse(src.parse().unwrap(), &dir).unwrap_or_else(|d| panic!("{:#?}", d.list));
+    assert_eq!(model.elastic[0].support_damping, Some(0.06));
+    assert_eq!(model.elastic[0].stiffness_damping, 2e-4);
+    // Out of range: the checker's finding lands on the value.
+    let src = entry("support_damping: 1.5");
+    let f = only(findings(&src, &dir));
+    assert_eq!(at(&f.loc), pos(&src, "1.5", 0));
+    assert!(f.message.contains("support_damping"), "{}", f.message);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn gasket_loss_factor_one_number_or_six_and_a_wrong_count_at_its_token() {
+    use washdyn_runtime::ir::LossFactor;
+    let k = "[[1.0, 0.0, 0.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 0.0, 0.0, 1.0]]";
+    let gasket = |eta: &str| {
+        machine(&format!(
+            "    gasket g {{ a: tub, b: cabinet, point: [0.3, 0.0, 0.5], stiffness: {k}, loss_factor: {eta} }}"
+        ))
+    };
+    // No `damping`: it defaults to zero.
+    let (_, model, _) = analyse(gasket("0.2").parse().unwrap(), &here())
+        .unwrap_or_else(|d| panic!("{:#?}", d.list));
+    assert_eq!(model.gaskets[0].loss_factor, Some(LossFactor::Uniform(0.2)));
+    assert_eq!(model.gaskets[0].damping, [[0.0; 6]; 6]);
+    let six = "[0.1, 0.2, 0.2, 0.3, 0.3, 0.3]";
+    let (_, model, _) =
+        analyse(gasket(six).parse().unwrap(), &here()).unwrap_or_else(|d| panic!("{:#?}", d.list));
+    assert_eq!(
+        model.gaskets[0]
+            .loss_factor
+            .as_ref()
+            .unwrap()
+            .per_direction(),
+        [0.1, 0.2, 0.2, 0.3, 0.3, 0.3]
+    );
+    let src = gasket("[0.1, 0.2]");
+    let d = only(findings(&src, &here()));
+    assert_eq!(at(&d.loc), pos(&src, "[0.1, 0.2]", 0));
+    assert!(d.message.contains("one number or 6"), "{}", d.message);
+    let src = gasket("[0.1, 0.2, 0.2, -0.3, 0.3, 0.3]");
+    let d = only(findings(&src, &here()));
+    assert_eq!(at(&d.loc), pos(&src, "-0.3", 0));
+    assert!(
+        d.message
+            .contains("gasket `g`: loss_factor must not be negative"),
+        "{}",
+        d.message
+    );
+}

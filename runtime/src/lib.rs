@@ -2,10 +2,12 @@
 //! end, integrators, sensors and output.
 // Index loops over matrix entries read like the formulas they implement.
 #![allow(clippy::needless_range_loop)]
+pub mod clearance;
 pub mod codegen;
 pub mod elements;
 pub mod equations;
 pub mod geom;
+pub mod harmonic;
 pub mod ir;
 pub mod linalg;
 pub mod ode;

@@ -2,6 +2,7 @@
 //! breakpoints, uniform sampling of the sensors by dense output, and a summary. A failure returns
 //! a typed error with the time reached; the samples written up to then stay written.
 
+use crate::clearance::Watch;
 use crate::ode::{OdeError, OdeSystem, Solver, Stats};
 use crate::output::SampleSink;
 use crate::statics::static_equilibrium;
@@ -89,6 +90,9 @@ pub struct Guard {
     /// The fixed step of an explicit fixed-step method (rk4), s: checked at the start against
     /// the stability limit [`RK4_STABILITY`] / spectral radius of the Jacobian.
     pub fixed_step: Option<f64>,
+    /// The door ring (warned about at the translation bound, the tub-cabinet clearance) and the
+    /// drum-tub gap (warned about at its clearance); reported, never a stop.
+    pub watch: Watch,
 }
 
 /// RK4's stability interval on the negative real axis, |h lambda| <= 2.785 (Hairer & Wanner,
@@ -107,6 +111,7 @@ impl Default for Guard {
             max_projected_s: 3600.0,
             fixed_step: None,
             elements: Vec::new(),
+            watch: Watch::default(),
         }
     }
 }
@@ -127,6 +132,20 @@ pub struct Extremes {
     /// The bounds the run was checked against.
     pub translation_bound_m: f64,
     pub rotation_bound_rad: f64,
+    /// max over the door ring's points of their displacement (rigid motion, plus the elastic
+    /// tub's modes where its data has the point), m, its time, s, and the point.
+    pub max_door_ring_m: f64,
+    pub max_door_ring_t: f64,
+    pub max_door_ring_point: String,
+    /// Largest closure of the drum-tub gap (a drum front-edge point's radial motion towards the
+    /// tub's ring, both bodies' elastic motion), m, its time, s, its edge point, and the radial
+    /// clearance at rest (0: not watched).
+    pub max_gap_closure_m: f64,
+    pub max_gap_closure_t: f64,
+    pub max_gap_closure_point: String,
+    pub gap_clearance_m: f64,
+    /// What the monitor watched beside the tub's rigid motion, and how.
+    pub watched: Vec<String>,
 }
 
 /// What a run did; written as `summary.json`.
@@ -354,9 +373,11 @@ where
     summary.validity = Extremes {
         translation_bound_m: guard.translation_m,
         rotation_bound_rad: guard.rotation_rad,
+        gap_clearance_m: guard.watch.drum_gap.as_ref().map_or(0.0, |g| g.clearance),
+        watched: guard.watch.notes.clone(),
         ..Extremes::default()
     };
-    let mut worst_element = None;
+    let mut worst = Worst::default();
     let result = drive(
         sys,
         solver,
@@ -365,10 +386,17 @@ where
         progress,
         &mut summary,
         guard,
-        &mut worst_element,
+        &mut worst,
     );
-    if let Some(i) = worst_element {
-        summary.validity.max_element = guard.elements[i].0.clone();
+    let ex = &mut summary.validity;
+    if let Some(i) = worst.element {
+        ex.max_element = guard.elements[i].0.clone();
+    }
+    if let (Some(i), Some(r)) = (worst.ring, &guard.watch.door_ring) {
+        ex.max_door_ring_point = r.points[i].name.clone();
+    }
+    if let (Some(i), Some(g)) = (worst.gap, &guard.watch.drum_gap) {
+        ex.max_gap_closure_point = g.edge[i].name.clone();
     }
     let _ = sink.flush();
     summary.take_stats(solver.stats());
@@ -397,7 +425,7 @@ fn drive<S, V>(
     progress: &mut dyn FnMut(Progress),
     summary: &mut Summary,
     guard: &Guard,
-    worst_element: &mut Option<usize>,
+    worst: &mut Worst,
 ) -> Result<(), RunError>
 where
     S: Mechanical,
@@ -455,7 +483,8 @@ where
 
     let mut monitor = Monitor::new(guard, t0, Instant::now());
     monitor.check(t0, &y[..n], summary)?;
-    monitor.elements(t0, &y[..n], summary, worst_element);
+    monitor.elements(t0, &y[..n], summary, worst);
+    monitor.clearances(t0, sys.sys.speed().drive(t0).phi, &y[..n], summary, worst);
     if let Some(h) = guard.fixed_step {
         let radius = spectral_radius(sys, t0, &y);
         let limit = RK4_STABILITY / radius;
@@ -478,7 +507,9 @@ where
             let t = solver.t();
             summary.t_reached = t;
             monitor.check(t, &solver.y()[..n], summary)?;
-            monitor.elements(t, &solver.y()[..n], summary, worst_element);
+            monitor.elements(t, &solver.y()[..n], summary, worst);
+            let phi = sys.sys.speed().drive(t).phi;
+            monitor.clearances(t, phi, &solver.y()[..n], summary, worst);
             monitor.progress(t, t_end)?;
             while k < n_samples {
                 let ts = t0 + k as f64 * dt;
@@ -512,6 +543,15 @@ where
     Ok(())
 }
 
+/// Where the worst values of the run happened (indices into the guard's lists), named in the
+/// summary at the end so the step loop does not allocate.
+#[derive(Default)]
+struct Worst {
+    element: Option<usize>,
+    ring: Option<usize>,
+    gap: Option<usize>,
+}
+
 /// Watches a run between steps: the tub motion against the linearisation's bounds, the
 /// interrupt flag, and the simulated time gained per wall-clock window.
 struct Monitor<'a> {
@@ -519,6 +559,8 @@ struct Monitor<'a> {
     warned_translation: bool,
     warned_rotation: bool,
     warned_element: bool,
+    warned_ring: bool,
+    warned_gap: bool,
     window_start: Instant,
     window_t: f64,
     calls: u32,
@@ -531,6 +573,8 @@ impl<'a> Monitor<'a> {
             warned_translation: false,
             warned_rotation: false,
             warned_element: false,
+            warned_ring: false,
+            warned_gap: false,
             window_start: now,
             window_t: t0,
             calls: 0,
@@ -594,7 +638,7 @@ impl<'a> Monitor<'a> {
     }
 
     /// The largest deflection of an element's tub end, and a warning past the translation bound.
-    fn elements(&mut self, t: f64, q: &[f64], summary: &mut Summary, worst: &mut Option<usize>) {
+    fn elements(&mut self, t: f64, q: &[f64], summary: &mut Summary, worst: &mut Worst) {
         if q.len() < 6 {
             return;
         }
@@ -610,7 +654,7 @@ impl<'a> Monitor<'a> {
             if v > ex.max_element_deflection_m {
                 ex.max_element_deflection_m = v;
                 ex.max_element_deflection_t = t;
-                *worst = Some(i);
+                worst.element = Some(i);
             }
         }
         let bound = self.guard.translation_m;
@@ -618,12 +662,66 @@ impl<'a> Monitor<'a> {
             self.warned_element = true;
             let (v, name) = (
                 ex.max_element_deflection_m,
-                worst.map_or("", |i| self.guard.elements[i].0.as_str()),
+                worst
+                    .element
+                    .map_or("", |i| self.guard.elements[i].0.as_str()),
             );
             summary.warnings.push(format!(
                 "element `{name}` deflected {v:.4e} m at t = {t} s, beyond the {bound} m \
                  tub-cabinet clearance"
             ));
+        }
+    }
+
+    /// The door ring's largest displacement (warned about at the translation bound, the
+    /// tub-cabinet clearance) and the drum-tub gap's largest closure (warned about at its
+    /// clearance); `phi` is the drive angle at t.
+    fn clearances(
+        &mut self,
+        t: f64,
+        phi: f64,
+        q: &[f64],
+        summary: &mut Summary,
+        worst: &mut Worst,
+    ) {
+        if q.len() < 6 {
+            return;
+        }
+        let ex = &mut summary.validity;
+        let w = &self.guard.watch;
+        if let Some(ring) = &w.door_ring {
+            let (v, i) = ring.excursion(q);
+            if v > ex.max_door_ring_m {
+                ex.max_door_ring_m = v;
+                ex.max_door_ring_t = t;
+                worst.ring = Some(i);
+            }
+            let bound = self.guard.translation_m;
+            if v > bound && !self.warned_ring {
+                self.warned_ring = true;
+                summary.warnings.push(format!(
+                    "door ring point `{}` moved {v:.4e} m at t = {t} s, beyond the {bound} m \
+                     tub-cabinet clearance",
+                    ring.points[i].name
+                ));
+            }
+        }
+        let ex = &mut summary.validity;
+        if let Some(gap) = &w.drum_gap {
+            let (v, i) = gap.closure(phi, q);
+            if v > ex.max_gap_closure_m {
+                ex.max_gap_closure_m = v;
+                ex.max_gap_closure_t = t;
+                worst.gap = Some(i);
+            }
+            if v > gap.clearance && !self.warned_gap {
+                self.warned_gap = true;
+                summary.warnings.push(format!(
+                    "drum edge point `{}` closed the drum-tub gap by {v:.4e} m at t = {t} s, \
+                     beyond its {:.4} m clearance",
+                    gap.edge[i].name, gap.clearance
+                ));
+            }
         }
     }
 

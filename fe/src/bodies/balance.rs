@@ -1,7 +1,8 @@
 //! Closing the mass balance: tub + drum + motor rotor must reproduce the suspended body of
 //! reference-machine.md (55 kg, CoG (0, 0, 0.45), inertia diag(2.6, 2.3, 2.3) kg m^2 about the
-//! CoG). The counterweights' thicknesses and the bearing unit's size are solved for (Gauss-Newton
-//! on the consistent mass properties of the meshes), over a small set of counterweight layouts.
+//! CoG). The counterweights' thicknesses are solved for (Gauss-Newton on the consistent mass
+//! properties of the meshes), over a small set of counterweight layouts; the bearing unit
+//! (carrier plate and housing) is sized for stiffness, not for balance, and stays as it is.
 
 use super::drum::Drum;
 use super::tub::Tub;
@@ -50,15 +51,13 @@ pub fn suspended(tub: &Tub, drum: &MassProps) -> MassProps {
         .combine(&rotor())
 }
 
-const NP: usize = 5;
+const NP: usize = 3;
 
 fn apply(t: &Tub, p: &[f64; NP]) -> Tub {
     Tub {
         top_thickness: p[0],
         bottom_thickness: p[1],
-        hub_length: p[2],
-        hub_outer: p[3],
-        collar_thickness: p[4],
+        collar_thickness: p[2],
         ..t.clone()
     }
 }
@@ -77,13 +76,11 @@ fn cost(d: &[f64; 10]) -> f64 {
 
 /// Gauss-Newton on the continuous sizes of one layout; returns the sizes and deviations.
 fn solve(layout: &Tub, drum: &MassProps) -> ([f64; NP], [f64; 10]) {
-    let lo = [0.01, 0.01, 0.02, 0.05, 0.0];
-    let hi = [0.15, 0.15, 0.20, 0.18, 0.15];
+    let lo = [0.01, 0.01, 0.0];
+    let hi = [0.15, 0.15, 0.15];
     let mut p = [
         layout.top_thickness,
         layout.bottom_thickness,
-        layout.hub_length,
-        layout.hub_outer,
         layout.collar_thickness.max(0.005),
     ];
     let mut d = deviations(&suspended(&apply(layout, &p), drum));

@@ -158,6 +158,41 @@ pub fn beam_line(
     ids
 }
 
+/// The piecewise-linear map of t in [0, 1] through `stations` at equal steps of t: a grid of
+/// `stations.len() - 1` elements over it has its element ends at the stations and its
+/// mid-side nodes half way (graded meshes from the uniform generators).
+pub fn piecewise(stations: &[f64], t: f64) -> f64 {
+    let n = stations.len() - 1;
+    let s = (t * n as f64).clamp(0.0, n as f64);
+    let k = (s.floor() as usize).min(n - 1);
+    stations[k] + (s - k as f64) * (stations[k + 1] - stations[k])
+}
+
+/// C3D20 bricks of a polar block about the x axis through (., 0, `zc`): radii `rs`, axial
+/// stations `xs`, and `n_circ` elements over the angles [a0, a0 + span] (from +z towards +y;
+/// a full circle if `span` is 2 pi). Element ends sit at the stations, so blocks with common
+/// stations share their nodes.
+#[allow(clippy::too_many_arguments)]
+pub fn polar_bricks(
+    m: &mut Mesh,
+    part: &str,
+    section: &Section,
+    zc: f64,
+    rs: &[f64],
+    xs: &[f64],
+    (a0, span, n_circ): (f64, f64, usize),
+) -> BTreeMap<(usize, usize, usize), usize> {
+    let closed = (span - 2.0 * std::f64::consts::PI).abs() < 1e-12;
+    brick_grid(
+        m,
+        part,
+        section,
+        [rs.len() - 1, n_circ, xs.len() - 1],
+        closed,
+        |u, v, w| on_circle(piecewise(xs, w), 0.0, zc, piecewise(rs, u), a0 + span * v),
+    )
+}
+
 /// A point on a circle about the x axis through (., yc, zc): angle from +z towards +y.
 pub fn on_circle(x: f64, yc: f64, zc: f64, r: f64, angle: f64) -> [f64; 3] {
     [x, yc + r * angle.sin(), zc + r * angle.cos()]

@@ -1,6 +1,7 @@
 //! The tub's FE model (seed paper, fig. 4): S8R shell cylinder with back wall, front ring and
-//! front collar (where the door gasket sits); the bearing unit (cast aluminium) and two concrete
-//! counterweights as C3D20 bricks sharing the shell's nodes; the motor stator as an attached
+//! front collar (where the door gasket sits); the bearing unit (cast aluminium: a carrier plate
+//! behind the back wall and the bearing housing, a tube on the axis carrying the drum's two
+//! bearings) and two concrete counterweights as C3D20 bricks sharing the shell's nodes; the motor stator as an attached
 //! rigid part (point masses on a *RIGID BODY) carried by a stiff, light B32 truss from the
 //! bearing unit (the paper's beams instead of rigid links). Free-free: its 6 rigid DOF are the
 //! multibody model's.
@@ -9,8 +10,8 @@
 //! thickness and the bearing unit's length are sized so that tub + drum + motor rotor reproduce
 //! the suspended body (55 kg, CoG, inertia): `Tub::balanced`.
 
-use super::drum::{aluminium, steel};
-use super::geometry::{beam_line, brick_grid, on_circle, shell_grid};
+use super::drum::{Seat, aluminium, steel};
+use super::geometry::{beam_line, brick_grid, on_circle, piecewise, polar_bricks, shell_grid};
 use crate::mesh::{Material, Mesh, Rigid, Section};
 use std::f64::consts::PI;
 
@@ -25,10 +26,20 @@ pub struct Tub {
     pub collar_radius: f64,
     pub x_collar: f64,
     pub axis_z: f64,
-    /// Bearing unit: inner and outer radius, axial length behind the back wall, m.
-    pub hub_inner: f64,
+    /// Carrier plate behind the back wall, from the housing out: outer radius and thickness, m.
     pub hub_outer: f64,
     pub hub_length: f64,
+    /// Bearing housing: a cast tube on the axis from the back wall to `housing_end`, outer
+    /// radius `housing_outer`; its bore is the bearings' outer radius, `front_bore` from the
+    /// back wall to `bore_step`, `rear_bore` behind; the seats where the bearings sit (the
+    /// drum's bearing positions), m.
+    pub housing_outer: f64,
+    pub housing_end: f64,
+    pub front_bore: f64,
+    pub rear_bore: f64,
+    pub bore_step: f64,
+    pub front_seat: Seat,
+    pub rear_seat: Seat,
     /// Counterweights: radial thickness m, half-span (rad, from top / bottom), axial element
     /// range [first, last) of the cylinder's axial elements.
     pub top_thickness: f64,
@@ -58,21 +69,34 @@ impl Default for Tub {
             collar_radius: 0.25,
             x_collar: 0.30,
             axis_z: 0.45,
-            hub_inner: 0.02,
-            // Counterweights from `balance::balanced` (rounded to 0.1 mm): the suspended body's
-            // mass and CoG come out as reference-machine.md's; `fe/tests/bodies.rs` re-checks.
-            // The bearing unit is a 0.44 m aluminium carrier plate of the same mass (issue 9:
-            // as a 0.25 m block on the bare 1.2 mm wall it let the drum rock at 10-14 Hz, inside
-            // drum order 1; now the free tub's first mode is 124 Hz).
+            // Counterweights from `balance::balanced` with the drum of issue 19 (rounded to
+            // 0.1 mm): the suspended body's mass and CoG come out as reference-machine.md's;
+            // `fe/tests/bodies.rs` re-checks. The carrier plate is 0.44 m across (issue 9: as a
+            // 0.25 m block on the bare 1.2 mm wall it let the drum rock at 10-14 Hz, inside
+            // drum order 1).
             hub_outer: 0.22,
             hub_length: 0.0093,
-            top_thickness: 0.0288,
+            housing_outer: 0.05,
+            housing_end: -0.31,
+            // 6207 (OD 72 mm) in front, 6205 (OD 52 mm) behind.
+            front_bore: 0.036,
+            rear_bore: 0.026,
+            bore_step: -0.25,
+            front_seat: Seat {
+                x: -0.20,
+                width: 0.017,
+            },
+            rear_seat: Seat {
+                x: -0.30,
+                width: 0.012,
+            },
+            top_thickness: 0.0212,
             top_half_span: 12,
             top_axial: (4, 12),
-            bottom_thickness: 0.0191,
+            bottom_thickness: 0.0166,
             bottom_half_span: 12,
             bottom_axial: (4, 12),
-            collar_thickness: 0.0116,
+            collar_thickness: 0.0229,
             stator_mass: 3.5,
             stator_centre: [-0.05, 0.0, 0.18],
             stator_radius: 0.05,
@@ -102,6 +126,32 @@ fn truss() -> Material {
 }
 
 impl Tub {
+    /// The housing's axial stations from the back wall to its end (descending x): the carrier
+    /// plate's thickness first (the plate shares the housing's nodes), then the seats' ends and
+    /// the bore's step where they are not within 2 mm of a station already, every element at
+    /// most 12 mm long.
+    pub fn housing_stations(&self) -> Vec<f64> {
+        let xb = self.x_back;
+        let (f0, f1) = self.front_seat.ends();
+        let (r0, r1) = self.rear_seat.ends();
+        let mut keys = vec![xb, xb - self.hub_length];
+        for x in [f0, f1, self.bore_step, r0, r1, self.housing_end] {
+            if x < keys[keys.len() - 1] - 2e-3 {
+                keys.push(x);
+            }
+        }
+        let end = *keys.last().expect("stations");
+        if end > self.housing_end {
+            *keys.last_mut().expect("stations") = self.housing_end;
+        }
+        let mut xs = vec![keys[0]];
+        for w in keys.windows(2) {
+            let n = ((w[0] - w[1]) / 0.012).ceil().max(1.0) as usize;
+            xs.extend((1..=n).map(|k| w[0] + (w[1] - w[0]) * k as f64 / n as f64));
+        }
+        xs
+    }
+
     pub fn mesh(&self) -> Mesh {
         let mut m = Mesh::new(
             "washdyn tub: S8R shell, C3D20 bearing unit and counterweights, stator on B32 truss",
@@ -117,14 +167,24 @@ impl Tub {
         let cylinder = shell_grid(&mut m, "TUB_SHELL", &shell, na, nc, true, |u, v| {
             on_circle(xb + (xf - xb) * u, 0.0, zc, r, 2.0 * PI * v)
         });
-        // Back wall: outer annulus, and the part over the bearing unit (sharing its face).
-        let (ri, ro) = (self.hub_inner, self.hub_outer);
+        // Back wall: outer annulus, and the part over the carrier plate and the housing's front
+        // face (sharing their nodes), open for the shaft inside the front bearing.
+        let (rh, ro) = (self.housing_outer, self.hub_outer);
+        let ri = self.front_bore;
         shell_grid(&mut m, "TUB_BACK", &shell, 3, nc, true, |u, v| {
             on_circle(xb, 0.0, zc, ro + (r - ro) * u, -2.0 * PI * v)
         });
-        shell_grid(&mut m, "TUB_BACK", &shell, 6, nc, true, |u, v| {
-            on_circle(xb, 0.0, zc, ri + (ro - ri) * u, -2.0 * PI * v)
-        });
+        let mut inner = vec![ri, 0.5 * (ri + rh)];
+        inner.extend((0..=5).map(|k| rh + (ro - rh) * k as f64 / 5.0));
+        shell_grid(
+            &mut m,
+            "TUB_BACK",
+            &shell,
+            inner.len() - 1,
+            nc,
+            true,
+            |u, v| on_circle(xb, 0.0, zc, piecewise(&inner, u), -2.0 * PI * v),
+        );
         // Front ring and collar.
         let rc = self.collar_radius;
         shell_grid(&mut m, "TUB_FRONT", &shell, 1, nc, true, |u, v| {
@@ -139,25 +199,55 @@ impl Tub {
             .map(|(_, &id)| id)
             .collect();
         m.add_to_set("GASKET", &edge);
-        // Bearing unit: an annular aluminium block behind the back wall.
+        // Bearing unit: the carrier plate behind the back wall, on the housing.
         let alu = Section::Solid {
             material: aluminium(),
         };
         let hl = self.hub_length;
-        let hub = brick_grid(
+        let full = (0.0, 2.0 * PI, nc);
+        let plate: Vec<f64> = (0..=5).map(|k| rh + (ro - rh) * k as f64 / 5.0).collect();
+        polar_bricks(
             &mut m,
             "TUB_BEARING_UNIT",
             &alu,
-            [6, nc, 1],
-            true,
-            |u, v, w| on_circle(xb - hl * w, 0.0, zc, ri + (ro - ri) * u, 2.0 * PI * v),
+            zc,
+            &plate,
+            &[xb, xb - hl],
+            full,
         );
-        let bearing: Vec<usize> = hub
+        let xs = self.housing_stations();
+        let mid = 0.5 * (ri + rh);
+        polar_bricks(
+            &mut m,
+            "TUB_BEARING_UNIT",
+            &alu,
+            zc,
+            &[ri, mid, rh],
+            &xs,
+            full,
+        );
+        let rear: Vec<f64> = xs
             .iter()
-            .filter(|((i, _, _), _)| *i == 0)
-            .map(|(_, &id)| id)
+            .copied()
+            .filter(|&x| x <= self.bore_step + 1e-9)
             .collect();
-        m.add_to_set("BEARING", &bearing);
+        let rb = self.rear_bore;
+        polar_bricks(&mut m, "TUB_BEARING_UNIT", &alu, zc, &[rb, ri], &rear, full);
+        // BEARING: the bore's nodes inside both seats.
+        let seat = |m: &Mesh, s: Seat, radius: f64| -> Vec<usize> {
+            let (x0, x1) = s.ends();
+            (1..=m.nodes.len())
+                .filter(|&id| {
+                    let p = m.nodes[id - 1];
+                    let rr = (p[1].powi(2) + (p[2] - zc).powi(2)).sqrt();
+                    (rr - radius).abs() < 1e-7 && p[0] <= x0 + 1e-7 && p[0] >= x1 - 1e-7
+                })
+                .collect()
+        };
+        let front = seat(&m, self.front_seat, ri);
+        let back = seat(&m, self.rear_seat, rb);
+        m.add_to_set("BEARING", &front);
+        m.add_to_set("BEARING", &back);
         // Counterweights: concrete sectors on the shell, top front and bottom.
         let cw = Section::Solid {
             material: concrete(),

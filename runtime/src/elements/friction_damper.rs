@@ -5,7 +5,7 @@
 //! forces, so force and moment balance hold exactly for the element.
 
 use super::Element;
-use crate::equations::{Marker, MarkerDef, Wrench, rest_axis};
+use crate::equations::{Drive, Marker, MarkerDef, Wrench, rest_axis};
 use crate::geom::V;
 use crate::geom::f;
 use crate::ir;
@@ -57,6 +57,7 @@ impl Element for FrictionDamper {
         a: &Marker<T>,
         b: &Marker<T>,
         exact: bool,
+        _d: &Drive<T>,
     ) -> (Wrench<T>, Wrench<T>) {
         let rd = b.vel - a.vel;
         // Linearised: rod axis, length and lever fixed at rest; only the friction law bends.

@@ -2,7 +2,7 @@
 //! linear studies (e.g. checking the unbalance response against a frequency response).
 
 use super::Element;
-use crate::equations::{Marker, MarkerDef, Wrench, rest_axis};
+use crate::equations::{Drive, Marker, MarkerDef, Wrench, rest_axis};
 use crate::geom::V;
 use crate::ir;
 use crate::scalar::Scalar;
@@ -38,6 +38,7 @@ impl Element for LinearDamper {
         a: &Marker<T>,
         b: &Marker<T>,
         exact: bool,
+        _d: &Drive<T>,
     ) -> (Wrench<T>, Wrench<T>) {
         let n = if exact {
             let d = b.pos - a.pos;

@@ -8,11 +8,11 @@ mod linear_damper;
 mod spring;
 
 pub use friction_damper::{FrictionDamper, friction_force};
-pub use gasket::Gasket;
+pub use gasket::{Gasket, OMEGA_FLOOR, reference_speed};
 pub use linear_damper::LinearDamper;
 pub use spring::Spring;
 
-use crate::equations::{Marker, MarkerDef, Wrench};
+use crate::equations::{Drive, Marker, MarkerDef, Wrench};
 use crate::scalar::Scalar;
 
 /// What the derivation needs of every force element.
@@ -20,11 +20,13 @@ pub trait Element {
     /// The two attachment markers (a, b).
     fn markers(&self) -> (&MarkerDef, &MarkerDef);
     /// Wrenches on the bodies at a and b. `exact`: current geometry; otherwise kinematics
-    /// linearised about the rest position (scene effect `element_geometry` off).
+    /// linearised about the rest position (scene effect `element_geometry` off). `d`: the drum's
+    /// motion, for elements whose law follows the excitation (the hysteretic gasket).
     fn wrenches<T: Scalar>(
         &self,
         a: &Marker<T>,
         b: &Marker<T>,
         exact: bool,
+        d: &Drive<T>,
     ) -> (Wrench<T>, Wrench<T>);
 }

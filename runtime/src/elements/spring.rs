@@ -4,7 +4,7 @@
 //! stiffness, so both variants share the rest-state stiffness.
 
 use super::Element;
-use crate::equations::{Marker, MarkerDef, Wrench, rest_axis};
+use crate::equations::{Drive, Marker, MarkerDef, Wrench, rest_axis};
 use crate::geom::{V, f};
 use crate::ir;
 use crate::scalar::Scalar;
@@ -52,6 +52,7 @@ impl Element for Spring {
         a: &Marker<T>,
         b: &Marker<T>,
         exact: bool,
+        _d: &Drive<T>,
     ) -> (Wrench<T>, Wrench<T>) {
         let d = b.pos - a.pos;
         let fa: V<T> = if exact {

@@ -23,6 +23,25 @@ pub struct ModalBody {
     data: crate::ir::modal::ModalData,
 }
 
+/// Each kept mode's damping ratio: the entry's `damping`, moved towards `support_damping` by
+/// the mode's share of strain energy in the support springs (modal strain energy method), plus
+/// the Rayleigh term `stiffness_damping` omega_k / 2. `d` is the data as the scene keeps it
+/// (truncated, correction modes included): each of its modes gets its own share.
+pub fn modal_damping(e: &Elastic, d: &crate::ir::modal::ModalData) -> Vec<f64> {
+    let share = match e.support_damping {
+        Some(_) => d.support_energy(),
+        None => vec![0.0; d.modes()],
+    };
+    let zs = e.support_damping.unwrap_or(e.damping);
+    d.frequencies
+        .iter()
+        .zip(share)
+        .map(|(f, s)| {
+            e.damping + (zs - e.damping) * s + e.stiffness_damping * std::f64::consts::PI * f
+        })
+        .collect()
+}
+
 impl ModalBody {
     /// From a checked, resolved `elastic` entry; its coordinates start at `start`. With a
     /// scene's `cutoff` (Hz) only the eigenmodes up to it are kept (at least one), and the
@@ -44,12 +63,13 @@ impl ModalBody {
             .iter()
             .map(|f| 2.0 * std::f64::consts::PI * f)
             .collect();
+        let zeta = modal_damping(e, &d);
         ModalBody {
             name: e.name.clone(),
             start,
             n,
             omega2: w.iter().map(|w| w * w).collect(),
-            damping: w.iter().map(|w| 2.0 * e.damping * w).collect(),
+            damping: w.iter().zip(&zeta).map(|(w, z)| 2.0 * z * w).collect(),
             weight: (0..n)
                 .map(|k| (0..3).map(|a| d.elementary.c[a][k] * gravity[a]).sum())
                 .collect(),
@@ -117,5 +137,211 @@ impl ModalBody {
             }
             m1[j * n1 + j] += 1.0;
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ir::modal::{ModalData, SupportSpring, tests::tiny};
+    use std::f64::consts::PI;
+
+    /// `tiny` (modes at 10 and 20 Hz; FOOT_1 moves 1 m along z per unit of mode 0 only) on a
+    /// vertical spring that stores half of mode 0's strain energy: k w^2 = omega_0^2 / 2.
+    fn on_a_foot() -> ModalData {
+        let mut d = tiny();
+        d.support_springs = vec![SupportSpring {
+            point: "FOOT_1".into(),
+            stiffness: [0.0, 0.0, 0.5 * (2.0 * PI * 10.0f64).powi(2)],
+        }];
+        d
+    }
+
+    fn entry(d: ModalData, support: Option<f64>, beta: f64) -> Elastic {
+        Elastic {
+            name: "cabinet".into(),
+            file: "cabinet.modal.toml".into(),
+            modes: None,
+            damping: 0.02,
+            support_damping: support,
+            stiffness_damping: beta,
+            data: Some(d),
+        }
+    }
+
+    #[test]
+    fn each_mode_gets_its_support_share_of_damping_and_the_rayleigh_term() {
+        let d = on_a_foot();
+        // Closed form: e = (0.5, 0) from the spring above.
+        assert_eq!(d.support_energy(), vec![0.5, 0.0]);
+        let b = ModalBody::new(&entry(d.clone(), Some(0.06), 1e-3), 0, [0.0; 3], None);
+        let w = [2.0 * PI * 10.0, 2.0 * PI * 20.0];
+        // zeta_k = 0.02 + (0.06 - 0.02) e_k + beta omega_k / 2.
+        let zeta = [
+            0.02 + 0.04 * 0.5 + 1e-3 * w[0] / 2.0,
+            0.02 + 1e-3 * w[1] / 2.0,
+        ];
+        for k in 0..2 {
+            assert!((b.damping[k] - 2.0 * zeta[k] * w[k]).abs() < 1e-12, "{k}");
+        }
+        // Without the new keys: every mode has `damping` (old files and models unchanged).
+        let b = ModalBody::new(&entry(d, None, 0.0), 0, [0.0; 3], None);
+        for k in 0..2 {
+            assert_eq!(b.damping[k], 2.0 * 0.02 * w[k]);
+        }
+    }
+
+    /// Six modes, the last a static correction mode for a load at P; a vertical spring at P.
+    fn with_correction() -> ModalData {
+        let n = 6;
+        let mut d = tiny();
+        let eye: Vec<f64> = (0..n * n)
+            .map(|i| if i / n == i % n { 1.0 } else { 0.0 })
+            .collect();
+        d.frequencies = vec![5.0, 8.0, 13.0, 21.0, 34.0, 80.0];
+        d.elementary.c = std::array::from_fn(|_| vec![0.0; n]);
+        d.elementary.s = std::array::from_fn(|_| std::array::from_fn(|_| vec![0.0; n]));
+        d.elementary.g = std::array::from_fn(|a| {
+            std::array::from_fn(|b| {
+                if a == 2 && b == 2 {
+                    eye.clone()
+                } else {
+                    vec![0.0; n * n]
+                }
+            })
+        });
+        let wz = vec![0.3, -0.2, 0.5, 0.1, -0.4, 0.7];
+        d.points = vec![crate::ir::modal::ModalPoint {
+            name: "P".into(),
+            position: [0.0; 3],
+            nodes: 1,
+            w: [vec![0.0; n], vec![0.0; n], wz.clone()],
+            phi: std::array::from_fn(|_| vec![0.0; n]),
+        }];
+        d.correction = Some(crate::ir::modal::Correction {
+            loads: vec![toml::from_str("point = \"P\"\ndirection = [0.0, 0.0, 1.0]").unwrap()],
+            modes: 1,
+            participation: wz[..5].to_vec(),
+        });
+        d.support_springs = vec![SupportSpring {
+            point: "P".into(),
+            stiffness: [0.0, 0.0, 100.0],
+        }];
+        d
+    }
+
+    #[test]
+    fn the_share_follows_truncation_into_the_folded_and_correction_modes() {
+        let full = with_correction();
+        assert_eq!(crate::ir::modal::problems(&full), Vec::<String>::new());
+        // Keep the eigenmodes up to 10 Hz: 2 eigenmodes, 1 folded shape of modes 3-5, the
+        // correction mode.
+        let b = ModalBody::new(
+            &entry(full.clone(), Some(0.06), 0.0),
+            0,
+            [0.0; 3],
+            Some(10.0),
+        );
+        let d = b.data();
+        assert_eq!(d.modes(), 4);
+        // Independent path: the spring's stiffness in the file's modes, K_s = W^T k W, carried
+        // into the kept coordinates by the basis T (q_file = T q): e_j = (T^T K_s T)_jj /
+        // omega_j^2.
+        let (m, n) = (full.modes(), d.modes());
+        let t = d.basis.as_ref().unwrap();
+        let wz = &full.points[0].w[2];
+        let e = d.support_energy();
+        for j in 0..n {
+            let x: f64 = (0..m).map(|r| wz[r] * t[r * n + j]).sum();
+            let expect = 100.0 * x * x / (2.0 * PI * d.frequencies[j]).powi(2);
+            assert!(
+                (e[j] - expect).abs() < 1e-12 * expect.max(1e-12),
+                "{j}: {e:?}"
+            );
+            let zeta = 0.02 + 0.04 * e[j];
+            let w = 2.0 * PI * d.frequencies[j];
+            assert!((b.damping[j] - 2.0 * zeta * w).abs() < 1e-12 * w);
+        }
+        // The kept eigenmodes' shares are the file's.
+        assert_eq!(e[..2], full.support_energy()[..2]);
+    }
+
+    /// A model with the elastic cabinet of `modal` (written next to it) and `keys` in its entry;
+    /// the loader's errors as "line: message".
+    fn load(modal: &ModalData, keys: &str) -> Result<crate::ir::Model, Vec<String>> {
+        let dir = std::env::temp_dir().join(format!(
+            "washdyn-support-{}-{:?}",
+            std::process::id(),
+            std::thread::current().id()
+        ));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("cab.modal.toml"), modal.to_toml()).unwrap();
+        let src = format!(
+            "name = \"m\"\n[tub]\nmass = 1.0\ncog = [0.0, 0.0, 0.5]\n\
+             inertia = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]\n\
+             [speed]\ntable = [[0.0, 0.0], [1.0, 100.0]]\n\
+             [[elastic]]\nname = \"cabinet\"\nfile = \"cab.modal.toml\"\n{keys}"
+        );
+        let r = crate::ir::toml_file::load_str(&src, "m.toml", &dir);
+        let _ = std::fs::remove_dir_all(&dir);
+        r.map_err(|e| {
+            e.errors
+                .iter()
+                .map(|l| format!("{}: {}", l.line, l.message))
+                .collect()
+        })
+    }
+
+    #[test]
+    fn the_loader_reads_the_new_keys_and_the_checker_names_them() {
+        // The serde form round-trips, and old files and entries (no new keys) load.
+        let d = on_a_foot();
+        let back: ModalData = toml::from_str(&d.to_toml()).unwrap();
+        assert_eq!(back, d);
+        let m = load(&tiny(), "damping = 0.02\n").unwrap();
+        assert_eq!(m.elastic[0].support_damping, None);
+        assert_eq!(m.elastic[0].stiffness_damping, 0.0);
+        let m = load(&d, "support_damping = 0.06\nstiffness_damping = 2e-4\n").unwrap();
+        assert_eq!(m.elastic[0].support_damping, Some(0.06));
+        assert_eq!(m.elastic[0].stiffness_damping, 2e-4);
+
+        // Out of range: each error on its own line (the entry's keys start at line 11).
+        let e = load(&d, "support_damping = 1.5\nstiffness_damping = -1.0\n").unwrap_err();
+        assert_eq!(e.len(), 2, "{e:?}");
+        assert!(
+            e[0].starts_with("11: ") && e[0].contains("support_damping"),
+            "{e:?}"
+        );
+        assert!(
+            e[1].starts_with("12: ") && e[1].contains("stiffness_damping"),
+            "{e:?}"
+        );
+        // Support damping needs springs in the data.
+        let e = load(&tiny(), "support_damping = 0.06\n").unwrap_err();
+        assert!(
+            e[0].starts_with("11: ") && e[0].contains("lists no support_springs"),
+            "{e:?}"
+        );
+        // The data's own rules: a spring at no point, at a multi-node point, with a negative
+        // stiffness, or storing more than a mode's strain energy.
+        let mut bad = d.clone();
+        bad.support_springs[0].point = "NOWHERE".into();
+        let e = load(&bad, "").unwrap_err();
+        assert!(
+            e[0].contains("support_springs[0]: no point `NOWHERE`"),
+            "{e:?}"
+        );
+        let mut bad = d.clone();
+        bad.points[0].nodes = 3;
+        let e = load(&bad, "").unwrap_err();
+        assert!(e[0].contains("reads 3 nodes"), "{e:?}");
+        let mut bad = d.clone();
+        bad.support_springs[0].stiffness[0] = -1.0;
+        let e = load(&bad, "").unwrap_err();
+        assert!(e[0].contains("support_springs[0].stiffness"), "{e:?}");
+        let mut bad = d;
+        bad.support_springs[0].stiffness[2] *= 2.0 * 1.01;
+        let e = load(&bad, "").unwrap_err();
+        assert!(e[0].contains("mode 0 would store 1.0100"), "{e:?}");
     }
 }

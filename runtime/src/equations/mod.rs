@@ -107,7 +107,12 @@ impl<E: Element> Placed<E> {
         let z = vec![0.0; n];
         let zero = BodyState::new(&z, &z);
         let (ma, mb) = e.markers();
-        let (wa, _) = e.wrenches(&ma.state(&zero), &mb.state(&zero), exact);
+        let rest = Drive {
+            phi: 0.0,
+            omega: 0.0,
+            omega_dot: 0.0,
+        };
+        let (wa, _) = e.wrenches(&ma.state(&zero), &mb.state(&zero), exact, &rest);
         Placed {
             e,
             rest_force_a: wa.force.0,
@@ -360,17 +365,23 @@ impl Equations {
             c.add(q, qd, h);
         }
 
-        self.elements(&self.springs, &b, h);
-        self.elements(&self.dampers, &b, h);
-        self.elements(&self.friction_dampers, &b, h);
-        self.elements(&self.gaskets, &b, h);
+        self.elements(&self.springs, &b, d, h);
+        self.elements(&self.dampers, &b, d, h);
+        self.elements(&self.friction_dampers, &b, d, h);
+        self.elements(&self.gaskets, &b, d, h);
     }
 
-    fn elements<T: Scalar, E: Element>(&self, list: &[Placed<E>], st: &BodyState<T>, h: &mut [T]) {
+    fn elements<T: Scalar, E: Element>(
+        &self,
+        list: &[Placed<E>],
+        st: &BodyState<T>,
+        d: &Drive<T>,
+        h: &mut [T],
+    ) {
         for p in list {
             let (ma, mb) = p.e.markers();
             let (wa, wb) =
-                p.e.wrenches(&ma.state(st), &mb.state(st), self.exact_geometry);
+                p.e.wrenches(&ma.state(st), &mb.state(st), self.exact_geometry, d);
             self.apply(ma, st, &wa, p, true, h);
             self.apply(mb, st, &wb, p, false, h);
         }

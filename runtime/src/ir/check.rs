@@ -284,10 +284,11 @@ pub fn check(m: &Model) -> Result<(), Vec<CheckError>> {
         );
         sym_psd(
             &mut c,
-            p.key("damping"),
+            p.clone().key("damping"),
             &format!("{w}: damping"),
             &g.damping,
         );
+        loss_factor(&mut c, p.key("loss_factor"), &w, g.loss_factor.as_ref());
     }
 
     // Sensors.
@@ -404,8 +405,9 @@ fn spring_carries(c: &mut Ctx, p: Path, what: &str, s: &crate::ir::Spring, g: &V
     }
 }
 
-/// Elastic bodies: a known body once each, a damping ratio in [0, 1), and modal data that is
-/// consistent in itself and describes that body.
+/// Elastic bodies: a known body once each, damping ratios in [0, 1) (the support springs' only
+/// where the data has such springs), a Rayleigh beta >= 0, and modal data that is consistent in
+/// itself and describes that body.
 fn elastic(c: &mut Ctx, m: &Model) {
     use modal::ElasticBodyKind as K;
     for (i, e) in m.elastic.iter().enumerate() {
@@ -442,10 +444,34 @@ fn elastic(c: &mut Ctx, m: &Model) {
                 format!("elastic `{}`: modes must be at least 1", e.name),
             );
         }
+        if let Some(zs) = e.support_damping {
+            let what = format!("elastic `{}`: support_damping", e.name);
+            c.non_negative(p.clone().key("support_damping"), &what, zs);
+            if zs >= 1.0 {
+                c.err(
+                    p.clone().key("support_damping"),
+                    format!("{what} is a ratio of critical below 1, got {zs}"),
+                );
+            }
+        }
+        c.non_negative(
+            p.clone().key("stiffness_damping"),
+            &format!("elastic `{}`: stiffness_damping (s)", e.name),
+            e.stiffness_damping,
+        );
         let Some(d) = &e.data else {
             // Not read: `modal::resolve` has reported why.
             continue;
         };
+        if e.support_damping.is_some() && d.support_springs.is_empty() {
+            c.err(
+                p.clone().key("support_damping"),
+                format!(
+                    "elastic `{}`: support_damping, but {} lists no support_springs",
+                    e.name, e.file
+                ),
+            );
+        }
         for problem in modal::problems(d) {
             c.err(
                 p.clone().key("file"),
@@ -609,16 +635,23 @@ fn rotor_mounts(c: &mut Ctx, m: &Model) {
 pub const TUB_MASS_TOLERANCE: f64 = 0.02;
 
 /// The elastic tub carries the drum (its FE mass) and the other rotors' masses: together they
-/// must be the rigid tub's mass, or one of the two descriptions is missing a part.
+/// must be the rigid tub's mass, or one of the two descriptions is missing a part. The drum's
+/// FE mass counts whenever the model has the drum's modal data, whether or not a scene makes
+/// the drum elastic: the equations put it on the elastic tub either way (`Equations::new`).
 fn tub_mass(c: &mut Ctx, m: &Model) {
     let Some(tub) = modal_of(m, "tub") else {
         return;
     };
-    let drum = modal_of(m, "drum").map_or(0.0, |d| d.mass);
+    let drum_data = m
+        .elastic
+        .iter()
+        .find(|e| e.name == "drum")
+        .and_then(|e| e.data.as_ref());
+    let drum = drum_data.map_or(0.0, |d| d.mass);
     let rotors: f64 = m
         .rotors
         .iter()
-        .filter(|r| r.name != "drum" || modal_of(m, "drum").is_none())
+        .filter(|r| r.name != "drum" || drum_data.is_none())
         .map(|r| r.mass)
         .sum();
     let total = tub.mass + drum + rotors;
@@ -862,6 +895,27 @@ fn inertia(c: &mut Ctx, p: Path, who: &str, m: &M3) {
                  no mass distribution has them"
             ),
         );
+    }
+}
+
+/// A gasket's loss factor: one number, or a list of 6 (x, y, z, rx, ry, rz); each finite and
+/// >= 0 (S K S is then positive semi-definite with K).
+fn loss_factor(c: &mut Ctx, p: Path, what: &str, eta: Option<&LossFactor>) {
+    match eta {
+        None => {}
+        Some(LossFactor::Uniform(e)) => c.non_negative(p, &format!("{what}: loss_factor"), *e),
+        Some(LossFactor::PerDirection(v)) if v.len() != 6 => c.err(
+            p,
+            format!(
+                "{what}: loss_factor needs one number or 6 (x, y, z, rx, ry, rz), got a list of {}",
+                v.len()
+            ),
+        ),
+        Some(LossFactor::PerDirection(v)) => {
+            for (i, e) in v.iter().enumerate() {
+                c.non_negative(p.clone().idx(i), &format!("{what}: loss_factor"), *e);
+            }
+        }
     }
 }
 

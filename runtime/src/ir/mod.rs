@@ -94,6 +94,16 @@ pub struct Elastic {
     /// Modal damping ratio of every mode (the FE model gives none; reference: 2 % of critical).
     #[serde(default = "two_percent")]
     pub damping: f64,
+    /// Damping ratio of the strain energy stored in the modal data's `support_springs` (the
+    /// cabinet's feet), by modal strain energy: mode k gets `damping` + (`support_damping` -
+    /// `damping`) e_k, e_k its share of strain energy in those springs (1 for a mode that only
+    /// rides on them, 0 for a panel mode). None: every mode has `damping`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub support_damping: Option<f64>,
+    /// Stiffness-proportional (Rayleigh beta) damping, s: zeta_k += beta omega_k / 2, exact for
+    /// K-orthogonal modes (CalculiX's `*MODAL DAMPING, RAYLEIGH` with alpha = 0).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub stiffness_damping: f64,
     /// The file's content, read by `modal::resolve` (both front ends), truncated to `modes`.
     /// Serialised so a `machine!` model's embedded IR carries it; `resolve` always replaces it
     /// from the file.
@@ -261,7 +271,51 @@ pub struct Gasket {
     pub b: BodyRef,
     pub point: V3,
     pub stiffness: M6,
+    /// Viscous damping, N s/m etc. (default zero); adds to the hysteretic part.
+    #[serde(default)]
     pub damping: M6,
+    /// Hysteretic damping: loss factor eta per direction (x, y, z, rx, ry, rz), or one for all.
+    /// Frequency domain: K + i S K S, S = diag(sqrt(eta)); time domain: the equivalent viscous
+    /// S K S / max(|Omega|, omega_floor) at the drum speed (`elements::gasket`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub loss_factor: Option<LossFactor>,
+}
+
+/// A gasket's loss factor: one value for every direction, or one per direction.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum LossFactor {
+    Uniform(f64),
+    /// (x, y, z, rx, ry, rz); the checker requires 6 values.
+    PerDirection(Vec<f64>),
+}
+
+impl LossFactor {
+    /// eta per direction (a wrong count reads as zeros beyond it: the checker refuses it).
+    pub fn per_direction(&self) -> [f64; 6] {
+        match self {
+            LossFactor::Uniform(e) => [*e; 6],
+            LossFactor::PerDirection(v) => {
+                std::array::from_fn(|i| v.get(i).copied().unwrap_or(0.0))
+            }
+        }
+    }
+}
+
+impl Gasket {
+    /// S K S with S = diag(sqrt(eta)): the imaginary part of the complex stiffness K + i S K S,
+    /// and Omega times the time domain's equivalent viscous damping. Zero without a loss factor.
+    /// With one eta for all directions it is eta K; per direction it keeps K's couplings and
+    /// gives each direction i the loss factor eta_i (x^T S K S x = eta_i K_ii x_i^2 for a motion
+    /// along i alone).
+    pub fn hysteretic_damping(&self) -> M6 {
+        let eta = self
+            .loss_factor
+            .as_ref()
+            .map_or([0.0; 6], LossFactor::per_direction);
+        let s = eta.map(|e| e.max(0.0).sqrt());
+        std::array::from_fn(|i| std::array::from_fn(|j| s[i] * self.stiffness[i][j] * s[j]))
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

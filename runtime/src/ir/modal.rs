@@ -43,12 +43,14 @@ pub struct ModalData {
     pub source: String,
     /// Eigenfrequencies of the kept elastic modes, Hz, ascending.
     pub frequencies: Vec<f64>,
-    /// The lumped FE body: mass kg, CoG m, inertia about the CoG kg m^2 (global axes).
+    /// The FE body (its consistent mass): mass kg, CoG m, inertia about the CoG kg m^2 (global
+    /// axes).
     pub mass: f64,
     pub cog: V3,
     pub inertia: [[f64; 3]; 3],
-    /// Elementary matrices (seed paper, "Equations of motion"), sums over the FE nodes with
-    /// HRZ masses plus the attached rigid parts; positions x0 in the machine frame at rest.
+    /// Elementary matrices (seed paper, "Equations of motion"), sums over the FE model with its
+    /// consistent mass matrix plus the attached rigid parts (docs/modal-data.md); positions x0
+    /// in the machine frame at rest.
     pub elementary: Elementary,
     /// Mode shapes at the points force elements and sensors use.
     #[serde(default)]
@@ -63,6 +65,18 @@ pub struct ModalData {
     /// row-major), so that fields on the FE mesh can be recovered. None: the file's own modes.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub basis: Option<Vec<f64>>,
+    /// The FE model's springs to the ground (the cabinet's feet), for damping by modal strain
+    /// energy (`support_energy`). Empty: none recorded.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub support_springs: Vec<SupportSpring>,
+}
+
+/// A spring from a one-node modal point to the ground: `stiffness` N/m along x, y, z.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SupportSpring {
+    pub point: String,
+    pub stiffness: V3,
 }
 
 /// Static correction (residual flexibility) modes: the static response to unit forces at the
@@ -72,22 +86,69 @@ pub struct ModalData {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Correction {
-    /// The load cases: a unit force in `direction` at the modal point `point`.
+    /// The load cases: a unit force or moment along `direction` at the modal point `point`.
     pub loads: Vec<LoadCase>,
     /// How many of the body's modes, at the end, are correction modes.
     pub modes: usize,
     /// Generalised force of each load case on each eigenmode, f_j . Phi_k = w_point . direction
-    /// (row k, column j, row-major; eigenmodes only). Truncating eigenmodes folds their static
+    /// for a force, phi_point . direction for a moment (`LoadCase::participation`; row k,
+    /// column j, row-major; eigenmodes only). Truncating eigenmodes folds their static
     /// share at the load points into extra correction modes (`ModalData::truncate`).
     pub participation: Vec<f64>,
 }
 
-/// A unit force at a modal point.
+/// A unit force (or moment) along `direction` at a modal point. In the file:
+/// `{ point = "BEARING", direction = [0.0, 0.0, 1.0] }` is a force; a moment adds
+/// `kind = "moment"` (files without `kind` hold forces).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LoadCase {
     pub point: String,
     pub direction: V3,
+    #[serde(default, skip_serializing_if = "LoadKind::is_force")]
+    pub kind: LoadKind,
+}
+
+/// What a load case applies at its point.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LoadKind {
+    /// A force, N: its generalised force on mode k is w_point,k . direction.
+    #[default]
+    Force,
+    /// A moment, N m: phi_point,k . direction (the point's rigid-fit rotation).
+    Moment,
+}
+
+impl LoadKind {
+    fn is_force(&self) -> bool {
+        *self == LoadKind::Force
+    }
+}
+
+impl LoadCase {
+    pub fn force(point: &str, direction: V3) -> LoadCase {
+        LoadCase {
+            point: point.into(),
+            direction,
+            kind: LoadKind::Force,
+        }
+    }
+    pub fn moment(point: &str, direction: V3) -> LoadCase {
+        LoadCase {
+            point: point.into(),
+            direction,
+            kind: LoadKind::Moment,
+        }
+    }
+    /// Its generalised force on mode k at point `p`: w . direction or phi . direction.
+    pub fn participation(&self, p: &ModalPoint, k: usize) -> f64 {
+        let v = match self.kind {
+            LoadKind::Force => &p.w,
+            LoadKind::Moment => &p.phi,
+        };
+        (0..3).map(|a| v[a][k] * self.direction[a]).sum()
+    }
 }
 
 /// The seed paper's elementary matrices for n modes; a, b run over x, y, z.
@@ -138,6 +199,28 @@ impl ModalData {
     pub fn eigenmodes(&self) -> usize {
         self.modes() - self.correction.as_ref().map_or(0, |c| c.modes)
     }
+    /// Each mode's share of its strain energy stored in the support springs:
+    /// e_k = sum_springs sum_a k_a w_a,k^2 / omega_k^2 (modal stiffness diag(omega^2), the
+    /// modes K-orthogonal: eigenmodes, correction modes and folded ones alike). In [0, 1]: 1
+    /// for a mode that only rides on the springs. Zeros without springs; a spring at an
+    /// unknown point counts nothing (the checker reports it).
+    pub fn support_energy(&self) -> Vec<f64> {
+        let mut e = vec![0.0; self.modes()];
+        for s in &self.support_springs {
+            let Some(p) = self.point(&s.point) else {
+                continue;
+            };
+            for (k, ek) in e.iter_mut().enumerate() {
+                *ek += (0..3)
+                    .map(|a| s.stiffness[a] * p.w[a][k].powi(2))
+                    .sum::<f64>();
+            }
+        }
+        for (ek, f) in e.iter_mut().zip(&self.frequencies) {
+            *ek /= (2.0 * std::f64::consts::PI * f).powi(2);
+        }
+        e
+    }
     /// The modal mass matrix sum dm W^T W (n x n, row-major).
     pub fn modal_mass(&self) -> Vec<f64> {
         let n = self.modes();
@@ -145,8 +228,9 @@ impl ModalData {
             .map(|i| (0..3).map(|a| self.elementary.g[a][a][i]).sum())
             .collect()
     }
-    /// Largest deviation of the modal mass matrix from the identity: the lumping error the
-    /// equations inherit from using HRZ masses with ccx's consistently normalised shapes.
+    /// Largest deviation of the modal mass matrix from the identity: how far the mass the sums
+    /// were formed with is from the one ccx normalised the shapes with (consistent mass: ~1e-4,
+    /// the section rotations the translations do not show; HRZ lumping: per cent).
     pub fn mass_normalisation_error(&self) -> f64 {
         let n = self.modes();
         self.modal_mass()
@@ -352,9 +436,17 @@ pub fn resolve(model: &mut super::Model, base: &FsPath) -> (Vec<PathBuf>, Vec<Ch
     (files, errors)
 }
 
-/// Mass-normalisation tolerance of the checker: the HRZ lumping error of a reasonable mesh
-/// (a few per cent on the modal mass matrix; the built-in bodies stay below it).
+/// Relative tolerance of the stored participation against the point's shapes (both come from
+/// the same rigid fit, so they agree to round-off).
+pub const PARTICIPATION_TOLERANCE: f64 = 1e-6;
+
+/// Mass-normalisation tolerance of the checker: a sanity check (the consistent mass gives
+/// ~1e-4 on the built-in bodies; HRZ lumping gave a few per cent and grew with the modes).
 pub const MASS_NORMALISATION_TOLERANCE: f64 = 0.05;
+
+/// How far a mode's support strain energy share may exceed 1: the shapes' print precision
+/// (ccx's `.frd`, 6 digits) with margin.
+pub const SUPPORT_ENERGY_TOLERANCE: f64 = 1e-3;
 
 /// The modal data's own consistency: dimensions, frequencies, mass-normalisation, points. Each
 /// finding names the field inside the file; the caller adds the file and the model's path.
@@ -439,12 +531,50 @@ pub fn problems(d: &ModalData) -> Vec<String> {
             &c.participation,
             (n - corr) * c.loads.len(),
         );
+        let loads = c.loads.len();
         for (j, l) in c.loads.iter().enumerate() {
-            if d.point(&l.point).is_none() {
+            let Some(p) = d.point(&l.point) else {
                 out.push(format!(
                     "correction.loads[{j}]: no point `{}` in `points`",
                     l.point
                 ));
+                continue;
+            };
+            if (crate::geom::f::norm(l.direction) - 1.0).abs() > 1e-9 {
+                out.push(format!(
+                    "correction.loads[{j}].direction: must be a unit vector, got {:?}",
+                    l.direction
+                ));
+            }
+            if l.kind == LoadKind::Moment && p.nodes < 3 {
+                out.push(format!(
+                    "correction.loads[{j}]: a moment at `{}`, whose {} node(s) give no rotation",
+                    l.point, p.nodes
+                ));
+            }
+            // The stored generalised forces are the point's w (phi for a moment) . direction:
+            // a load case that names another point or kind than it was computed with shows.
+            if c.participation.len() == (n - corr) * loads && p.w[0].len() == n {
+                let col: Vec<f64> = (0..n - corr)
+                    .map(|k| c.participation[k * loads + j])
+                    .collect();
+                let scale = col.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                let worst = (0..n - corr)
+                    .map(|k| (col[k] - l.participation(p, k)).abs())
+                    .fold(0.0, f64::max);
+                if worst > PARTICIPATION_TOLERANCE * scale {
+                    out.push(format!(
+                        "correction.participation (load {j}): differs from `{}`'s {} . direction \
+                         by {:.1e} of its largest value",
+                        l.point,
+                        if l.kind == LoadKind::Moment {
+                            "phi"
+                        } else {
+                            "w"
+                        },
+                        worst / scale
+                    ));
+                }
             }
         }
     }
@@ -456,6 +586,26 @@ pub fn problems(d: &ModalData) -> Vec<String> {
             b.len()
         ));
     }
+    for (i, s) in d.support_springs.iter().enumerate() {
+        match d.point(&s.point) {
+            None => out.push(format!(
+                "support_springs[{i}]: no point `{}` in `points`",
+                s.point
+            )),
+            Some(p) if p.nodes != 1 => out.push(format!(
+                "support_springs[{i}]: point `{}` reads {} nodes; a spring to the ground sits \
+                 on one node",
+                s.point, p.nodes
+            )),
+            Some(_) => {}
+        }
+        if s.stiffness.iter().any(|k| !(k.is_finite() && *k >= 0.0)) {
+            out.push(format!(
+                "support_springs[{i}].stiffness: must be finite and >= 0, got {:?}",
+                s.stiffness
+            ));
+        }
+    }
     for (i, p) in d.points.iter().enumerate() {
         if p.nodes == 0 {
             out.push(format!(
@@ -466,6 +616,18 @@ pub fn problems(d: &ModalData) -> Vec<String> {
         if d.points[..i].iter().any(|q| q.name == p.name) {
             out.push(format!("points[{i}]: `{}` appears twice", p.name));
         }
+    }
+    if out.is_empty()
+        && let Some((k, e)) = d
+            .support_energy()
+            .into_iter()
+            .enumerate()
+            .find(|(_, e)| *e > 1.0 + SUPPORT_ENERGY_TOLERANCE)
+    {
+        out.push(format!(
+            "support_springs: mode {k} would store {e:.4} of its strain energy in them (more \
+             than all): the springs are not those of the FE model behind these modes"
+        ));
     }
     if out.is_empty() {
         let err = d.mass_normalisation_error();
@@ -534,6 +696,7 @@ pub(crate) mod tests {
             geometric_stiffness: None,
             correction: None,
             basis: None,
+            support_springs: Vec::new(),
         }
     }
 
@@ -610,10 +773,7 @@ pub(crate) mod tests {
             phi: std::array::from_fn(|_| vec![0.0; n]),
         }];
         d.correction = Some(Correction {
-            loads: vec![LoadCase {
-                point: "P".into(),
-                direction: [0.0, 0.0, 1.0],
-            }],
+            loads: vec![LoadCase::force("P", [0.0, 0.0, 1.0])],
             modes: 1,
             participation: wz[..5].to_vec(),
         });
@@ -670,5 +830,66 @@ pub(crate) mod tests {
         // loads only).
         let yy = static_at_p(&full, 1, 1);
         assert!((static_at_p(&d, 1, 1) - yy).abs() > 1e-3 * yy.abs());
+    }
+
+    #[test]
+    fn moment_load_cases_read_old_files_and_fold_through_phi() {
+        // The serde form: files without `kind` hold forces (and write back without it); a
+        // moment says `kind = "moment"`.
+        let force: LoadCase = toml::from_str("point = \"P\"\ndirection = [0.0, 0.0, 1.0]").unwrap();
+        assert_eq!(force, LoadCase::force("P", [0.0, 0.0, 1.0]));
+        assert!(!toml::to_string(&force).unwrap().contains("kind"));
+        let moment = LoadCase::moment("P", [1.0, 0.0, 0.0]);
+        let text = toml::to_string(&moment).unwrap();
+        assert!(text.contains("kind = \"moment\""), "{text}");
+        assert_eq!(toml::from_str::<LoadCase>(&text).unwrap(), moment);
+
+        // A moment about x at P, whose rotation phi_x per mode is `tx`: the participation is
+        // phi . direction, and truncation folds the dropped modes' static rotation at P.
+        let mut full = with_correction();
+        let tx = vec![0.2, 0.1, -0.3, 0.25, 0.15, -0.1];
+        full.points[0].phi[0] = tx.clone();
+        let c = full.correction.as_mut().unwrap();
+        c.loads.push(moment);
+        c.participation = (0..5)
+            .flat_map(|k| [full.points[0].w[2][k], tx[k]])
+            .collect();
+        assert_eq!(problems(&full), Vec::<String>::new());
+        let rot = |d: &ModalData| -> f64 {
+            let p = &d.points[0];
+            (0..d.modes())
+                .map(|k| {
+                    p.phi[0][k].powi(2) / (2.0 * std::f64::consts::PI * d.frequencies[k]).powi(2)
+                })
+                .sum()
+        };
+        let mut d = full.clone();
+        d.truncate(2);
+        // 2 eigenmodes, 2 folded shapes (two load cases), the correction mode.
+        assert_eq!(d.modes(), 5);
+        assert!((rot(&d) - rot(&full)).abs() < 1e-12 * rot(&full));
+        assert_eq!(problems(&d), Vec::<String>::new());
+
+        // Checker rules: a moment at a point without rotation, a participation that is not
+        // the point's, a direction that is no unit vector.
+        let mut bad = full.clone();
+        bad.points[0].nodes = 2;
+        let c = bad.correction.as_mut().unwrap();
+        c.loads[1].kind = LoadKind::Force;
+        c.loads[0].direction = [0.0, 0.0, 2.0];
+        let p = problems(&bad);
+        assert!(
+            p.iter()
+                .any(|m| m.starts_with("correction.participation (load 1)")),
+            "{p:?}"
+        );
+        assert!(
+            p.iter()
+                .any(|m| m.starts_with("correction.loads[0].direction")),
+            "{p:?}"
+        );
+        bad.correction.as_mut().unwrap().loads[1].kind = LoadKind::Moment;
+        let p = problems(&bad);
+        assert!(p.iter().any(|m| m.contains("give no rotation")), "{p:?}");
     }
 }

@@ -1,0 +1,76 @@
+//! The full-mesh reference (issue 19, must-have 6): the linear machine assembled from the
+//! tub's and the cabinet's full meshes in CalculiX (`*STEADY STATE DYNAMICS` at drum order 1)
+//! against washdyn's Ritz model of the same machine in the frequency domain (harmonic.rs), every
+//! sensor channel at eight speeds from 300 to 1400 rpm. Needs ccx: skipped without it, except
+//! under CI=true (then it must run).
+
+use washdyn::full_mesh::{Args, COMPARED_SHARE, SPEEDS_RPM, study};
+use washdyn_fe::assembly::LinearSpec;
+
+/// ccx's modes: 100 (to 125 Hz) stay within 0.5 % of 150 modes on every compared channel
+/// (median 0.05 %), 60 modes only within 3.3 % (docs/full-mesh.md, "CalculiX's convergence").
+/// ccx takes 174 s for them (430 s with other jobs on the 2 cores): mostly the eigen-solve.
+const MODES: usize = 100;
+
+#[test]
+fn ritz_model_matches_the_full_mesh() {
+    if !washdyn_fe::ccx::available() {
+        assert!(
+            std::env::var("CI").as_deref() != Ok("true"),
+            "CI=true but CalculiX (ccx) is not installed"
+        );
+        eprintln!("skipped: ccx not found");
+        return;
+    }
+    let work = tempfile::tempdir().unwrap();
+    let args = Args {
+        model: "reference".into(),
+        modes: vec![MODES],
+        speeds_rpm: SPEEDS_RPM.to_vec(),
+        spec: LinearSpec::default(),
+        work: work.path().to_path_buf(),
+        convergence: false,
+    };
+    let s = study(&args, &mut |l| println!("{l}")).unwrap();
+    println!("rpm | compared | median | worst (channel) | worst complex");
+    for sp in &s.speeds {
+        println!(
+            "{:5.0} | {:2} | {:5.2} % | {:5.2} % ({}) | {:5.2} %",
+            sp.rpm,
+            sp.channels.iter().filter(|c| c.compared).count(),
+            100.0 * sp.median,
+            100.0 * sp.worst,
+            sp.worst_channel,
+            100.0 * sp.worst_complex
+        );
+    }
+    // One machine on both sides: the same mass (ccx: EMAS plus the point masses; measured
+    // 2.8e-7 apart, ccx's 7 printed digits).
+    let (mc, mr) = (s.mass_ccx.unwrap(), s.mass_ritz);
+    assert!(
+        (mc / mr - 1.0).abs() < 3e-6,
+        "mass: ccx {mc} kg, Ritz {mr} kg"
+    );
+    // The coupled eigenfrequencies below 60 Hz, each against washdyn's nearest: a missing mode
+    // (before the tub's correction modes, the drum rocking on the bearing unit at 42.3 and
+    // 42.5 Hz: 1.9 and 2.4 % from the nearest) shows here.
+    let worst_f = s
+        .frequencies
+        .iter()
+        .fold(0.0f64, |m, (a, b)| m.max((b / a - 1.0).abs()));
+    println!(
+        "coupled eigenfrequencies below 60 Hz: worst difference {:.2} %",
+        100.0 * worst_f
+    );
+    // The issue's target: every channel above 10 % of its speed's largest within 5 %.
+    assert_eq!(COMPARED_SHARE, 0.1);
+    for sp in &s.speeds {
+        assert!(
+            sp.worst <= 0.05,
+            "{} rpm: {} off by {:.1} %",
+            sp.rpm,
+            sp.worst_channel,
+            100.0 * sp.worst
+        );
+    }
+}

@@ -23,6 +23,9 @@ pub struct ModalStress {
     pub solve_s: f64,
 }
 
+/// Relative frequency window of one degenerate pair in the second solve.
+const DEGENERATE: f64 = 1e-6;
+
 /// The frequency deck of `mesh` writing 3-D displacements and stresses.
 pub fn deck(mesh: &Mesh, modes: usize) -> crate::deck::Deck {
     let mut d = mesh.model_deck();
@@ -95,45 +98,77 @@ pub fn modal_stresses(
     let points = associate(mesh, &frd)?;
     let mut per_mode = Vec::with_capacity(kept.len());
     for s in kept {
-        let i = frd
+        // A degenerate pair (a body with 3-fold symmetry, as the drum's three arms and
+        // lifters) may come out of the second solve turned within its plane: match the kept
+        // shape by the least-squares combination of every mode at its frequency.
+        let near: Vec<usize> = frd
             .modes
             .iter()
-            .position(|m| (m.frequency_hz - s.frequency_hz).abs() <= 1e-9 * s.frequency_hz)
-            .ok_or_else(|| {
-                format!(
-                    "{job}: no mode at {} Hz in the 3-D solve (another deck?)",
-                    s.frequency_hz
-                )
-            })?;
-        let disp: HashMap<usize, [f64; 3]> = frd.modes[i].disp.iter().copied().collect();
-        let (mut dot, mut ww, mut uu) = (0.0, 0.0, 0.0);
+            .enumerate()
+            .filter(|(_, m)| (m.frequency_hz - s.frequency_hz).abs() <= DEGENERATE * s.frequency_hz)
+            .map(|(i, _)| i)
+            .collect();
+        if near.is_empty() {
+            return Err(format!(
+                "{job}: no mode at {} Hz in the 3-D solve (another deck?)",
+                s.frequency_hz
+            ));
+        }
+        let disp: Vec<HashMap<usize, [f64; 3]>> = near
+            .iter()
+            .map(|&i| frd.modes[i].disp.iter().copied().collect())
+            .collect();
+        let n = near.len();
+        let (mut g, mut b, mut ww) = (
+            nalgebra::DMatrix::<f64>::zeros(n, n),
+            nalgebra::DVector::<f64>::zeros(n),
+            0.0,
+        );
         for (orig, exp) in &points {
             if let Some(w) = s.w.get(orig) {
                 for e in exp {
-                    if let Some(u) = disp.get(e) {
-                        dot += w[0] * u[0] + w[1] * u[1] + w[2] * u[2];
-                        ww += w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
-                        uu += u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+                    let u: Vec<[f64; 3]> = match disp.iter().map(|d| d.get(e).copied()).collect() {
+                        Some(u) => u,
+                        None => continue,
+                    };
+                    ww += w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+                    for j in 0..n {
+                        b[j] += (0..3).map(|x| w[x] * u[j][x]).sum::<f64>();
+                        for k in 0..n {
+                            g[(j, k)] += (0..3).map(|x| u[j][x] * u[k][x]).sum::<f64>();
+                        }
                     }
                 }
             }
         }
+        let c = g.clone().cholesky().map(|ch| ch.solve(&b)).ok_or_else(|| {
+            format!(
+                "{job}: the modes at {} Hz have no displacement at the shape's nodes",
+                s.frequency_hz
+            )
+        })?;
+        let (dot, uu) = (c.dot(&b), (c.transpose() * &g * &c)[(0, 0)]);
         // The faces move with the mid-surface up to the rotation through the thickness: a
-        // correlation far from +-1 is another mode (a degenerate pair turned), not a sign.
+        // correlation far from 1 is another mode, not a sign or a turned pair.
         let corr = dot / (ww * uu).sqrt().max(f64::MIN_POSITIVE);
-        if corr.abs() < 0.99 {
+        if corr < 0.99 {
             return Err(format!(
                 "{job}: mode at {} Hz correlates {corr:.3} with the modal data's (another solve?)",
                 s.frequency_hz
             ));
         }
-        let sign = corr.signum();
-        per_mode.push(
-            frd.stresses[i]
-                .iter()
-                .map(|(id, v)| (*id, v.map(|x| sign * x)))
-                .collect(),
-        );
+        // Mass-orthonormal modes of one pair: a unit combination is mass-normalised too.
+        let c = c.normalize();
+        let mut m: HashMap<usize, [f64; 6]> = HashMap::new();
+        for (j, &i) in near.iter().enumerate() {
+            for (id, v) in &frd.stresses[i] {
+                let e = m.entry(*id).or_insert([0.0; 6]);
+                for x in 0..6 {
+                    e[x] += c[j] * v[x];
+                }
+            }
+        }
+        per_mode.push(m);
     }
     Ok(ModalStress {
         points,

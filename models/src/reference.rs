@@ -12,23 +12,24 @@ washdyn_macros::machine! {
 
         // Suspended body: tub assembly with counterweight, bearing unit, motor stator, plus the
         // (non-spinning) mass of drum and motor rotor. ~60 kg in a comparable machine (Tuerkay
-        // 1995). Inertia: that of the FE models (tub + drum + rotor, `washdyn fe`), which
-        // replaced the first estimate diag(2.6, 2.3, 2.3): no tub of this size with its
-        // concrete outside the drum gets below Ixx ~ 3.4 (issue 8).
+        // 1995). Mass, CoG and inertia: those of the FE models (tub 43.97 kg with its
+        // counterweights, drum 9.52 kg, rotor 1.5 kg: 54.99 kg, CoG (-0.0001, 0, 0.450),
+        // `washdyn fe modal`), which replaced the first estimate diag(2.6, 2.3, 2.3).
         tub {
             mass: 55.0,
             cog: [0.0, 0.0, 0.45],
-            inertia: [[3.43, 0.0, -0.233], [0.0, 3.01, 0.0], [-0.233, 0.0, 2.62]],
+            inertia: [[3.263, 0.0, -0.323], [0.0, 3.129, 0.0], [-0.323, 0.0, 2.74]],
         }
 
         // Drum: radius 0.24 m, depth 0.30 m, front face at x = +0.17; polar inertia of its FE
-        // model (8.4 kg: shell, star, shaft, pulley; the first estimate, 0.49, put all the mass
-        // on the shell). Only its spin acts here; its mass is part of the tub's 55 kg.
+        // model (9.52 kg: shell, cast spider and hub, shaft, pulley; the first estimate, 0.49,
+        // put all the mass on the shell). Only its spin acts here; its mass is part of the
+        // tub's 55 kg.
         rotor drum {
             axis_point: [0.0, 0.0, 0.45],
             axis: [1.0, 0.0, 0.0],
             ratio: 1.0,
-            polar_inertia: 0.215,
+            polar_inertia: 0.232,
             // On the elastic tub the drum hangs on the tub's bearing (node set BEARING).
             mount: [-0.25, 0.0, 0.45],
         }
@@ -77,29 +78,58 @@ washdyn_macros::machine! {
             free_length: 0.1386875,
         }
 
-        // Two friction dampers, Fmax = 100 N each (Spelta et al. 2008); slope 2000 s/m
-        // (estimate: 90 % of Fmax at 3.2 mm/s); rubber bearings 80 N m/rad (Tuerkay 1995),
-        // 0.05 N m s/rad (estimate).
-        friction_damper damper_left {
-            a: { body: tub, point: [0.0, 0.18, 0.20] },
-            b: { body: cabinet, point: [0.0, 0.24, 0.03] },
-            f_max: 100.0,
+        // Four friction dampers, Fmax = 75 N each (300 N in all, against 2 x 100 N in a
+        // production machine, Spelta et al. 2008: estimate); slope 2000 s/m (estimate: 90 % of
+        // Fmax at 3.2 mm/s). Tub lugs DAMPER_1..4 at (+-0.18, +-0.18, 0.20), fore and aft of the
+        // CoG, so pitch and yaw stroke them; cabinet ends DAMPER_1..4 at (+-0.18, +-0.27, 0.03),
+        // 28 deg outwards from vertical, so lateral and roll motions stroke them too (`washdyn
+        // modes`: every rigid mode strokes a damper by at least 0.17 mm per mm of door-ring
+        // motion; the two dampers at x = 0 left one at 0.006). Rubber bushings 20 N m/rad, the
+        // low end of 20-40 (Tuerkay 1995 quotes 80 for strut mounts): below ~300 rpm the dampers
+        // stick, and four stuck dampers leave a roll about the x axis at z = 0.54 m (3.2 Hz,
+        // where the left and right dampers' lines cross) to the bushings alone; 0.2 N m s/rad,
+        // rubber's loss factor ~0.2 at that roll: 0.2 x 20 / (2 pi 3.2 Hz) (estimate). Run-up
+        // peaks (rigid, `full`): 0.022 rad; 0.029 rad with 0.05 N m s/rad; 0.032, 0.036 rad with
+        // 30, 40 N m/rad.
+        friction_damper damper_front_left {
+            a: { body: tub, point: [0.18, 0.18, 0.20] },
+            b: { body: cabinet, point: [0.18, 0.27, 0.03] },
+            f_max: 75.0,
             slope: 2000.0,
-            bearing_stiffness: 80.0,
-            bearing_damping: 0.05,
+            bearing_stiffness: 20.0,
+            bearing_damping: 0.2,
         }
-        friction_damper damper_right {
-            a: { body: tub, point: [0.0, -0.18, 0.20] },
-            b: { body: cabinet, point: [0.0, -0.24, 0.03] },
-            f_max: 100.0,
+        friction_damper damper_front_right {
+            a: { body: tub, point: [0.18, -0.18, 0.20] },
+            b: { body: cabinet, point: [0.18, -0.27, 0.03] },
+            f_max: 75.0,
             slope: 2000.0,
-            bearing_stiffness: 80.0,
-            bearing_damping: 0.05,
+            bearing_stiffness: 20.0,
+            bearing_damping: 0.2,
+        }
+        friction_damper damper_rear_left {
+            a: { body: tub, point: [-0.18, 0.18, 0.20] },
+            b: { body: cabinet, point: [-0.18, 0.27, 0.03] },
+            f_max: 75.0,
+            slope: 2000.0,
+            bearing_stiffness: 20.0,
+            bearing_damping: 0.2,
+        }
+        friction_damper damper_rear_right {
+            a: { body: tub, point: [-0.18, -0.18, 0.20] },
+            b: { body: cabinet, point: [-0.18, -0.27, 0.03] },
+            f_max: 75.0,
+            slope: 2000.0,
+            bearing_stiffness: 20.0,
+            bearing_damping: 0.2,
         }
 
         // Door gasket (estimate): a bellows, soft axially, stiffer radially, non-diagonal as the
-        // seed paper states; D = 0.01 s * K. Order (x, y, z, rx, ry, rz), global axes at the
-        // gasket point.
+        // seed paper states. Order (x, y, z, rx, ry, rz), global axes at the gasket point.
+        // Damping hysteretic: rubber bellows have a loss factor of about 0.2, nearly independent
+        // of frequency (estimate; the earlier viscous D = 0.01 s K gave 0.28 at 4.5 Hz and 1.46
+        // at 23 Hz); in the time domain the equivalent viscous 0.2 K / max(|Omega|, 2 pi rad/s)
+        // at the drum speed Omega (elements/gasket.rs).
         gasket door_gasket {
             a: tub,
             b: cabinet,
@@ -112,14 +142,7 @@ washdyn_macros::machine! {
                 [0.0, 0.0, -600.0, 0.0, 120.0, 0.0],
                 [0.0, 600.0, 0.0, 0.0, 0.0, 120.0],
             ],
-            damping: [
-                [30.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-                [0.0, 80.0, 0.0, 0.0, 0.0, 6.0],
-                [0.0, 0.0, 80.0, 0.0, -6.0, 0.0],
-                [0.0, 0.0, 0.0, 1.5, 0.0, 0.0],
-                [0.0, 0.0, -6.0, 0.0, 1.2, 0.0],
-                [0.0, 6.0, 0.0, 0.0, 0.0, 1.2],
-            ],
+            loss_factor: 0.2,
         }
 
         // Measurement points after the seed paper's 5 + 2 (positions: estimate). cabinet2 is the
@@ -155,7 +178,9 @@ washdyn_macros::machine! {
         // 2 % (estimate).
         elastic tub { file: "fe/tub.modal.toml", damping: 0.02 }
         elastic drum { file: "fe/drum.modal.toml", damping: 0.02 }
-        elastic cabinet { file: "fe/cabinet.modal.toml", damping: 0.02 }
+        // The cabinet's on-feet modes get 6 % by the feet's share of their strain energy
+        // (rubber feet on a floor, 5-8 %: estimate).
+        elastic cabinet { file: "fe/cabinet.modal.toml", damping: 0.02, support_damping: 0.06 }
 
         // The paper's elastic machine: everything above with the tub's, the drum's and the
         // cabinet's modes up to drum order 6 at top speed times 1.5 (210 Hz: 5 tub, 12 drum,

@@ -354,10 +354,12 @@ fn large_motion_warns_then_stops_with_its_time() {
         "{:?}",
         s.warnings
     );
+    // The door ring (clearance.rs) passes the clearance too; the four dampers keep the CoG's
+    // translation below it (measured: door ring 30.2 mm at 23.6 s, rotation 0.05 rad at 20.6 s).
     assert!(
         s.warnings
             .iter()
-            .any(|w| w.contains("exceeds the 0.03 m bound")),
+            .any(|w| w.starts_with("door ring point") && w.contains("0.03 m tub-cabinet")),
         "{:?}",
         s.warnings
     );

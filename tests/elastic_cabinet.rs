@@ -205,16 +205,16 @@ fn tub_on_springs_in_an_elastic_cabinet_matches_calculix() {
         }
         worst.push(err);
     }
-    // Measured: the tub's modes 1.4e-2 off with the cabinet rigid, 6.1e-3 with 60 cabinet
-    // eigenmodes (to 86 Hz): the top rails' flexibility under a point load is in no mode. With
-    // three static correction modes (unit loads at the tops) 3.1e-7 with 10, 20, 40 or 60
+    // Measured: the tub's modes 3.3e-3 off with the cabinet rigid, 1.7e-3 with 60 cabinet
+    // eigenmodes (to 250 Hz): the top rails' flexibility under a point load is in no mode. With
+    // the static correction modes (unit loads at the tops) 3.3e-7 with 10, 20, 40 or 60
     // eigenmodes (the dropped ones fold into the correction), ccx's print precision; the
     // cabinet's own modes agree to ccx's printed digits [3e-6] either way.
     eprintln!(
         "tub modes' worst error: {worst:?}; with correction modes (10, 20, 40, 60): \
          {corrected:?}; cabinet modes: {cabinet_worst:.1e}"
     );
-    assert!(worst[4] < 0.5 * worst[0], "{worst:?}");
+    assert!(worst[4] < 0.6 * worst[0], "{worst:?}");
     assert!(worst[4] < 1e-2, "{worst:?}");
     for (tub, cab) in &corrected {
         assert!(*tub < 1e-5 && *tub < 1e-2 * worst[4], "{corrected:?}");
@@ -292,13 +292,13 @@ fn cabinet_sag_under_the_spring_preloads_matches_calculix() {
     };
     let eigen = sag_error(&data.without_correction());
     let corrected = sag_error(&data);
-    // Measured: ccx sags 1.19, 1.20 and 1.57 mm; the 60 eigenmodes (to 86 Hz) fall 25 to 36 %
-    // short (the rails' local bending under a point load is in no mode below 86 Hz); with the
-    // committed data's 6 correction modes (3 of them for these loads) the error is ccx's
-    // printed precision (6 digits).
+    // Measured: ccx sags 0.269, 0.267 and 0.372 mm; the 60 eigenmodes (to 250 Hz) fall 47 to
+    // 59 % short (the rails' local bending under a point load is in no mode); with the
+    // committed data's 6 correction modes (3 of them for these loads) 1.3e-5, ccx's printed
+    // precision (6 digits).
     eprintln!("worst: eigenmodes {eigen:.3}, with correction modes {corrected:.1e}");
     assert!(
-        eigen > 0.1 && eigen < 0.4,
+        eigen > 0.3 && eigen < 0.9,
         "{eigen}: not as measured; update the bound and the README"
     );
     assert!(corrected < 1e-4, "{corrected}");

@@ -7,10 +7,12 @@
 use washdyn::full_mesh::{Args, COMPARED_SHARE, SPEEDS_RPM, study};
 use washdyn_fe::assembly::LinearSpec;
 
-/// ccx's modes: 100 (to 125 Hz) stay within 0.5 % of 150 modes on every compared channel
-/// (median 0.05 %), 60 modes only within 3.3 % (docs/full-mesh.md, "CalculiX's convergence").
-/// ccx takes 174 s for them (430 s with other jobs on the 2 cores): mostly the eigen-solve.
-const MODES: usize = 100;
+/// ccx's modes: 200 (to 347 Hz). With 100 (to 183 Hz) ccx's own truncation shows: its tub3_ax
+/// falls 7.5 % short of the Ritz model at 1400 rpm (0.5 % with 200), the back wall's local
+/// bending under the bearing load being in no coupled mode below 183 Hz, which our tub's
+/// bearing correction modes carry (docs/full-mesh.md). ccx takes 778 s on one thread for 200
+/// modes: mostly the eigen-solve.
+const MODES: usize = 200;
 
 #[test]
 fn ritz_model_matches_the_full_mesh() {
@@ -62,7 +64,11 @@ fn ritz_model_matches_the_full_mesh() {
         "coupled eigenfrequencies below 60 Hz: worst difference {:.2} %",
         100.0 * worst_f
     );
-    // The target: every channel above 10 % of its speed's largest within 5 %.
+    // Measured 0.02 % (before the tub's correction modes: 2.4 %).
+    assert!(worst_f < 2e-3, "{worst_f}");
+    // The target: every channel above 10 % of its speed's largest within 5 %
+    // (measured with 200 ccx modes: median 0.0-0.1 %, worst 0.1 % at 300 rpm to 0.5 % at
+    // 1400 rpm, tub3_ax; the moonshot's 2 % holds too).
     assert_eq!(COMPARED_SHARE, 0.1);
     for sp in &s.speeds {
         assert!(

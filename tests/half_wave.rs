@@ -117,8 +117,9 @@ fn friction_alone_excites_only_odd_orders() {
         third > 1e-3,
         "the friction damper must excite odd higher orders"
     );
-    // Measured 1.6e-6: the bound leaves a factor 6 for round-off and settling.
-    assert!(r < 1e-5, "even orders {r:e} of the odd ones");
+    // Measured 1.1e-5 (1.6e-6 with the earlier two dampers at x = 0): what the 60 s of
+    // settling leave of the transient; the asymmetric variant below stays above 1e-3.
+    assert!(r < 1e-4, "even orders {r:e} of the odd ones");
 }
 
 #[test]

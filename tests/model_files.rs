@@ -123,8 +123,8 @@ fn gasket_asymmetry_and_unknown_rotor_are_reported() {
 #[test]
 fn unknown_body_and_scene_effect() {
     let src = edited(
-        "body = \"tub\", point = [0.0, 0.18, 0.20]",
-        "body = \"tubb\", point = [0.0, 0.18, 0.20]",
+        "body = \"tub\", point = [0.18, 0.18, 0.20]",
+        "body = \"tubb\", point = [0.18, 0.18, 0.20]",
     );
     let e = errors(&src);
     assert_eq!(e[0].0, line_of(&src, "tubb", 0), "{e:?}");

@@ -107,8 +107,9 @@ fn strokes_are_the_axial_motion_of_each_damper_end_and_every_mode_strokes_the_ne
     // Every mode strokes some damper: measured at least 0.167 mm per mm of door ring (roll).
     assert!(weakest > 0.1, "{weakest}");
 
-    // The old layout (two dampers at x = 0, bushings 80 N m/rad) leaves the fifth mode (yaw,
-    // roll and lateral, 4.8 Hz) unstroked: measured 0.006 mm per mm.
+    // The old layout (two dampers at x = 0, bushings 80 N m/rad) leaves one mode (yaw, roll
+    // and lateral) nearly unstroked: measured 0.023 mm per mm on the FE inertia (0.006 on the
+    // first estimate's).
     let mut m_old = balanced();
     m_old.friction_dampers = [1.0, -1.0]
         .iter()
@@ -134,6 +135,6 @@ fn strokes_are_the_axial_motion_of_each_damper_end_and_every_mode_strokes_the_ne
         .iter()
         .map(|md| md.strokes.iter().fold(0.0f64, |a, s| a.max(s.abs())))
         .fold(f64::INFINITY, f64::min);
-    assert!(weakest_old < 0.02, "{weakest_old}");
+    assert!(weakest_old < 0.05, "{weakest_old}");
     print!("{}", washdyn::modes::markdown(&modes));
 }

@@ -128,7 +128,7 @@ fn frf(m: &Model, w: f64, inertia: bool) -> DVector<C> {
             k[(3 + i, 3 + j)] += load[(i, j)];
         }
     }
-    let d = damping_hand(m);
+    let d = damping_hand(m, w);
     // Gyroscopic: d/dt (Jp W e) in tub axes gives Jp W (alpha' x e) = -Jp W e~ alpha'.
     let mut gm = DMatrix::zeros(6, 6);
     for r in &m.rotors {

@@ -210,11 +210,12 @@ fn a_rigid_drum_on_an_elastic_tub_passes_the_checker_and_runs() {
     )
     .unwrap_or_else(|(e, _)| panic!("{e}"));
     assert_eq!(s.status, "ok");
-    // The door ring is watched with the tub's modes at MP_TUB1 and MP_TUB2; the gap waits for
-    // the drum's DRUM_EDGE_k points.
+    // The door ring is watched with the tub's modes at MP_TUB1 and MP_TUB2; the gap with the
+    // rigid drum's edge (its points on the drum's axis frame, turned by the tub's motion at the
+    // bearing) against the tub's TUB_RING_k points.
     let w = &s.validity.watched;
     assert!(w[0].contains("elastic tub: modes at 2"), "{w:?}");
-    assert!(w[1].contains("not watched"), "{w:?}");
+    assert!(w[1].contains("rigid drum, elastic tub"), "{w:?}");
     assert!(s.validity.max_door_ring_m > 0.0 && s.validity.max_door_ring_m < 0.03);
     eprintln!("{:#?}", s.validity);
 }

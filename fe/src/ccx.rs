@@ -83,6 +83,13 @@ pub fn version() -> Option<String> {
 
 /// Run ccx on `deck` (`<dir>/<job>.inp`) in the deck's folder; errors from its output.
 pub fn run(deck: &Path) -> Result<CcxRun, CcxError> {
+    run_threads(deck, 1)
+}
+
+/// `run` on `threads` threads: for a solve whose degenerate pairs nothing compares with
+/// another solve (the full-mesh reference's coupled modes only enter its sums over modes).
+pub fn run_threads(deck: &Path, threads: usize) -> Result<CcxRun, CcxError> {
+    let threads = threads.max(1).to_string();
     let io = |source| CcxError::Io {
         deck: deck.to_path_buf(),
         source,
@@ -98,16 +105,16 @@ pub fn run(deck: &Path) -> Result<CcxRun, CcxError> {
         .arg("-i")
         .arg(job)
         .current_dir(dir)
-        // One thread everywhere: ccx's threaded assembly and solvers sum in an order that
+        // One thread (`run`): ccx's threaded assembly and solvers sum in an order that
         // varies from run to run, and a degenerate mode pair (the drum's) then comes back
         // rotated. One thread makes a solve repeatable, so that field files and modal data
         // from two solves agree (measured: tub frequencies moved in the 9th digit, the drum's
         // pairs turned, between two runs of the same deck).
-        .env("OMP_NUM_THREADS", "1")
-        .env("NUMBER_OF_CPUS", "1")
-        .env("CCX_NPROC_STIFFNESS", "1")
-        .env("CCX_NPROC_EQUATION_SOLVER", "1")
-        .env("CCX_NPROC_RESULTS", "1")
+        .env("OMP_NUM_THREADS", &threads)
+        .env("NUMBER_OF_CPUS", &threads)
+        .env("CCX_NPROC_STIFFNESS", &threads)
+        .env("CCX_NPROC_EQUATION_SOLVER", &threads)
+        .env("CCX_NPROC_RESULTS", &threads)
         .output()
         .map_err(|e| match e.kind() {
             std::io::ErrorKind::NotFound => CcxError::Missing { program: program() },

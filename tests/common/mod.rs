@@ -81,8 +81,11 @@ pub fn gasket_hand(
     t.transpose() * kg * t
 }
 
-/// Viscous damping by hand: linear dampers T^T c n n^T T and the gasket's T^T D T.
-pub fn damping_hand(m: &Model) -> DMatrix<f64> {
+/// Viscous damping by hand at drum speed `omega` (rad/s): linear dampers T^T c n n^T T and the
+/// gasket's T^T D T, D its viscous matrix plus its hysteretic part's time-domain equivalent
+/// S K S / max(|omega|, 2 pi) (ir::Gasket::hysteretic_damping, written out here: eta K for one
+/// loss factor).
+pub fn damping_hand(m: &Model, omega: f64) -> DMatrix<f64> {
     let p0 = v3(m.tub.cog);
     let mut c = DMatrix::zeros(6, 6);
     for d in &m.dampers {
@@ -92,7 +95,17 @@ pub fn damping_hand(m: &Model) -> DMatrix<f64> {
         c += t.transpose() * cn * &t;
     }
     for g in &m.gaskets {
-        c += gasket_hand(m, g, &g.damping);
+        let eta = g
+            .loss_factor
+            .as_ref()
+            .map_or([0.0; 6], |l| l.per_direction());
+        let reference = omega.abs().max(2.0 * std::f64::consts::PI);
+        let d: [[f64; 6]; 6] = std::array::from_fn(|i| {
+            std::array::from_fn(|j| {
+                g.damping[i][j] + (eta[i] * eta[j]).sqrt() * g.stiffness[i][j] / reference
+            })
+        });
+        c += gasket_hand(m, g, &d);
     }
     c
 }

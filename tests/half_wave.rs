@@ -137,7 +137,8 @@ fn asymmetric_characteristic_brings_even_orders() {
 #[test]
 fn even_orders_of_the_full_model_and_their_sources() {
     // How large the even orders are with the full kinematics, and which effect brings them.
-    // Measured: 0.108 (element geometry), 0.021 (unbalance inertia), 0.114 (both). Each effect
+    // Measured (300 rpm, rigid): 0.030 (element geometry), 0.012 (unbalance inertia), 0.032
+    // (both; 0.108, 0.021, 0.114 before issue 19's dampers and gasket). Each effect
     // alone must lift them at least 1e3 times above the friction-only level (< 1e-5), and they
     // stay below the odd orders.
     for (label, extra) in [

@@ -1,12 +1,14 @@
 """Render a recovered drum field as ParaView shows it: the deformed mesh (displacement
 scaled up 5x), coloured by the von Mises stress, the scale clipped at 100 MPa so that the
-shell's distribution shows (the peak sits in the shaft's beam joint, inside).
+shell's distribution shows (the peak, 1.15 GPa, sits at the back wall's fold behind the
+unbalance, where a spider arm's solid tip ends on the sheet: README, `fields`).
 
     washdyn run reference --scene elastic --states --out out/elastic
     washdyn fields out/elastic --times 178.3 --out out/elastic/top
     xvfb-run -a pvpython docs/paraview_drum.py out/elastic/top/drum_00000.vtu docs/drum_field.png
 
-(Debian's ParaView renders through X: xvfb-run gives it a display; apt-get install paraview xvfb.)
+(Debian's ParaView renders through X: xvfb-run gives it a display; apt-get install paraview
+python3-paraview xvfb xauth.)
 """
 import sys
 

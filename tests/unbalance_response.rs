@@ -214,11 +214,11 @@ fn errors(inertia: bool) -> Vec<(String, f64)> {
 fn unbalance_response_matches_linear_frequency_response() {
     // The unbalance as a prescribed rotating force: the model is then exactly linear
     // time-invariant apart from the springs' and dampers' geometry (second order at 1e-4 m).
-    // Measured (the FE-derived tub inertia of issue 8): 2.3e-6 below, 8.0e-6 near, 2.0e-6
-    // above the first resonance (the prescribed force lacks the weight's own load stiffness
-    // that the hand K's equilibrium has: ~1e-6, amplified near resonance). Bounds: about 4x
-    // the measured errors, so a regression of the linear path shows.
-    for ((label, err), bound) in errors(false).into_iter().zip([1e-5, 3e-5, 1e-5]) {
+    // Measured (issue 19's machine: four dampers, hysteretic gasket): 2.3e-6 below, 4.0e-6
+    // near, 2.8e-8 above the first resonance (the prescribed force lacks the weight's own load
+    // stiffness that the hand K's equilibrium has: ~1e-6, amplified near resonance). Bounds:
+    // about 4x the measured errors, so a regression of the linear path shows.
+    for ((label, err), bound) in errors(false).into_iter().zip([1e-5, 2e-5, 1e-7]) {
         assert!(err < bound, "{label}: relative error {err:e} >= {bound:e}");
     }
 }
@@ -227,10 +227,10 @@ fn unbalance_response_matches_linear_frequency_response() {
 fn unbalance_inertia_adds_only_a_small_parametric_term() {
     // With the 1 g unbalance as a mass, M1 fluctuates at 2 W; fed by the W response it adds a
     // first harmonic of relative order m r^2 / I ~ 1e-5 (x the resonance's amplification),
-    // which no LTI frequency response holds. Measured here: 2e-7, 3e-5, 5e-5.
+    // which no LTI frequency response holds. Measured here: 1.8e-7, 3.7e-6, 3.4e-5.
     // Bounds: 2 to 6x the measured errors (the parametric term is the test's subject, its size
     // the claim).
-    for ((label, err), bound) in errors(true).into_iter().zip([1e-6, 1e-4, 1e-4]) {
+    for ((label, err), bound) in errors(true).into_iter().zip([1e-6, 2e-5, 1e-4]) {
         assert!(err < bound, "{label}: relative error {err:e} >= {bound:e}");
     }
 }

@@ -651,30 +651,10 @@ fn main() -> ExitCode {
                 quick,
             };
             let study = washdyn::accuracy::study(&args, &mut |l| println!("{l}"));
-            match study.and_then(|s| washdyn::accuracy::write(&s, &out)) {
-                Ok(files) => {
-                    for f in files {
-                        println!("wrote {}", f.display());
-                    }
-                    ExitCode::SUCCESS
-                }
-                Err(e) => {
-                    eprintln!("error: {e}");
-                    ExitCode::from(2)
-                }
-            }
+            wrote(study.and_then(|s| washdyn::accuracy::write(&s, &out)))
         }
         Cmd::Modes { model, scene, out } => {
-            match washdyn::modes::run(&model, scene.as_deref(), out.as_deref()) {
-                Ok(file) => {
-                    println!("wrote {}", file.display());
-                    ExitCode::SUCCESS
-                }
-                Err(e) => {
-                    eprintln!("error: {e}");
-                    ExitCode::from(2)
-                }
-            }
+            wrote(washdyn::modes::run(&model, scene.as_deref(), out.as_deref()).map(|f| vec![f]))
         }
         Cmd::Campbell {
             source,
@@ -682,18 +662,13 @@ fn main() -> ExitCode {
             motor_ratio,
             out,
             svg,
-        } => match washdyn::campbell::run(&source, max_rpm, motor_ratio, &out, svg) {
-            Ok(files) => {
-                for f in files {
-                    println!("wrote {}", f.display());
-                }
-                ExitCode::SUCCESS
-            }
-            Err(e) => {
-                eprintln!("error: {e}");
-                ExitCode::from(2)
-            }
-        },
+        } => wrote(washdyn::campbell::run(
+            &source,
+            max_rpm,
+            motor_ratio,
+            &out,
+            svg,
+        )),
         Cmd::Fe {
             cmd: FeCmd::Write { out },
         } => match fe_write(&out) {
@@ -731,20 +706,10 @@ fn main() -> ExitCode {
                 work,
                 convergence: !no_convergence,
             };
-            match washdyn::full_mesh::study(&args, &mut |l| println!("{l}"))
-                .and_then(|s| washdyn::full_mesh::write(&s, &out))
-            {
-                Ok(files) => {
-                    for f in files {
-                        println!("wrote {}", f.display());
-                    }
-                    ExitCode::SUCCESS
-                }
-                Err(e) => {
-                    eprintln!("error: {e}");
-                    ExitCode::from(2)
-                }
-            }
+            wrote(
+                washdyn::full_mesh::study(&args, &mut |l| println!("{l}"))
+                    .and_then(|s| washdyn::full_mesh::write(&s, &out)),
+            )
         }
         Cmd::Fe {
             cmd: FeCmd::Solve { deck },
@@ -780,6 +745,22 @@ fn main() -> ExitCode {
                 ExitCode::from(2)
             }
         },
+    }
+}
+
+/// A command that writes files: list them, or print its error (exit code 2).
+fn wrote(r: Result<Vec<PathBuf>, String>) -> ExitCode {
+    match r {
+        Ok(files) => {
+            for f in files {
+                println!("wrote {}", f.display());
+            }
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
     }
 }
 

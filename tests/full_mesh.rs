@@ -4,6 +4,8 @@
 //! sensor channel at eight speeds from 300 to 1400 rpm. Needs ccx: skipped without it, except
 //! under CI=true (then it must run).
 
+mod common;
+
 use washdyn::full_mesh::{Args, COMPARED_SHARE, SPEEDS_RPM, study};
 use washdyn_fe::assembly::LinearSpec;
 
@@ -16,12 +18,11 @@ const MODES: usize = 200;
 
 #[test]
 fn ritz_model_matches_the_full_mesh() {
-    if !washdyn_fe::ccx::available() {
-        assert!(
-            std::env::var("CI").as_deref() != Ok("true"),
-            "CI=true but CalculiX (ccx) is not installed"
-        );
-        eprintln!("skipped: ccx not found");
+    if !common::required_tool(
+        washdyn_fe::ccx::available(),
+        "CalculiX",
+        "apt-get install calculix-ccx",
+    ) {
         return;
     }
     let work = tempfile::tempdir().unwrap();

@@ -12,6 +12,8 @@
 //! dofs: 8 modes of 40 dofs work, 9 do not. Numbers in a deck need a decimal point: ccx reads
 //! `*SPRING` data `4e3` as a degree of freedom (SPRING1) and refuses it.
 
+mod common;
+use common::have_ccx;
 use nalgebra::{Complex, DMatrix, DVector};
 use std::fmt::Write as _;
 
@@ -145,12 +147,7 @@ fn modal(fhz: f64, table_x: f64, f: &DVector<Complex<f64>>) -> DVector<Complex<f
 
 #[test]
 fn rayleigh_dashpots_frequency_tables_and_load_cases() {
-    if !washdyn_fe::ccx::available() {
-        assert!(
-            std::env::var("CI").as_deref() != Ok("true"),
-            "CI=true but CalculiX (ccx) is not installed"
-        );
-        eprintln!("skipped: ccx not found");
+    if !have_ccx() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -210,12 +207,7 @@ fn equations_on_shell_nodes_read_the_rigid_fit() {
     use washdyn_fe::bodies::geometry::{near, shell_grid};
     use washdyn_fe::mesh::{Material, Mesh, Section};
     use washdyn_fe::modal::point_reading_full;
-    if !washdyn_fe::ccx::available() {
-        assert!(
-            std::env::var("CI").as_deref() != Ok("true"),
-            "CI=true but CalculiX (ccx) is not installed"
-        );
-        eprintln!("skipped: ccx not found");
+    if !have_ccx() {
         return;
     }
     let steel = Material {

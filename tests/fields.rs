@@ -64,8 +64,11 @@ fn recovered_fields_are_read_back_by_meshio_and_continuous_at_the_bearing() {
         "two bodies, one grid and one .pvd each"
     );
 
-    // By hand: a tub node on the measurement point MP_TUB1, u + alpha x (x - p0) + W q over
-    // the scene's tub modes (the first modes of the file: no correction modes on the tub).
+    // By hand: a tub node on the measurement point MP_TUB1, u + alpha x (x - p0) + W q_file,
+    // with the field's (file) modal coordinates q_file = T q_scene through the basis that the
+    // scene's truncation stored in the modal data (row-major, file modes x scene modes; it
+    // folds the dropped modes into the tub's correction modes, so scene mode k is not file
+    // mode k).
     let tub = &rec.bodies[0];
     let h = &tub.field.header;
     let id = specs[0].mesh.nsets["MP_TUB1"][0];
@@ -80,10 +83,22 @@ fn recovered_fields_are_read_back_by_meshio_and_continuous_at_the_bearing() {
         q[2] + a[0] * r[1] - a[1] * r[0],
     ];
     let tub_modes = eq.tub_modes.as_ref().unwrap();
-    for k in 0..tub_modes.n {
+    let qs = &q[tub_modes.start..tub_modes.start + tub_modes.n];
+    let nf = tub.field.modes();
+    let basis = tub_modes.data().basis.clone();
+    let q_file: Vec<f64> = match &basis {
+        Some(t) => {
+            assert_eq!(t.len(), nf * tub_modes.n, "basis: file x scene modes");
+            (0..nf)
+                .map(|k| (0..tub_modes.n).map(|j| t[k * tub_modes.n + j] * qs[j]).sum())
+                .collect()
+        }
+        None => qs.to_vec(),
+    };
+    for (k, qk) in q_file.iter().enumerate() {
         let s = tub.field.shape(k, i);
         for c in 0..3 {
-            want[c] += s[c] * q[tub_modes.start + k];
+            want[c] += s[c] * qk;
         }
     }
     let script = format!(

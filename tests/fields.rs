@@ -90,7 +90,11 @@ fn recovered_fields_are_read_back_by_meshio_and_continuous_at_the_bearing() {
         Some(t) => {
             assert_eq!(t.len(), nf * tub_modes.n, "basis: file x scene modes");
             (0..nf)
-                .map(|k| (0..tub_modes.n).map(|j| t[k * tub_modes.n + j] * qs[j]).sum())
+                .map(|k| {
+                    (0..tub_modes.n)
+                        .map(|j| t[k * tub_modes.n + j] * qs[j])
+                        .sum()
+                })
                 .collect()
         }
         None => qs.to_vec(),

@@ -107,10 +107,15 @@ fn interpreted_run_allocates_only_at_set_up() {
         }
     }
     // The reference's elastic scene (tub, drum and cabinet modes): shorter runs, its steps
-    // are 35 us (dopri5).
+    // are 35 us (dopri5); the implicit methods with its dual-number force Jacobians.
     let m = washdyn_models::reference();
     let scene = m.scene(Some("elastic")).unwrap();
-    for method in [Method::Dopri5, Method::Sdirk4, Method::GeneralizedAlpha] {
+    for method in [
+        Method::Dopri5,
+        Method::Sdirk4,
+        Method::Rodas4,
+        Method::GeneralizedAlpha,
+    ] {
         let (short, ns) = allocations(Interpreter::new(&m, &scene), method, 0.05);
         let (long, nl) = allocations(Interpreter::new(&m, &scene), method, 0.5);
         assert!(nl > 9 * ns, "{method}: {nl} vs {ns}");
@@ -144,7 +149,13 @@ fn generated_run_allocates_only_at_set_up() {
             );
         }
     }
-    for method in [Method::Dopri5, Method::Sdirk4] {
+    // Above the traced size: the generated M1 and h, the force Jacobians over dual numbers.
+    for method in [
+        Method::Dopri5,
+        Method::Sdirk4,
+        Method::Rodas4,
+        Method::GeneralizedAlpha,
+    ] {
         let sys = || washdyn_models::generated("reference", "elastic").unwrap();
         let (short, ns) = allocations(sys(), method, 0.05);
         let (long, nl) = allocations(sys(), method, 0.5);

@@ -4,6 +4,7 @@
 #![allow(clippy::needless_range_loop)]
 pub mod clearance;
 pub mod codegen;
+pub mod dual;
 pub mod elements;
 pub mod equations;
 pub mod geom;

@@ -1,7 +1,7 @@
 //! The mechanical system as both back ends present it, and its first-order form for the
 //! integrators. M1 is factorised (Cholesky) at every evaluation, M2 once.
 
-use crate::equations::{Equations, Layout};
+use crate::equations::{Equations, JacobianWork, Layout};
 use crate::ir::{EffectSet, Model};
 use crate::linalg::{cholesky_in_place, cholesky_solve};
 use crate::ode::OdeSystem;
@@ -37,6 +37,18 @@ pub trait Mechanical {
     ) -> bool {
         false
     }
+    /// dh/dq and dh/dq' (row-major n x n each), exact: what the implicit methods iterate
+    /// with (M depends on t only). `false`: not provided.
+    fn force_jacobians(
+        &mut self,
+        _t: f64,
+        _q: &[f64],
+        _qd: &[f64],
+        _hq: &mut [f64],
+        _hqd: &mut [f64],
+    ) -> bool {
+        false
+    }
 }
 
 /// The interpreter back end: the one derivation evaluated with f64 on the resolved model.
@@ -45,6 +57,7 @@ pub struct Interpreter {
     pub eq: Equations,
     pub speed: Speed,
     m2: Vec<f64>,
+    work: JacobianWork,
 }
 
 impl Interpreter {
@@ -57,6 +70,7 @@ impl Interpreter {
             m2[i * n2 + i] = 1.0;
         }
         Interpreter {
+            work: JacobianWork::new(&eq),
             eq,
             speed: Speed::new(&model.speed.table),
             m2,
@@ -91,6 +105,18 @@ impl Mechanical for Interpreter {
     fn speed(&self) -> &Speed {
         &self.speed
     }
+    fn force_jacobians(
+        &mut self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        hq: &mut [f64],
+        hqd: &mut [f64],
+    ) -> bool {
+        let d = self.speed.drive(t);
+        self.eq.force_jacobians(&d, q, qd, &mut self.work, hq, hqd);
+        true
+    }
 }
 
 /// First-order form y = [q; q'] for the integrators, with preallocated work arrays.
@@ -102,12 +128,20 @@ pub struct FirstOrder<S: Mechanical> {
     h: Vec<f64>,
     jq: Vec<f64>,
     jqd: Vec<f64>,
+    col: Vec<f64>,
+    /// M2 = I (modal coordinates of a mass-normalised body): no solve with it.
+    m2_identity: bool,
 }
 
 impl<S: Mechanical> FirstOrder<S> {
     pub fn new(sys: S) -> Self {
         let layout = sys.layout();
         let (n1, n2) = (layout.n1, layout.n2);
+        let m2_identity = sys
+            .m2()
+            .iter()
+            .enumerate()
+            .all(|(k, &v)| v == if k % (n2 + 1) == 0 { 1.0 } else { 0.0 });
         let mut l2 = sys.m2().to_vec();
         assert!(
             cholesky_in_place(&mut l2, n2),
@@ -121,6 +155,8 @@ impl<S: Mechanical> FirstOrder<S> {
             h: vec![0.0; n1 + n2],
             jq: vec![0.0; (n1 + n2) * (n1 + n2)],
             jqd: vec![0.0; (n1 + n2) * (n1 + n2)],
+            col: vec![0.0; n1 + n2],
+            m2_identity,
         }
     }
 
@@ -146,6 +182,43 @@ impl<S: Mechanical> FirstOrder<S> {
     }
 }
 
+impl<S: Mechanical> FirstOrder<S> {
+    /// d q''/d q = M^-1 dh/dq and d q''/d q' = M^-1 dh/dq' (M depends on t only), from the
+    /// back end's force Jacobians.
+    fn acceleration_jacobians_from_forces(&mut self, t: f64, q: &[f64], qd: &[f64]) -> bool {
+        let (n1, n2) = (self.layout.n1, self.layout.n2);
+        let n = n1 + n2;
+        if !self
+            .sys
+            .force_jacobians(t, q, qd, &mut self.jq, &mut self.jqd)
+        {
+            return false;
+        }
+        self.sys.eval(t, q, qd, &mut self.m1, &mut self.h);
+        if !cholesky_in_place(&mut self.m1, n1) {
+            self.jq.fill(f64::NAN);
+            return true;
+        }
+        // Rows n1.. only when M2 is not the identity.
+        let rows = if self.m2_identity { n1 } else { n };
+        for mat in [&mut self.jq, &mut self.jqd] {
+            for j in 0..n {
+                for i in 0..rows {
+                    self.col[i] = mat[i * n + j];
+                }
+                cholesky_solve(&self.m1, n1, &mut self.col[..n1]);
+                if !self.m2_identity {
+                    cholesky_solve(&self.l2, n2, &mut self.col[n1..]);
+                }
+                for i in 0..rows {
+                    mat[i * n + j] = self.col[i];
+                }
+            }
+        }
+        true
+    }
+}
+
 impl<S: Mechanical> OdeSystem for FirstOrder<S> {
     fn dim(&self) -> usize {
         2 * self.layout.n()
@@ -167,6 +240,7 @@ impl<S: Mechanical> OdeSystem for FirstOrder<S> {
         if !self
             .sys
             .acceleration_jacobians(t, q, qd, &mut self.jq, &mut self.jqd)
+            && !self.acceleration_jacobians_from_forces(t, q, qd)
         {
             return false;
         }
@@ -213,5 +287,15 @@ impl<M: Mechanical + ?Sized> Mechanical for Box<M> {
         dqd: &mut [f64],
     ) -> bool {
         (**self).acceleration_jacobians(t, q, qd, dq, dqd)
+    }
+    fn force_jacobians(
+        &mut self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        hq: &mut [f64],
+        hqd: &mut [f64],
+    ) -> bool {
+        (**self).force_jacobians(t, q, qd, hq, hqd)
     }
 }

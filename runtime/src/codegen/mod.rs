@@ -232,8 +232,23 @@ pub fn scene_source(eq: &Equations, name: &str) -> (String, SceneStats) {
     let m2: Vec<String> = (0..n2 * n2)
         .map(|k| fmt_f64(if k % (n2 + 1) == 0 { 1.0 } else { 0.0 }))
         .collect();
-    let (jac_fn, jac_impl) = if body_jac.is_empty() {
+    // Above the traced size: the force Jacobians of the same derivation over dual numbers,
+    // on the model the macro embedded (`model()`), with their own work arrays.
+    let (jac_field, jac_init) = if body_jac.is_empty() {
+        (
+            format!("\n    jac: {rt}::equations::ForceJacobians,"),
+            format!(
+                "\n            jac: {rt}::equations::ForceJacobians::for_scene(&model(), Self::SCENE),"
+            ),
+        )
+    } else {
         (String::new(), String::new())
+    };
+    let (jac_fn, jac_impl) = if body_jac.is_empty() {
+        (
+            String::new(),
+            "    fn force_jacobians(&mut self, t: f64, q: &[f64], qd: &[f64], hq: &mut [f64], hqd: &mut [f64]) -> bool {\n        let d = self.speed.drive(t);\n        self.jac.eval(&d, q, qd, hq, hqd);\n        true\n    }\n".to_string(),
+        )
     } else {
         (
             format!(
@@ -254,7 +269,7 @@ pub fn scene_source(eq: &Equations, name: &str) -> (String, SceneStats) {
 /// M1 and h in {ops_mh} operations, q'' in {ops_acc}, its Jacobians in {ops_jac}.
 #[derive(Clone, Debug)]
 pub struct {name} {{
-    speed: {rt}::speed::Speed,
+    speed: {rt}::speed::Speed,{jac_field}
 }}
 
 impl Default for {name} {{
@@ -274,7 +289,7 @@ impl {name} {{
 
     pub fn new() -> Self {{
         {name} {{
-            speed: {rt}::speed::Speed::new(&SPEED_TABLE),
+            speed: {rt}::speed::Speed::new(&SPEED_TABLE),{jac_init}
         }}
     }}
 

@@ -17,6 +17,7 @@
 mod bodies;
 mod drum;
 mod elastic;
+mod jacobian;
 pub mod kinematics;
 
 use crate::elements::{Element, FrictionDamper, Gasket, LinearDamper, Spring};
@@ -26,6 +27,7 @@ use crate::scalar::Scalar;
 pub use bodies::{RotorDef, TubDef, UnbalanceDef, rotate};
 pub use drum::ElasticDrum;
 pub use elastic::ModalBody;
+pub use jacobian::{ForceJacobians, JacobianWork};
 pub use kinematics::{Marker, MarkerDef, ModalRows, Wrench, add_rigid_mass, tub_point_jacobian};
 
 /// The prescribed drum motion at time t: angle, speed, acceleration (rad, rad/s, rad/s^2).
@@ -334,6 +336,22 @@ impl Equations {
 
     /// Evaluate M1 (row-major n1 x n1, overwritten) and h (length n, overwritten).
     pub fn eval<T: Scalar>(&self, d: &Drive<T>, q: &[T], qd: &[T], m1: &mut [T], h: &mut [T]) {
+        self.eval_terms(d, q, qd, m1, h, Terms::All);
+    }
+
+    /// M1 and h, or only the terms that depend on one subsystem's coordinates (the others are
+    /// left out, so their derivatives along that subsystem's columns stay exact: the
+    /// Jacobians seed the cabinet's columns through the force elements and its own modal
+    /// terms only, not through the spinning drum and the unbalances).
+    pub(crate) fn eval_terms<T: Scalar>(
+        &self,
+        d: &Drive<T>,
+        q: &[T],
+        qd: &[T],
+        m1: &mut [T],
+        h: &mut [T],
+        terms: Terms,
+    ) {
         let n1 = self.layout.n1;
         debug_assert_eq!(m1.len(), n1 * n1);
         debug_assert_eq!(h.len(), self.layout.n());
@@ -344,22 +362,24 @@ impl Equations {
         let b = BodyState::new(q, qd);
         let g = V::<T>::c(self.gravity);
 
-        self.tub.add(&b, g, h);
-        if let Some(t) = &self.tub_modes {
-            t.add_elastic(q, qd, h);
-        }
-        for (at, mass) in &self.carried {
-            let w = g * *mass;
-            at.load_on_tub(&b, w, w, V::zero(), h);
-        }
-        for r in &self.rotors {
-            r.add(&b, d, h);
-        }
-        for u in &self.unbalances {
-            u.add(&b, d, g, self.unbalance_inertia, m1, n1, h);
-        }
-        if let Some(dr) = &self.drum {
-            dr.add(&b, d, g, m1, n1, h);
+        if terms != Terms::Subsystem2 {
+            self.tub.add(&b, g, h);
+            if let Some(t) = &self.tub_modes {
+                t.add_elastic(q, qd, h);
+            }
+            for (at, mass) in &self.carried {
+                let w = g * *mass;
+                at.load_on_tub(&b, w, w, V::zero(), h);
+            }
+            for r in &self.rotors {
+                r.add(&b, d, h);
+            }
+            for u in &self.unbalances {
+                u.add(&b, d, g, self.unbalance_inertia, m1, n1, h);
+            }
+            if let Some(dr) = &self.drum {
+                dr.add(&b, d, g, m1, n1, h);
+            }
         }
         if let Some(c) = &self.cabinet {
             c.add(q, qd, h);
@@ -476,6 +496,15 @@ impl Equations {
     pub fn p0(&self) -> [f64; 3] {
         self.tub.p0
     }
+}
+
+/// Which terms of h an evaluation includes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Terms {
+    All,
+    /// Only the terms that depend on q2 (the cabinet's modes): its modal terms and the force
+    /// elements (the tub's, rotors', unbalances' and drum's terms depend on q1 alone).
+    Subsystem2,
 }
 
 /// The whole state as the markers see it: the tub's rigid coordinates unpacked, and q, q' for

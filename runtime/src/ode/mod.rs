@@ -7,6 +7,7 @@ use thiserror::Error;
 mod common;
 pub mod dopri5;
 pub mod generalized_alpha;
+mod iteration;
 pub mod lu;
 pub mod method;
 mod newton;

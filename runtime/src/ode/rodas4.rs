@@ -16,7 +16,7 @@ use super::common::{
     StartBuffers, Trials, after_landing, all_finite, error_norm, hermite_stepper, propose_step,
     start,
 };
-use super::lu::{lu_factor, lu_solve};
+use super::iteration::IterationMatrix;
 use super::tableau::RODAS4;
 use super::{OdeError, OdeSystem, Options, Solver, Stats};
 
@@ -42,8 +42,7 @@ pub struct Rodas4 {
     jac: Vec<f64>,
     /// The Jacobian belongs to the current (t, y).
     jac_valid: bool,
-    lu: Vec<f64>,
-    piv: Vec<usize>,
+    lu: IterationMatrix,
     /// Step size the LU of W belongs to (0 = none).
     lu_h: f64,
     u: [Vec<f64>; STAGES],
@@ -70,8 +69,7 @@ impl Rodas4 {
             ft: v(),
             jac: vec![0.0; dim * dim],
             jac_valid: false,
-            lu: vec![0.0; dim * dim],
-            piv: vec![0; dim],
+            lu: IterationMatrix::new(dim),
             lu_h: 0.0,
             u: [v(), v(), v(), v(), v(), v()],
             ytmp: v(),
@@ -122,15 +120,8 @@ impl Rodas4 {
         let n = self.n;
         let m = &RODAS4;
         if self.lu_h != h {
-            let diag = 1.0 / (h * m.gamma);
-            for (w, j) in self.lu.iter_mut().zip(&self.jac) {
-                *w = -j;
-            }
-            for i in 0..n {
-                self.lu[i * n + i] += diag;
-            }
             self.stats.lu_decompositions += 1;
-            if lu_factor(&mut self.lu, n, &mut self.piv).is_err() {
+            if self.lu.factor(&self.jac, 1.0 / (h * m.gamma), 1.0).is_err() {
                 self.lu_h = 0.0;
                 return Err(());
             }
@@ -159,7 +150,7 @@ impl Rodas4 {
                 }
                 ui[i] = acc;
             }
-            lu_solve(&self.lu, n, &self.piv, ui);
+            self.lu.solve(&self.jac, ui);
         }
         for i in 0..n {
             let mut y = self.y[i];
@@ -194,6 +185,7 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Rodas4 {
         self.t_prev = t0;
         self.jac_valid = false;
         self.lu_h = 0.0;
+        self.lu.set_second_order(sys.second_order());
         self.h = start(
             sys,
             t0,

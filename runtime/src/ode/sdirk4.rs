@@ -23,7 +23,7 @@
 use super::common::{
     StartBuffers, Trials, all_finite, error_norm, hermite, hermite_stepper, propose_step, start,
 };
-use super::lu::{lu_factor, lu_solve};
+use super::iteration::IterationMatrix;
 use super::newton::{self, Attempt, Jacobian, Rate, Verdict};
 use super::tableau::{SDIRK4, SDIRK4_GAMMA};
 use super::{OdeError, OdeSystem, Options, Solver, Stats};
@@ -44,8 +44,7 @@ pub struct Sdirk4 {
     f: Vec<f64>,
     f_prev: Vec<f64>,
     jac: Vec<f64>,
-    lu: Vec<f64>,
-    piv: Vec<usize>,
+    lu: IterationMatrix,
     /// Whether the stored Jacobian may be used, and whether it is from the current point.
     jac_age: Jacobian,
     /// Step size the LU of M belongs to (0 = none).
@@ -80,8 +79,7 @@ impl Sdirk4 {
             f: v(),
             f_prev: v(),
             jac: vec![0.0; dim * dim],
-            lu: vec![0.0; dim * dim],
-            piv: vec![0; dim],
+            lu: IterationMatrix::new(dim),
             jac_age: Jacobian::default(),
             lu_h: 0.0,
             hk: [v(), v(), v(), v(), v()],
@@ -147,14 +145,8 @@ impl Sdirk4 {
             self.lu_h = 0.0;
         }
         if self.lu_h != h {
-            for (m, j) in self.lu.iter_mut().zip(&self.jac) {
-                *m = -h * g * j;
-            }
-            for i in 0..n {
-                self.lu[i * n + i] += 1.0;
-            }
             self.stats.lu_decompositions += 1;
-            if lu_factor(&mut self.lu, n, &mut self.piv).is_err() {
+            if self.lu.factor(&self.jac, 1.0, h * g).is_err() {
                 self.lu_h = 0.0;
                 return Attempt::Singular;
             }
@@ -217,7 +209,7 @@ impl Sdirk4 {
                 for i in 0..n {
                     self.delta[i] = self.s[i] + h * g * self.ftmp[i] - self.z[i];
                 }
-                lu_solve(&self.lu, n, &self.piv, &mut self.delta);
+                self.lu.solve(&self.jac, &mut self.delta);
                 let mut sum = 0.0;
                 for i in 0..n {
                     let q = self.delta[i] / self.scale[i];
@@ -261,7 +253,7 @@ impl Sdirk4 {
             }
             self.delta[i] = e;
         }
-        lu_solve(&self.lu, n, &self.piv, &mut self.delta);
+        self.lu.solve(&self.jac, &mut self.delta);
         let err = error_norm(
             &self.delta,
             &self.y,
@@ -287,6 +279,7 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Sdirk4 {
         self.jac_age = Jacobian::default();
         self.lu_h = 0.0;
         self.eta = 1.0;
+        self.lu.set_second_order(sys.second_order());
         self.h = start(
             sys,
             t0,

@@ -4,9 +4,9 @@
 //! `.pvd` collection per body. It reads what the run wrote and never touches the run.
 //!
 //! Kinematics (linearised, as the equations): a tub node x moves u + alpha x (x - p0) + W q_tub;
-//! the drum is drawn turned by phi about its axis, p = B + R(phi)(x - B), and moves with the
-//! tub's material frame at its mount B (translation d_B, rotation theta_B) plus its own modes:
-//! d_B + theta_B x (p - B) + R(phi) W q_drum; a cabinet node moves W q_cab.
+//! the drum is drawn turned by its ratio x phi about its axis, p = B + R(ratio phi)(x - B), and
+//! moves with the tub's material frame at its mount B (translation d_B, rotation theta_B) plus
+//! its own modes: d_B + theta_B x (p - B) + R(ratio phi) W q_drum; a cabinet node moves W q_cab.
 
 use crate::vtk::{Cell, Data, write_pvd, write_vtu};
 use nalgebra::DMatrix;
@@ -24,10 +24,12 @@ enum Motion {
     Tub {
         p0: [f64; 3],
     },
-    /// The drum on its mount, spinning about `axis`.
+    /// The drum on its mount, spinning about `axis` by `ratio` x the drive angle (as
+    /// equations/drum.rs turns it).
     Drum {
         mount: MarkerDef,
         axis: [f64; 3],
+        ratio: f64,
     },
     Cabinet,
 }
@@ -87,6 +89,7 @@ impl Recovery {
                         Motion::Drum {
                             mount: r.mount.clone(),
                             axis: r.axis,
+                            ratio: r.ratio,
                         },
                         eq.drum
                             .as_ref()
@@ -140,9 +143,9 @@ impl Recovery {
         let qf = Self::file_coordinates(b, q)?;
         // The drum's modal stresses are in its own frame: sigma_global = R sigma R^T.
         let rot = match &b.motion {
-            Motion::Drum { axis, .. } => {
+            Motion::Drum { axis, ratio, .. } => {
                 let e = V::c(*axis);
-                let (c, s) = (phi.cos(), phi.sin());
+                let (c, s) = ((phi * ratio).cos(), (phi * ratio).sin());
                 let cols: Vec<[f64; 3]> = (0..3)
                     .map(|j| {
                         let mut u = [0.0; 3];
@@ -183,7 +186,7 @@ impl Recovery {
         Some(out)
     }
 
-    /// Points (the drum turned by phi) and nodal displacements (m, global) of `b` at state q.
+    /// Points (the drum turned by its ratio x phi) and nodal displacements (m, global) of `b` at state q.
     pub fn displacement(
         &self,
         b: &BodyField,
@@ -198,12 +201,12 @@ impl Recovery {
         };
         let zero = vec![0.0; q.len()];
         let state = BodyState::new(q, &zero);
-        // The drum's mount and the turn by phi are the same for every node.
-        let mount_state = match &b.motion {
-            Motion::Drum { mount, .. } => Some(mount.state(&state)),
-            _ => None,
+        // The drum's mount and its turn (ratio x phi) are the same for every node.
+        let (mount_state, turn) = match &b.motion {
+            Motion::Drum { mount, ratio, .. } => (Some(mount.state(&state)), phi * ratio),
+            _ => (None, phi),
         };
-        let (c, s) = (phi.cos(), phi.sin());
+        let (c, s) = (turn.cos(), turn.sin());
         let mut points = Vec::with_capacity(h.nodes.len());
         let mut disp = Vec::with_capacity(h.nodes.len());
         for (i, x) in h.nodes.iter().enumerate() {
@@ -214,7 +217,7 @@ impl Recovery {
                     points.push(*x);
                     disp.push(add(u.0, w));
                 }
-                Motion::Drum { mount, axis } => {
+                Motion::Drum { mount, axis, .. } => {
                     let m = mount_state.as_ref().expect("set above for the drum");
                     let e = V::c(*axis);
                     let r = rotate(e, c, s, V::c(sub(*x, mount.point)));

@@ -5,6 +5,7 @@
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 use std::io;
+use washdyn_runtime::equations::{Equations, JacobianWork};
 use washdyn_runtime::ode::{Dopri5, Options};
 use washdyn_runtime::output::SampleSink;
 use washdyn_runtime::run::{Labels, RunOptions, run};
@@ -54,13 +55,20 @@ fn evaluations(c: &mut Criterion) {
             b.iter(|| gen_.accelerations(black_box(t), black_box(&q), black_box(&qd), &mut qdd))
         });
         g.finish();
-        // dh/dq and dh/dq' exactly (dual numbers), against what the implicit methods did
-        // without them: forward differences of q'' over the 2n state columns (2n + 1
+        // dh/dq and dh/dq' exactly, by structure (elements' local Jacobians through their
+        // markers' maps) and by the whole derivation over dual numbers, against what the
+        // implicit methods did without them: forward differences of q'' over the 2n state columns (2n + 1
         // generated q'' evaluations).
         let (mut hq, mut hqd) = (vec![0.0; n * n], vec![0.0; n * n]);
         let mut g = c.benchmark_group(format!("jacobians/{scene}"));
-        g.bench_function("dual_interpreted", |b| {
+        g.bench_function("structured_interpreted", |b| {
             b.iter(|| interp.force_jacobians(black_box(t), &q, &qd, &mut hq, &mut hqd))
+        });
+        let eq = Equations::new(&m, &eff);
+        let mut work = JacobianWork::new(&eq);
+        let d = interp.speed().drive(t);
+        g.bench_function("dual_whole_derivation", |b| {
+            b.iter(|| eq.force_jacobians_dual(black_box(&d), &q, &qd, &mut work, &mut hq, &mut hqd))
         });
         let mut y = [q.clone(), qd.clone()].concat();
         let mut out = vec![0.0; n];

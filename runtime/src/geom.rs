@@ -14,12 +14,25 @@ impl<T: Scalar> V<T> {
     pub fn c(v: [f64; 3]) -> Self {
         V(v.map(T::c))
     }
+    /// k c for a constant c, the constant kept on the f64 side (a dual number's lanes are
+    /// scaled, not multiplied out against zero lanes; same bits over f64).
+    #[inline(always)]
+    pub fn scaled(c: [f64; 3], k: T) -> Self {
+        V([k * c[0], k * c[1], k * c[2]])
+    }
+    /// self . c for a constant c (as `scaled`).
+    #[inline(always)]
+    pub fn dot_c(self, c: [f64; 3]) -> T {
+        self.0[0] * c[0] + self.0[1] * c[1] + self.0[2] * c[2]
+    }
     pub fn from_slice(s: &[T]) -> Self {
         V([s[0], s[1], s[2]])
     }
+    #[inline(always)]
     pub fn dot(self, o: Self) -> T {
         self.0[0] * o.0[0] + self.0[1] * o.0[1] + self.0[2] * o.0[2]
     }
+    #[inline(always)]
     pub fn cross(self, o: Self) -> Self {
         let (a, b) = (self.0, o.0);
         V([
@@ -28,6 +41,7 @@ impl<T: Scalar> V<T> {
             a[0] * b[1] - a[1] * b[0],
         ])
     }
+    #[inline(always)]
     pub fn scale(self, k: T) -> Self {
         V(self.0.map(|x| x * k))
     }
@@ -48,12 +62,14 @@ impl<T: Scalar> V<T> {
 
 impl<T: Scalar> Add for V<T> {
     type Output = Self;
+    #[inline(always)]
     fn add(self, o: Self) -> Self {
         V([self.0[0] + o.0[0], self.0[1] + o.0[1], self.0[2] + o.0[2]])
     }
 }
 impl<T: Scalar> Sub for V<T> {
     type Output = Self;
+    #[inline(always)]
     fn sub(self, o: Self) -> Self {
         V([self.0[0] - o.0[0], self.0[1] - o.0[1], self.0[2] - o.0[2]])
     }

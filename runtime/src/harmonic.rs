@@ -14,7 +14,7 @@
 //! linearises its elements: a channel's amplitude is the sensor of Re X plus i times the sensor
 //! of Im X.
 
-use crate::equations::{Drive, Equations};
+use crate::equations::{Drive, Equations, JacobianWork};
 use crate::statics::MEAN_REVOLUTIONS;
 use crate::system::{Interpreter, Mechanical};
 use nalgebra::{Complex, DMatrix, DVector};
@@ -97,41 +97,18 @@ fn drive(omega: f64, t: f64) -> Drive<f64> {
     }
 }
 
-/// Difference steps: h is affine in an LTI scene, so central differences are exact but for
-/// round-off, which a larger step shrinks (eps |h| / step); 1e-3 m, rad, m/s or modal units
-/// (mass-normalised, ~ sqrt(kg) m) stays within the small-motion range of every coordinate.
-const STEP: f64 = 1e-3;
-
-/// -dh/dq and -dh/dq' at (q, 0, t) by central differences.
+/// K = -dh/dq and C = -dh/dq' at (q, 0, t): the exact force Jacobians the implicit methods
+/// use (`Equations::force_jacobians`).
 fn jacobians(eq: &Equations, omega: f64, t: f64, q: &[f64]) -> (DMatrix<f64>, DMatrix<f64>) {
-    let (n, n1) = (eq.layout.n(), eq.layout.n1);
-    let d = drive(omega, t);
-    let mut m1 = vec![0.0; n1 * n1];
-    let (mut hp, mut hm) = (vec![0.0; n], vec![0.0; n]);
-    let mut k = DMatrix::zeros(n, n);
-    let mut c = DMatrix::zeros(n, n);
+    let n = eq.layout.n();
+    let (mut hq, mut hqd) = (vec![0.0; n * n], vec![0.0; n * n]);
     let zero = vec![0.0; n];
-    let mut x = q.to_vec();
-    let mut v = zero.clone();
-    for j in 0..n {
-        x[j] = q[j] + STEP;
-        eq.eval(&d, &x, &zero, &mut m1, &mut hp);
-        x[j] = q[j] - STEP;
-        eq.eval(&d, &x, &zero, &mut m1, &mut hm);
-        x[j] = q[j];
-        for i in 0..n {
-            k[(i, j)] = -(hp[i] - hm[i]) / (2.0 * STEP);
-        }
-        v[j] = STEP;
-        eq.eval(&d, q, &v, &mut m1, &mut hp);
-        v[j] = -STEP;
-        eq.eval(&d, q, &v, &mut m1, &mut hm);
-        v[j] = 0.0;
-        for i in 0..n {
-            c[(i, j)] = -(hp[i] - hm[i]) / (2.0 * STEP);
-        }
-    }
-    (k, c)
+    let mut work = JacobianWork::new(eq);
+    eq.force_jacobians(&drive(omega, t), q, &zero, &mut work, &mut hq, &mut hqd);
+    (
+        -DMatrix::from_row_slice(n, n, &hq),
+        -DMatrix::from_row_slice(n, n, &hqd),
+    )
 }
 
 /// Relative difference of two matrices (max entry over the larger max entry).

@@ -1,6 +1,7 @@
-//! Static equilibrium h(q, 0, t0) = 0 (or its mean over drum revolutions) by Newton's method with a finite-difference Jacobian: the
-//! start of a run, so the tub does not drop under the unbalance's extra weight. Set-up code: it
-//! may allocate.
+//! Static equilibrium h(q, 0, t0) = 0 (or its mean over drum revolutions) by Newton's method
+//! with the exact force Jacobian (differences where the back end has none): the start of a
+//! run, so the tub does not drop under the unbalance's extra weight. Set-up code: it may
+//! allocate.
 
 use crate::ode::lu::{lu_factor, lu_solve};
 use crate::system::Mechanical;
@@ -51,6 +52,7 @@ fn equilibrium_avg<S: Mechanical>(
     // h(q, 0, t) at each sample time, kept as the base of the difference quotients.
     let mut base = vec![0.0; samples * n];
     let mut qp = vec![0.0; n];
+    let (mut hq, mut hqd) = (vec![0.0; n * n], vec![0.0; n * n]);
     let time = |k: usize| t0 + span * k as f64 / samples as f64;
     for _ in 0..50 {
         h.fill(0.0);
@@ -67,11 +69,18 @@ fn equilibrium_avg<S: Mechanical>(
         if res < 1e-10 + 1e-13 * scale {
             return Ok(q);
         }
-        // Row-major dh/dq by forward differences, averaged like the residual (a rotating load
-        // tilted with the tub has a large stiffness at each instant and none on average).
+        // Row-major dh/dq, averaged like the residual (a rotating load tilted with the tub has
+        // a large stiffness at each instant and none on average): the back end's exact force
+        // Jacobians, or forward differences where it has none (the traced small scenes).
         let mut k = vec![0.0; n * n];
         qp.copy_from_slice(&q);
         for (s, hk) in base.chunks(n).enumerate() {
+            if sys.force_jacobians(time(s), &q, &zero, &mut hq, &mut hqd) {
+                for (kk, v) in k.iter_mut().zip(&hq) {
+                    *kk += v / samples as f64;
+                }
+                continue;
+            }
             for j in 0..n {
                 qp[j] = q[j] + eps;
                 sys.eval(time(s), &qp, &zero, &mut m1, &mut hp);

@@ -233,6 +233,32 @@ impl<S: Mechanical> OdeSystem for FirstOrder<S> {
         dq.copy_from_slice(qd);
         self.accelerations(t, q, qd, dqd);
     }
+    /// M = diag(M1(t), M2) and the back end's force Jacobians, when it has them.
+    fn mass_jacobians(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        m: &mut [f64],
+        hq: &mut [f64],
+        hqd: &mut [f64],
+    ) -> bool {
+        let (n1, n2) = (self.layout.n1, self.layout.n2);
+        let n = n1 + n2;
+        let (q, qd) = y.split_at(n);
+        if !self.sys.force_jacobians(t, q, qd, hq, hqd) {
+            return false;
+        }
+        self.sys.eval(t, q, qd, &mut self.m1, &mut self.h);
+        m.fill(0.0);
+        for i in 0..n1 {
+            m[i * n..i * n + n1].copy_from_slice(&self.m1[i * n1..(i + 1) * n1]);
+        }
+        let m2 = self.sys.m2();
+        for i in 0..n2 {
+            m[(n1 + i) * n + n1..(n1 + i + 1) * n].copy_from_slice(&m2[i * n2..(i + 1) * n2]);
+        }
+        true
+    }
     /// J = [[0, I], [dq''/dq, dq''/dq']] when the back end has analytic Jacobians.
     fn jacobian(&mut self, t: f64, y: &[f64], jac: &mut [f64]) -> bool {
         let n = self.layout.n();

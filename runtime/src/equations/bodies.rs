@@ -34,8 +34,8 @@ impl TubDef {
         if let Some((start, c)) = &self.modal_weight {
             let mut cq = V::<T>::zero();
             for (k, ck) in c.iter().enumerate() {
-                cq = cq + V::<T>::c(*ck).scale(b.q[start + k]);
-                h[start + k] += V::<T>::c(*ck).dot(gt);
+                cq = cq + V::scaled(*ck, b.q[start + k]);
+                h[start + k] += gt.dot_c(*ck);
             }
             m = m + cq.cross(g);
         }
@@ -153,7 +153,7 @@ impl UnbalanceDef {
         d: &Drive<T>,
         g: V<T>,
         inertia: bool,
-        m1: &mut [T],
+        m1: Option<&mut [T]>,
         n1: usize,
         h: &mut [T],
     ) {
@@ -171,7 +171,7 @@ impl UnbalanceDef {
             if let Some(r) = &self.drum {
                 let fd = rot_t(f0);
                 for (k, wk) in r.w.iter().enumerate() {
-                    h[r.start + k] += V::<T>::c(*wk).dot(fd);
+                    h[r.start + k] += fd.dot_c(*wk);
                 }
             }
             return;
@@ -205,9 +205,10 @@ impl UnbalanceDef {
         if let Some(r) = &self.drum {
             let fd = rot_t(force - beta.cross(f0));
             for (k, wk) in r.w.iter().enumerate() {
-                h[r.start + k] += V::<T>::c(*wk).dot(fd);
+                h[r.start + k] += fd.dot_c(*wk);
             }
         }
+        let Some(m1) = m1 else { return };
         // M1 += m J^T J over the columns that move the mass: u, alpha, the tub's modes at the
         // mount (with the lever y) and the drum's modes at the mass (turned by the rotor).
         // Columns are recomputed per pair instead of collected: the interpreter must not

@@ -170,7 +170,7 @@ impl ElasticDrum {
         b: &BodyState<T>,
         d: &Drive<T>,
         g: V<T>,
-        m1: &mut [T],
+        mut m1: Option<&mut [T]>,
         n1: usize,
         h: &mut [T],
     ) {
@@ -186,6 +186,7 @@ impl ElasticDrum {
 
         // M1: frame columns j against drum modes k.
         for k in 0..n {
+            let Some(m1) = m1.as_deref_mut() else { break };
             let (rc, rx) = (rot(V::c(self.c[k])), rot(V::c(self.x[k])));
             for (j, (vj, wj)) in self.frame.iter().enumerate() {
                 let (zv, zw) = (*vj == [0.0; 3], *wj == [0.0; 3]);
@@ -222,8 +223,8 @@ impl ElasticDrum {
         // damping, and the stress stiffening.
         let two_om = om * T::c(2.0);
         for k in 0..n {
-            let mut v = V::<T>::c(self.c[k]).dot(gt) - omd * self.fe[k] - om2 * self.fee[k]
-                + two_om * betad_d.dot(V::c(self.qe[k]));
+            let mut v = gt.dot_c(self.c[k]) - omd * self.fe[k] - om2 * self.fee[k]
+                + two_om * betad_d.dot_c(self.qe[k]);
             let mut kq = T::zero();
             let mut gq = T::zero();
             for l in 0..n {

@@ -114,6 +114,16 @@ impl ModalBody {
         }
     }
 
+    /// The Jacobians of `add_elastic`: dh/dq -= diag(omega^2), dh/dq' -= diag(2 zeta omega)
+    /// (row-major n x n).
+    pub fn add_elastic_jacobian(&self, hq: &mut [f64], hqd: &mut [f64], n: usize) {
+        for k in 0..self.n {
+            let i = self.start + k;
+            hq[i * n + i] -= self.omega2[k];
+            hqd[i * n + i] -= self.damping[k];
+        }
+    }
+
     /// sum dm W_k per mode (3-vectors).
     pub fn weight_sums(&self) -> Vec<[f64; 3]> {
         let c = &self.data.elementary.c;

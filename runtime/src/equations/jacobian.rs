@@ -1,13 +1,33 @@
-//! The Jacobians of the generalised forces, dh/dq and dh/dq' (M depends on t only), from the
-//! one derivation evaluated over dual numbers: `LANES` columns per pass, exact to round-off,
-//! with no step size to choose. The implicit integrators, statics and the frequency-domain
-//! linearisation use them instead of differences of q''.
+//! The Jacobians of the generalised forces, dh/dq and dh/dq' (M depends on t only), by the
+//! structure of the one derivation, exact to round-off with no step size to choose:
+//! - the force elements (the nonlinear terms): each element's loads at its markers' ports are a
+//!   function of the two markers' local coordinates only (`Local`: u, alpha, W q, Phi q and
+//!   rates). Their local Jacobian comes from one evaluation over `Dual<N>` per level (N <= 24 lanes)
+//!   (positions, rates), independent of the number of modes, and is chained through the
+//!   constant marker maps: dh += P^T (d load / d z) G, with G the marker's input ports (identity
+//!   columns of u, alpha; mode-shape rows W, Phi) and P its output ports (the tub's rigid rows;
+//!   W^T, Phi^T on the modes);
+//! - the body terms (weight, rotors, unbalances, the spinning drum, modal stiffness and
+//!   damping; affine in q and q'): the same derivation over `Dual<LANES>` without the
+//!   elements and without M1, seeded along the columns of subsystem 1 only, since they do not
+//!   depend on the cabinet's coordinates (whose own terms are diagonal, `ModalBody`).
+//!
+//! `force_jacobians_dual` seeds the whole derivation instead: the reference the tests hold the
+//! structured route to.
 
-use super::{Drive, Equations, Terms};
+use super::kinematics::{Load, Local, MarkerDef};
+use super::{BodyState, Drive, Equations, Placed, Terms};
 use crate::dual::{Dual, LANES};
+use crate::elements::Element;
+use crate::geom::V;
+use crate::ir::BodyRef;
 use crate::scalar::Scalar;
 
 type D = Dual<LANES>;
+
+/// Lanes of an element's local Jacobian: at most two markers x four ports (u, alpha, W q,
+/// Phi q) x 3; an element with fewer input ports takes the smallest of these that fits.
+const LOCAL: [usize; 3] = [6, 12, 24];
 
 /// Work arrays of `force_jacobians`, allocated once per system.
 #[derive(Clone, Debug)]
@@ -16,6 +36,8 @@ pub struct JacobianWork {
     qd: Vec<D>,
     m1: Vec<D>,
     h: Vec<D>,
+    /// Two ports' load Jacobians chained through the input ports, 6 x n.
+    x: Vec<f64>,
 }
 
 impl JacobianWork {
@@ -26,13 +48,115 @@ impl JacobianWork {
             qd: vec![D::c(0.0); n],
             m1: vec![D::c(0.0); n1 * n1],
             h: vec![D::c(0.0); n],
+            x: vec![0.0; 6 * n],
         }
     }
 }
 
+/// A constant linear map between a 3-vector at a marker and the generalised coordinates:
+/// identity on three columns (the tub's u or alpha) or mode-shape rows (W or Phi, per mode).
+#[derive(Clone, Copy)]
+enum Port<'a> {
+    Rigid(usize),
+    Modal(usize, &'a [[f64; 3]]),
+}
+
+impl Port<'_> {
+    fn cols(&self) -> (usize, usize) {
+        match *self {
+            Port::Rigid(c) => (c, c + 3),
+            Port::Modal(s, r) => (s, s + r.len()),
+        }
+    }
+}
+
+/// Which local coordinate an input port seeds.
+#[derive(Clone, Copy)]
+enum Field {
+    U,
+    Alpha,
+    W,
+    Phi,
+}
+
+/// A marker's input ports (at most four; `None` past the last).
+fn inputs(m: &MarkerDef) -> [Option<(Port<'_>, Field)>; 4] {
+    let mut out = [None; 4];
+    let mut i = 0;
+    if m.body != BodyRef::Cabinet {
+        out[0] = Some((Port::Rigid(0), Field::U));
+        out[1] = Some((Port::Rigid(3), Field::Alpha));
+        i = 2;
+    }
+    if let Some(r) = &m.modal {
+        out[i] = Some((Port::Modal(r.start, &r.w), Field::W));
+        out[i + 1] = Some((Port::Modal(r.start, &r.phi), Field::Phi));
+    }
+    out
+}
+
+/// The local coordinates at one level (positions, or rates when `rate`) over `L`, seeded
+/// along lanes `3 lane0 + ...` for each input port, the other level constant.
+fn seeded<const N: usize>(
+    m: &MarkerDef,
+    l: &Local<f64>,
+    rate: bool,
+    lane0: usize,
+) -> (Local<Dual<N>>, usize) {
+    let c = |v: V<f64>| V(v.0.map(Dual::<N>::c));
+    let mut out = Local {
+        u: c(l.u),
+        alpha: c(l.alpha),
+        w: c(l.w),
+        phi: c(l.phi),
+        ud: c(l.ud),
+        alphad: c(l.alphad),
+        wd: c(l.wd),
+        phid: c(l.phid),
+    };
+    let mut lane = lane0;
+    for (_, field) in inputs(m).into_iter().flatten() {
+        let v = match (field, rate) {
+            (Field::U, false) => &mut out.u,
+            (Field::Alpha, false) => &mut out.alpha,
+            (Field::W, false) => &mut out.w,
+            (Field::Phi, false) => &mut out.phi,
+            (Field::U, true) => &mut out.ud,
+            (Field::Alpha, true) => &mut out.alphad,
+            (Field::W, true) => &mut out.wd,
+            (Field::Phi, true) => &mut out.phid,
+        };
+        for a in 0..3 {
+            v.0[a].d[3 * lane + a] = 1.0;
+        }
+        lane += 1;
+    }
+    (out, lane)
+}
+
+/// A marker's output ports with the load's value there.
+#[allow(clippy::type_complexity)]
+fn outputs<'a, const N: usize>(
+    m: &'a MarkerDef,
+    l: &Load<Dual<N>>,
+) -> [Option<(Port<'a>, V<Dual<N>>)>; 4] {
+    let mut out = [None; 4];
+    let mut i = 0;
+    if m.body != BodyRef::Cabinet {
+        out[0] = Some((Port::Rigid(0), l.force));
+        out[1] = Some((Port::Rigid(3), l.moment));
+        i = 2;
+    }
+    if let Some(r) = &m.modal {
+        out[i] = Some((Port::Modal(r.start, &r.w), l.modal_force));
+        out[i + 1] = Some((Port::Modal(r.start, &r.phi), l.modal_moment));
+    }
+    out
+}
+
 impl Equations {
-    /// dh/dq into `hq` and dh/dq' into `hqd` (row-major n x n each) at (d, q, q'). Never
-    /// allocates.
+    /// dh/dq into `hq` and dh/dq' into `hqd` (row-major n x n each) at (d, q, q'), by the
+    /// structure of the derivation (module doc). Never allocates.
     pub fn force_jacobians(
         &self,
         d: &Drive<f64>,
@@ -43,16 +167,39 @@ impl Equations {
         hqd: &mut [f64],
     ) {
         let (n, n1) = (self.layout.n(), self.layout.n1);
-        let dd = Drive {
-            phi: D::c(d.phi),
-            omega: D::c(d.omega),
-            omega_dot: D::c(d.omega_dot),
-        };
-        // Seeds: the columns of q1 and q1' first (every term), then those of q2 and q2'
-        // (only the terms that depend on them); one pass seeds LANES of them. Seed s is
-        // column c of hq, or of hqd when `vel`.
+        hq.fill(0.0);
+        hqd.fill(0.0);
+        // Body terms: the columns of q1 and q1' (seed s: column s % n1, of hqd when s >= n1).
+        self.seeded_passes(d, q, qd, w, hq, hqd, 2 * n1, Terms::Bodies, |s| {
+            (s >= n1, s % n1)
+        });
+        if let Some(c) = &self.cabinet {
+            c.add_elastic_jacobian(hq, hqd, n);
+        }
+        // Force elements by their local Jacobians.
+        let st = BodyState::new(q, qd);
+        self.element_jacobians(&self.springs, &st, d, &mut w.x, hq, hqd);
+        self.element_jacobians(&self.dampers, &st, d, &mut w.x, hq, hqd);
+        self.element_jacobians(&self.friction_dampers, &st, d, &mut w.x, hq, hqd);
+        self.element_jacobians(&self.gaskets, &st, d, &mut w.x, hq, hqd);
+    }
+
+    /// The same Jacobians from the whole derivation over dual numbers, every column seeded
+    /// (the q2 columns through the terms that depend on them): the structured route's
+    /// reference.
+    pub fn force_jacobians_dual(
+        &self,
+        d: &Drive<f64>,
+        q: &[f64],
+        qd: &[f64],
+        w: &mut JacobianWork,
+        hq: &mut [f64],
+        hqd: &mut [f64],
+    ) {
+        let (n, n1) = (self.layout.n(), self.layout.n1);
         let n2 = n - n1;
-        let col = |s: usize| -> (bool, usize) {
+        // Seeds: the columns of q1 and q1' first (every term), then those of q2 and q2'.
+        let col = move |s: usize| -> (bool, usize) {
             if s < 2 * n1 {
                 (s >= n1, s % n1)
             } else {
@@ -60,8 +207,32 @@ impl Equations {
                 (k >= n2, n1 + k % n2)
             }
         };
-        for start in (0..2 * n).step_by(LANES) {
-            let end = (start + LANES).min(2 * n);
+        self.seeded_passes(d, q, qd, w, hq, hqd, 2 * n, Terms::All, col);
+    }
+
+    /// Columns of hq / hqd from passes over `Dual<LANES>`: seed s (of `seeds`) is column
+    /// `col(s)`; passes that seed q2 columns only (s >= 2 n1) take `Terms::Subsystem2`.
+    #[allow(clippy::too_many_arguments)]
+    fn seeded_passes(
+        &self,
+        d: &Drive<f64>,
+        q: &[f64],
+        qd: &[f64],
+        w: &mut JacobianWork,
+        hq: &mut [f64],
+        hqd: &mut [f64],
+        seeds: usize,
+        terms: Terms,
+        col: impl Fn(usize) -> (bool, usize),
+    ) {
+        let (n, n1) = (self.layout.n(), self.layout.n1);
+        let dd = Drive {
+            phi: D::c(d.phi),
+            omega: D::c(d.omega),
+            omega_dot: D::c(d.omega_dot),
+        };
+        for start in (0..seeds).step_by(LANES) {
+            let end = (start + LANES).min(seeds);
             for i in 0..n {
                 w.q[i] = D::c(q[i]);
                 w.qd[i] = D::c(qd[i]);
@@ -72,18 +243,157 @@ impl Equations {
                 x.d[s - start] = 1.0;
             }
             // A pass that seeds only q2 columns skips the terms of q1 alone; a pass that
-            // straddles the two needs all.
-            let terms = if start >= 2 * n1 {
-                Terms::Subsystem2
-            } else {
-                Terms::All
+            // straddles the two needs all. Only the whole derivation needs M1 (the tracer's
+            // shape); the Jacobians never read it.
+            let t = match terms {
+                Terms::All if start >= 2 * n1 => Terms::Subsystem2,
+                t => t,
             };
-            self.eval_terms(&dd, &w.q, &w.qd, &mut w.m1, &mut w.h, terms);
+            let m1 = (t != Terms::Bodies).then_some(&mut w.m1[..]);
+            self.eval_terms(&dd, &w.q, &w.qd, m1, &mut w.h, t);
             for s in start..end {
                 let (vel, c) = col(s);
                 let target = if vel { &mut *hqd } else { &mut *hq };
                 for r in 0..n {
                     target[r * n + c] = w.h[r].d[s - start];
+                }
+            }
+        }
+    }
+
+    /// h's Jacobians += each element's (`element_jacobian`, over the fewest lanes that hold
+    /// its input ports).
+    fn element_jacobians<E: Element>(
+        &self,
+        list: &[Placed<E>],
+        st: &BodyState<f64>,
+        d: &Drive<f64>,
+        x: &mut [f64],
+        hq: &mut [f64],
+        hqd: &mut [f64],
+    ) {
+        for p in list {
+            let (ma, mb) = p.e.markers();
+            let lanes = 3 * inputs(ma).into_iter().chain(inputs(mb)).flatten().count();
+            if lanes <= LOCAL[0] {
+                self.element_jacobian::<E, { LOCAL[0] }>(p, st, d, x, hq, hqd);
+            } else if lanes <= LOCAL[1] {
+                self.element_jacobian::<E, { LOCAL[1] }>(p, st, d, x, hq, hqd);
+            } else {
+                self.element_jacobian::<E, { LOCAL[2] }>(p, st, d, x, hq, hqd);
+            }
+        }
+    }
+
+    /// One element's loads over `Dual<N>` seeded along its markers' input ports, one level at
+    /// a time, chained through the ports' maps into hq / hqd.
+    fn element_jacobian<E: Element, const N: usize>(
+        &self,
+        p: &Placed<E>,
+        st: &BodyState<f64>,
+        d: &Drive<f64>,
+        x: &mut [f64],
+        hq: &mut [f64],
+        hqd: &mut [f64],
+    ) {
+        let n = self.layout.n();
+        let dl = Drive {
+            phi: Dual::<N>::c(d.phi),
+            omega: Dual::<N>::c(d.omega),
+            omega_dot: Dual::<N>::c(d.omega_dot),
+        };
+        {
+            let (ma, mb) = p.e.markers();
+            let (la, lb) = (ma.local(st), mb.local(st));
+            // Columns the element's inputs reach.
+            let (mut c0, mut c1) = (n, 0);
+            for (port, _) in inputs(ma).into_iter().chain(inputs(mb)).flatten() {
+                let (a, b) = port.cols();
+                (c0, c1) = (c0.min(a), c1.max(b));
+            }
+            for rate in [false, true] {
+                let (sa, next) = seeded::<N>(ma, &la, rate, 0);
+                let (sb, _) = seeded::<N>(mb, &lb, rate, next);
+                let (ya, yb) = self.element_loads(p, &sa, &sb, &dl);
+                let h = if rate { &mut *hqd } else { &mut *hq };
+                for (m, y) in [(ma, &ya), (mb, &yb)] {
+                    // The marker's ports in pairs sharing rows: (force, moment) on the tub's
+                    // rigid rows, (W, Phi) on its modes.
+                    let outs = outputs(m, y);
+                    for pair in outs.chunks(2) {
+                        let (Some((po, vf)), Some((pm, vm))) = (pair[0], pair[1]) else {
+                            continue;
+                        };
+                        // x = d(load at the two ports)/dq over columns c0..c1, six rows
+                        // (force or W port 0..3, moment or Phi port 3..6) of length n:
+                        // the local 3 x 3 blocks times each input port's map.
+                        for a in 0..6 {
+                            x[a * n + c0..a * n + c1].fill(0.0);
+                        }
+                        let ins = inputs(ma).into_iter().chain(inputs(mb)).flatten();
+                        for (lane, (port, _)) in ins.enumerate() {
+                            for a in 0..6 {
+                                let v = if a < 3 { vf.0[a] } else { vm.0[a - 3] };
+                                let k = [0, 1, 2].map(|b| v.d[3 * lane + b]);
+                                let row = &mut x[a * n..(a + 1) * n];
+                                match port {
+                                    Port::Rigid(c) => {
+                                        for b in 0..3 {
+                                            row[c + b] += k[b];
+                                        }
+                                    }
+                                    Port::Modal(s, rows) => {
+                                        for (xj, r) in row[s..s + rows.len()].iter_mut().zip(rows) {
+                                            *xj += k[0] * r[0] + k[1] * r[1] + k[2] * r[2];
+                                        }
+                                    }
+                                }
+                            }
+                        }
+                        scatter_rows(po, pm, x, c0, c1, n, h);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// h[rows, c0..c1] += P^T x for a pair of output ports on the same rows (the tub's force and
+/// moment rows, or a body's W and Phi rows), x holding six rows of length n (the first port's
+/// three, then the second's).
+fn scatter_rows(
+    pf: Port<'_>,
+    pm: Port<'_>,
+    x: &[f64],
+    c0: usize,
+    c1: usize,
+    n: usize,
+    h: &mut [f64],
+) {
+    let xr = |a: usize| &x[a * n + c0..a * n + c1];
+    match (pf, pm) {
+        (Port::Modal(s, wr), Port::Modal(_, pr)) => {
+            let (x0, x1, x2, x3, x4, x5) = (xr(0), xr(1), xr(2), xr(3), xr(4), xr(5));
+            for (k, (w, p)) in wr.iter().zip(pr).enumerate() {
+                let row = &mut h[(s + k) * n + c0..(s + k) * n + c1];
+                // Zipped slices: no bounds checks, so the loop vectorises.
+                let xs = x0.iter().zip(x1).zip(x2).zip(x3).zip(x4).zip(x5);
+                for (v, (((((a, b), c), d), e), f)) in row.iter_mut().zip(xs) {
+                    *v += w[0] * a + w[1] * b + w[2] * c + p[0] * d + p[1] * e + p[2] * f;
+                }
+            }
+        }
+        _ => {
+            for (a, r) in [pf, pm]
+                .into_iter()
+                .flat_map(|p| match p {
+                    Port::Rigid(r) => [r, r + 1, r + 2],
+                    Port::Modal(..) => unreachable!("ports pair rigid with rigid"),
+                })
+                .enumerate()
+            {
+                for (v, xj) in h[r * n + c0..r * n + c1].iter_mut().zip(xr(a)) {
+                    *v += xj;
                 }
             }
         }

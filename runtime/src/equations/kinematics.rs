@@ -35,8 +35,8 @@ impl ModalRows {
         let (mut w, mut p) = (V::<T>::zero(), V::<T>::zero());
         for (k, (wk, pk)) in self.w.iter().zip(&self.phi).enumerate() {
             let xk = x[self.start + k];
-            w = w + V::<T>::c(*wk).scale(xk);
-            p = p + V::<T>::c(*pk).scale(xk);
+            w = w + V::scaled(*wk, xk);
+            p = p + V::scaled(*pk, xk);
         }
         (w, p)
     }
@@ -127,30 +127,87 @@ impl MarkerDef {
         m_tub: V<T>,
         h: &mut [T],
     ) {
-        f.add_to(h, 0);
-        let f_tub = f - b.tub.alpha.cross(f_tilt);
+        let w = self.modal.as_ref().map(|r| r.motion(b.q).0);
+        self.scatter(&self.tub_load(b.tub.alpha, w, f, f_tilt, m_tub), h);
+    }
+
+    /// The load of `load_on_tub` at its four ports, from the tub's rotation and the marker's
+    /// elastic displacement `w` (W q, when the tub is elastic).
+    pub fn tub_load<T: Scalar>(
+        &self,
+        alpha: V<T>,
+        w: Option<V<T>>,
+        f: V<T>,
+        f_tilt: V<T>,
+        m_tub: V<T>,
+    ) -> Load<T> {
+        let f_tub = f - alpha.cross(f_tilt);
         let mut m = V::<T>::c(self.s).cross(f_tub) + m_tub;
-        if let Some(r) = &self.modal {
-            let (w, _) = r.motion(b.q);
+        if let Some(w) = w {
             m = m + w.cross(f_tilt);
+        }
+        Load {
+            force: f,
+            moment: m,
+            modal_force: f_tub,
+            modal_moment: m_tub,
+        }
+    }
+
+    /// h += the load through the body's constant maps: the tub's rigid rows (force, moment),
+    /// and on an elastic body W^T modal_force + Phi^T modal_moment. The cabinet has no rigid
+    /// rows (fixed, or elastic only).
+    pub fn scatter<T: Scalar>(&self, l: &Load<T>, h: &mut [T]) {
+        if self.body != BodyRef::Cabinet {
+            l.force.add_to(h, 0);
+        }
+        if let Some(r) = &self.modal {
             for (k, (wk, pk)) in r.w.iter().zip(&r.phi).enumerate() {
-                h[r.start + k] += V::<T>::c(*wk).dot(f_tub) + V::<T>::c(*pk).dot(m_tub);
+                h[r.start + k] += l.modal_force.dot_c(*wk) + l.modal_moment.dot_c(*pk);
             }
         }
-        m.add_to(h, 3);
+        if self.body != BodyRef::Cabinet {
+            l.moment.add_to(h, 3);
+        }
+    }
+
+    /// The marker's local coordinates at state b.
+    pub fn local<T: Scalar>(&self, b: &BodyState<T>) -> Local<T> {
+        let mut l = match self.body {
+            BodyRef::Tub | BodyRef::Drum => Local {
+                u: b.tub.u,
+                alpha: b.tub.alpha,
+                ud: b.tub.ud,
+                alphad: b.tub.alphad,
+                w: V::zero(),
+                phi: V::zero(),
+                wd: V::zero(),
+                phid: V::zero(),
+            },
+            BodyRef::Cabinet => Local::zero(),
+        };
+        if let Some(r) = &self.modal {
+            (l.w, l.phi) = r.motion(b.q);
+            (l.wd, l.phid) = r.motion(b.qd);
+        }
+        l
     }
 
     /// Current kinematic state of the marker.
     pub fn state<T: Scalar>(&self, b: &BodyState<T>) -> Marker<T> {
-        let st = &b.tub;
+        self.state_of(&self.local(b))
+    }
+
+    /// The kinematic state from the local coordinates.
+    pub fn state_of<T: Scalar>(&self, l: &Local<T>) -> Marker<T> {
         let mut m = match self.body {
             BodyRef::Tub | BodyRef::Drum => {
                 let s = V::<T>::c(self.s);
                 Marker {
-                    pos: V::c(self.point) + st.u + st.alpha.cross(s),
-                    vel: st.ud + st.alphad.cross(s),
-                    rot: st.alpha,
-                    angvel: st.alphad,
+                    pos: V::c(self.point) + l.u + l.alpha.cross(s),
+                    vel: l.ud + l.alphad.cross(s),
+                    rot: l.alpha,
+                    angvel: l.alphad,
                 }
             }
             BodyRef::Cabinet => Marker {
@@ -161,16 +218,57 @@ impl MarkerDef {
             },
         };
         // An elastic body adds W q to the position and Phi q to the rotation.
-        if let Some(r) = &self.modal {
-            let (w, p) = r.motion(b.q);
-            let (wd, pd) = r.motion(b.qd);
-            m.pos = m.pos + w;
-            m.vel = m.vel + wd;
-            m.rot = m.rot + p;
-            m.angvel = m.angvel + pd;
+        if self.modal.is_some() {
+            m.pos = m.pos + l.w;
+            m.vel = m.vel + l.wd;
+            m.rot = m.rot + l.phi;
+            m.angvel = m.angvel + l.phid;
         }
         m
     }
+}
+
+/// A marker's local coordinates: its body's rigid motion (the tub's u and alpha; none on the
+/// cabinet) and the modal motion at the point (W q, Phi q), with their rates. They are constant
+/// linear maps of q and q' (the marker Jacobian), and a force element sees the state only
+/// through them: an element's Jacobian over these, chained through the maps, is its Jacobian
+/// over q (equations/jacobian.rs).
+#[derive(Clone, Copy, Debug)]
+pub struct Local<T> {
+    pub u: V<T>,
+    pub alpha: V<T>,
+    pub w: V<T>,
+    pub phi: V<T>,
+    pub ud: V<T>,
+    pub alphad: V<T>,
+    pub wd: V<T>,
+    pub phid: V<T>,
+}
+
+impl<T: Scalar> Local<T> {
+    pub fn zero() -> Self {
+        let z = V::zero();
+        Local {
+            u: z,
+            alpha: z,
+            w: z,
+            phi: z,
+            ud: z,
+            alphad: z,
+            wd: z,
+            phid: z,
+        }
+    }
+}
+
+/// A load at a marker at its output ports: the tub's rigid rows (force, moment about p0) and
+/// what the modes at the marker take (W^T modal_force + Phi^T modal_moment).
+#[derive(Clone, Copy, Debug)]
+pub struct Load<T> {
+    pub force: V<T>,
+    pub moment: V<T>,
+    pub modal_force: V<T>,
+    pub modal_moment: V<T>,
 }
 
 /// Global position and velocity of a marker, and the small rotation and angular velocity of the

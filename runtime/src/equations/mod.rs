@@ -28,7 +28,9 @@ pub use bodies::{RotorDef, TubDef, UnbalanceDef, rotate};
 pub use drum::ElasticDrum;
 pub use elastic::ModalBody;
 pub use jacobian::{ForceJacobians, JacobianWork};
-pub use kinematics::{Marker, MarkerDef, ModalRows, Wrench, add_rigid_mass, tub_point_jacobian};
+pub use kinematics::{
+    Load, Local, Marker, MarkerDef, ModalRows, Wrench, add_rigid_mass, tub_point_jacobian,
+};
 
 /// The prescribed drum motion at time t: angle, speed, acceleration (rad, rad/s, rad/s^2).
 #[derive(Clone, Copy, Debug)]
@@ -336,27 +338,28 @@ impl Equations {
 
     /// Evaluate M1 (row-major n1 x n1, overwritten) and h (length n, overwritten).
     pub fn eval<T: Scalar>(&self, d: &Drive<T>, q: &[T], qd: &[T], m1: &mut [T], h: &mut [T]) {
-        self.eval_terms(d, q, qd, m1, h, Terms::All);
+        self.eval_terms(d, q, qd, Some(m1), h, Terms::All);
     }
 
-    /// M1 and h, or only the terms that depend on one subsystem's coordinates (the others are
-    /// left out, so their derivatives along that subsystem's columns stay exact: the
-    /// Jacobians seed the cabinet's columns through the force elements and its own modal
-    /// terms only, not through the spinning drum and the unbalances).
+    /// M1 (when asked for: the Jacobians need h only) and h, or only some of h's terms (the
+    /// others are left out, so the derivatives of the rest stay exact along the seeded
+    /// columns: see `Terms`).
     pub(crate) fn eval_terms<T: Scalar>(
         &self,
         d: &Drive<T>,
         q: &[T],
         qd: &[T],
-        m1: &mut [T],
+        mut m1: Option<&mut [T]>,
         h: &mut [T],
         terms: Terms,
     ) {
         let n1 = self.layout.n1;
-        debug_assert_eq!(m1.len(), n1 * n1);
         debug_assert_eq!(h.len(), self.layout.n());
-        for (m, c) in m1.iter_mut().zip(&self.m1_const) {
-            *m = T::c(*c);
+        if let Some(m1) = m1.as_deref_mut() {
+            debug_assert_eq!(m1.len(), n1 * n1);
+            for (m, c) in m1.iter_mut().zip(&self.m1_const) {
+                *m = T::c(*c);
+            }
         }
         h.fill(T::zero());
         let b = BodyState::new(q, qd);
@@ -375,7 +378,7 @@ impl Equations {
                 r.add(&b, d, h);
             }
             for u in &self.unbalances {
-                u.add(&b, d, g, self.unbalance_inertia, m1, n1, h);
+                u.add(&b, d, g, self.unbalance_inertia, m1.as_deref_mut(), n1, h);
             }
             if let Some(dr) = &self.drum {
                 dr.add(&b, d, g, m1, n1, h);
@@ -385,6 +388,9 @@ impl Equations {
             c.add(q, qd, h);
         }
 
+        if terms == Terms::Bodies {
+            return;
+        }
         self.elements(&self.springs, &b, d, h);
         self.elements(&self.dampers, &b, d, h);
         self.elements(&self.friction_dampers, &b, d, h);
@@ -400,24 +406,41 @@ impl Equations {
     ) {
         for p in list {
             let (ma, mb) = p.e.markers();
-            let (wa, wb) =
-                p.e.wrenches(&ma.state(st), &mb.state(st), self.exact_geometry, d);
-            self.apply(ma, st, &wa, p, true, h);
-            self.apply(mb, st, &wb, p, false, h);
+            let (la, lb) = (ma.local(st), mb.local(st));
+            let (a, b) = self.element_loads(p, &la, &lb, d);
+            ma.scatter(&a, h);
+            mb.scatter(&b, h);
         }
     }
 
-    /// Generalised forces of a wrench acting on a body at a marker (`on_a`: the element's end a,
-    /// whose rest load is stored; end b's is its negative).
-    fn apply<T: Scalar, E>(
+    /// An element's loads at its two markers' ports from their local coordinates: the whole
+    /// dependence of h on the state through the element (its Jacobian is taken over these).
+    pub(crate) fn element_loads<T: Scalar, E: Element>(
+        &self,
+        p: &Placed<E>,
+        la: &Local<T>,
+        lb: &Local<T>,
+        d: &Drive<T>,
+    ) -> (Load<T>, Load<T>) {
+        let (ma, mb) = p.e.markers();
+        let (wa, wb) =
+            p.e.wrenches(&ma.state_of(la), &mb.state_of(lb), self.exact_geometry, d);
+        (
+            self.load(ma, la, &wa, p, true),
+            self.load(mb, lb, &wb, p, false),
+        )
+    }
+
+    /// The load of a wrench acting on a body at a marker (`on_a`: the element's end a, whose
+    /// rest load is stored; end b's is its negative).
+    fn load<T: Scalar, E>(
         &self,
         at: &MarkerDef,
-        st: &BodyState<T>,
+        l: &Local<T>,
         w: &Wrench<T>,
         rest: &Placed<E>,
         on_a: bool,
-        h: &mut [T],
-    ) {
+    ) -> Load<T> {
         match at.body {
             // (Drum: no force element attaches there; checked.)
             BodyRef::Tub | BodyRef::Drum => {
@@ -432,19 +455,18 @@ impl Equations {
                         V::c(rest.rest_moment_a) * sign,
                     )
                 };
-                let m_tub = w.moment - st.tub.alpha.cross(m_tilt);
-                at.load_on_tub(st, w.force, f_tilt, m_tub, h);
+                let m_tub = w.moment - l.alpha.cross(m_tilt);
+                let wq = at.modal.as_ref().map(|_| l.w);
+                at.tub_load(l.alpha, wq, w.force, f_tilt, m_tub)
             }
-            // Rigid: fixed, it takes the reactions. Elastic: W^T F + Phi^T M (the cabinet has no
-            // rigid DOF, so its modal frame is the global one).
-            BodyRef::Cabinet => {
-                if let Some(r) = &at.modal {
-                    for (k, (wk, pk)) in r.w.iter().zip(&r.phi).enumerate() {
-                        let gk = w.force.dot(V::c(*wk)) + w.moment.dot(V::c(*pk));
-                        h[r.start + k] += gk;
-                    }
-                }
-            }
+            // Rigid: fixed, it takes the reactions (no rows). Elastic: W^T F + Phi^T M (the
+            // cabinet has no rigid DOF, so its modal frame is the global one).
+            BodyRef::Cabinet => Load {
+                force: V::zero(),
+                moment: V::zero(),
+                modal_force: w.force,
+                modal_moment: w.moment,
+            },
         }
     }
 
@@ -505,6 +527,8 @@ pub(crate) enum Terms {
     /// Only the terms that depend on q2 (the cabinet's modes): its modal terms and the force
     /// elements (the tub's, rotors', unbalances' and drum's terms depend on q1 alone).
     Subsystem2,
+    /// Every term but the force elements (the Jacobians take those by their local structure).
+    Bodies,
 }
 
 /// The whole state as the markers see it: the tub's rigid coordinates unpacked, and q, q' for

@@ -42,6 +42,20 @@ pub trait OdeSystem {
     fn second_order(&self) -> Option<usize> {
         None
     }
+    /// For a second-order system (`second_order` is `Some(n)`) written M(t) q'' = h(t, q, q'):
+    /// M, dh/dq and dh/dq' at (t, y), row-major n x n each. The implicit methods then
+    /// factorise d^2 M - c d dh/dq' - c^2 dh/dq and never form M^-1 dh. `false`: not
+    /// available (they use `jacobian`).
+    fn mass_jacobians(
+        &mut self,
+        _t: f64,
+        _y: &[f64],
+        _m: &mut [f64],
+        _hq: &mut [f64],
+        _hqd: &mut [f64],
+    ) -> bool {
+        false
+    }
 }
 
 /// Why an integration stopped early. Every variant carries the time reached.

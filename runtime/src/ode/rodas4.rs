@@ -89,7 +89,7 @@ impl Rodas4 {
     fn jacobian<S: OdeSystem + ?Sized>(&mut self, sys: &mut S) {
         let n = self.n;
         self.stats.jacobian_evals += 1;
-        if !sys.jacobian(self.t, &self.y, &mut self.jac) {
+        if !self.lu.jacobian(sys, self.t, &self.y, &mut self.jac) {
             self.ytmp.copy_from_slice(&self.y);
             for j in 0..n {
                 let yj = self.y[j];

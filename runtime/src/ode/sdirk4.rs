@@ -109,7 +109,7 @@ impl Sdirk4 {
     /// with increments sqrt(eps * max(1e-5, |y_j|)) (Hairer's choice).
     fn compute_jacobian<S: OdeSystem + ?Sized>(&mut self, sys: &mut S) {
         self.stats.jacobian_evals += 1;
-        if sys.jacobian(self.t, &self.y, &mut self.jac) {
+        if self.lu.jacobian(sys, self.t, &self.y, &mut self.jac) {
             return;
         }
         let n = self.n;

@@ -76,9 +76,12 @@ pub struct GeneralizedAlpha {
     /// The Newton unknown q''_(n+1) and its correction.
     x: Vec<f64>,
     dx: Vec<f64>,
-    /// dA/dq and dA/dv (n x n), and the full first-order Jacobian buffer (2n x 2n).
+    /// dA/dq and dA/dv (n x n), and the full first-order Jacobian buffer (2n x 2n); or, when
+    /// the system gives its mass form (`mass_form`), dh/dq and dh/dq' with M in `mass`.
     aq: Vec<f64>,
     av: Vec<f64>,
+    mass: Vec<f64>,
+    mass_form: bool,
     jac: Vec<f64>,
     lu: Vec<f64>,
     piv: Vec<usize>,
@@ -87,7 +90,7 @@ pub struct GeneralizedAlpha {
     lu_h: f64,
     scale: Vec<f64>,
     err: Vec<f64>,
-    /// A(t, y), the base of the difference quotients.
+    /// A(t, y), the base of the difference quotients (then scratch for the Newton residual).
     base: Vec<f64>,
     eta: f64,
     theta_max: f64,
@@ -123,6 +126,8 @@ impl GeneralizedAlpha {
             dx: v(n),
             aq: v(n * n),
             av: v(n * n),
+            mass: v(n * n),
+            mass_form: false,
             jac: v(dim * dim),
             lu: v(n * n),
             piv: vec![0; n],
@@ -145,11 +150,17 @@ impl GeneralizedAlpha {
         self.stats = Stats::default();
     }
 
-    /// dA/dq, dA/dv at (t, y): the lower half of the analytic Jacobian, or forward differences.
+    /// dA/dq, dA/dv at (t, y): the system's mass form (M, dh/dq, dh/dq'), or the lower half
+    /// of the analytic Jacobian, or forward differences.
     fn compute_jacobian<S: OdeSystem + ?Sized>(&mut self, sys: &mut S) {
         let n = self.n;
         let m = 2 * n;
         self.stats.jacobian_evals += 1;
+        self.mass_form = sys.second_order() == Some(n)
+            && sys.mass_jacobians(self.t, &self.y, &mut self.mass, &mut self.aq, &mut self.av);
+        if self.mass_form {
+            return;
+        }
         if sys.jacobian(self.t, &self.y, &mut self.jac) {
             for i in 0..n {
                 let row = &self.jac[(n + i) * m..(n + i + 1) * m];
@@ -195,12 +206,19 @@ impl GeneralizedAlpha {
             self.lu_h = 0.0;
         }
         if self.lu_h != h {
+            // I - cq A - cv B, or M times it: M - cq dh/dq - cv dh/dq'.
             let (cq, cv) = (bp * h * h * beta, bp * h * gamma);
             for k in 0..n * n {
                 self.lu[k] = -cq * self.aq[k] - cv * self.av[k];
             }
-            for i in 0..n {
-                self.lu[i * n + i] += 1.0;
+            if self.mass_form {
+                for (l, m) in self.lu.iter_mut().zip(&self.mass) {
+                    *l += m;
+                }
+            } else {
+                for i in 0..n {
+                    self.lu[i * n + i] += 1.0;
+                }
             }
             self.stats.lu_decompositions += 1;
             if lu_factor(&mut self.lu, n, &mut self.piv).is_err() {
@@ -225,6 +243,14 @@ impl GeneralizedAlpha {
             self.stats.newton_iterations += 1;
             for i in 0..n {
                 self.dx[i] = self.ftmp[n + i] - self.x[i];
+            }
+            if self.mass_form {
+                // The residual in forces: M (A(y) - x).
+                self.base.copy_from_slice(&self.dx);
+                for (i, d) in self.dx.iter_mut().enumerate() {
+                    let row = &self.mass[i * n..(i + 1) * n];
+                    *d = row.iter().zip(&self.base).map(|(m, r)| m * r).sum();
+                }
             }
             lu_solve(&self.lu, n, &self.piv, &mut self.dx);
             // The correction's size in the state: dq = h^2 beta beta' dx, dv = h gamma beta' dx.

@@ -37,8 +37,14 @@ pub trait Mechanical {
     ) -> bool {
         false
     }
+    /// Whether `acceleration_jacobians` is provided (traced code: cheaper than forming the
+    /// mass form from `force_jacobians`, which the implicit methods then leave alone).
+    fn has_acceleration_jacobians(&self) -> bool {
+        false
+    }
     /// dh/dq and dh/dq' (row-major n x n each), exact: what the implicit methods iterate
-    /// with (M depends on t only). `false`: not provided.
+    /// with (M depends on t only) and the static start's Newton uses (every back end gives
+    /// the same, so both start from the same bits). `false`: not provided.
     fn force_jacobians(
         &mut self,
         _t: f64,
@@ -245,7 +251,7 @@ impl<S: Mechanical> OdeSystem for FirstOrder<S> {
         let (n1, n2) = (self.layout.n1, self.layout.n2);
         let n = n1 + n2;
         let (q, qd) = y.split_at(n);
-        if !self.sys.force_jacobians(t, q, qd, hq, hqd) {
+        if self.sys.has_acceleration_jacobians() || !self.sys.force_jacobians(t, q, qd, hq, hqd) {
             return false;
         }
         self.sys.eval(t, q, qd, &mut self.m1, &mut self.h);
@@ -303,6 +309,9 @@ impl<M: Mechanical + ?Sized> Mechanical for Box<M> {
     }
     fn accelerations(&mut self, t: f64, q: &[f64], qd: &[f64], qdd: &mut [f64]) -> bool {
         (**self).accelerations(t, q, qd, qdd)
+    }
+    fn has_acceleration_jacobians(&self) -> bool {
+        (**self).has_acceleration_jacobians()
     }
     fn acceleration_jacobians(
         &mut self,

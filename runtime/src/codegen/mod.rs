@@ -232,31 +232,26 @@ pub fn scene_source(eq: &Equations, name: &str) -> (String, SceneStats) {
     let m2: Vec<String> = (0..n2 * n2)
         .map(|k| fmt_f64(if k % (n2 + 1) == 0 { 1.0 } else { 0.0 }))
         .collect();
-    // Above the traced size: the force Jacobians of the same derivation over dual numbers,
-    // on the model the macro embedded (`model()`), with their own work arrays.
-    let (jac_field, jac_init) = if body_jac.is_empty() {
-        (
-            format!("\n    jac: {rt}::equations::ForceJacobians,"),
-            format!(
-                "\n            jac: {rt}::equations::ForceJacobians::for_scene(&model(), Self::SCENE),"
-            ),
-        )
-    } else {
-        (String::new(), String::new())
-    };
+    // The force Jacobians of the same derivation (`equations/jacobian.rs`) on the model the
+    // macro embedded (`model()`), with their own work arrays: every scene has them, so the
+    // static start's Newton takes the same bits as the interpreter's. Up to the traced size
+    // the implicit methods take the traced d q''/d q instead.
+    let jac_field = format!("\n    jac: {rt}::equations::ForceJacobians,");
+    let jac_init = format!(
+        "\n            jac: {rt}::equations::ForceJacobians::for_scene(&model(), Self::SCENE),"
+    );
+    let force_impl = "    fn force_jacobians(&mut self, t: f64, q: &[f64], qd: &[f64], hq: &mut [f64], hqd: &mut [f64]) -> bool {\n        let d = self.speed.drive(t);\n        self.jac.eval(&d, q, qd, hq, hqd);\n        true\n    }\n";
     let (jac_fn, jac_impl) = if body_jac.is_empty() {
-        (
-            String::new(),
-            "    fn force_jacobians(&mut self, t: f64, q: &[f64], qd: &[f64], hq: &mut [f64], hqd: &mut [f64]) -> bool {\n        let d = self.speed.drive(t);\n        self.jac.eval(&d, q, qd, hq, hqd);\n        true\n    }\n".to_string(),
-        )
+        (String::new(), force_impl.to_string())
     } else {
         (
             format!(
                 "    /// d q''/d q and d q''/d q' (row-major).\n    #[inline]\n    pub fn jacobians(d: &{rt}::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], jq: &mut [f64; {nsq}], jqd: &mut [f64; {nsq}]) {{\n{body_jac}    }}\n",
                 nsq = n * n
             ),
-                "    fn acceleration_jacobians(&mut self, t: f64, q: &[f64], qd: &[f64], jq: &mut [f64], jqd: &mut [f64]) -> bool {\n        let d = self.speed.drive(t);\n        Self::jacobians(&d, q.try_into().expect(\"q\"), qd.try_into().expect(\"qd\"), jq.try_into().expect(\"jq\"), jqd.try_into().expect(\"jqd\"));\n        true\n    }\n"
-            .to_string(),
+            format!(
+                "    fn acceleration_jacobians(&mut self, t: f64, q: &[f64], qd: &[f64], jq: &mut [f64], jqd: &mut [f64]) -> bool {{\n        let d = self.speed.drive(t);\n        Self::jacobians(&d, q.try_into().expect(\"q\"), qd.try_into().expect(\"qd\"), jq.try_into().expect(\"jq\"), jqd.try_into().expect(\"jqd\"));\n        true\n    }}\n    fn has_acceleration_jacobians(&self) -> bool {{\n        true\n    }}\n{force_impl}"
+            ),
         )
     };
     let scene = &eq.scene.name;

@@ -400,8 +400,9 @@ fn scatter_rows(
     }
 }
 
-/// The Jacobians of a scene for a back end that does not trace them (the generated code above
-/// 12 coordinates): the interpreter's derivation with its own work arrays.
+/// The force Jacobians of a scene for the generated back end (every scene: the static start
+/// and, above the traced size, the implicit methods): the interpreter's derivation with its
+/// own work arrays, so both back ends get the same bits.
 #[derive(Clone, Debug)]
 pub struct ForceJacobians {
     pub eq: Equations,

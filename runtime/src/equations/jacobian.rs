@@ -2,8 +2,8 @@
 //! structure of the one derivation, exact to round-off with no step size to choose:
 //! - the force elements (the nonlinear terms): each element's loads at its markers' ports are a
 //!   function of the two markers' local coordinates only (`Local`: u, alpha, W q, Phi q and
-//!   rates). Their local Jacobian comes from one evaluation over `Dual<N>` per level (N <= 24 lanes)
-//!   (positions, rates), independent of the number of modes, and is chained through the
+//!   rates). Their local Jacobian comes from one evaluation over `Dual<N>` (N <= 24 lanes) per
+//!   level (positions, rates), independent of the number of modes, and is chained through the
 //!   constant marker maps: dh += P^T (d load / d z) G, with G the marker's input ports (identity
 //!   columns of u, alpha; mode-shape rows W, Phi) and P its output ports (the tub's rigid rows;
 //!   W^T, Phi^T on the modes);

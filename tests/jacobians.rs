@@ -53,6 +53,18 @@ fn worst(eq: &Equations, d: &Drive<f64>, q: &[f64], qd: &[f64], rel: f64) -> (f6
     (out[0], out[1])
 }
 
+/// A state off rest: millimetres and milliradians on the rigid coordinates, small modal
+/// amplitudes, velocities of 1-10 mm/s (the dampers' friction slope, s v ~ 1).
+fn off_rest(n: usize) -> (Vec<f64>, Vec<f64>) {
+    let q = (0..n)
+        .map(|i| 1e-3 * ((i as f64 * 0.37).sin() + 0.2))
+        .collect();
+    let qd = (0..n)
+        .map(|i| 5e-3 * ((i as f64 * 0.91).cos() - 0.1))
+        .collect();
+    (q, qd)
+}
+
 #[test]
 fn force_jacobians_match_central_differences_on_full_and_elastic() {
     let model = washdyn_models::built_in("reference").unwrap().unwrap();
@@ -60,14 +72,7 @@ fn force_jacobians_match_central_differences_on_full_and_elastic() {
         let s = model.scene(Some(scene)).unwrap();
         let eq = Equations::new(&model, &s);
         let n = eq.layout.n();
-        // Off rest: millimetres and milliradians on the rigid coordinates, small modal
-        // amplitudes, velocities of 1-10 mm/s (the dampers' friction slope, s v ~ 1).
-        let q: Vec<f64> = (0..n)
-            .map(|i| 1e-3 * ((i as f64 * 0.37).sin() + 0.2))
-            .collect();
-        let qd: Vec<f64> = (0..n)
-            .map(|i| 5e-3 * ((i as f64 * 0.91).cos() - 0.1))
-            .collect();
+        let (q, qd) = off_rest(n);
         for (phi, omega, omega_dot) in [(0.3, 10.0, 2.0), (2.1, 146.6, 0.0)] {
             let d = Drive {
                 phi,
@@ -95,12 +100,7 @@ fn structured_jacobians_equal_the_whole_derivation_over_dual_numbers_on_every_sc
         let s = model.scene(Some(&scene)).unwrap();
         let eq = Equations::new(&model, &s);
         let n = eq.layout.n();
-        let q: Vec<f64> = (0..n)
-            .map(|i| 1e-3 * ((i as f64 * 0.37).sin() + 0.2))
-            .collect();
-        let qd: Vec<f64> = (0..n)
-            .map(|i| 5e-3 * ((i as f64 * 0.91).cos() - 0.1))
-            .collect();
+        let (q, qd) = off_rest(n);
         let d = Drive {
             phi: 2.1,
             omega: 146.6,

@@ -170,7 +170,7 @@ impl ElasticDrum {
         b: &BodyState<T>,
         d: &Drive<T>,
         g: V<T>,
-        mut m1: Option<&mut [T]>,
+        m1: Option<&mut [T]>,
         n1: usize,
         h: &mut [T],
     ) {
@@ -184,24 +184,25 @@ impl ElasticDrum {
         let omd = d.omega_dot * self.ratio;
         let om2 = om * om;
 
-        // M1: frame columns j against drum modes k.
-        for k in 0..n {
-            let Some(m1) = m1.as_deref_mut() else { break };
-            let (rc, rx) = (rot(V::c(self.c[k])), rot(V::c(self.x[k])));
-            for (j, (vj, wj)) in self.frame.iter().enumerate() {
-                let (zv, zw) = (*vj == [0.0; 3], *wj == [0.0; 3]);
-                if zv && zw {
-                    continue;
+        // M1 (when asked for): frame columns j against drum modes k.
+        if let Some(m1) = m1 {
+            for k in 0..n {
+                let (rc, rx) = (rot(V::c(self.c[k])), rot(V::c(self.x[k])));
+                for (j, (vj, wj)) in self.frame.iter().enumerate() {
+                    let (zv, zw) = (*vj == [0.0; 3], *wj == [0.0; 3]);
+                    if zv && zw {
+                        continue;
+                    }
+                    let mut v = T::zero();
+                    if !zv {
+                        v += V::<T>::c(*vj).dot(rc);
+                    }
+                    if !zw {
+                        v += V::<T>::c(*wj).dot(rx);
+                    }
+                    m1[j * n1 + start + k] += v;
+                    m1[(start + k) * n1 + j] += v;
                 }
-                let mut v = T::zero();
-                if !zv {
-                    v += V::<T>::c(*vj).dot(rc);
-                }
-                if !zw {
-                    v += V::<T>::c(*wj).dot(rx);
-                }
-                m1[j * n1 + start + k] += v;
-                m1[(start + k) * n1 + j] += v;
             }
         }
 

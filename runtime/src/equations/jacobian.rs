@@ -274,22 +274,29 @@ impl Equations {
     ) {
         for p in list {
             let (ma, mb) = p.e.markers();
-            let lanes = 3 * inputs(ma).into_iter().chain(inputs(mb)).flatten().count();
+            // The element's input ports, marker a's then b's: lane k seeds the k-th present.
+            let mut ins = [None; 8];
+            let (ia, ib) = (inputs(ma), inputs(mb));
+            ins[..4].copy_from_slice(&ia);
+            ins[4..].copy_from_slice(&ib);
+            let lanes = 3 * ins.iter().flatten().count();
             if lanes <= LOCAL[0] {
-                self.element_jacobian::<E, { LOCAL[0] }>(p, st, d, x, hq, hqd);
+                self.element_jacobian::<E, { LOCAL[0] }>(p, &ins, st, d, x, hq, hqd);
             } else if lanes <= LOCAL[1] {
-                self.element_jacobian::<E, { LOCAL[1] }>(p, st, d, x, hq, hqd);
+                self.element_jacobian::<E, { LOCAL[1] }>(p, &ins, st, d, x, hq, hqd);
             } else {
-                self.element_jacobian::<E, { LOCAL[2] }>(p, st, d, x, hq, hqd);
+                self.element_jacobian::<E, { LOCAL[2] }>(p, &ins, st, d, x, hq, hqd);
             }
         }
     }
 
-    /// One element's loads over `Dual<N>` seeded along its markers' input ports, one level at
-    /// a time, chained through the ports' maps into hq / hqd.
+    /// One element's loads over `Dual<N>` seeded along its markers' input ports `ins`, one
+    /// level at a time, chained through the ports' maps into hq / hqd.
+    #[allow(clippy::too_many_arguments)]
     fn element_jacobian<E: Element, const N: usize>(
         &self,
         p: &Placed<E>,
+        ins: &[Option<(Port<'_>, Field)>; 8],
         st: &BodyState<f64>,
         d: &Drive<f64>,
         x: &mut [f64],
@@ -302,56 +309,53 @@ impl Equations {
             omega: Dual::<N>::c(d.omega),
             omega_dot: Dual::<N>::c(d.omega_dot),
         };
-        {
-            let (ma, mb) = p.e.markers();
-            let (la, lb) = (ma.local(st), mb.local(st));
-            // Columns the element's inputs reach.
-            let (mut c0, mut c1) = (n, 0);
-            for (port, _) in inputs(ma).into_iter().chain(inputs(mb)).flatten() {
-                let (a, b) = port.cols();
-                (c0, c1) = (c0.min(a), c1.max(b));
-            }
-            for rate in [false, true] {
-                let (sa, next) = seeded::<N>(ma, &la, rate, 0);
-                let (sb, _) = seeded::<N>(mb, &lb, rate, next);
-                let (ya, yb) = self.element_loads(p, &sa, &sb, &dl);
-                let h = if rate { &mut *hqd } else { &mut *hq };
-                for (m, y) in [(ma, &ya), (mb, &yb)] {
-                    // The marker's ports in pairs sharing rows: (force, moment) on the tub's
-                    // rigid rows, (W, Phi) on its modes.
-                    let outs = outputs(m, y);
-                    for pair in outs.chunks(2) {
-                        let (Some((po, vf)), Some((pm, vm))) = (pair[0], pair[1]) else {
-                            continue;
-                        };
-                        // x = d(load at the two ports)/dq over columns c0..c1, six rows
-                        // (force or W port 0..3, moment or Phi port 3..6) of length n:
-                        // the local 3 x 3 blocks times each input port's map.
+        let (ma, mb) = p.e.markers();
+        let (la, lb) = (ma.local(st), mb.local(st));
+        // Columns the element's inputs reach.
+        let (mut c0, mut c1) = (n, 0);
+        for &(port, _) in ins.iter().flatten() {
+            let (a, b) = port.cols();
+            (c0, c1) = (c0.min(a), c1.max(b));
+        }
+        for rate in [false, true] {
+            let (sa, next) = seeded::<N>(ma, &la, rate, 0);
+            let (sb, _) = seeded::<N>(mb, &lb, rate, next);
+            let (ya, yb) = self.element_loads(p, &sa, &sb, &dl);
+            let h = if rate { &mut *hqd } else { &mut *hq };
+            for (m, y) in [(ma, &ya), (mb, &yb)] {
+                // The marker's ports in pairs sharing rows: (force, moment) on the tub's
+                // rigid rows, (W, Phi) on its modes.
+                let outs = outputs(m, y);
+                for pair in outs.chunks(2) {
+                    let (Some((po, vf)), Some((pm, vm))) = (pair[0], pair[1]) else {
+                        continue;
+                    };
+                    // x = d(load at the two ports)/dq over columns c0..c1, six rows
+                    // (force or W port 0..3, moment or Phi port 3..6) of length n:
+                    // the local 3 x 3 blocks times each input port's map.
+                    for a in 0..6 {
+                        x[a * n + c0..a * n + c1].fill(0.0);
+                    }
+                    for (lane, &(port, _)) in ins.iter().flatten().enumerate() {
                         for a in 0..6 {
-                            x[a * n + c0..a * n + c1].fill(0.0);
-                        }
-                        let ins = inputs(ma).into_iter().chain(inputs(mb)).flatten();
-                        for (lane, (port, _)) in ins.enumerate() {
-                            for a in 0..6 {
-                                let v = if a < 3 { vf.0[a] } else { vm.0[a - 3] };
-                                let k = [0, 1, 2].map(|b| v.d[3 * lane + b]);
-                                let row = &mut x[a * n..(a + 1) * n];
-                                match port {
-                                    Port::Rigid(c) => {
-                                        for b in 0..3 {
-                                            row[c + b] += k[b];
-                                        }
+                            let v = if a < 3 { vf.0[a] } else { vm.0[a - 3] };
+                            let k = [0, 1, 2].map(|b| v.d[3 * lane + b]);
+                            let row = &mut x[a * n..(a + 1) * n];
+                            match port {
+                                Port::Rigid(c) => {
+                                    for b in 0..3 {
+                                        row[c + b] += k[b];
                                     }
-                                    Port::Modal(s, rows) => {
-                                        for (xj, r) in row[s..s + rows.len()].iter_mut().zip(rows) {
-                                            *xj += k[0] * r[0] + k[1] * r[1] + k[2] * r[2];
-                                        }
+                                }
+                                Port::Modal(s, rows) => {
+                                    for (xj, r) in row[s..s + rows.len()].iter_mut().zip(rows) {
+                                        *xj += k[0] * r[0] + k[1] * r[1] + k[2] * r[2];
                                     }
                                 }
                             }
                         }
-                        scatter_rows(po, pm, x, c0, c1, n, h);
                     }
+                    scatter_rows(po, pm, x, c0, c1, n, h);
                 }
             }
         }

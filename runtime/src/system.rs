@@ -42,6 +42,11 @@ pub trait Mechanical {
     fn has_acceleration_jacobians(&self) -> bool {
         false
     }
+    /// The resolved model behind the back end (the interpreter's, or the one generated code
+    /// embeds): what a coordinate means, for the tolerances and the body layer's questions.
+    fn equations(&self) -> Option<&Equations> {
+        None
+    }
     /// dh/dq and dh/dq' (row-major n x n each), exact: what the implicit methods iterate
     /// with (M depends on t only) and the static start's Newton uses (every back end gives
     /// the same, so both start from the same bits). `false`: not provided.
@@ -110,6 +115,9 @@ impl Mechanical for Interpreter {
     }
     fn speed(&self) -> &Speed {
         &self.speed
+    }
+    fn equations(&self) -> Option<&Equations> {
+        Some(&self.eq)
     }
     fn force_jacobians(
         &mut self,
@@ -232,6 +240,12 @@ impl<S: Mechanical> OdeSystem for FirstOrder<S> {
     fn second_order(&self) -> Option<usize> {
         Some(self.layout.n())
     }
+    /// Per coordinate from the resolved model (`Equations::atol_scales`).
+    fn atol_scales(&self, s: &mut [f64]) {
+        if let Some(eq) = self.sys.equations() {
+            eq.atol_scales(s);
+        }
+    }
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) {
         let n = self.layout.n();
         let (q, qd) = y.split_at(n);
@@ -312,6 +326,9 @@ impl<M: Mechanical + ?Sized> Mechanical for Box<M> {
     }
     fn has_acceleration_jacobians(&self) -> bool {
         (**self).has_acceleration_jacobians()
+    }
+    fn equations(&self) -> Option<&Equations> {
+        (**self).equations()
     }
     fn acceleration_jacobians(
         &mut self,

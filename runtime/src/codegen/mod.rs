@@ -240,7 +240,7 @@ pub fn scene_source(eq: &Equations, name: &str) -> (String, SceneStats) {
     let jac_init = format!(
         "\n            jac: {rt}::equations::ForceJacobians::for_scene(&model(), Self::SCENE),"
     );
-    let force_impl = "    fn force_jacobians(&mut self, t: f64, q: &[f64], qd: &[f64], hq: &mut [f64], hqd: &mut [f64]) -> bool {\n        let d = self.speed.drive(t);\n        self.jac.eval(&d, q, qd, hq, hqd);\n        true\n    }\n";
+    let force_impl = "    fn equations(&self) -> Option<&::washdyn_runtime::equations::Equations> {\n        Some(&self.jac.eq)\n    }\n    fn force_jacobians(&mut self, t: f64, q: &[f64], qd: &[f64], hq: &mut [f64], hqd: &mut [f64]) -> bool {\n        let d = self.speed.drive(t);\n        self.jac.eval(&d, q, qd, hq, hqd);\n        true\n    }\n";
     let (jac_fn, jac_impl) = if body_jac.is_empty() {
         (String::new(), force_impl.to_string())
     } else {

@@ -19,6 +19,7 @@ mod drum;
 mod elastic;
 mod jacobian;
 pub mod kinematics;
+mod scales;
 
 use crate::elements::{Element, FrictionDamper, Gasket, LinearDamper, Spring};
 use crate::geom::{V, f};

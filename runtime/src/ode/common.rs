@@ -3,16 +3,51 @@
 
 use super::{OdeError, OdeSystem, Options, Stats};
 
-/// Hairer's weighted RMS norm of `err` with scale atol + rtol * max(|y0_i|, |y1_i|)
+/// The tolerances per component: atol_i = atol * s_i with the system's scales
+/// ([`OdeSystem::atol_scales`]), so coordinates of different units and sizes are held to
+/// comparable accuracy. Allocated in `new`, filled at `init`.
+#[derive(Clone, Debug)]
+pub struct Tolerance {
+    pub rtol: f64,
+    atol: f64,
+    abs: Vec<f64>,
+}
+
+impl Tolerance {
+    pub fn new(opts: &Options, dim: usize) -> Self {
+        Tolerance {
+            rtol: opts.rtol,
+            atol: opts.atol,
+            abs: vec![opts.atol; dim],
+        }
+    }
+
+    /// Asks the system for its scales (no allocation).
+    pub fn fill<S: OdeSystem + ?Sized>(&mut self, sys: &S) {
+        self.abs.fill(1.0);
+        sys.atol_scales(&mut self.abs);
+        for a in self.abs.iter_mut() {
+            *a *= self.atol;
+        }
+    }
+
+    /// atol_i + rtol |y|.
+    #[inline]
+    pub fn scale(&self, i: usize, y: f64) -> f64 {
+        self.abs[i] + self.rtol * y.abs()
+    }
+}
+
+/// Hairer's weighted RMS norm of `err` with scale atol_i + rtol * max(|y0_i|, |y1_i|)
 /// (Solving ODEs I, eq. II.4.11). A value <= 1 means the step meets the tolerance.
-pub fn error_norm(err: &[f64], y0: &[f64], y1: &[f64], rtol: f64, atol: f64) -> f64 {
+pub fn error_norm(err: &[f64], y0: &[f64], y1: &[f64], tol: &Tolerance) -> f64 {
     let n = err.len();
     if n == 0 {
         return 0.0;
     }
     let mut sum = 0.0;
     for i in 0..n {
-        let sc = atol + rtol * y0[i].abs().max(y1[i].abs());
+        let sc = tol.scale(i, y0[i].abs().max(y1[i].abs()));
         let q = err[i] / sc;
         sum += q * q;
     }
@@ -34,7 +69,7 @@ pub fn initial_step<S: OdeSystem + ?Sized>(
     y0: &[f64],
     f0: &[f64],
     order: u32,
-    opts: &Options,
+    (opts, tol): (&Options, &Tolerance),
     y1: &mut [f64],
     f1: &mut [f64],
     stats: &mut Stats,
@@ -43,7 +78,7 @@ pub fn initial_step<S: OdeSystem + ?Sized>(
     if n == 0 {
         return opts.h_max.min(1.0);
     }
-    let sc = |i: usize| opts.atol + opts.rtol * y0[i].abs();
+    let sc = |i: usize| tol.scale(i, y0[i]);
     let rms = |v: &dyn Fn(usize) -> f64| -> f64 {
         ((0..n).map(|i| v(i).powi(2)).sum::<f64>() / n as f64).sqrt()
     };
@@ -178,7 +213,7 @@ pub fn start<S: OdeSystem + ?Sized>(
     t0: f64,
     y0: &[f64],
     order: u32,
-    opts: &Options,
+    (opts, tol): (&Options, &Tolerance),
     b: StartBuffers,
     stats: &mut Stats,
 ) -> Result<f64, OdeError> {
@@ -196,7 +231,7 @@ pub fn start<S: OdeSystem + ?Sized>(
     Ok(if opts.h0 > 0.0 {
         opts.h0.min(opts.h_max)
     } else {
-        initial_step(sys, t0, b.y, b.f, order, opts, b.ytmp, b.ftmp, stats)
+        initial_step(sys, t0, b.y, b.f, order, (opts, tol), b.ytmp, b.ftmp, stats)
     })
 }
 

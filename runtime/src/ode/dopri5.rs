@@ -13,7 +13,7 @@
 //! problem stiff (`Stats::stiff_at`): the run then chatters on the stability limit and an
 //! implicit method would take larger steps.
 
-use super::common::{Trials, after_landing, all_finite, error_norm, initial_step, propose_step};
+use super::common::{Tolerance, Trials, after_landing, all_finite, error_norm, initial_step, propose_step};
 use super::tableau::{DOPRI5, DOPRI5_DENSE_D};
 use super::{OdeError, OdeSystem, Options, Solver, Stats, Stepper};
 
@@ -31,6 +31,7 @@ const NONSTIFF_RESET: u32 = 6;
 
 pub struct Dopri5 {
     opts: Options,
+    tol: Tolerance,
     n: usize,
     t: f64,
     t_prev: f64,
@@ -58,6 +59,7 @@ impl Dopri5 {
     pub fn new(dim: usize, options: Options) -> Self {
         let v = || vec![0.0; dim];
         Dopri5 {
+            tol: Tolerance::new(&options, dim),
             opts: options,
             n: dim,
             t: 0.0,
@@ -147,8 +149,7 @@ impl Dopri5 {
             &self.err,
             &self.y,
             &self.y_new,
-            self.opts.rtol,
-            self.opts.atol,
+            &self.tol,
         );
         if norm.is_finite() && !all_finite(&self.y_new) {
             return f64::INFINITY;
@@ -194,6 +195,7 @@ impl Stepper for Dopri5 {
 
 impl<S: OdeSystem + ?Sized> Solver<S> for Dopri5 {
     fn init(&mut self, sys: &mut S, t0: f64, y0: &[f64]) -> Result<(), OdeError> {
+        self.tol.fill(sys);
         assert_eq!(y0.len(), self.n, "state dimension");
         self.t = t0;
         self.t_prev = t0;
@@ -225,7 +227,7 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Dopri5 {
                 &self.y,
                 &a[0],
                 DOPRI5.order,
-                &self.opts,
+                (&self.opts, &self.tol),
                 &mut y1[0],
                 &mut rest[0],
                 &mut self.stats,

@@ -20,7 +20,7 @@
 //!   0.9 err^(-1/3), in [0.2, 5].
 //! * Dense output: cubic Hermite from (y0, f0, y1, f1).
 
-use super::common::{
+use super::common::{Tolerance, 
     StartBuffers, Trials, all_finite, error_norm, hermite_stepper, propose_step, start,
 };
 use super::lu::{lu_factor, lu_solve};
@@ -56,6 +56,7 @@ impl AlphaParams {
 
 pub struct GeneralizedAlpha {
     opts: Options,
+    tol: Tolerance,
     p: AlphaParams,
     /// Positions (half the state).
     n: usize,
@@ -107,6 +108,7 @@ impl GeneralizedAlpha {
         let n = dim / 2;
         let v = |k: usize| vec![0.0; k];
         GeneralizedAlpha {
+            tol: Tolerance::new(&options, dim),
             opts: options,
             p: AlphaParams::from_rho_inf(rho_inf),
             n,
@@ -228,7 +230,7 @@ impl GeneralizedAlpha {
             self.lu_h = h;
         }
         for i in 0..2 * n {
-            self.scale[i] = self.opts.atol + self.opts.rtol * self.y[i].abs();
+            self.scale[i] = self.tol.scale(i, self.y[i]);
         }
         self.shift_acc(h);
         let t1 = self.t + h;
@@ -289,8 +291,7 @@ impl GeneralizedAlpha {
                     &self.err,
                     &self.y[..n],
                     &self.y_new[..n],
-                    self.opts.rtol,
-                    self.opts.atol,
+                    &self.tol,
                 );
                 return if err.is_finite() {
                     Attempt::Done(err)
@@ -343,6 +344,7 @@ hermite_stepper!(GeneralizedAlpha, "galpha");
 
 impl<S: OdeSystem + ?Sized> Solver<S> for GeneralizedAlpha {
     fn init(&mut self, sys: &mut S, t0: f64, y0: &[f64]) -> Result<(), OdeError> {
+        self.tol.fill(sys);
         if sys.second_order() != Some(self.n) || y0.len() != 2 * self.n {
             return Err(OdeError::NotSecondOrder { t: t0 });
         }
@@ -356,7 +358,7 @@ impl<S: OdeSystem + ?Sized> Solver<S> for GeneralizedAlpha {
             t0,
             y0,
             2,
-            &self.opts,
+            (&self.opts, &self.tol),
             StartBuffers {
                 y: &mut self.y,
                 y_prev: &mut self.y_prev,

@@ -36,6 +36,10 @@ pub trait OdeSystem {
     fn jacobian(&mut self, _t: f64, _y: &[f64], _jac: &mut [f64]) -> bool {
         false
     }
+    /// Scales of the absolute tolerance: component i is held to atol * s[i] (entries are 1 on
+    /// entry). A system whose components differ in units or size (metres, radians, modal
+    /// coordinates, velocities) says here what an error of atol means for each.
+    fn atol_scales(&self, _s: &mut [f64]) {}
     /// `Some(n)` when the state is y = [q; q'] with n positions and f = [q'; q''] (a
     /// mechanical system in first-order form): methods for second-order equations
     /// (generalized-alpha) need it.

@@ -12,7 +12,7 @@
 //! * The right-hand side at the new point is the next step's first stage, so dense output is the
 //!   cubic Hermite interpolant from (y0, f0, y1, f1) at no extra cost (third order).
 
-use super::common::{
+use super::common::{Tolerance, 
     StartBuffers, Trials, after_landing, all_finite, error_norm, hermite_stepper, propose_step,
     start,
 };
@@ -27,6 +27,7 @@ const FAC_MAX: f64 = 6.0;
 
 pub struct Rodas4 {
     opts: Options,
+    tol: Tolerance,
     n: usize,
     t: f64,
     t_prev: f64,
@@ -56,6 +57,7 @@ impl Rodas4 {
     pub fn new(dim: usize, options: Options) -> Self {
         let v = || vec![0.0; dim];
         Rodas4 {
+            tol: Tolerance::new(&options, dim),
             opts: options,
             n: dim,
             t: 0.0,
@@ -169,8 +171,7 @@ impl Rodas4 {
             &self.err,
             &self.y,
             &self.y_new,
-            self.opts.rtol,
-            self.opts.atol,
+            &self.tol,
         );
         Ok(err.is_finite().then_some(err))
     }
@@ -180,6 +181,7 @@ hermite_stepper!(Rodas4, "rodas4");
 
 impl<S: OdeSystem + ?Sized> Solver<S> for Rodas4 {
     fn init(&mut self, sys: &mut S, t0: f64, y0: &[f64]) -> Result<(), OdeError> {
+        self.tol.fill(sys);
         assert_eq!(y0.len(), self.n, "state dimension");
         self.t = t0;
         self.t_prev = t0;
@@ -191,7 +193,7 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Rodas4 {
             t0,
             y0,
             RODAS4.order,
-            &self.opts,
+            (&self.opts, &self.tol),
             StartBuffers {
                 y: &mut self.y,
                 y_prev: &mut self.y_prev,

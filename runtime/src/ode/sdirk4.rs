@@ -20,7 +20,7 @@
 //! * Dense output: cubic Hermite from (y0, f0, y1, f1) with f1 = k_5, the derivative at the
 //!   (stiffly accurate) last stage; third order, no extra right-hand side evaluation.
 
-use super::common::{
+use super::common::{Tolerance, 
     StartBuffers, Trials, all_finite, error_norm, hermite, hermite_stepper, propose_step, start,
 };
 use super::iteration::IterationMatrix;
@@ -33,6 +33,7 @@ const MAX_NEWTON: u32 = 7;
 
 pub struct Sdirk4 {
     opts: Options,
+    tol: Tolerance,
     n: usize,
     t: f64,
     t_prev: f64,
@@ -68,6 +69,7 @@ impl Sdirk4 {
     pub fn new(dim: usize, options: Options) -> Self {
         let v = || vec![0.0; dim];
         Sdirk4 {
+            tol: Tolerance::new(&options, dim),
             opts: options,
             n: dim,
             t: 0.0,
@@ -153,7 +155,7 @@ impl Sdirk4 {
             self.lu_h = h;
         }
         for i in 0..n {
-            self.scale[i] = self.opts.atol + self.opts.rtol * self.y[i].abs();
+            self.scale[i] = self.tol.scale(i, self.y[i]);
         }
         let kappa = newton::tolerance(&self.opts);
         self.theta_max = 0.0;
@@ -258,8 +260,7 @@ impl Sdirk4 {
             &self.delta,
             &self.y,
             &self.y_new,
-            self.opts.rtol,
-            self.opts.atol,
+            &self.tol,
         );
         if err.is_finite() {
             Attempt::Done(err)
@@ -273,6 +274,7 @@ hermite_stepper!(Sdirk4, "sdirk4");
 
 impl<S: OdeSystem + ?Sized> Solver<S> for Sdirk4 {
     fn init(&mut self, sys: &mut S, t0: f64, y0: &[f64]) -> Result<(), OdeError> {
+        self.tol.fill(sys);
         assert_eq!(y0.len(), self.n, "state dimension");
         self.t = t0;
         self.t_prev = t0;
@@ -285,7 +287,7 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Sdirk4 {
             t0,
             y0,
             SDIRK4.order,
-            &self.opts,
+            (&self.opts, &self.tol),
             StartBuffers {
                 y: &mut self.y,
                 y_prev: &mut self.y_prev,

@@ -197,6 +197,147 @@ fn recovered_fields_are_read_back_by_meshio_and_continuous_at_the_bearing() {
     // The same motion through two paths (modal rows at the point vs the fit of the recovered
     // nodes): equal to round-off.
     assert!(gap < 1e-9 * size, "gap {gap} m against {size} m");
+
+    drum_rim_sensor_reads_the_recovered_field(&model, &rec, &specs[1].mesh);
+}
+
+/// A sensor on the drum's rim (its modal point DRUM_EDGE_0, a set of nodes) against the
+/// recovered field of that set: the least-squares rigid motion of the set's recovered nodal
+/// displacements at the set's point, with the drum turned (the field's points, B + R(x - B)).
+/// Displacement at one state; acceleration against the second central difference of the
+/// recovered displacement along q(t) = q0 + t q1 + t^2/2 q2, phi(t) = phi0 + w t + w' t^2/2
+/// (the sensor's Coriolis and centripetal terms of the turning point and the drum's modes).
+fn drum_rim_sensor_reads_the_recovered_field(
+    model: &washdyn_runtime::ir::Model,
+    rec: &Recovery,
+    mesh: &washdyn_fe::mesh::Mesh,
+) {
+    use washdyn_runtime::equations::Drive;
+    use washdyn_runtime::ir::{BodyRef, Sensor, SensorKind};
+    let edge = "DRUM_EDGE_0";
+    let scene = model.scene(Some("elastic")).unwrap();
+    let eq0 = Equations::new(model, &scene);
+    let point = eq0
+        .drum
+        .as_ref()
+        .unwrap()
+        .modes
+        .data()
+        .points
+        .iter()
+        .find(|p| p.name == edge)
+        .unwrap()
+        .position;
+    let mut m = model.clone();
+    for kind in [SensorKind::Displacement, SensorKind::Acceleration] {
+        m.sensors.push(Sensor {
+            name: format!("rim_{kind:?}").to_lowercase(),
+            body: BodyRef::Drum,
+            point,
+            kind,
+        });
+    }
+    washdyn_runtime::ir::check::check(&m).unwrap_or_else(|e| panic!("{e:?}"));
+    let eq = Equations::new(&m, &scene);
+    let (du, ac) = (eq.sensors.len() - 2, eq.sensors.len() - 1);
+    assert!(eq.sensors[du].spin.is_some());
+    let n = eq.layout.n();
+    // A state with every kind of coordinate moving: tub translation and (small) rotation, the
+    // tub's and the drum's modes.
+    let wave = |scale: f64, k: f64| -> Vec<f64> {
+        (0..n)
+            .map(|i| {
+                scale * ((i as f64 + 1.0) * k).sin() * if (3..6).contains(&i) { 1e-3 } else { 1.0 }
+            })
+            .collect()
+    };
+    let (q0, q1, q2) = (wave(1e-4, 0.7), wave(3e-3, 1.3), wave(0.4, 2.1));
+    let (phi0, w, wd) = (1.234, 120.0, 35.0);
+    let drum = &rec.bodies[1];
+    let ids = &mesh.nsets[edge];
+    let h = &drum.field.header;
+    // The set's recovered motion at its point, fitted over the turned nodes.
+    let fitted = |phi: f64, q: &[f64]| -> [f64; 3] {
+        let (pts, disp) = rec.displacement(drum, phi, q);
+        let mut turned = mesh.clone();
+        let mut wmap = std::collections::HashMap::new();
+        for id in ids {
+            let i = h.ids.iter().position(|x| x == id).unwrap();
+            turned.nodes[id - 1] = pts[i];
+            wmap.insert(*id, disp[i]);
+        }
+        let (u, th, c) = washdyn_fe::modal::rigid_fit(&turned, ids, &wmap).unwrap();
+        // The set's point turned like the nodes.
+        let b = eq.sensors[du].spin.as_ref().unwrap().mount;
+        let e = eq.sensors[du].spin.as_ref().unwrap().axis;
+        let ratio = eq.sensors[du].spin.as_ref().unwrap().ratio;
+        let th_d = phi * ratio;
+        let r = [point[0] - b[0], point[1] - b[1], point[2] - b[2]];
+        let (cs, sn) = (th_d.cos(), th_d.sin());
+        let ed = e[0] * r[0] + e[1] * r[1] + e[2] * r[2];
+        let exr = [
+            e[1] * r[2] - e[2] * r[1],
+            e[2] * r[0] - e[0] * r[2],
+            e[0] * r[1] - e[1] * r[0],
+        ];
+        let p: Vec<f64> = (0..3)
+            .map(|a| b[a] + r[a] * cs + exr[a] * sn + e[a] * ed * (1.0 - cs))
+            .collect();
+        let d = [p[0] - c[0], p[1] - c[1], p[2] - c[2]];
+        [
+            u[0] + th[1] * d[2] - th[2] * d[1],
+            u[1] + th[2] * d[0] - th[0] * d[2],
+            u[2] + th[0] * d[1] - th[1] * d[0],
+        ]
+    };
+    let drive = Drive {
+        phi: phi0,
+        omega: w,
+        omega_dot: wd,
+    };
+    let zero = vec![0.0; n];
+    let sensed = eq.sensor(du, &drive, &q0, &zero, &zero);
+    let want = fitted(phi0, &q0);
+    let size = want.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let diff = (0..3)
+        .map(|a| (sensed[a] - want[a]).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    // The second-order rotation terms (element_geometry) are the sensor's own: alpha ~ 1e-7
+    // rad leaves them at 1e-14 of the motion.
+    eprintln!(
+        "drum rim displacement: sensor {sensed:?}, recovered {want:?}: {:.1e} of {size:.2e} m",
+        diff / size
+    );
+    assert!(size > 1e-5, "the state moves the rim ({size} m)");
+    // Measured 4e-16 relative (two paths to the same motion: rows at the point vs the fit
+    // of the recovered nodes).
+    assert!(diff < 1e-12 * size);
+    // Acceleration: central differences of the recovered motion along the path.
+    let dt = 1e-5;
+    let at = |t: f64| {
+        let q: Vec<f64> = (0..n)
+            .map(|i| q0[i] + t * q1[i] + 0.5 * t * t * q2[i])
+            .collect();
+        fitted(phi0 + w * t + 0.5 * wd * t * t, &q)
+    };
+    let (am, a0, ap) = (at(-dt), at(0.0), at(dt));
+    let fd: Vec<f64> = (0..3)
+        .map(|a| (ap[a] - 2.0 * a0[a] + am[a]) / (dt * dt))
+        .collect();
+    let sensed = eq.sensor(ac, &drive, &q0, &q1, &q2);
+    let size = fd.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let diff = (0..3)
+        .map(|a| (sensed[a] - fd[a]).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    eprintln!(
+        "drum rim acceleration: sensor {sensed:?}, differences {fd:?}: {:.1e} of {size:.2e} m/s^2",
+        diff / size
+    );
+    assert!(size > 1e-2, "the path accelerates the rim ({size} m/s^2)");
+    // Truncation (w dt)^2 ~ 1e-6 and round-off 1e-16 |x| / dt^2.
+    assert!(diff < 1e-4 * size);
 }
 
 /// The paper's route as the reference for stresses: the drum's nodal displacements recovered

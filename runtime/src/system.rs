@@ -100,9 +100,10 @@ impl Mechanical for Interpreter {
     fn m2(&self) -> &[f64] {
         &self.m2
     }
-    fn sensors(&self, _t: f64, q: &[f64], qd: &[f64], qdd: &[f64], out: &mut [f64]) {
+    fn sensors(&self, t: f64, q: &[f64], qd: &[f64], qdd: &[f64], out: &mut [f64]) {
+        let d = self.speed.drive(t);
         for i in 0..self.eq.sensors.len() {
-            let v = self.eq.sensor(i, q, qd, qdd);
+            let v = self.eq.sensor(i, &d, q, qd, qdd);
             out[3 * i..3 * i + 3].copy_from_slice(&v);
         }
     }

@@ -131,8 +131,13 @@ pub fn trace_equations(eq: &Equations) -> Traced {
         let q: Vec<Sym> = (0..n).map(|_| Sym::input()).collect();
         let qd: Vec<Sym> = (0..n).map(|_| Sym::input()).collect();
         let qdd: Vec<Sym> = (0..n).map(|_| Sym::input()).collect();
+        let d = Drive {
+            phi: Sym::input(),
+            omega: Sym::input(),
+            omega_dot: Sym::input(),
+        };
         (0..eq.sensors.len())
-            .flat_map(|i| eq.sensor(i, &q, &qd, &qdd))
+            .flat_map(|i| eq.sensor(i, &d, &q, &qd, &qdd))
             .collect::<Vec<Sym>>()
     });
     Traced {
@@ -220,6 +225,7 @@ pub fn scene_source(eq: &Equations, name: &str) -> (String, SceneStats) {
     let (g, ch) = &t.sensors;
     let mut names = state_inputs(n, &[]);
     names.extend((0..n).map(|i| format!("qdd[{i}]")));
+    names.extend(drive.iter().map(|s| s.to_string()));
     let mut e = Emitter::new(g, names);
     e.assign(|k| format!("out[{k}]"), ch);
     let body_sensors = e.take();
@@ -301,7 +307,7 @@ impl {name} {{
 {jac_fn}
     /// Sensor channels from q, q', q''.
     #[inline]
-    pub fn sensor_values(q: &[f64; {n}], qd: &[f64; {n}], qdd: &[f64; {n}], out: &mut [f64; {nc}]) {{
+    pub fn sensor_values(d: &{rt}::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], qdd: &[f64; {n}], out: &mut [f64; {nc}]) {{
 {body_sensors}    }}
 }}
 
@@ -316,8 +322,9 @@ impl {rt}::system::Mechanical for {name} {{
     fn m2(&self) -> &[f64] {{
         &Self::M2
     }}
-    fn sensors(&self, _t: f64, q: &[f64], qd: &[f64], qdd: &[f64], out: &mut [f64]) {{
-        Self::sensor_values(q.try_into().expect("q"), qd.try_into().expect("qd"), qdd.try_into().expect("qdd"), out.try_into().expect("3 channels per sensor"));
+    fn sensors(&self, t: f64, q: &[f64], qd: &[f64], qdd: &[f64], out: &mut [f64]) {{
+        let d = self.speed.drive(t);
+        Self::sensor_values(&d, q.try_into().expect("q"), qd.try_into().expect("qd"), qdd.try_into().expect("qdd"), out.try_into().expect("3 channels per sensor"));
     }}
     fn channel_names(&self) -> Vec<String> {{
         Self::CHANNELS.iter().map(|c| c.to_string()).collect()

@@ -20,10 +20,11 @@ mod elastic;
 mod jacobian;
 pub mod kinematics;
 mod scales;
+mod sensors;
 
 use crate::elements::{Element, FrictionDamper, Gasket, LinearDamper, Spring};
 use crate::geom::{V, f};
-use crate::ir::{BodyRef, Effect, EffectSet, Model, SensorKind};
+use crate::ir::{BodyRef, Effect, EffectSet, Model};
 use crate::scalar::Scalar;
 pub use bodies::{RotorDef, TubDef, UnbalanceDef, rotate};
 pub use drum::ElasticDrum;
@@ -32,6 +33,7 @@ pub use jacobian::{ForceJacobians, JacobianWork};
 pub use kinematics::{
     Load, Local, Marker, MarkerDef, ModalRows, Wrench, add_rigid_mass, tub_point_jacobian,
 };
+pub use sensors::{SensorDef, Spin};
 
 /// The prescribed drum motion at time t: angle, speed, acceleration (rad, rad/s, rad/s^2).
 #[derive(Clone, Copy, Debug)]
@@ -54,15 +56,6 @@ impl Layout {
     pub fn n(&self) -> usize {
         self.n1 + self.n2
     }
-}
-
-/// A sensor resolved against the model.
-#[derive(Clone, Debug)]
-pub struct SensorDef {
-    pub name: String,
-    pub kind: SensorKind,
-    pub at: MarkerDef,
-    pub channels: [String; 3],
 }
 
 /// The model, resolved for one scene into the data the derivation needs. Only the effects the
@@ -312,6 +305,9 @@ impl Equations {
                 name: s.name.clone(),
                 kind: s.kind,
                 at: mk(s.body, s.point),
+                spin: (s.body == BodyRef::Drum)
+                    .then(|| Spin::new(model, s.point, tub_modes.as_ref(), drum.as_ref()))
+                    .flatten(),
                 channels: s.channels(),
             })
             .collect();
@@ -468,45 +464,6 @@ impl Equations {
                 modal_force: w.force,
                 modal_moment: w.moment,
             },
-        }
-    }
-
-    /// Sensor reading from the state and its second derivative: acceleration or displacement in
-    /// global components (first order in the small quantities, like the equations). On an
-    /// elastic body the modes add W q (W q'').
-    pub fn sensor<T: Scalar>(&self, i: usize, q: &[T], qd: &[T], qdd: &[T]) -> [T; 3] {
-        let s = &self.sensors[i];
-        let x = if s.kind == SensorKind::Displacement {
-            q
-        } else {
-            qdd
-        };
-        let elastic = s.at.modal.as_ref().map_or(V::zero(), |r| r.motion(x).0);
-        match s.at.body {
-            BodyRef::Cabinet => elastic.0,
-            BodyRef::Tub | BodyRef::Drum => {
-                let u = V::from_slice(&x[0..3]);
-                let a = V::from_slice(&x[3..6]);
-                let r = V::c(s.at.s);
-                // The rotation's second-order terms, with alpha a rotation vector
-                // (R = I + [alpha] + [alpha]^2 / 2 + ...): the dynamics are linear in alpha, but
-                // a sensor reads the material point's motion, whose centripetal part
-                // alpha' x (alpha' x r) and position term alpha x (alpha x r) / 2 carry
-                // the even orders (2x the rocking frequency) into the channels.
-                // A scene that linearises its elements (no `element_geometry`) reads its
-                // sensors to first order too, so its only nonlinearity stays the friction law.
-                let al = V::from_slice(&q[3..6]);
-                let second = match s.kind {
-                    _ if !self.exact_geometry => V::zero(),
-                    SensorKind::Displacement => al.cross(al.cross(r)).scale(T::c(0.5)),
-                    SensorKind::Acceleration => {
-                        let ald = V::from_slice(&qd[3..6]);
-                        ald.cross(ald.cross(r))
-                            + (a.cross(al.cross(r)) + al.cross(a.cross(r))).scale(T::c(0.5))
-                    }
-                };
-                (u + a.cross(r) + second + elastic).0
-            }
         }
     }
 

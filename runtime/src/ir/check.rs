@@ -496,7 +496,7 @@ fn elastic(c: &mut Ctx, m: &Model) {
     elastic_drum(c, m);
 }
 
-/// The drum carries sensors only, on its axis (the frame's motion; see `BodyRef::Drum`).
+/// The drum carries sensors only (anywhere: a rim sensor turns with it; see `BodyRef::Drum`).
 fn drum_points(c: &mut Ctx, m: &Model) {
     let drum = m.rotors.iter().find(|r| r.name == "drum");
     let ends = |a: &Attach, b: &Attach| [(a.body, "a"), (b.body, "b")];
@@ -538,15 +538,19 @@ fn drum_points(c: &mut Ctx, m: &Model) {
                 ),
             ),
             Some(r) => {
+                // Off the axis the point turns with the drum: where a scene makes the drum
+                // elastic, its modes are read there, so the point must be a modal point.
                 let e = crate::geom::f::unit(r.axis);
                 let off = crate::geom::f::sub(s.point, r.axis_point);
-                if crate::geom::f::norm(crate::geom::f::cross(off, e)) > 1e-3 {
-                    c.err(
+                let on_axis = crate::geom::f::norm(crate::geom::f::cross(off, e)) <= 1e-3;
+                if let Some(d) = modal_of(m, "drum").filter(|_| !on_axis) {
+                    need_point(
+                        c,
+                        d,
+                        "drum",
                         p.key("point"),
-                        format!(
-                            "sensor `{}`: drum sensors sit on the drum's axis (more than 1 mm off)",
-                            s.name
-                        ),
+                        format!("sensor `{}` (off the drum's axis)", s.name),
+                        &s.point,
                     );
                 }
             }

@@ -115,10 +115,10 @@ fn two_percent() -> f64 {
     0.02
 }
 
-/// A body a force element or sensor can attach to. `drum`: sensors only, on the drum's axis:
-/// the point the drum's frame carries (with the tub's rigid motion and, on the elastic tub, its
-/// motion at the drum's mount); rigid-body and elastic drum motion of material points are the
-/// field recovery's (issue 10).
+/// A body a force element or sensor can attach to. `drum`: sensors only. A drum point turns
+/// with the drum (its rest position at drum angle 0) and reads its small motion: the tub's
+/// motion at the drum's mount carried to the turning point, plus the elastic drum's own modes
+/// there (a modal point of the drum's data off the axis), as the field recovery moves it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum BodyRef {

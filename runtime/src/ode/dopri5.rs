@@ -13,7 +13,9 @@
 //! problem stiff (`Stats::stiff_at`): the run then chatters on the stability limit and an
 //! implicit method would take larger steps.
 
-use super::common::{Tolerance, Trials, after_landing, all_finite, error_norm, initial_step, propose_step};
+use super::common::{
+    Tolerance, Trials, after_landing, all_finite, error_norm, initial_step, propose_step,
+};
 use super::tableau::{DOPRI5, DOPRI5_DENSE_D};
 use super::{OdeError, OdeSystem, Options, Solver, Stats, Stepper};
 
@@ -145,12 +147,7 @@ impl Dopri5 {
             }
             self.err[i] = h * e;
         }
-        let norm = error_norm(
-            &self.err,
-            &self.y,
-            &self.y_new,
-            &self.tol,
-        );
+        let norm = error_norm(&self.err, &self.y, &self.y_new, &self.tol);
         if norm.is_finite() && !all_finite(&self.y_new) {
             return f64::INFINITY;
         }

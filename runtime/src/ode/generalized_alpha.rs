@@ -20,8 +20,8 @@
 //!   0.9 err^(-1/3), in [0.2, 5].
 //! * Dense output: cubic Hermite from (y0, f0, y1, f1).
 
-use super::common::{Tolerance, 
-    StartBuffers, Trials, all_finite, error_norm, hermite_stepper, propose_step, start,
+use super::common::{
+    StartBuffers, Tolerance, Trials, all_finite, error_norm, hermite_stepper, propose_step, start,
 };
 use super::lu::{lu_factor, lu_solve};
 use super::newton::{self, Attempt, Jacobian, Rate, Verdict};
@@ -287,12 +287,7 @@ impl GeneralizedAlpha {
                 for i in 0..n {
                     self.err[i] = c * (self.x[i] - self.f[n + i]);
                 }
-                let err = error_norm(
-                    &self.err,
-                    &self.y[..n],
-                    &self.y_new[..n],
-                    &self.tol,
-                );
+                let err = error_norm(&self.err, &self.y[..n], &self.y_new[..n], &self.tol);
                 return if err.is_finite() {
                     Attempt::Done(err)
                 } else {

@@ -12,9 +12,9 @@
 //! * The right-hand side at the new point is the next step's first stage, so dense output is the
 //!   cubic Hermite interpolant from (y0, f0, y1, f1) at no extra cost (third order).
 
-use super::common::{Tolerance, 
-    StartBuffers, Trials, after_landing, all_finite, error_norm, hermite_stepper, propose_step,
-    start,
+use super::common::{
+    StartBuffers, Tolerance, Trials, after_landing, all_finite, error_norm, hermite_stepper,
+    propose_step, start,
 };
 use super::iteration::IterationMatrix;
 use super::tableau::RODAS4;
@@ -167,12 +167,7 @@ impl Rodas4 {
         if !all_finite(&self.y_new) {
             return Ok(None);
         }
-        let err = error_norm(
-            &self.err,
-            &self.y,
-            &self.y_new,
-            &self.tol,
-        );
+        let err = error_norm(&self.err, &self.y, &self.y_new, &self.tol);
         Ok(err.is_finite().then_some(err))
     }
 }

@@ -20,8 +20,9 @@
 //! * Dense output: cubic Hermite from (y0, f0, y1, f1) with f1 = k_5, the derivative at the
 //!   (stiffly accurate) last stage; third order, no extra right-hand side evaluation.
 
-use super::common::{Tolerance, 
-    StartBuffers, Trials, all_finite, error_norm, hermite, hermite_stepper, propose_step, start,
+use super::common::{
+    StartBuffers, Tolerance, Trials, all_finite, error_norm, hermite, hermite_stepper,
+    propose_step, start,
 };
 use super::iteration::IterationMatrix;
 use super::newton::{self, Attempt, Jacobian, Rate, Verdict};
@@ -256,12 +257,7 @@ impl Sdirk4 {
             self.delta[i] = e;
         }
         self.lu.solve(&self.jac, &mut self.delta);
-        let err = error_norm(
-            &self.delta,
-            &self.y,
-            &self.y_new,
-            &self.tol,
-        );
+        let err = error_norm(&self.delta, &self.y, &self.y_new, &self.tol);
         if err.is_finite() {
             Attempt::Done(err)
         } else {

@@ -33,10 +33,12 @@ struct Sim {
     #[arg(long)]
     t_end: Option<f64>,
     /// rk4 (fixed step), dopri5 (adaptive, explicit), sdirk4 (L-stable SDIRK), rodas4
-    /// (L-stable Rosenbrock), galpha (generalized-alpha on the second-order equations).
+    /// (L-stable Rosenbrock), galpha (generalized-alpha on the second-order equations), auto
+    /// (dopri5 while not stiff, rodas4 while stiff, switching both ways).
     #[arg(long, default_value = "dopri5")]
     integrator: Method,
-    /// Relative tolerance of the adaptive integrators (absolute: 1e-3 x this, in m and rad).
+    /// Relative tolerance of the adaptive integrators (absolute: 1e-3 x this, in m, m/s and
+    /// rad; a modal coordinate in the metres it moves a marker by).
     #[arg(long, default_value_t = 1e-6)]
     tol: f64,
     /// A scene of the model (default: its first scene).

@@ -310,9 +310,10 @@ fn drum_rim_sensor_reads_the_recovered_field(
         diff / size
     );
     assert!(size > 1e-5, "the state moves the rim ({size} m)");
-    // Measured 4e-16 relative (two paths to the same motion: rows at the point vs the fit
-    // of the recovered nodes).
-    assert!(diff < 1e-12 * size);
+    // Measured 8.3e-12 relative: the sensor reads the committed modal data's rows, the
+    // recovery this solve's field, which agree to what `Recovery::new` checks (1e-8 of the
+    // entries); the formulas themselves agree to round-off.
+    assert!(diff < 1e-9 * size);
     // Acceleration: central differences of the recovered motion along the path.
     let dt = 1e-5;
     let at = |t: f64| {
@@ -336,8 +337,9 @@ fn drum_rim_sensor_reads_the_recovered_field(
         diff / size
     );
     assert!(size > 1e-2, "the path accelerates the rim ({size} m/s^2)");
-    // Truncation (w dt)^2 ~ 1e-6 and round-off 1e-16 |x| / dt^2.
-    assert!(diff < 1e-4 * size);
+    // Measured 1.7e-7 relative: the differences' truncation (w dt)^2 ~ 1e-6 of the turning
+    // terms and round-off 1e-16 |x| / dt^2.
+    assert!(diff < 2e-6 * size);
 }
 
 /// The paper's route as the reference for stresses: the drum's nodal displacements recovered

@@ -107,7 +107,7 @@ fn interpreted_run_allocates_only_at_set_up() {
         }
     }
     // The reference's elastic scene (tub, drum and cabinet modes): shorter runs, its steps
-    // are 35 us (dopri5); the implicit methods with its dual-number force Jacobians.
+    // are 35 us (dopri5); the implicit methods with its structured force Jacobians.
     let m = washdyn_models::reference();
     let scene = m.scene(Some("elastic")).unwrap();
     for method in [
@@ -115,6 +115,7 @@ fn interpreted_run_allocates_only_at_set_up() {
         Method::Sdirk4,
         Method::Rodas4,
         Method::GeneralizedAlpha,
+        Method::Auto,
     ] {
         let (short, ns) = allocations(Interpreter::new(&m, &scene), method, 0.05);
         let (long, nl) = allocations(Interpreter::new(&m, &scene), method, 0.5);
@@ -138,6 +139,7 @@ fn generated_run_allocates_only_at_set_up() {
             Method::Sdirk4,
             Method::Rodas4,
             Method::GeneralizedAlpha,
+            Method::Auto,
         ] {
             let sys = || washdyn_models::generated(model, scene).unwrap();
             let (short, ns) = allocations(sys(), method, 1.0);
@@ -155,6 +157,7 @@ fn generated_run_allocates_only_at_set_up() {
         Method::Sdirk4,
         Method::Rodas4,
         Method::GeneralizedAlpha,
+        Method::Auto,
     ] {
         let sys = || washdyn_models::generated("reference", "elastic").unwrap();
         let (short, ns) = allocations(sys(), method, 0.05);

@@ -175,6 +175,8 @@ pub struct Summary {
     pub stiff_steps: u64,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub stiff_at: Option<f64>,
+    /// Hand-overs between dopri5 and rodas4 (the composite method `auto`).
+    pub method_switches: u64,
     pub samples: u64,
     pub wall_time_s: f64,
     /// "ok", "failed" or "interrupted".
@@ -213,6 +215,7 @@ impl Summary {
             newton_iterations: 0,
             stiff_steps: 0,
             stiff_at: None,
+            method_switches: 0,
             samples: 0,
             wall_time_s: 0.0,
             status: "ok".into(),
@@ -231,16 +234,21 @@ impl Summary {
         self.lu_decompositions = s.lu_decompositions;
         self.newton_iterations = s.newton_iterations;
         self.stiff_steps = s.stiff_steps;
+        self.method_switches = s.method_switches;
         if let Some(t) = s.stiff_at
             && self.stiff_at.is_none()
         {
             self.stiff_at = Some(t);
-            self.warnings.push(format!(
-                "{} ran on its stability limit from t = {t:.4} s ({} of {} steps; Hairer's \
-                 stiffness test): its step is set by stability there, not by the tolerance; an \
-                 implicit method (galpha, sdirk4, rodas4; docs/accuracy.md) would take larger steps",
-                self.integrator, s.stiff_steps, s.steps
-            ));
+            // The composite method answers stiffness by switching: no advice to give.
+            if self.integrator != "auto" {
+                self.warnings.push(format!(
+                    "{} ran on its stability limit from t = {t:.4} s ({} of {} steps; Hairer's \
+                     stiffness test): its step is set by stability there, not by the tolerance; \
+                     an implicit method (galpha, sdirk4, rodas4, auto; docs/accuracy.md) would \
+                     take larger steps",
+                    self.integrator, s.stiff_steps, s.steps
+                ));
+            }
         }
     }
 }

@@ -91,6 +91,25 @@ impl Dopri5 {
         self.stats = Stats::default();
     }
 
+    /// Whether Hairer's test calls the problem stiff now (15 stiff steps with fewer than 6
+    /// non-stiff ones between them, since the last `reset_stiffness`).
+    pub fn is_stiff(&self) -> bool {
+        self.stiff_count >= STIFF_COUNT
+    }
+
+    /// Forget the stiffness counters (a composite method hands the problem back).
+    pub fn reset_stiffness(&mut self) {
+        self.stiff_count = 0;
+        self.nonstiff_count = 0;
+    }
+
+    /// Options the composite method adjusts between hand-overs: the first step of the next
+    /// `init` and the step budget.
+    pub fn set_start(&mut self, h0: f64, max_steps: u64) {
+        self.opts.h0 = h0;
+        self.opts.max_steps = max_steps;
+    }
+
     /// Hairer's test on the accepted step (before the FSAL swap): k7 - k6 against
     /// y7 - y6 = h sum_j (a7j - a6j) k_j, both at t + h.
     fn detect_stiffness(&mut self, h: f64, t_new: f64) {

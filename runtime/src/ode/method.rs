@@ -18,11 +18,11 @@ use std::fmt;
 use std::str::FromStr;
 
 use super::{
-    Dopri5, GeneralizedAlpha, OdeError, OdeSystem, Options, Rk4, Rodas4, Sdirk4, Solver, Stats,
-    Stepper,
+    Auto, Dopri5, GeneralizedAlpha, OdeError, OdeSystem, Options, Rk4, Rodas4, Sdirk4, Solver,
+    Stats, Stepper,
 };
 
-/// The available integrators, named `rk4`, `dopri5`, `sdirk4`, `rodas4`, `galpha`.
+/// The available integrators, named `rk4`, `dopri5`, `sdirk4`, `rodas4`, `galpha`, `auto`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Method {
     Rk4,
@@ -31,15 +31,18 @@ pub enum Method {
     Rodas4,
     /// Generalized-alpha on the second-order equations.
     GeneralizedAlpha,
+    /// dopri5 while not stiff, rodas4 while stiff (`ode/auto.rs`).
+    Auto,
 }
 
 impl Method {
-    pub const ALL: [Method; 5] = [
+    pub const ALL: [Method; 6] = [
         Method::Rk4,
         Method::Dopri5,
         Method::Sdirk4,
         Method::Rodas4,
         Method::GeneralizedAlpha,
+        Method::Auto,
     ];
 
     pub fn name(self) -> &'static str {
@@ -49,14 +52,16 @@ impl Method {
             Method::Sdirk4 => "sdirk4",
             Method::Rodas4 => "rodas4",
             Method::GeneralizedAlpha => "galpha",
+            Method::Auto => "auto",
         }
     }
 
-    /// Whether the method is implicit (stable on stiff systems, uses a Jacobian).
+    /// Whether the method is implicit (stable on stiff systems, uses a Jacobian); `auto` is
+    /// when the problem is stiff.
     pub fn implicit(self) -> bool {
         matches!(
             self,
-            Method::Sdirk4 | Method::Rodas4 | Method::GeneralizedAlpha
+            Method::Sdirk4 | Method::Rodas4 | Method::GeneralizedAlpha | Method::Auto
         )
     }
 }
@@ -69,7 +74,7 @@ impl fmt::Display for Method {
 
 /// An unknown method name.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("unknown integrator `{0}` (expected rk4, dopri5, sdirk4, rodas4 or galpha)")]
+#[error("unknown integrator `{0}` (expected rk4, dopri5, sdirk4, rodas4, galpha or auto)")]
 pub struct UnknownMethod(pub String);
 
 impl FromStr for Method {
@@ -91,6 +96,7 @@ macro_rules! dispatch {
             AnySolver::Sdirk4($s) => $e,
             AnySolver::Rodas4($s) => $e,
             AnySolver::GeneralizedAlpha($s) => $e,
+            AnySolver::Auto($s) => $e,
         }
     };
 }
@@ -102,6 +108,7 @@ pub enum AnySolver {
     Sdirk4(Sdirk4),
     Rodas4(Rodas4),
     GeneralizedAlpha(GeneralizedAlpha),
+    Auto(Auto),
 }
 
 impl AnySolver {
@@ -115,6 +122,7 @@ impl AnySolver {
             Method::GeneralizedAlpha => {
                 AnySolver::GeneralizedAlpha(GeneralizedAlpha::new(dim, options))
             }
+            Method::Auto => AnySolver::Auto(Auto::new(dim, options)),
         }
     }
 
@@ -125,6 +133,7 @@ impl AnySolver {
             AnySolver::Sdirk4(_) => Method::Sdirk4,
             AnySolver::Rodas4(_) => Method::Rodas4,
             AnySolver::GeneralizedAlpha(_) => Method::GeneralizedAlpha,
+            AnySolver::Auto(_) => Method::Auto,
         }
     }
 }
@@ -176,7 +185,7 @@ mod tests {
     #[test]
     fn runs_a_dyn_system_picked_by_name() {
         use crate::ode::problems::Harmonic;
-        for name in ["rk4", "dopri5", "sdirk4", "rodas4", "galpha"] {
+        for name in ["rk4", "dopri5", "sdirk4", "rodas4", "galpha", "auto"] {
             let m: Method = name.parse().unwrap();
             let opts = Options {
                 h0: if m == Method::Rk4 { 1e-3 } else { 0.0 },

@@ -4,6 +4,7 @@
 
 use thiserror::Error;
 
+pub mod auto;
 mod common;
 pub mod dopri5;
 pub mod generalized_alpha;
@@ -19,6 +20,7 @@ pub mod tableau;
 #[cfg(test)]
 mod tests;
 
+pub use auto::Auto;
 pub use dopri5::Dopri5;
 pub use generalized_alpha::GeneralizedAlpha;
 pub use method::{AnySolver, Method, UnknownMethod};
@@ -108,6 +110,8 @@ pub struct Stats {
     /// The first time Hairer's test called the problem stiff (15 such steps with fewer than 6
     /// non-stiff ones between them): the method runs on its stability limit from there.
     pub stiff_at: Option<f64>,
+    /// The composite method (`auto`): hand-overs between dopri5 and rodas4.
+    pub method_switches: u64,
 }
 
 /// Step control and budgets.

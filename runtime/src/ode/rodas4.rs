@@ -81,6 +81,23 @@ impl Rodas4 {
         }
     }
 
+    /// The step size the controller proposes next.
+    pub fn step_size(&self) -> f64 {
+        self.h
+    }
+
+    /// f(t, y) at the current state.
+    pub fn rhs_now(&self) -> &[f64] {
+        &self.f
+    }
+
+    /// Options the composite method adjusts between hand-overs: the first step of the next
+    /// `init` and the step budget.
+    pub fn set_start(&mut self, h0: f64, max_steps: u64) {
+        self.opts.h0 = h0;
+        self.opts.max_steps = max_steps;
+    }
+
     /// Restart the work counters (they accumulate across `init` calls).
     pub fn reset_stats(&mut self) {
         self.stats = Stats::default();

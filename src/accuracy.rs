@@ -380,6 +380,7 @@ fn sweep(quick: bool, elastic: bool, long: bool) -> Vec<(Method, Vec<f64>)> {
             (Method::Sdirk4, vec![1e-5, 1e-6]),
             (Method::Rodas4, vec![1e-4, 1e-5, 1e-6]),
             (Method::GeneralizedAlpha, vec![1e-5, 1e-6]),
+            (Method::Auto, vec![1e-5, 1e-6]),
         ]
     } else if elastic {
         vec![
@@ -388,6 +389,7 @@ fn sweep(quick: bool, elastic: bool, long: bool) -> Vec<(Method, Vec<f64>)> {
             (Method::Sdirk4, vec![1e-3, 1e-4, 1e-5, 1e-6]),
             (Method::Rodas4, vec![1e-3, 1e-4, 1e-5, 1e-6]),
             (Method::GeneralizedAlpha, vec![1e-3, 1e-4, 1e-5, 1e-6]),
+            (Method::Auto, vec![1e-4, 1e-5, 1e-6]),
         ]
     } else {
         vec![
@@ -396,6 +398,7 @@ fn sweep(quick: bool, elastic: bool, long: bool) -> Vec<(Method, Vec<f64>)> {
             (Method::Sdirk4, vec![1e-3, 1e-4, 1e-5, 1e-6, 1e-7]),
             (Method::Rodas4, vec![1e-3, 1e-4, 1e-5, 1e-6, 1e-7]),
             (Method::GeneralizedAlpha, vec![1e-3, 1e-4, 1e-5, 1e-6, 1e-7]),
+            (Method::Auto, vec![1e-5, 1e-6, 1e-7]),
         ]
     }
 }
@@ -789,7 +792,7 @@ where
         .axis_desc_style(("sans-serif", 20))
         .draw()?;
     let colours = [RED, BLUE, GREEN, MAGENTA, BLACK, CYAN];
-    let methods = ["rk4", "dopri5", "sdirk4", "rodas4", "galpha"];
+    let methods = ["rk4", "dopri5", "sdirk4", "rodas4", "galpha", "auto"];
     for (k, name) in methods.iter().enumerate() {
         let mut line: Vec<(f64, f64)> = w
             .trials

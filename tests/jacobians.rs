@@ -143,6 +143,9 @@ impl<S: Mechanical> OdeSystem for NoMassForm<S> {
     fn second_order(&self) -> Option<usize> {
         self.0.second_order()
     }
+    fn atol_scales(&self, s: &mut [f64]) {
+        self.0.atol_scales(s)
+    }
 }
 
 /// sdirk4, rodas4 and generalized-alpha on the elastic scene, iterating on the mass form

@@ -146,6 +146,9 @@ pub struct FirstOrder<S: Mechanical> {
     col: Vec<f64>,
     /// M2 = I (modal coordinates of a mass-normalised body): no solve with it.
     m2_identity: bool,
+    /// The absolute tolerance's scales over y (`Equations::atol_scales`), computed once: the
+    /// integrators ask at every `init` (each speed breakpoint), which must not allocate.
+    atol: Vec<f64>,
 }
 
 impl<S: Mechanical> FirstOrder<S> {
@@ -162,7 +165,12 @@ impl<S: Mechanical> FirstOrder<S> {
             cholesky_in_place(&mut l2, n2),
             "M2 is not positive definite"
         );
+        let mut atol = vec![1.0; 2 * (n1 + n2)];
+        if let Some(eq) = sys.equations() {
+            eq.atol_scales(&mut atol);
+        }
         FirstOrder {
+            atol,
             sys,
             layout,
             m1: vec![0.0; n1 * n1],
@@ -243,9 +251,7 @@ impl<S: Mechanical> OdeSystem for FirstOrder<S> {
     }
     /// Per coordinate from the resolved model (`Equations::atol_scales`).
     fn atol_scales(&self, s: &mut [f64]) {
-        if let Some(eq) = self.sys.equations() {
-            eq.atol_scales(s);
-        }
+        s.copy_from_slice(&self.atol);
     }
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) {
         let n = self.layout.n();

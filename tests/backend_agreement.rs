@@ -67,6 +67,21 @@ fn mass_forces_and_accelerations_agree_for_random_states() {
                         "{name}/{scene} M1[{i}]"
                     );
                 }
+                // Sensors (a drum rim sensor on `compact` turns with the drive angle).
+                let qdd: Vec<f64> = (0..n).map(|_| 10.0 * rng.next()).collect();
+                let nc = interp.channel_names().len();
+                let (mut ca, mut cb) = (vec![0.0; nc], vec![0.0; nc]);
+                interp.sensors(t, &q, &qd, &qdd, &mut ca);
+                gen_.sensors(t, &q, &qd, &qdd, &mut cb);
+                let sc = max_abs(&ca);
+                for i in 0..nc {
+                    assert!(
+                        (ca[i] - cb[i]).abs() <= 1e-12 * sc,
+                        "{name}/{scene} channel {i}: {} vs {}",
+                        ca[i],
+                        cb[i]
+                    );
+                }
                 // q'': the interpreter's Cholesky at run time vs the generated straight-line one.
                 let mut fa = FirstOrder::new(Interpreter::new(&m, &eff));
                 let (mut aa, mut ab) = (vec![0.0; n], vec![0.0; n]);

@@ -17,6 +17,10 @@ washdyn_macros::machine! {
         spring spring_rear_right { stiffness: 5000.0, free_length: 0.17057 }
         spring spring_front { stiffness: 5000.0, free_length: 0.15095 }
 
+        // A displacement sensor on the drum's front rim (DRUM_EDGE_0 at drum angle 0): it turns
+        // with the drum, so the generated code reads it with the drive angle.
+        sensor drum_rim { body: drum, point: [0.17, 0.0, 0.69], kind: displacement }
+
         // The FE models are the reference's tub and drum; the compact drum has none of its own,
         // so its elastic scenes keep tub and drum rigid and only the (shared) cabinet elastic.
         scene elastic {

@@ -311,9 +311,10 @@ fn drum_rim_sensor_reads_the_recovered_field(
     );
     assert!(size > 1e-5, "the state moves the rim ({size} m)");
     // Measured 8.3e-12 relative: the sensor reads the committed modal data's rows, the
-    // recovery this solve's field, which agree to what `Recovery::new` checks (1e-8 of the
-    // entries); the formulas themselves agree to round-off.
-    assert!(diff < 1e-9 * size);
+    // recovery this solve's field. The bound is what `Recovery::new` accepts between the two
+    // (1e-8 of the entries): another machine's solve may sit anywhere below it, and the
+    // formulas themselves agree to round-off.
+    assert!(diff < 1e-8 * size);
     // Acceleration: central differences of the recovered motion along the path.
     let dt = 1e-5;
     let at = |t: f64| {

@@ -240,7 +240,10 @@ fn drum_rim_sensor_reads_the_recovered_field(
     washdyn_runtime::ir::check::check(&m).unwrap_or_else(|e| panic!("{e:?}"));
     let eq = Equations::new(&m, &scene);
     let (du, ac) = (eq.sensors.len() - 2, eq.sensors.len() - 1);
-    assert!(eq.sensors[du].spin.is_some());
+    let spin = eq.sensors[du]
+        .spin
+        .as_ref()
+        .expect("an off-axis drum sensor turns");
     let n = eq.layout.n();
     // A state with every kind of coordinate moving: tub translation and (small) rotation, the
     // tub's and the drum's modes.
@@ -268,9 +271,7 @@ fn drum_rim_sensor_reads_the_recovered_field(
         }
         let (u, th, c) = washdyn_fe::modal::rigid_fit(&turned, ids, &wmap).unwrap();
         // The set's point turned like the nodes.
-        let b = eq.sensors[du].spin.as_ref().unwrap().mount;
-        let e = eq.sensors[du].spin.as_ref().unwrap().axis;
-        let ratio = eq.sensors[du].spin.as_ref().unwrap().ratio;
+        let (b, e, ratio) = (spin.mount, spin.axis, spin.ratio);
         let th_d = phi * ratio;
         let r = [point[0] - b[0], point[1] - b[1], point[2] - b[2]];
         let (cs, sn) = (th_d.cos(), th_d.sin());
@@ -296,13 +297,14 @@ fn drum_rim_sensor_reads_the_recovered_field(
         omega_dot: wd,
     };
     let zero = vec![0.0; n];
+    // |want| and |got - want|.
+    let compare = |got: [f64; 3], want: &[f64]| {
+        let norm = |v: &dyn Fn(usize) -> f64| (0..3).map(|a| v(a).powi(2)).sum::<f64>().sqrt();
+        (norm(&|a| want[a]), norm(&|a| got[a] - want[a]))
+    };
     let sensed = eq.sensor(du, &drive, &q0, &zero, &zero);
     let want = fitted(phi0, &q0);
-    let size = want.iter().map(|v| v * v).sum::<f64>().sqrt();
-    let diff = (0..3)
-        .map(|a| (sensed[a] - want[a]).powi(2))
-        .sum::<f64>()
-        .sqrt();
+    let (size, diff) = compare(sensed, &want);
     // The second-order rotation terms (element_geometry) are the sensor's own: alpha ~ 1e-7
     // rad leaves them at 1e-14 of the motion.
     eprintln!(
@@ -328,11 +330,7 @@ fn drum_rim_sensor_reads_the_recovered_field(
         .map(|a| (ap[a] - 2.0 * a0[a] + am[a]) / (dt * dt))
         .collect();
     let sensed = eq.sensor(ac, &drive, &q0, &q1, &q2);
-    let size = fd.iter().map(|v| v * v).sum::<f64>().sqrt();
-    let diff = (0..3)
-        .map(|a| (sensed[a] - fd[a]).powi(2))
-        .sum::<f64>()
-        .sqrt();
+    let (size, diff) = compare(sensed, &fd);
     eprintln!(
         "drum rim acceleration: sensor {sensed:?}, differences {fd:?}: {:.1e} of {size:.2e} m/s^2",
         diff / size

@@ -306,7 +306,7 @@ impl Equations {
                 kind: s.kind,
                 at: mk(s.body, s.point),
                 spin: (s.body == BodyRef::Drum)
-                    .then(|| Spin::new(model, s.point, tub_modes.as_ref(), drum.as_ref()))
+                    .then(|| Spin::new(model, p0, s.point, tub_modes.as_ref(), drum.as_ref()))
                     .flatten(),
                 channels: s.channels(),
             })

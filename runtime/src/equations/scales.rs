@@ -3,7 +3,16 @@
 //! the modal coordinates to an accuracy unrelated to the motion they cause, and the velocities
 //! to the positions' number in other units.
 
-use super::{Equations, MarkerDef, ModalRows};
+use super::{Equations, MarkerDef, ModalRows, Placed};
+use crate::elements::Element;
+
+/// Both markers of every element of one kind.
+fn element_markers<E: Element>(list: &[Placed<E>]) -> impl Iterator<Item = &MarkerDef> {
+    list.iter().flat_map(|p| {
+        let (a, b) = p.e.markers();
+        [a, b]
+    })
+}
 
 impl Equations {
     /// The largest translation (m) per unit of each coordinate at any marker of the scene:
@@ -18,28 +27,15 @@ impl Equations {
                 size[r.start + k] = size[r.start + k].max(a);
             }
         };
-        let mut markers: Vec<&MarkerDef> = Vec::new();
-        for p in &self.springs {
-            let (a, b) = crate::elements::Element::markers(&p.e);
-            markers.extend([a, b]);
-        }
-        for p in &self.dampers {
-            let (a, b) = crate::elements::Element::markers(&p.e);
-            markers.extend([a, b]);
-        }
-        for p in &self.friction_dampers {
-            let (a, b) = crate::elements::Element::markers(&p.e);
-            markers.extend([a, b]);
-        }
-        for p in &self.gaskets {
-            let (a, b) = crate::elements::Element::markers(&p.e);
-            markers.extend([a, b]);
-        }
-        markers.extend(self.sensors.iter().map(|s| &s.at));
-        markers.extend(self.carried.iter().map(|c| &c.0));
-        markers.extend(self.rotors.iter().map(|r| &r.mount));
-        markers.extend(self.unbalances.iter().map(|u| &u.mount));
-        markers.extend(self.drum.iter().map(|d| &d.mount));
+        let markers = element_markers(&self.springs)
+            .chain(element_markers(&self.dampers))
+            .chain(element_markers(&self.friction_dampers))
+            .chain(element_markers(&self.gaskets))
+            .chain(self.sensors.iter().map(|s| &s.at))
+            .chain(self.carried.iter().map(|c| &c.0))
+            .chain(self.rotors.iter().map(|r| &r.mount))
+            .chain(self.unbalances.iter().map(|u| &u.mount))
+            .chain(self.drum.iter().map(|d| &d.mount));
         for m in markers {
             if let Some(r) = &m.modal {
                 see(r);
@@ -50,7 +46,7 @@ impl Equations {
                 see(r);
             }
         }
-        let rigid = if n > 0 { 6.min(self.layout.n1) } else { 0 };
+        let rigid = 6.min(self.layout.n1);
         for (i, s) in size.iter_mut().enumerate() {
             if i < rigid || *s <= 0.0 || !s.is_finite() {
                 *s = 1.0;

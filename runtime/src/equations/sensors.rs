@@ -41,6 +41,7 @@ impl Spin {
     /// has no modal point at (it reads the mount's frame, as `at` does).
     pub fn new(
         model: &Model,
+        p0: [f64; 3],
         point: [f64; 3],
         tub: Option<&ModalBody>,
         drum: Option<&super::ElasticDrum>,
@@ -57,7 +58,7 @@ impl Spin {
         }
         Some(Spin {
             mount: b,
-            mount_s: f::sub(b, model_p0(model)),
+            mount_s: f::sub(b, p0),
             lever,
             axis: e,
             ratio: r.ratio,
@@ -65,11 +66,6 @@ impl Spin {
             drum: rows,
         })
     }
-}
-
-/// The tub's reference point p0 (its rest CoG), as `Equations::new` takes it.
-fn model_p0(model: &Model) -> [f64; 3] {
-    model.tub.cog
 }
 
 /// The rigid tub's motion of a point at lever `r` from p0 (x = q or q''), with the rotation's
@@ -166,10 +162,9 @@ impl Equations {
                     + ad.cross(rd).scale(T::c(2.0))
                     + al.cross(rdd);
                 if let Some(rows) = &sp.tub {
-                    let (w, p) = rows.motion(qdd);
                     let (_, pd) = rows.motion(qd);
                     let (_, pq) = rows.motion(q);
-                    acc = acc + w + p.cross(r) + pd.cross(rd).scale(T::c(2.0)) + pq.cross(rdd);
+                    acc = acc + tub_rows(qdd, r) + pd.cross(rd).scale(T::c(2.0)) + pq.cross(rdd);
                 }
                 let (v, vd, va) = (drum_w(q), drum_w(qd), drum_w(qdd));
                 acc = acc

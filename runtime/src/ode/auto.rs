@@ -14,6 +14,7 @@
 //! and no history), with the step the first method ended on. Dense output is the active
 //! method's. Counters are the sum of both methods'.
 
+use super::common::attempts;
 use super::{Dopri5, OdeError, OdeSystem, Options, Rodas4, Solver, Stats, Stepper};
 
 /// dopri5's stability boundary on the negative real axis (Hairer's test uses it too).
@@ -58,18 +59,9 @@ impl Auto {
         }
     }
 
-    /// Whether rodas4 is the active method.
-    pub fn stiff_now(&self) -> bool {
-        self.on_rodas
-    }
-
-    fn attempts(s: &Stats) -> u64 {
-        s.steps + s.rejected_steps
-    }
-
     /// The budget left to the active method (the other's attempts count against it).
     fn budget(&self, other: &Stats) -> u64 {
-        self.opts.max_steps.saturating_sub(Self::attempts(other))
+        self.opts.max_steps.saturating_sub(attempts(other))
     }
 
     /// Estimate of the spectral radius of df/dy at rodas4's current state: power iteration
@@ -174,13 +166,12 @@ impl Stepper for Auto {
 impl<S: OdeSystem + ?Sized> Solver<S> for Auto {
     fn init(&mut self, sys: &mut S, t0: f64, y0: &[f64]) -> Result<(), OdeError> {
         self.since_check = 0;
-        let budget = |s: &Self, other: &Stats| s.budget(other);
         if self.on_rodas {
-            let b = budget(self, &self.dopri.stats());
+            let b = self.budget(&self.dopri.stats());
             self.rodas.set_start(self.opts.h0, b);
             Solver::<S>::init(&mut *self.rodas, sys, t0, y0)
         } else {
-            let b = budget(self, &self.rodas.stats());
+            let b = self.budget(&self.rodas.stats());
             self.dopri.set_start(self.opts.h0, b);
             Solver::<S>::init(&mut *self.dopri, sys, t0, y0)
         }
@@ -225,7 +216,7 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Auto {
         r.map_err(|e| match e {
             OdeError::StepBudget { t, .. } => OdeError::StepBudget {
                 t,
-                steps: Self::attempts(&Stepper::stats(self)),
+                steps: attempts(&Stepper::stats(self)),
             },
             e => e,
         })

@@ -156,8 +156,13 @@ pub fn min_step(t: f64, opts: &Options) -> f64 {
 }
 
 /// The budget check shared by the methods: every attempted step (accepted or rejected) counts.
+/// Attempted steps (accepted + rejected): what the step budget counts.
+pub fn attempts(stats: &Stats) -> u64 {
+    stats.steps + stats.rejected_steps
+}
+
 pub fn check_budget(stats: &Stats, opts: &Options, t: f64) -> Result<(), OdeError> {
-    let attempts = stats.steps + stats.rejected_steps;
+    let attempts = attempts(stats);
     if attempts >= opts.max_steps {
         Err(OdeError::StepBudget { t, steps: attempts })
     } else {

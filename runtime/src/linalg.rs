@@ -50,6 +50,19 @@ pub fn cholesky_solve<T: Scalar>(l: &[T], n: usize, b: &mut [T]) {
     }
 }
 
+/// y += A x, A column-major as `C` columns of `R` rows: the kernel generated code calls for a
+/// constant modal table (`Scalar::mat_vec`; the same order of operations as its f64 loop, so
+/// the back ends agree to the bit). Fixed sizes let the compiler unroll and vectorise the
+/// columns (an axpy per column).
+#[inline]
+pub fn mat_vec<const R: usize, const C: usize>(a: &[[f64; R]; C], x: &[f64; C], y: &mut [f64; R]) {
+    for (col, xj) in a.iter().zip(x) {
+        for (yi, aij) in y.iter_mut().zip(col) {
+            *yi += *xj * *aij;
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -79,5 +92,27 @@ mod tests {
         }
         let mut not_pd = vec![1.0, 2.0, 2.0, 1.0];
         assert!(!cholesky_in_place(&mut not_pd, 2));
+    }
+
+    /// The kernel generated code calls gives the interpreter's `Scalar::mat_vec` to the bit
+    /// (what lets the back ends agree to round-off on the modal projections).
+    #[test]
+    fn generated_kernel_equals_the_scalar_loop_bit_for_bit() {
+        use crate::scalar::Scalar;
+        let mut s = 0.3f64;
+        let mut r = || {
+            s = (s * 997.0 + 0.123).fract();
+            s - 0.5
+        };
+        let a: [[f64; 7]; 5] = std::array::from_fn(|_| std::array::from_fn(|_| r() * 1e3));
+        let x: [f64; 5] = std::array::from_fn(|_| r());
+        let y0: [f64; 7] = std::array::from_fn(|_| r());
+        let mut y = y0;
+        mat_vec(&a, &x, &mut y);
+        let flat: Vec<f64> = a.iter().flatten().copied().collect();
+        let mut z = y0;
+        f64::mat_vec(&flat, &x, &mut z);
+        assert_eq!(y, z);
+        assert_ne!(y, y0);
     }
 }

@@ -28,6 +28,22 @@ pub trait Scalar:
     fn zero() -> Self {
         Self::c(0.0)
     }
+    /// y += A x for a constant matrix A (column-major: `y.len()` rows, `x.len()` columns): the
+    /// modal projections (W q at a marker, W^T F into the modes). Written as this one hook so
+    /// the symbolic scalar records it as one node over a static table, and generated code
+    /// loops over the table (and vectorises) instead of spelling out every entry. Every
+    /// implementation adds in this order (column by column, y_i + a_ij x_j), so the
+    /// interpreter and generated code agree to the bit.
+    #[inline]
+    fn mat_vec(a: &[f64], x: &[Self], y: &mut [Self]) {
+        let r = y.len();
+        debug_assert_eq!(a.len(), r * x.len());
+        for (col, xj) in a.chunks_exact(r.max(1)).zip(x) {
+            for (yi, aij) in y.iter_mut().zip(col) {
+                *yi += *xj * *aij;
+            }
+        }
+    }
 }
 
 impl Scalar for f64 {
@@ -50,5 +66,24 @@ impl Scalar for f64 {
     #[inline(always)]
     fn cos(self) -> Self {
         f64::cos(self)
+    }
+}
+
+/// y += A x (A column-major, `cols` columns) with x given entry by entry: for an x that is
+/// formed first (scaled coordinates) without a heap buffer. The columns go through
+/// `Scalar::mat_vec` in chunks of 16, in order, so the sum is the one a single call makes.
+pub fn mat_vec_from<T: Scalar>(a: &[f64], cols: usize, x: impl Fn(usize) -> T, y: &mut [T]) {
+    const CHUNK: usize = 16;
+    let r = y.len();
+    debug_assert_eq!(a.len(), r * cols);
+    let mut buf = [T::zero(); CHUNK];
+    let mut j = 0;
+    while j < cols {
+        let m = (cols - j).min(CHUNK);
+        for (k, b) in buf[..m].iter_mut().enumerate() {
+            *b = x(j + k);
+        }
+        T::mat_vec(&a[j * r..(j + m) * r], &buf[..m], y);
+        j += m;
     }
 }

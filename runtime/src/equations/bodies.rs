@@ -169,10 +169,7 @@ impl UnbalanceDef {
             // would be a parametric term feeding even orders.)
             self.mount.load_on_tub(b, f0, V::zero(), y.cross(f0), h);
             if let Some(r) = &self.drum {
-                let fd = rot_t(f0);
-                for (k, wk) in r.w.iter().enumerate() {
-                    h[r.start + k] += fd.dot_c(*wk);
-                }
+                r.add_force(rot_t(f0), h);
             }
             return;
         }
@@ -203,10 +200,7 @@ impl UnbalanceDef {
         let m_b = y.cross(f_t) + (theta.cross(y) + rw).cross(f0);
         self.mount.load_on_tub(b, force, f0, m_b, h);
         if let Some(r) = &self.drum {
-            let fd = rot_t(force - beta.cross(f0));
-            for (k, wk) in r.w.iter().enumerate() {
-                h[r.start + k] += fd.dot_c(*wk);
-            }
+            r.add_force(rot_t(force - beta.cross(f0)), h);
         }
         let Some(m1) = m1 else { return };
         // M1 += m J^T J over the columns that move the mass: u, alpha, the tub's modes at the

@@ -11,7 +11,7 @@ use super::bodies::rotate;
 use super::kinematics::{MarkerDef, tub_point_jacobian};
 use super::{BodyState, Drive, ModalBody};
 use crate::geom::V;
-use crate::scalar::Scalar;
+use crate::scalar::{Scalar, mat_vec_from};
 
 /// `e~`, the cross-product matrix of e.
 fn tilde(e: [f64; 3]) -> [[f64; 3]; 3] {
@@ -57,6 +57,15 @@ pub struct ElasticDrum {
     qee: Vec<[f64; 3]>,
     /// K_G / Omega^2 (n x n), when the scene has `centrifugal_stiffening`.
     pub stiffening: Option<Vec<f64>>,
+    /// The modal rows' constant coefficients as one table (n x (8 + 2n), column-major) over
+    /// x = [g_t (3), 2 Omega beta'_d (3), Omega', Omega^2, Omega' q + 2 Omega q' (n),
+    /// Omega^2 q (n)]: columns C, Q_e, -f_e, -f_ee, -G_e, -(G_ee + K_G / Omega^2).
+    rows_table: Vec<f64>,
+    /// The reaction's force and moment (6 x 3n) over [Omega' q + 2 Omega q', Omega^2 q,
+    /// Omega' q]: -(e x C), -P_e; -(e x e x C), -(P_ee + Q_ee); 0, -Q_e.
+    reaction_table: Vec<f64>,
+    /// sum_k C_k q_k (3 x n): the lever of the drum's weight.
+    c_table: Vec<f64>,
 }
 
 impl ElasticDrum {
@@ -143,7 +152,7 @@ impl ElasticDrum {
         } else {
             None
         };
-        ElasticDrum {
+        let mut drum = ElasticDrum {
             ge: quad(et),
             gee: quad(eet),
             modes,
@@ -160,7 +169,52 @@ impl ElasticDrum {
             pee,
             qee,
             stiffening,
+            rows_table: Vec::new(),
+            reaction_table: Vec::new(),
+            c_table: Vec::new(),
+        };
+        drum.tables();
+        drum
+    }
+
+    /// The constant tables of `add` from the per-mode sums.
+    fn tables(&mut self) {
+        let n = self.modes.n;
+        let e = self.axis;
+        let cross = crate::geom::f::cross;
+        let mut rows = Vec::with_capacity(n * (8 + 2 * n));
+        for a in 0..3 {
+            rows.extend((0..n).map(|k| self.c[k][a]));
         }
+        for a in 0..3 {
+            rows.extend((0..n).map(|k| self.qe[k][a]));
+        }
+        rows.extend(self.fe.iter().map(|v| -v));
+        rows.extend(self.fee.iter().map(|v| -v));
+        for l in 0..n {
+            rows.extend((0..n).map(|k| -self.ge[k * n + l]));
+        }
+        for l in 0..n {
+            let kg = |i: usize| self.stiffening.as_ref().map_or(0.0, |kg| kg[i]);
+            rows.extend((0..n).map(|k| -(self.gee[k * n + l] + kg(k * n + l))));
+        }
+        let mut reaction = Vec::with_capacity(18 * n);
+        let col = |f: [f64; 3], m: [f64; 3]| [f, m].concat();
+        for k in 0..n {
+            let ec = cross(e, self.c[k]);
+            reaction.extend(col(ec.map(|v| -v), self.pe[k].map(|v| -v)));
+        }
+        for k in 0..n {
+            let eec = cross(e, cross(e, self.c[k]));
+            let m = crate::geom::f::add(self.pee[k], self.qee[k]);
+            reaction.extend(col(eec.map(|v| -v), m.map(|v| -v)));
+        }
+        for k in 0..n {
+            reaction.extend(col([0.0; 3], self.qe[k].map(|v| -v)));
+        }
+        self.rows_table = rows;
+        self.reaction_table = reaction;
+        self.c_table = self.c.iter().flatten().copied().collect();
     }
 
     /// The M1 couplings of the drum's modes with the frame that carries it, v_j . R C_k +
@@ -220,38 +274,32 @@ impl ElasticDrum {
         let qd = &b.qd[start..start + n];
 
         // Modal rows: weight (turning with the drum), own tangential and centrifugal load,
-        // the frame's Coriolis, Coriolis and spin softening of the modes, their stiffness and
-        // damping, and the stress stiffening.
+        // the frame's Coriolis, Coriolis and spin softening of the modes, the stress
+        // stiffening (one table, `rows_table`), and their stiffness and damping.
         let two_om = om * T::c(2.0);
-        for k in 0..n {
-            let mut v = gt.dot_c(self.c[k]) - omd * self.fe[k] - om2 * self.fee[k]
-                + two_om * betad_d.dot_c(self.qe[k]);
-            let mut kq = T::zero();
-            let mut gq = T::zero();
-            for l in 0..n {
-                let i = k * n + l;
-                kq += q[l] * (omd * self.ge[i] + om2 * self.gee[i]);
-                gq += qd[l] * self.ge[i];
-                if let Some(kg) = &self.stiffening {
-                    kq += q[l] * om2 * kg[i];
-                }
-            }
-            v = v - kq - gq * two_om - q[k] * self.modes.omega2[k] - qd[k] * self.modes.damping[k];
-            h[start + k] += v;
-        }
+        let bd = betad_d.scale(two_om);
+        let x8 = [
+            gt.0[0], gt.0[1], gt.0[2], bd.0[0], bd.0[1], bd.0[2], omd, om2,
+        ];
+        let acc = |k: usize| omd * q[k] + two_om * qd[k];
+        let hm = &mut h[start..start + n];
+        let (head, rest) = self.rows_table.split_at(8 * n);
+        T::mat_vec(head, &x8, hm);
+        mat_vec_from(&rest[..n * n], n, acc, hm);
+        mat_vec_from(&rest[n * n..], n, |k| om2 * q[k], hm);
+        self.modes.add_elastic(b.q, b.qd, h);
 
         // Reaction on the tub at B (drum axes, then turned): the modes' inertia force and its
         // moment about B, and the lever of the drum's weight and centrifugal load.
-        let (mut f, mut mo) = (V::<T>::zero(), V::<T>::zero());
-        for k in 0..n {
-            let (c, p) = (V::<T>::c(self.c[k]), V::<T>::c(self.pe[k]));
-            let acc = omd * q[k] + two_om * qd[k];
-            f = f - e.cross(c).scale(acc) - e.cross(e.cross(c)).scale(om2 * q[k]);
-            mo = mo - p.scale(acc) - V::<T>::c(self.pee[k]).scale(om2 * q[k])
-                + c.scale(q[k]).cross(g_d)
-                - V::<T>::c(self.qe[k]).scale(omd * q[k])
-                - V::<T>::c(self.qee[k]).scale(om2 * q[k]);
-        }
+        let mut fm = [T::zero(); 6];
+        let t = &self.reaction_table;
+        mat_vec_from(&t[..6 * n], n, acc, &mut fm);
+        mat_vec_from(&t[6 * n..12 * n], n, |k| om2 * q[k], &mut fm);
+        mat_vec_from(&t[12 * n..], n, |k| omd * q[k], &mut fm);
+        let mut cq = [T::zero(); 3];
+        T::mat_vec(&self.c_table, q, &mut cq);
+        let f = V([fm[0], fm[1], fm[2]]);
+        let mo = V([fm[3], fm[4], fm[5]]) + V(cq).cross(g_d);
         let z = V::zero();
         self.mount.load_on_tub(b, rot(f), z, rot(mo), h);
     }

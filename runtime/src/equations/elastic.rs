@@ -80,15 +80,15 @@ impl ModalBody {
     /// The rows of the modal point at `p` (checked to exist).
     pub fn rows(&self, p: [f64; 3]) -> ModalRows {
         let pt = point_at(&self.data, p).expect("checked: a modal point at every marker");
-        ModalRows {
-            start: self.start,
-            w: (0..self.n)
+        ModalRows::new(
+            self.start,
+            (0..self.n)
                 .map(|k| [pt.w[0][k], pt.w[1][k], pt.w[2][k]])
                 .collect(),
-            phi: (0..self.n)
+            (0..self.n)
                 .map(|k| [pt.phi[0][k], pt.phi[1][k], pt.phi[2][k]])
                 .collect(),
-        }
+        )
     }
 
     /// The modal data (kept modes only).

@@ -21,40 +21,79 @@ pub struct MarkerDef {
 }
 
 /// Translation W and rotation Phi per unit modal coordinate at a marker; the body's modal
-/// coordinates start at `start` in q.
+/// coordinates start at `start` in q. Built by `new`, which also lays the rows out as the two
+/// constant tables every projection goes through (`Scalar::mat_vec`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ModalRows {
     pub start: usize,
     pub w: Vec<[f64; 3]>,
     pub phi: Vec<[f64; 3]>,
+    /// [W; Phi] (6 x n, column-major): the point's motion from the modal coordinates.
+    motion: Vec<f64>,
+    /// [W^T Phi^T] (n x 6, column-major): the modal forces of a force and a moment there.
+    load: Vec<f64>,
 }
 
 impl ModalRows {
-    /// sum_k W_k x_k and sum_k Phi_k x_k over the body's slice of `x`.
-    pub fn motion<T: crate::scalar::Scalar>(&self, x: &[T]) -> (V<T>, V<T>) {
-        let (mut w, mut p) = (V::<T>::zero(), V::<T>::zero());
-        for (k, (wk, pk)) in self.w.iter().zip(&self.phi).enumerate() {
-            let xk = x[self.start + k];
-            w = w + V::scaled(*wk, xk);
-            p = p + V::scaled(*pk, xk);
+    pub fn new(start: usize, w: Vec<[f64; 3]>, phi: Vec<[f64; 3]>) -> Self {
+        assert_eq!(w.len(), phi.len(), "W and Phi per mode");
+        let motion = w
+            .iter()
+            .zip(&phi)
+            .flat_map(|(a, b)| a.iter().chain(b))
+            .copied()
+            .collect();
+        let load = (0..6)
+            .flat_map(|c| (0..w.len()).map(move |k| (c, k)))
+            .map(|(c, k)| if c < 3 { w[k][c] } else { phi[k][c - 3] })
+            .collect();
+        ModalRows {
+            start,
+            w,
+            phi,
+            motion,
+            load,
         }
-        (w, p)
     }
-}
 
-impl ModalRows {
+    /// Number of modes.
+    pub fn n(&self) -> usize {
+        self.w.len()
+    }
+
+    /// sum_k W_k x_k and sum_k Phi_k x_k over the body's slice of `x`.
+    pub fn motion<T: Scalar>(&self, x: &[T]) -> (V<T>, V<T>) {
+        let mut y = [T::zero(); 6];
+        T::mat_vec(&self.motion, &x[self.start..self.start + self.n()], &mut y);
+        (V([y[0], y[1], y[2]]), V([y[3], y[4], y[5]]))
+    }
+
+    /// h += W^T f + Phi^T m on the body's modal rows.
+    pub fn add_load<T: Scalar>(&self, f: V<T>, m: V<T>, h: &mut [T]) {
+        let x = [f.0[0], f.0[1], f.0[2], m.0[0], m.0[1], m.0[2]];
+        T::mat_vec(&self.load, &x, &mut h[self.start..self.start + self.n()]);
+    }
+
+    /// h += W^T f on the body's modal rows.
+    pub fn add_force<T: Scalar>(&self, f: V<T>, h: &mut [T]) {
+        T::mat_vec(
+            &self.load[..3 * self.n()],
+            &f.0,
+            &mut h[self.start..self.start + self.n()],
+        );
+    }
+
     /// The rows of a point rigidly attached at `r` (m, global) from this one: W + Phi x r.
     pub fn moved(&self, r: [f64; 3]) -> ModalRows {
-        ModalRows {
-            start: self.start,
-            w: self
-                .w
+        ModalRows::new(
+            self.start,
+            self.w
                 .iter()
                 .zip(&self.phi)
                 .map(|(w, p)| f::add(*w, f::cross(*p, r)))
                 .collect(),
-            phi: self.phi.clone(),
-        }
+            self.phi.clone(),
+        )
     }
 }
 
@@ -162,9 +201,7 @@ impl MarkerDef {
             l.force.add_to(h, 0);
         }
         if let Some(r) = &self.modal {
-            for (k, (wk, pk)) in r.w.iter().zip(&r.phi).enumerate() {
-                h[r.start + k] += l.modal_force.dot_c(*wk) + l.modal_moment.dot_c(*pk);
-            }
+            r.add_load(l.modal_force, l.modal_moment, h);
         }
         if self.body != BodyRef::Cabinet {
             l.moment.add_to(h, 3);

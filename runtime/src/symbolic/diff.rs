@@ -47,6 +47,30 @@ pub fn derivative(outputs: &[Sym], var: u32) -> Vec<Sym> {
             Node::Atan(a) => get(a).map(|x| x / (s(a) * s(a) + 1.0)),
             Node::Sin(a) => get(a).map(|x| s(a).cos() * x),
             Node::Cos(a) => get(a).map(|x| -(s(a).sin() * x)),
+            // The MatVec holds no scalar; each pick differentiates its row:
+            // d(y_k + sum_j a_kj x_j) = dy_k + sum_j a_kj dx_j.
+            Node::MatVec { .. } => None,
+            Node::Pick(m, k) => {
+                let (a, xs, ys) = with(|g| {
+                    let Node::MatVec { table, x, y } = g.nodes[m as usize] else {
+                        unreachable!("a pick reads a MatVec")
+                    };
+                    (
+                        g.tables[table as usize].clone(),
+                        g.lists[x as usize].clone(),
+                        g.lists[y as usize].clone(),
+                    )
+                });
+                let r = ys.len();
+                let mut acc = get(ys[k as usize]);
+                for (j, &xj) in xs.iter().enumerate() {
+                    if let Some(dx) = get(xj) {
+                        let t = dx * a[j * r + k as usize];
+                        acc = Some(acc.map_or(t, |v| v + t));
+                    }
+                }
+                acc
+            }
         };
     }
     outputs

@@ -2,7 +2,7 @@
 //! literals, inputs by the names the caller gives. LLVM does the rest (register allocation,
 //! scheduling); the graph already did the algebra.
 
-use super::{Graph, Node, Sym, operands};
+use super::{Graph, Node, Sym};
 use std::fmt::Write;
 
 /// A float as a Rust literal that reads back to the same bits.
@@ -35,6 +35,8 @@ pub struct Emitter<'g> {
     loc: Vec<Option<(u32, u32)>>,
     level: Vec<u32>,
     groups: u32,
+    /// Tables whose `static` has been written.
+    tables: Vec<bool>,
     pub code: String,
 }
 
@@ -43,9 +45,19 @@ impl<'g> Emitter<'g> {
     pub fn new(g: &'g Graph, inputs: Vec<String>) -> Self {
         let mut level = vec![0u32; g.nodes.len()];
         for (i, n) in g.nodes.iter().enumerate() {
-            if !matches!(n, Node::Const(_) | Node::Input(_)) {
-                level[i] = 1 + operands(*n).map(|o| level[o as usize]).max().unwrap_or(0);
-            }
+            level[i] = match n {
+                Node::Const(_) | Node::Input(_) => 0,
+                // A pick is a name for an entry of its MatVec's array, not a statement.
+                Node::Pick(m, _) => level[*m as usize],
+                n => {
+                    1 + g
+                        .operands(*n)
+                        .iter()
+                        .map(|&o| level[o as usize])
+                        .max()
+                        .unwrap_or(0)
+                }
+            };
         }
         Emitter {
             g,
@@ -53,6 +65,7 @@ impl<'g> Emitter<'g> {
             loc: vec![None; g.nodes.len()],
             level,
             groups: 0,
+            tables: vec![false; g.tables.len()],
             code: String::new(),
         }
     }
@@ -62,6 +75,7 @@ impl<'g> Emitter<'g> {
         match self.g.nodes[s.0 as usize] {
             Node::Const(b) => fmt_f64(f64::from_bits(b)),
             Node::Input(k) => self.inputs[k as usize].clone(),
+            Node::Pick(m, k) => format!("mv{m}[{k}]"),
             _ => {
                 let (g, i) = self.loc[s.0 as usize].expect("operand emitted before use");
                 format!("g{g}[{i}]")
@@ -82,7 +96,58 @@ impl<'g> Emitter<'g> {
             Node::Atan(a) => format!("{}.atan()", n(a)),
             Node::Sin(a) => format!("{}.sin()", n(a)),
             Node::Cos(a) => format!("{}.cos()", n(a)),
+            Node::MatVec { .. } | Node::Pick(..) => unreachable!("emitted by `mat_vec`"),
         }
+    }
+
+    /// `let mut mv<i> = y; mat_vec(&T<table>, &x, &mut mv<i>);`, with the table's `static`
+    /// before its first use. When y is exactly another MatVec's result, that array is copied.
+    fn mat_vec(&mut self, i: usize) {
+        let Node::MatVec { table, x, y } = self.g.nodes[i] else {
+            unreachable!("a MatVec node")
+        };
+        let (xs, ys) = (&self.g.lists[x as usize], &self.g.lists[y as usize]);
+        let (r, c) = (ys.len(), xs.len());
+        if !self.tables[table as usize] {
+            self.tables[table as usize] = true;
+            let t = &self.g.tables[table as usize];
+            let cols: Vec<String> = t
+                .chunks_exact(r)
+                .map(|col| {
+                    let v: Vec<String> = col.iter().map(|v| fmt_f64(*v)).collect();
+                    format!("[{}]", v.join(", "))
+                })
+                .collect();
+            let _ = writeln!(
+                self.code,
+                "static T{table}: [[f64; {r}]; {c}] = [{}];",
+                cols.join(", ")
+            );
+        }
+        let whole = match self.g.nodes[ys[0] as usize] {
+            Node::Pick(m, _) => {
+                let Node::MatVec { y: my, .. } = self.g.nodes[m as usize] else {
+                    unreachable!("a pick reads a MatVec")
+                };
+                let same = self.g.lists[my as usize].len() == r
+                    && ys
+                        .iter()
+                        .enumerate()
+                        .all(|(k, &s)| self.g.nodes[s as usize] == Node::Pick(m, k as u32));
+                same.then(|| format!("mv{m}"))
+            }
+            _ => None,
+        };
+        let init = whole.unwrap_or_else(|| {
+            let v: Vec<String> = ys.iter().map(|&s| self.name(Sym(s))).collect();
+            format!("[{}]", v.join(", "))
+        });
+        let xv: Vec<String> = xs.iter().map(|&s| self.name(Sym(s))).collect();
+        let _ = writeln!(
+            self.code,
+            "let mut mv{i}: [f64; {r}] = {init};\n::washdyn_runtime::linalg::mat_vec(&T{table}, &[{}], &mut mv{i});",
+            xv.join(", ")
+        );
     }
 
     /// Emit the statements everything `outputs` depend on.
@@ -90,7 +155,10 @@ impl<'g> Emitter<'g> {
         let live = self.g.live(outputs);
         let mut by_level: Vec<Vec<usize>> = Vec::new();
         for (i, &l) in live.iter().enumerate() {
-            let op = !matches!(self.g.nodes[i], Node::Const(_) | Node::Input(_));
+            let op = !matches!(
+                self.g.nodes[i],
+                Node::Const(_) | Node::Input(_) | Node::Pick(..)
+            );
             if l && op && self.loc[i].is_none() {
                 let lv = self.level[i] as usize;
                 if by_level.len() <= lv {
@@ -99,7 +167,17 @@ impl<'g> Emitter<'g> {
                 by_level[lv].push(i);
             }
         }
-        for nodes in by_level.into_iter().filter(|v| !v.is_empty()) {
+        for all in by_level.into_iter().filter(|v| !v.is_empty()) {
+            let (mvs, nodes): (Vec<usize>, Vec<usize>) = all
+                .into_iter()
+                .partition(|&i| matches!(self.g.nodes[i], Node::MatVec { .. }));
+            for &i in &mvs {
+                self.mat_vec(i);
+                self.loc[i] = Some((u32::MAX, 0));
+            }
+            if nodes.is_empty() {
+                continue;
+            }
             let gid = self.groups;
             self.groups += 1;
             let exprs: Vec<String> = nodes.iter().map(|&i| self.expr(i)).collect();

@@ -34,6 +34,15 @@ pub enum Node {
     Atan(u32),
     Sin(u32),
     Cos(u32),
+    /// y + A x for the constant table `table` (column-major, `Graph::tables`); `x` and `y` are
+    /// operand lists (`Graph::lists`). Its value is a vector, read through `Pick`.
+    MatVec {
+        table: u32,
+        x: u32,
+        y: u32,
+    },
+    /// Entry i of a `MatVec`'s result.
+    Pick(u32, u32),
 }
 
 /// The recorded graph.
@@ -42,6 +51,12 @@ pub struct Graph {
     pub nodes: Vec<Node>,
     map: HashMap<Node, u32>,
     pub n_inputs: u32,
+    /// Constant tables of `MatVec` nodes (column-major), interned by their bits.
+    pub tables: Vec<Vec<f64>>,
+    table_map: HashMap<Vec<u64>, u32>,
+    /// Operand lists of `MatVec` nodes, interned.
+    pub lists: Vec<Vec<u32>>,
+    list_map: HashMap<Vec<u32>, u32>,
 }
 
 thread_local! {
@@ -174,16 +189,119 @@ impl Graph {
                 Some(x) => self.konst(x.cos()),
                 None => self.intern(n),
             },
+            MatVec { .. } | Pick(..) => self.intern(n),
         }
+    }
+
+    fn list(&mut self, l: Vec<u32>) -> u32 {
+        if let Some(&i) = self.list_map.get(&l) {
+            return i;
+        }
+        let i = self.lists.len() as u32;
+        self.lists.push(l.clone());
+        self.list_map.insert(l, i);
+        i
+    }
+
+    fn table(&mut self, t: Vec<f64>) -> u32 {
+        let key: Vec<u64> = t.iter().map(|v| v.to_bits()).collect();
+        if let Some(&i) = self.table_map.get(&key) {
+            return i;
+        }
+        let i = self.tables.len() as u32;
+        self.tables.push(t);
+        self.table_map.insert(key, i);
+        i
+    }
+
+    /// The nodes of y + A x (A column-major, `y.len()` rows), folded: columns whose x is the
+    /// constant 0 or whose entries are all 0 are dropped, and so are rows left all 0 (their
+    /// result is y itself); a single column becomes scalar multiply-adds. What is left is one
+    /// `MatVec` node over the remaining table and a `Pick` per row.
+    pub fn mat_vec(&mut self, a: &[f64], x: &[u32], y: &[u32]) -> Vec<u32> {
+        let r = y.len();
+        assert_eq!(a.len(), r * x.len(), "table of y.len() x x.len()");
+        let col = |j: usize| &a[j * r..(j + 1) * r];
+        let cols: Vec<usize> = (0..x.len())
+            .filter(|&j| self.constant(x[j]) != Some(0.0) && col(j).iter().any(|v| *v != 0.0))
+            .collect();
+        let rows: Vec<usize> = (0..r)
+            .filter(|&i| cols.iter().any(|&j| col(j)[i] != 0.0))
+            .collect();
+        if cols.len() <= 1 {
+            let mut out = y.to_vec();
+            for &j in &cols {
+                for &i in &rows {
+                    let k = self.konst(col(j)[i]);
+                    let p = self.make(Node::Mul(x[j], k));
+                    out[i] = self.make(Node::Add(out[i], p));
+                }
+            }
+            return out;
+        }
+        let table: Vec<f64> = cols
+            .iter()
+            .flat_map(|&j| rows.iter().map(move |&i| col(j)[i]))
+            .collect();
+        let node = Node::MatVec {
+            table: self.table(table),
+            x: self.list(cols.iter().map(|&j| x[j]).collect()),
+            y: self.list(rows.iter().map(|&i| y[i]).collect()),
+        };
+        let id = self.intern(node);
+        let mut out = y.to_vec();
+        for (p, &i) in rows.iter().enumerate() {
+            out[i] = self.intern(Node::Pick(id, p as u32));
+        }
+        out
+    }
+
+    /// Operands of node `n`: a `MatVec`'s lists, x then y.
+    pub fn operands(&self, n: Node) -> Vec<u32> {
+        match n {
+            Node::MatVec { x, y, .. } => {
+                let mut v = self.lists[x as usize].clone();
+                v.extend(&self.lists[y as usize]);
+                v
+            }
+            n => operands(n).collect(),
+        }
+    }
+
+    /// Which nodes depend on an input in `inputs` (a forward pass: the dependency analysis that
+    /// shows M1 free of q and q' without differentiating it).
+    pub fn depends_on(&self, inputs: std::ops::Range<u32>) -> Vec<bool> {
+        let mut dep = vec![false; self.nodes.len()];
+        for i in 0..self.nodes.len() {
+            dep[i] = match self.nodes[i] {
+                Node::Input(k) => inputs.contains(&k),
+                n => self.operands(n).iter().any(|&o| dep[o as usize]),
+            };
+        }
+        dep
     }
 
     /// Evaluate the nodes needed for `outputs` at numeric inputs (tests the graph without
     /// compiling generated code).
     pub fn eval(&self, inputs: &[f64], outputs: &[Sym]) -> Vec<f64> {
         let mut v = vec![0.0; self.nodes.len()];
+        let mut vectors: HashMap<u32, Vec<f64>> = HashMap::new();
         let hi = outputs.iter().map(|s| s.0 as usize + 1).max().unwrap_or(0);
         for i in 0..hi {
             v[i] = match self.nodes[i] {
+                Node::MatVec { table, x, y } => {
+                    let vals = |l: u32| -> Vec<f64> {
+                        self.lists[l as usize]
+                            .iter()
+                            .map(|&k| v[k as usize])
+                            .collect()
+                    };
+                    let mut out = vals(y);
+                    f64::mat_vec(&self.tables[table as usize], &vals(x), &mut out);
+                    vectors.insert(i as u32, out);
+                    0.0
+                }
+                Node::Pick(m, k) => vectors[&m][k as usize],
                 Node::Const(b) => f64::from_bits(b),
                 Node::Input(k) => inputs[k as usize],
                 Node::Add(a, b) => v[a as usize] + v[b as usize],
@@ -200,13 +318,19 @@ impl Graph {
         outputs.iter().map(|s| v[s.0 as usize]).collect()
     }
 
-    /// Operation count of the nodes reachable from `outputs` (constants and inputs excluded).
+    /// Operation count of the nodes reachable from `outputs` (constants, inputs and picks
+    /// excluded; a `MatVec` counts its multiplies and adds).
     pub fn op_count(&self, outputs: &[Sym]) -> usize {
         let live = self.live(outputs);
         live.iter()
             .enumerate()
-            .filter(|&(i, &l)| l && !matches!(self.nodes[i], Node::Const(_) | Node::Input(_)))
-            .count()
+            .filter(|&(_, &l)| l)
+            .map(|(i, _)| match self.nodes[i] {
+                Node::Const(_) | Node::Input(_) | Node::Pick(..) => 0,
+                Node::MatVec { table, .. } => 2 * self.tables[table as usize].len(),
+                _ => 1,
+            })
+            .sum()
     }
 
     /// Which nodes the outputs depend on.
@@ -219,7 +343,7 @@ impl Graph {
             if !live[i] {
                 continue;
             }
-            for o in operands(self.nodes[i]) {
+            for o in self.operands(self.nodes[i]) {
                 live[o as usize] = true;
             }
         }
@@ -227,11 +351,12 @@ impl Graph {
     }
 }
 
-/// Operand indices of a node.
-pub fn operands(n: Node) -> impl Iterator<Item = u32> {
+/// Operand indices of a scalar node (a `MatVec`'s are in its lists: `Graph::operands`).
+fn operands(n: Node) -> impl Iterator<Item = u32> {
     use Node::*;
     let (a, b) = match n {
-        Const(_) | Input(_) => (None, None),
+        Const(_) | Input(_) | MatVec { .. } => (None, None),
+        Pick(m, _) => (Some(m), None),
         Add(a, b) | Sub(a, b) | Mul(a, b) | Div(a, b) => (Some(a), Some(b)),
         Neg(a) | Sqrt(a) | Atan(a) | Sin(a) | Cos(a) => (Some(a), None),
     };
@@ -289,6 +414,14 @@ impl Scalar for Sym {
     fn cos(self) -> Self {
         Sym::mk(Node::Cos(self.0))
     }
+    fn mat_vec(a: &[f64], x: &[Sym], y: &mut [Sym]) {
+        let xs: Vec<u32> = x.iter().map(|s| s.0).collect();
+        let ys: Vec<u32> = y.iter().map(|s| s.0).collect();
+        let out = with(|g| g.mat_vec(a, &xs, &ys));
+        for (yi, o) in y.iter_mut().zip(out) {
+            *yi = Sym(o);
+        }
+    }
 }
 
 #[cfg(test)]
@@ -310,5 +443,88 @@ mod tests {
         assert_eq!(g.constant(z.0), Some(0.0));
         assert_eq!(g.constant(s.0), Some(0.0));
         assert_eq!(g.eval(&[2.0, 5.0], &[a]), vec![16.0]);
+    }
+
+    /// y + A x recorded as one node: its value is the f64 loop's to the bit, zero columns
+    /// (a constant-0 x or an all-zero column) and rows left all zero are folded away, and a
+    /// MatVec consuming another's whole result is one chain.
+    #[test]
+    fn mat_vec_nodes_fold_and_evaluate_like_the_f64_loop() {
+        // 3 rows x 4 columns, column-major; column 2 is all zero, row 1 is zero in the columns
+        // that stay (x[3] is the constant 0).
+        let a = [
+            0.5, 0.0, -1.25, //
+            2.0, 0.0, 3.0, //
+            0.0, 0.0, 0.0, //
+            7.0, 9.0, 1.0,
+        ];
+        let (out, g) = trace(|| {
+            let x: Vec<Sym> = (0..3).map(|_| Sym::input()).chain([Sym::c(0.0)]).collect();
+            let mut y = vec![Sym::input(), Sym::c(0.0), Sym::input()];
+            Sym::mat_vec(&a, &x, &mut y);
+            let first = y.clone();
+            Sym::mat_vec(&a, &x, &mut y);
+            (first, y)
+        });
+        let (first, second) = out;
+        let mvs: Vec<Node> = g
+            .nodes
+            .iter()
+            .copied()
+            .filter(|n| matches!(n, Node::MatVec { .. }))
+            .collect();
+        assert_eq!(mvs.len(), 2, "{:?}", g.nodes);
+        let Node::MatVec { table, x, y } = mvs[0] else {
+            unreachable!()
+        };
+        // Columns 0 and 1 of rows 0 and 2 are left.
+        assert_eq!(g.tables[table as usize], vec![0.5, -1.25, 2.0, 3.0]);
+        assert_eq!(g.lists[x as usize].len(), 2);
+        assert_eq!(g.lists[y as usize].len(), 2);
+        assert_eq!(g.constant(first[1].0), Some(0.0), "row 1 stays y");
+        let inputs = [0.3, -1.7, 2.9, 0.11, -4.0];
+        let xs = [0.3, -1.7, 2.9, 0.0];
+        let mut y = [0.11, 0.0, -4.0];
+        f64::mat_vec(&a, &xs, &mut y);
+        let v1 = g.eval(&inputs, &first);
+        assert_eq!(v1, y.to_vec(), "bit for bit");
+        f64::mat_vec(&a, &xs, &mut y);
+        assert_eq!(g.eval(&inputs, &second), y.to_vec());
+        // 2 x 2 x 2 operations per node.
+        assert_eq!(g.op_count(&second), 16);
+    }
+
+    /// The picks differentiate row by row: d(y + A x)/dx_j is column j.
+    #[test]
+    fn picks_differentiate_to_the_table_columns() {
+        let a = [1.5, -2.0, 0.25, 4.0];
+        let (d, g) = trace(|| {
+            let x = [Sym::input(), Sym::input()];
+            let mut y = [x[0] * x[1], Sym::c(1.0)];
+            Sym::mat_vec(&a, &x, &mut y);
+            (derivative(&y, 0), derivative(&y, 1))
+        });
+        let v0 = g.eval(&[2.0, 3.0], &d.0);
+        let v1 = g.eval(&[2.0, 3.0], &d.1);
+        assert_eq!(v0, vec![3.0 + 1.5, -2.0], "dy/dx0 = [x1 + a00, a10]");
+        assert_eq!(v1, vec![2.0 + 0.25, 4.0], "dy/dx1 = [x0 + a01, a11]");
+    }
+
+    /// The dependency pass sees through MatVec lists.
+    #[test]
+    fn dependencies_pass_through_mat_vec() {
+        let a = [1.0, 2.0, 3.0, 4.0];
+        let (y, g) = trace(|| {
+            let q = Sym::input();
+            let t = Sym::input();
+            let mut y = [t.sin(), Sym::c(0.0)];
+            Sym::mat_vec(&a, &[q, t], &mut y);
+            let mut z = [t.cos(), Sym::c(2.0)];
+            Sym::mat_vec(&a, &[t, t * t], &mut z);
+            (y, z)
+        });
+        let dep = g.depends_on(0..1);
+        assert!(y.0.iter().all(|s| dep[s.0 as usize]));
+        assert!(y.1.iter().all(|s| !dep[s.0 as usize]));
     }
 }

@@ -3,7 +3,7 @@
 //! `cargo run --release --example generated_size [tub drum cabinet]...`, e.g. `10 6 10 34 12 30`.
 
 use std::time::Instant;
-use washdyn_runtime::codegen::scene_source;
+use washdyn_runtime::codegen::{scene_source, trace_equations};
 use washdyn_runtime::equations::Equations;
 use washdyn_runtime::ir::Scene;
 
@@ -18,7 +18,7 @@ fn main() {
         args.chunks(3).map(|c| [c[0], c[1], c[2]]).collect()
     };
     println!(
-        "tub drum cabinet | n1 n2 | ops M1+h | ops q'' | ops Jacobians | source kB | lines | generate s"
+        "tub drum cabinet | n1 n2 | ops M1+h (M1, h) | ops q'' | ops Jacobians | source kB | lines | generate s"
     );
     for [nt, nd, nc] in sets {
         // The TOML file (not the models crate: this measures what that crate would compile).
@@ -53,16 +53,20 @@ fn main() {
         let t = Instant::now();
         let eq = Equations::new(&m, &eff);
         let (src, st) = scene_source(&eq, "Elastic");
+        let secs = t.elapsed().as_secs_f64();
+        let (g, m1, h) = &trace_equations(&eq).mh;
         println!(
-            "{nt} {nd} {nc} | {} {} | {} | {} | {} | {:.0} | {} | {:.1}",
+            "{nt} {nd} {nc} | {} {} | {} ({}, {}) | {} | {} | {:.0} | {} | {:.1}",
             st.n1,
             st.n2,
             st.ops_mass_forces,
+            g.op_count(m1),
+            g.op_count(h),
             st.ops_accelerations,
             st.ops_jacobians,
             src.len() as f64 / 1e3,
             src.lines().count(),
-            t.elapsed().as_secs_f64()
+            secs
         );
         if let Ok(p) = std::env::var("WRITE_SOURCE") {
             std::fs::write(format!("{p}_{nt}_{nd}_{nc}.rs"), &src).unwrap();

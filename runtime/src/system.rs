@@ -201,7 +201,10 @@ impl<S: Mechanical> FirstOrder<S> {
         } else {
             qdd[..n1].fill(f64::NAN);
         }
-        cholesky_solve(&self.l2, n2, &mut qdd[n1..]);
+        // Mass-normalised modes (M2 = I, as the generator assumes): nothing to solve.
+        if !self.m2_identity {
+            cholesky_solve(&self.l2, n2, &mut qdd[n1..]);
+        }
     }
 }
 

@@ -15,6 +15,9 @@ use crate::scalar::Scalar;
 use crate::symbolic::{Emitter, Graph, Sym, derivative, fmt_f64, trace};
 use std::fmt::Write;
 
+mod mass;
+pub use mass::MassHarmonics;
+
 /// Size and cost of one scene's generated code.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct SceneStats {
@@ -55,6 +58,9 @@ pub struct Traced {
     pub n: usize,
     /// Inputs: q (n), q' (n), phi, omega, omega'.
     pub mh: (Graph, Vec<Sym>, Vec<Sym>),
+    /// M1 from its fitted harmonics (`mass.rs`), same inputs, when the scene factorises M1 at
+    /// run time and M1 has that form: what the generated code evaluates instead of `mh`'s M1.
+    pub m1_harmonic: Option<(Graph, Vec<Sym>)>,
     pub acc: Solve,
     /// Inputs: q, q', q''. Outputs: sensor channels.
     pub sensors: (Graph, Vec<Sym>),
@@ -121,6 +127,18 @@ pub fn trace_equations(eq: &Equations) -> Traced {
         );
         Solve::Numeric
     };
+    // The harmonic form needs M1 to depend on phi alone (inputs 2n + 1, 2n + 2: omega, omega').
+    let m1_harmonic = match acc {
+        Solve::Numeric => {
+            let on_rates = g_mh.depends_on(2 * n as u32 + 1..2 * n as u32 + 3);
+            if m1.iter().any(|s| on_rates[s.0 as usize]) {
+                None
+            } else {
+                mass::fit(eq).map(|f| f.trace(n))
+            }
+        }
+        Solve::Traced(..) => None,
+    };
     let (ch, g_s) = trace(|| {
         let q: Vec<Sym> = (0..n).map(|_| Sym::input()).collect();
         let qd: Vec<Sym> = (0..n).map(|_| Sym::input()).collect();
@@ -138,6 +156,7 @@ pub fn trace_equations(eq: &Equations) -> Traced {
         n1,
         n,
         mh: (g_mh, m1, h),
+        m1_harmonic,
         acc,
         sensors: (g_s, ch),
     }
@@ -176,11 +195,24 @@ pub fn scene_source(eq: &Equations, name: &str) -> (String, SceneStats) {
     let drive = ["d.phi", "d.omega", "d.omega_dot"];
 
     let (g, m1, h) = &t.mh;
-    let mut e = Emitter::new(g, state_inputs(n, &drive));
-    e.assign(|k| format!("m1[{k}]"), m1);
-    e.assign(|k| format!("h[{k}]"), h);
-    let body_mh = e.take();
-    let ops_mh = g.op_count(&[m1.as_slice(), h.as_slice()].concat());
+    let (body_mh, ops_mh) = match &t.m1_harmonic {
+        None => {
+            let mut e = Emitter::new(g, state_inputs(n, &drive));
+            e.assign(|k| format!("m1[{k}]"), m1);
+            e.assign(|k| format!("h[{k}]"), h);
+            (
+                e.take(),
+                g.op_count(&[m1.as_slice(), h.as_slice()].concat()),
+            )
+        }
+        Some((gm, m1h)) => {
+            let mut em = Emitter::with_prefix(gm, state_inputs(n, &drive), "m_");
+            em.assign_array("m1", m1h);
+            let mut e = Emitter::new(g, state_inputs(n, &drive));
+            e.assign(|k| format!("h[{k}]"), h);
+            (em.take() + &e.take(), gm.op_count(m1h) + g.op_count(h))
+        }
+    };
 
     let rt = "::washdyn_runtime";
     let (body_acc, body_jac, ops_acc, ops_jac) = match &t.acc {

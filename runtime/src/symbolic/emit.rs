@@ -37,6 +37,8 @@ pub struct Emitter<'g> {
     groups: u32,
     /// Tables whose `static` has been written.
     tables: Vec<bool>,
+    /// Prefix of every name this emitter declares, so two graphs can share one function.
+    prefix: String,
     pub code: String,
 }
 
@@ -66,8 +68,16 @@ impl<'g> Emitter<'g> {
             level,
             groups: 0,
             tables: vec![false; g.tables.len()],
+            prefix: String::new(),
             code: String::new(),
         }
+    }
+
+    /// As `new`, declaring names that start with `prefix`.
+    pub fn with_prefix(g: &'g Graph, inputs: Vec<String>, prefix: &str) -> Self {
+        let mut e = Self::new(g, inputs);
+        e.prefix = prefix.to_string();
+        e
     }
 
     /// The expression naming a node's value.
@@ -75,10 +85,10 @@ impl<'g> Emitter<'g> {
         match self.g.nodes[s.0 as usize] {
             Node::Const(b) => fmt_f64(f64::from_bits(b)),
             Node::Input(k) => self.inputs[k as usize].clone(),
-            Node::Pick(m, k) => format!("mv{m}[{k}]"),
+            Node::Pick(m, k) => format!("{}mv{m}[{k}]", self.prefix),
             _ => {
                 let (g, i) = self.loc[s.0 as usize].expect("operand emitted before use");
-                format!("g{g}[{i}]")
+                format!("{}g{g}[{i}]", self.prefix)
             }
         }
     }
@@ -120,8 +130,9 @@ impl<'g> Emitter<'g> {
                 .collect();
             let _ = writeln!(
                 self.code,
-                "static T{table}: [[f64; {r}]; {c}] = [{}];",
-                cols.join(", ")
+                "static T{p}{table}: [[f64; {r}]; {c}] = [{}];",
+                cols.join(", "),
+                p = self.prefix.to_uppercase()
             );
         }
         let whole = match self.g.nodes[ys[0] as usize] {
@@ -134,7 +145,7 @@ impl<'g> Emitter<'g> {
                         .iter()
                         .enumerate()
                         .all(|(k, &s)| self.g.nodes[s as usize] == Node::Pick(m, k as u32));
-                same.then(|| format!("mv{m}"))
+                same.then(|| format!("{}mv{m}", self.prefix))
             }
             _ => None,
         };
@@ -145,8 +156,10 @@ impl<'g> Emitter<'g> {
         let xv: Vec<String> = xs.iter().map(|&s| self.name(Sym(s))).collect();
         let _ = writeln!(
             self.code,
-            "let mut mv{i}: [f64; {r}] = {init};\n::washdyn_runtime::linalg::mat_vec(&T{table}, &[{}], &mut mv{i});",
-            xv.join(", ")
+            "let mut {p}mv{i}: [f64; {r}] = {init};\n::washdyn_runtime::linalg::mat_vec(&T{pu}{table}, &[{}], &mut {p}mv{i});",
+            xv.join(", "),
+            p = self.prefix,
+            pu = self.prefix.to_uppercase()
         );
     }
 
@@ -183,7 +196,8 @@ impl<'g> Emitter<'g> {
             let exprs: Vec<String> = nodes.iter().map(|&i| self.expr(i)).collect();
             let _ = writeln!(
                 self.code,
-                "let g{gid}: [f64; {}] = [{}];",
+                "let {}g{gid}: [f64; {}] = [{}];",
+                self.prefix,
                 nodes.len(),
                 exprs.join(", ")
             );
@@ -199,6 +213,38 @@ impl<'g> Emitter<'g> {
         for (k, s) in outputs.iter().enumerate() {
             let rhs = self.name(*s);
             let _ = writeln!(self.code, "{} = {rhs};", target(k));
+        }
+    }
+
+    /// As `assign` into the array `target`, with each run of outputs that are consecutive
+    /// entries of one MatVec's result copied as a slice (a whole matrix from a table is one
+    /// line, not one per entry).
+    pub fn assign_array(&mut self, target: &str, outputs: &[Sym]) {
+        self.need(outputs);
+        let pick = |s: Sym| match self.g.nodes[s.0 as usize] {
+            Node::Pick(m, i) => Some((m, i as usize)),
+            _ => None,
+        };
+        let mut k = 0;
+        while k < outputs.len() {
+            let Some((m, i0)) = pick(outputs[k]) else {
+                let rhs = self.name(outputs[k]);
+                let _ = writeln!(self.code, "{target}[{k}] = {rhs};");
+                k += 1;
+                continue;
+            };
+            let mut len = 1;
+            while k + len < outputs.len() && pick(outputs[k + len]) == Some((m, i0 + len)) {
+                len += 1;
+            }
+            let _ = writeln!(
+                self.code,
+                "{target}[{k}..{}].copy_from_slice(&{}mv{m}[{i0}..{}]);",
+                k + len,
+                self.prefix,
+                i0 + len
+            );
+            k += len;
         }
     }
 

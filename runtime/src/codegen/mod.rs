@@ -4,9 +4,12 @@
 //!
 //! Each scene's equations are traced by running the one derivation (`equations`) over the
 //! symbolic scalar: the graph is the same arithmetic the interpreter does, with the model's
-//! numbers folded in, zero couplings pruned and common subexpressions shared. M1 is factorised
-//! symbolically (the fixed-size Cholesky becomes straight-line code), and q'' is differentiated
-//! for the implicit integrators' Jacobian.
+//! numbers folded in, zero couplings pruned and common subexpressions shared; constant modal
+//! maps stay table loops (`Scalar::mat_vec`). Up to `TRACED_FACTOR_MAX_N` coordinates M1 is
+//! factorised symbolically (the fixed-size Cholesky becomes straight-line code) and q'' is
+//! differentiated; above, M1 is the table of its harmonics in the rotor angles (`mass.rs`),
+//! factorised at run time, and the implicit methods take the force Jacobians by structure
+//! (`equations/jacobian.rs`), the same in both back ends.
 
 use crate::equations::{Drive, Equations};
 use crate::ir::Model;
@@ -46,9 +49,9 @@ pub enum Solve {
     /// q'' and its Jacobians d/dq, d/dq' (row-major n x n), M1 factorised in the graph.
     Traced(Box<Graph>, Vec<Sym>, Vec<Sym>, Vec<Sym>),
     /// M1 is factorised at run time (checked to depend on no q, q': only on the drum angle).
-    /// No analytic Jacobians: differentiating h through every element's geometry for each of
-    /// the 2n coordinates grew to 6e5 operations at n = 98 (measured, examples/generated_size),
-    /// so the implicit integrators difference q'' numerically here.
+    /// q'' is not differentiated here (through every element for each of the 2n coordinates
+    /// it grew to 6e5 operations at n = 98): the implicit methods take dh/dq and dh/dq' by
+    /// structure (`ForceJacobians`).
     Numeric,
 }
 

@@ -84,8 +84,14 @@ fn every_source_file_and_script_a_document_names_exists() {
     missing.sort();
     missing.dedup();
     // The documents name files 166 times (measured): far fewer means the scan broke.
-    assert!(checked >= 50, "only {checked} file names found: the scan is broken");
-    assert!(missing.is_empty(), "named but not in the tree: {missing:#?}");
+    assert!(
+        checked >= 50,
+        "only {checked} file names found: the scan is broken"
+    );
+    assert!(
+        missing.is_empty(),
+        "named but not in the tree: {missing:#?}"
+    );
 }
 
 #[test]
@@ -111,5 +117,8 @@ fn every_example_bench_and_script_a_document_runs_exists() {
     // The documents run examples, benches and scripts 7 times (measured): far fewer means the
     // scan broke.
     assert!(seen >= 4, "only {seen} commands found: the scan is broken");
-    assert!(missing.is_empty(), "documents run what is not there: {missing:#?}");
+    assert!(
+        missing.is_empty(),
+        "documents run what is not there: {missing:#?}"
+    );
 }

@@ -239,8 +239,9 @@ impl Summary {
             && self.stiff_at.is_none()
         {
             self.stiff_at = Some(t);
-            // The composite method answers stiffness by switching: no advice to give.
-            if self.integrator != "auto" {
+            // A method that switched where the test fired (the composite `auto`) answered the
+            // stiffness itself: no advice to give.
+            if s.method_switches == 0 {
                 self.warnings.push(format!(
                     "{} ran on its stability limit from t = {t:.4} s ({} of {} steps; Hairer's \
                      stiffness test): its step is set by stability there, not by the tolerance; \
@@ -816,6 +817,34 @@ pub fn spectral_radius<S: OdeSystem>(sys: &mut S, t: f64, y: &[f64]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The summary advises an implicit method when the test fired and the method stayed on
+    /// its stability limit, and not when it switched there (the composite method).
+    #[test]
+    fn stiffness_advice_only_for_a_method_that_did_not_switch() {
+        let labels = Labels {
+            model: "m".into(),
+            scene: "s".into(),
+            backend: "generated".into(),
+        };
+        let stiff = Stats {
+            steps: 100,
+            stiff_steps: 40,
+            stiff_at: Some(0.5),
+            ..Stats::default()
+        };
+        let mut dopri5 = Summary::new(&labels, "dopri5", (1e-6, 1e-9), (0.0, 1.0));
+        dopri5.take_stats(stiff);
+        assert_eq!(dopri5.warnings.len(), 1, "{:?}", dopri5.warnings);
+        assert!(dopri5.warnings[0].contains("stability limit"));
+        let mut auto = Summary::new(&labels, "auto", (1e-6, 1e-9), (0.0, 1.0));
+        auto.take_stats(Stats {
+            method_switches: 3,
+            ..stiff
+        });
+        assert!(auto.warnings.is_empty(), "{:?}", auto.warnings);
+        assert_eq!(auto.stiff_at, Some(0.5));
+    }
 
     /// y' = A y, A block-diagonal with the eigenvalues -1, -4000 and the pair -10 +- 3000 i.
     struct Linear;

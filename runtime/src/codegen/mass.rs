@@ -26,6 +26,8 @@ pub struct MassHarmonics {
     pub ratios: Vec<f64>,
     pub constant: Vec<f64>,
     pub table: Vec<f64>,
+    /// Rotors by decreasing count of entries they change.
+    order: Vec<usize>,
 }
 
 fn m1_at(eq: &Equations, phi: f64) -> Vec<f64> {
@@ -94,10 +96,19 @@ pub fn fit(eq: &Equations) -> Option<MassHarmonics> {
     if !varies {
         return None;
     }
+    let e = n1 * n1;
+    let width = |r: usize| {
+        (0..e)
+            .filter(|&i| (0..4).any(|c| table[(4 * r + c) * e + i] != 0.0))
+            .count()
+    };
+    let mut order: Vec<usize> = (0..ratios.len()).collect();
+    order.sort_by_key(|&r| std::cmp::Reverse(width(r)));
     let fitted = MassHarmonics {
         ratios,
         constant,
         table,
+        order,
     };
     // Check at angles the fit did not see.
     for i in 0..8 {
@@ -120,13 +131,16 @@ impl MassHarmonics {
     /// M1 at phi over any scalar (`Sym` records the table as one `MatVec`).
     pub fn m1<T: Scalar>(&self, phi: T) -> Vec<T> {
         let mut m1: Vec<T> = self.constant.iter().map(|v| T::c(*v)).collect();
-        let mut x = Vec::with_capacity(4 * self.ratios.len());
-        for r in &self.ratios {
-            let th = phi * *r;
+        let e = m1.len();
+        // One table per rotor, the widest block first: a rotor's moving mass couples only the
+        // columns that carry it (the motor's not the drum's modes), and the symbolic MatVec
+        // drops the rows a rotor leaves zero.
+        for &r in &self.order {
+            let th = phi * self.ratios[r];
             let (c, s) = (th.cos(), th.sin());
-            x.extend([c, s, c * c - s * s, s * c * 2.0]);
+            let x = [c, s, c * c - s * s, s * c * 2.0];
+            T::mat_vec(&self.table[4 * r * e..4 * (r + 1) * e], &x, &mut m1);
         }
-        T::mat_vec(&self.table, &x, &mut m1);
         m1
     }
 

@@ -32,6 +32,21 @@ fn max_abs(v: &[f64]) -> f64 {
     v.iter().fold(0.0f64, |a, x| a.max(x.abs()))
 }
 
+/// Asserts every entry of `b` within 1e-12 of `a`'s largest entry (or equal), naming the
+/// entry by `what`; returns the largest relative difference.
+fn agree(a: &[f64], b: &[f64], what: impl Fn(usize) -> String) -> f64 {
+    let s = max_abs(a);
+    let mut worst: f64 = 0.0;
+    for (i, (x, y)) in a.iter().zip(b).enumerate() {
+        let d = (x - y).abs();
+        assert!(d < 1e-12 * s || d == 0.0, "{}: {x} vs {y}", what(i));
+        if s > 0.0 {
+            worst = worst.max(d / s);
+        }
+    }
+    worst
+}
+
 #[test]
 fn mass_forces_and_accelerations_agree_for_random_states() {
     let mut worst: f64 = 0.0;
@@ -55,44 +70,23 @@ fn mass_forces_and_accelerations_agree_for_random_states() {
                 let (mut ha, mut hb) = (vec![0.0; n], vec![0.0; n]);
                 interp.eval(t, &q, &qd, &mut m1a, &mut ha);
                 gen_.eval(t, &q, &qd, &mut m1b, &mut hb);
-                let (sh, sm) = (max_abs(&ha), max_abs(&m1a));
-                for i in 0..n {
-                    let e = (ha[i] - hb[i]).abs() / sh;
-                    worst = worst.max(e);
-                    assert!(e < 1e-12, "{name}/{scene} h[{i}]: {} vs {}", ha[i], hb[i]);
-                }
-                for i in 0..n1 * n1 {
-                    assert!(
-                        (m1a[i] - m1b[i]).abs() < 1e-12 * sm,
-                        "{name}/{scene} M1[{i}]"
-                    );
-                }
+                let e = agree(&ha, &hb, |i| format!("{name}/{scene} h[{i}]"));
+                worst = worst.max(e);
+                agree(&m1a, &m1b, |i| format!("{name}/{scene} M1[{i}]"));
                 // Sensors (a drum rim sensor on `compact` turns with the drive angle).
                 let qdd: Vec<f64> = (0..n).map(|_| 10.0 * rng.next()).collect();
                 let nc = interp.channel_names().len();
                 let (mut ca, mut cb) = (vec![0.0; nc], vec![0.0; nc]);
                 interp.sensors(t, &q, &qd, &qdd, &mut ca);
                 gen_.sensors(t, &q, &qd, &qdd, &mut cb);
-                let sc = max_abs(&ca);
-                for i in 0..nc {
-                    assert!(
-                        (ca[i] - cb[i]).abs() <= 1e-12 * sc,
-                        "{name}/{scene} channel {i}: {} vs {}",
-                        ca[i],
-                        cb[i]
-                    );
-                }
+                agree(&ca, &cb, |i| format!("{name}/{scene} channel {i}"));
                 // q'': the interpreter's Cholesky at run time vs the generated straight-line one.
                 let mut fa = FirstOrder::new(Interpreter::new(&m, &eff));
                 let (mut aa, mut ab) = (vec![0.0; n], vec![0.0; n]);
                 fa.accelerations(t, &q, &qd, &mut aa);
                 assert!(gen_.accelerations(t, &q, &qd, &mut ab));
-                let sa = max_abs(&aa);
-                for i in 0..n {
-                    let e = (aa[i] - ab[i]).abs() / sa;
-                    worst = worst.max(e);
-                    assert!(e < 1e-12, "{name}/{scene} qdd[{i}]: {} vs {}", aa[i], ab[i]);
-                }
+                let e = agree(&aa, &ab, |i| format!("{name}/{scene} qdd[{i}]"));
+                worst = worst.max(e);
             }
         }
     }

@@ -72,7 +72,8 @@ pub fn fit(eq: &Equations) -> Option<MassHarmonics> {
     // Angles spread over many drum turns (an irrational step), 4 per unknown.
     let phis: Vec<f64> = (0..4 * k).map(|i| 0.3 + 2.399_963 * i as f64).collect();
     let samples: Vec<Vec<f64>> = phis.iter().map(|&p| m1_at(eq, p)).collect();
-    let a = DMatrix::from_fn(phis.len(), k, |i, j| basis(&ratios, phis[i])[j]);
+    let rows: Vec<Vec<f64>> = phis.iter().map(|&p| basis(&ratios, p)).collect();
+    let a = DMatrix::from_fn(phis.len(), k, |i, j| rows[i][j]);
     let b = DMatrix::from_fn(phis.len(), n1 * n1, |i, e| samples[i][e]);
     let coef = a.svd(true, true).solve(&b, 1e-12).ok()?;
     let scale = samples.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
@@ -114,7 +115,7 @@ pub fn fit(eq: &Equations) -> Option<MassHarmonics> {
     for i in 0..8 {
         let phi = -1.7 + 0.913 * i as f64;
         let m1 = m1_at(eq, phi);
-        let f = fitted.eval(phi);
+        let f = fitted.m1(phi);
         let err = m1
             .iter()
             .zip(&f)
@@ -142,10 +143,6 @@ impl MassHarmonics {
             T::mat_vec(&self.table[4 * r * e..4 * (r + 1) * e], &x, &mut m1);
         }
         m1
-    }
-
-    fn eval(&self, phi: f64) -> Vec<f64> {
-        self.m1(phi)
     }
 
     /// The traced M1 over the generated function's inputs (q, q', phi, omega, omega'), so its

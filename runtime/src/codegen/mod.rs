@@ -201,8 +201,8 @@ pub fn scene_source(eq: &Equations, name: &str) -> (String, SceneStats) {
     let (body_mh, ops_mh) = match &t.m1_harmonic {
         None => {
             let mut e = Emitter::new(g, state_inputs(n, &drive));
-            e.assign(|k| format!("m1[{k}]"), m1);
-            e.assign(|k| format!("h[{k}]"), h);
+            e.assign("m1", m1);
+            e.assign("h", h);
             (
                 e.take(),
                 g.op_count(&[m1.as_slice(), h.as_slice()].concat()),
@@ -210,9 +210,9 @@ pub fn scene_source(eq: &Equations, name: &str) -> (String, SceneStats) {
         }
         Some((gm, m1h)) => {
             let mut em = Emitter::with_prefix(gm, state_inputs(n, &drive), "m_");
-            em.assign_array("m1", m1h);
+            em.assign("m1", m1h);
             let mut e = Emitter::new(g, state_inputs(n, &drive));
-            e.assign(|k| format!("h[{k}]"), h);
+            e.assign("h", h);
             (em.take() + &e.take(), gm.op_count(m1h) + g.op_count(h))
         }
     };
@@ -221,11 +221,11 @@ pub fn scene_source(eq: &Equations, name: &str) -> (String, SceneStats) {
     let (body_acc, body_jac, ops_acc, ops_jac) = match &t.acc {
         Solve::Traced(g, qdd, jq, jqd) => {
             let mut e = Emitter::new(g, state_inputs(n, &drive));
-            e.assign(|k| format!("qdd[{k}]"), qdd);
+            e.assign("qdd", qdd);
             let body_acc = e.take();
             let mut e = Emitter::new(g, state_inputs(n, &drive));
-            e.assign(|k| format!("jq[{k}]"), jq);
-            e.assign(|k| format!("jqd[{k}]"), jqd);
+            e.assign("jq", jq);
+            e.assign("jqd", jqd);
             (
                 body_acc,
                 e.take(),
@@ -256,7 +256,7 @@ pub fn scene_source(eq: &Equations, name: &str) -> (String, SceneStats) {
     names.extend((0..n).map(|i| format!("qdd[{i}]")));
     names.extend(drive.iter().map(|s| s.to_string()));
     let mut e = Emitter::new(g, names);
-    e.assign(|k| format!("out[{k}]"), ch);
+    e.assign("out", ch);
     let body_sensors = e.take();
 
     let channels: Vec<String> = eq

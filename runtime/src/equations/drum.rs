@@ -194,8 +194,8 @@ impl ElasticDrum {
         for l in 0..n {
             rows.extend((0..n).map(|k| -self.ge[k * n + l]));
         }
+        let kg = |i: usize| self.stiffening.as_ref().map_or(0.0, |kg| kg[i]);
         for l in 0..n {
-            let kg = |i: usize| self.stiffening.as_ref().map_or(0.0, |kg| kg[i]);
             rows.extend((0..n).map(|k| -(self.gee[k * n + l] + kg(k * n + l))));
         }
         let mut reaction = Vec::with_capacity(18 * n);

@@ -135,20 +135,17 @@ impl<'g> Emitter<'g> {
                 p = self.prefix.to_uppercase()
             );
         }
-        let whole = match self.g.nodes[ys[0] as usize] {
-            Node::Pick(m, _) => {
-                let Node::MatVec { y: my, .. } = self.g.nodes[m as usize] else {
-                    unreachable!("a pick reads a MatVec")
-                };
-                let same = self.g.lists[my as usize].len() == r
-                    && ys
-                        .iter()
-                        .enumerate()
-                        .all(|(k, &s)| self.g.nodes[s as usize] == Node::Pick(m, k as u32));
-                same.then(|| format!("{}mv{m}", self.prefix))
-            }
-            _ => None,
-        };
+        let whole = self.pick(ys[0]).and_then(|(m, _)| {
+            let Node::MatVec { y: my, .. } = self.g.nodes[m as usize] else {
+                unreachable!("a pick reads a MatVec")
+            };
+            let same = self.g.lists[my as usize].len() == r
+                && ys
+                    .iter()
+                    .enumerate()
+                    .all(|(k, &s)| self.pick(s) == Some((m, k)));
+            same.then(|| format!("{}mv{m}", self.prefix))
+        });
         let init = whole.unwrap_or_else(|| {
             let v: Vec<String> = ys.iter().map(|&s| self.name(Sym(s))).collect();
             format!("[{}]", v.join(", "))
@@ -207,34 +204,29 @@ impl<'g> Emitter<'g> {
         }
     }
 
-    /// `target = output;` lines (after `need`).
-    pub fn assign(&mut self, target: impl Fn(usize) -> String, outputs: &[Sym]) {
-        self.need(outputs);
-        for (k, s) in outputs.iter().enumerate() {
-            let rhs = self.name(*s);
-            let _ = writeln!(self.code, "{} = {rhs};", target(k));
+    /// The MatVec and row a pick reads.
+    fn pick(&self, s: u32) -> Option<(u32, usize)> {
+        match self.g.nodes[s as usize] {
+            Node::Pick(m, i) => Some((m, i as usize)),
+            _ => None,
         }
     }
 
-    /// As `assign` into the array `target`, with each run of outputs that are consecutive
-    /// entries of one MatVec's result copied as a slice (a whole matrix from a table is one
-    /// line, not one per entry).
-    pub fn assign_array(&mut self, target: &str, outputs: &[Sym]) {
+    /// `target[k] = output;` lines (after `need`), with each run of outputs that are
+    /// consecutive entries of one MatVec's result copied as a slice (a whole matrix from a
+    /// table is one line, not one per entry).
+    pub fn assign(&mut self, target: &str, outputs: &[Sym]) {
         self.need(outputs);
-        let pick = |s: Sym| match self.g.nodes[s.0 as usize] {
-            Node::Pick(m, i) => Some((m, i as usize)),
-            _ => None,
-        };
         let mut k = 0;
         while k < outputs.len() {
-            let Some((m, i0)) = pick(outputs[k]) else {
+            let Some((m, i0)) = self.pick(outputs[k].0) else {
                 let rhs = self.name(outputs[k]);
                 let _ = writeln!(self.code, "{target}[{k}] = {rhs};");
                 k += 1;
                 continue;
             };
             let mut len = 1;
-            while k + len < outputs.len() && pick(outputs[k + len]) == Some((m, i0 + len)) {
+            while k + len < outputs.len() && self.pick(outputs[k + len].0) == Some((m, i0 + len)) {
                 len += 1;
             }
             let _ = writeln!(

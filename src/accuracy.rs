@@ -9,11 +9,13 @@
 
 use crate::analysis::plot::init_fonts;
 use crate::analysis::{AnalysisOptions, Channel, RunUp, Signals};
-use crate::commands::{Backend, element_tub_ends, integrator_options, resolve_model};
+use crate::commands::{Backend, integrator_options, resolve_model};
 use plotters::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+use washdyn_runtime::clearance::element_tub_ends;
+use washdyn_runtime::equations::Equations;
 use washdyn_runtime::ir::{EffectSet, Model};
 use washdyn_runtime::ode::{AnySolver, Method};
 use washdyn_runtime::output::MemorySink;
@@ -190,7 +192,7 @@ fn simulate(
     };
     let guard = Guard {
         fixed_step: step,
-        elements: element_tub_ends(model),
+        elements: element_tub_ends(model, &Equations::new(model, scene)),
         ..Guard::default()
     };
     let (summary, error) = match run_guarded(

@@ -48,13 +48,11 @@ fn source_data(source: &str) -> Result<(ModalData, Option<f64>, Option<f64>), St
     }
     let (m, _) = crate::commands::resolve_model(source)?;
     let d = m
-        .elastic
-        .iter()
-        .find(|e| e.name == "drum")
+        .elastic_of(washdyn_runtime::ir::BodyRef::Drum)
         .and_then(|e| e.data.clone())
         .ok_or_else(|| format!("model `{}` has no elastic drum", m.name))?;
     let top = m.speed.table.iter().map(|r| r[1]).fold(0.0, f64::max);
-    let motor = m.rotors.iter().find(|r| r.name == "motor").map(|r| r.ratio);
+    let motor = m.rotor(washdyn_runtime::ir::MOTOR).map(|r| r.ratio);
     Ok((d, Some(top).filter(|t| *t > 0.0), motor))
 }
 

@@ -3,10 +3,10 @@
 use crate::results::{Format, SensorRecorder, StateRecorder};
 use std::fs;
 use std::path::{Path, PathBuf};
-use washdyn_runtime::clearance::Watch;
+use washdyn_runtime::clearance::{Watch, element_tub_ends};
 use washdyn_runtime::equations::Equations;
-use washdyn_runtime::ir::Model;
 use washdyn_runtime::ir::toml_file::load_file;
+use washdyn_runtime::ir::{DRUM, MOTOR, Model};
 use washdyn_runtime::ode::{AnySolver, Method, Options};
 use washdyn_runtime::run::{Guard, Labels, Progress, RunOptions, Start, Summary, run_guarded};
 use washdyn_runtime::system::{FirstOrder, Interpreter, Mechanical};
@@ -85,20 +85,14 @@ pub struct RunOutcome {
 /// Motor speed / drum speed: the ratio of a rotor named `motor`, else of the fastest rotor
 /// that is not the drum.
 pub fn motor_ratio(model: &Model) -> Option<f64> {
-    let drum = model
-        .rotors
-        .iter()
-        .find(|r| r.name == "drum")
-        .map_or(1.0, |r| r.ratio);
+    let drum = model.drum().map_or(1.0, |r| r.ratio);
     model
-        .rotors
-        .iter()
-        .find(|r| r.name == "motor")
+        .rotor(MOTOR)
         .or_else(|| {
             model
                 .rotors
                 .iter()
-                .filter(|r| r.name != "drum")
+                .filter(|r| r.name != DRUM)
                 .max_by(|a, b| a.ratio.total_cmp(&b.ratio))
         })
         .map(|r| r.ratio / drum)
@@ -221,10 +215,11 @@ pub fn run_command_with(
             Backend::Generated => "generated".into(),
         },
     };
+    let eq = Equations::new(&model, &scene);
     let guard = Guard {
         fixed_step: (args.integrator == Method::Rk4).then_some(ode.h0),
-        elements: element_tub_ends(&model),
-        watch: Watch::new(&model, &Equations::new(&model, &scene)),
+        elements: element_tub_ends(&model, &eq),
+        watch: Watch::new(&model, &eq),
         ..ctl.guard.clone()
     };
     let (summary, error) = match run_guarded(
@@ -281,9 +276,10 @@ pub fn check_model(model: &Model) -> Result<String, String> {
         let scene = model.scene(Some(&name))?;
         let mut sys = Interpreter::new(model, &scene);
         match washdyn_runtime::statics::static_equilibrium(&mut sys, 0.0) {
-            Ok(q) if q.len() >= 6 => {
+            Ok(q) => {
                 let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
-                let (u, a) = (norm(&q[..3]), norm(&q[3..6]));
+                let (u, a) = Equations::new(model, &scene).bodies.rigid_motion(&q);
+                let (u, a) = (norm(u), norm(a));
                 let msg = format!(
                     "scene `{name}`: static rest position at t = 0: tub translation {:.2} mm, \
                      rotation {a:.2e} rad",
@@ -300,7 +296,6 @@ pub fn check_model(model: &Model) -> Result<String, String> {
                     lines.push(msg);
                 }
             }
-            Ok(_) => {}
             Err(e) => errors.push(format!("scene `{name}` cannot run: {e}")),
         }
     }
@@ -335,35 +330,6 @@ pub fn validate_sweep(
         analysis_band_hz: None,
         allow_large_output: false,
     })
-}
-
-/// Every force element's tub end relative to the tub's rest CoG, for the validity monitor.
-pub fn element_tub_ends(m: &Model) -> Vec<(String, [f64; 3])> {
-    use washdyn_runtime::ir::{Attach, BodyRef};
-    let c = m.tub.cog;
-    let rel = |p: [f64; 3]| [p[0] - c[0], p[1] - c[1], p[2] - c[2]];
-    let tub_end = |a: &Attach, b: &Attach| {
-        [a, b]
-            .into_iter()
-            .find(|e| e.body == BodyRef::Tub)
-            .map(|e| rel(e.point))
-    };
-    let mut out = Vec::new();
-    for s in &m.springs {
-        out.extend(tub_end(&s.a, &s.b).map(|p| (s.name.clone(), p)));
-    }
-    for d in &m.dampers {
-        out.extend(tub_end(&d.a, &d.b).map(|p| (d.name.clone(), p)));
-    }
-    for d in &m.friction_dampers {
-        out.extend(tub_end(&d.a, &d.b).map(|p| (d.name.clone(), p)));
-    }
-    for g in &m.gaskets {
-        if g.a == BodyRef::Tub || g.b == BodyRef::Tub {
-            out.push((g.name.clone(), rel(g.point)));
-        }
-    }
-    out
 }
 
 /// `washdyn fe modal`'s report: the sections of `old` (one per body, starting with a line

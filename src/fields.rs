@@ -12,33 +12,18 @@ use crate::vtk::{Cell, Data, write_pvd, write_vtu};
 use nalgebra::DMatrix;
 use std::path::{Path, PathBuf};
 use washdyn_fe::field::Field;
-use washdyn_runtime::equations::{BodyState, Equations, MarkerDef, ModalBody, rotate};
+use washdyn_runtime::equations::{Body, BodyState, Equations, Frame, ModalBody, rotate};
 use washdyn_runtime::geom::V;
 use washdyn_runtime::geom::f::{add, sub};
-use washdyn_runtime::ir::Model;
+use washdyn_runtime::ir::BodyRef;
 use washdyn_runtime::ir::modal::ModalData;
 
-/// Which body a field belongs to, and how it moves.
-enum Motion {
-    /// Tub rigid coordinates about p0, and its modes.
-    Tub {
-        p0: [f64; 3],
-    },
-    /// The drum on its mount, spinning about `axis` by `ratio` x the drive angle (as
-    /// equations/drum.rs turns it).
-    Drum {
-        mount: MarkerDef,
-        axis: [f64; 3],
-        ratio: f64,
-    },
-    Cabinet,
-}
-
-/// One body's mesh and how its nodes follow q.
+/// One body's mesh and how its nodes follow q: the scene's body (its frame says how the mesh
+/// moves: floating, spinning on its mount, or fixed).
 pub struct BodyField {
     pub name: String,
     pub field: Field,
-    motion: Motion,
+    body: Body,
     /// (first q index, file modes x scene modes) of the body's modes, when elastic.
     modes: Option<(usize, DMatrix<f64>)>,
 }
@@ -65,47 +50,21 @@ fn modal(b: &ModalBody, field: &Field) -> Result<(usize, DMatrix<f64>), String> 
 
 impl Recovery {
     /// The scene's bodies whose `<body>.field.bin` is in `fe_dir`.
-    pub fn new(model: &Model, eq: &Equations, fe_dir: &Path) -> Result<Recovery, String> {
+    pub fn new(eq: &Equations, fe_dir: &Path) -> Result<Recovery, String> {
         let mut bodies = Vec::new();
-        for name in ["tub", "drum", "cabinet"] {
+        for body in &eq.bodies.list {
+            let name = body.id.name();
             let path = fe_dir.join(format!("{name}.field.bin"));
-            if !path.exists() {
+            // A rigid body on a fixed frame does not move.
+            if !path.exists() || (body.frame == Frame::Fixed && body.modal().is_none()) {
                 continue;
             }
             let field = Field::read(&path)?;
-            let (motion, modes) = match name {
-                "tub" => (
-                    Motion::Tub { p0: model.tub.cog },
-                    eq.tub_modes
-                        .as_ref()
-                        .map(|b| modal(b, &field))
-                        .transpose()?,
-                ),
-                "drum" => {
-                    let Some(r) = eq.rotors.iter().find(|r| r.name == "drum") else {
-                        continue;
-                    };
-                    (
-                        Motion::Drum {
-                            mount: r.mount.clone(),
-                            axis: r.axis,
-                            ratio: r.ratio,
-                        },
-                        eq.drum
-                            .as_ref()
-                            .map(|d| modal(&d.modes, &field))
-                            .transpose()?,
-                    )
-                }
-                _ => match &eq.cabinet {
-                    Some(b) => (Motion::Cabinet, Some(modal(b, &field)?)),
-                    None => continue,
-                },
-            };
+            let modes = body.modal().map(|b| modal(b, &field)).transpose()?;
             bodies.push(BodyField {
                 name: name.into(),
                 field,
-                motion,
+                body: body.clone(),
                 modes,
             });
         }
@@ -142,8 +101,8 @@ impl Recovery {
         }
         let qf = Self::file_coordinates(b, q)?;
         // The drum's modal stresses are in its own frame: sigma_global = R sigma R^T.
-        let rot = match &b.motion {
-            Motion::Drum { axis, ratio, .. } => {
+        let rot = match &b.body.frame {
+            Frame::Spinning { axis, ratio, .. } => {
                 let e = V::c(*axis);
                 let (c, s) = ((phi * ratio).cos(), (phi * ratio).sin());
                 let cols: Vec<[f64; 3]> = (0..3)
@@ -201,34 +160,38 @@ impl Recovery {
         };
         let zero = vec![0.0; q.len()];
         let state = BodyState::new(q, &zero);
-        // The drum's mount and its turn (ratio x phi) are the same for every node.
-        let (mount_state, turn) = match &b.motion {
-            Motion::Drum { mount, ratio, .. } => (Some(mount.state(&state)), phi * ratio),
-            _ => (None, phi),
-        };
-        let (c, s) = (turn.cos(), turn.sin());
         let mut points = Vec::with_capacity(h.nodes.len());
         let mut disp = Vec::with_capacity(h.nodes.len());
-        for (i, x) in h.nodes.iter().enumerate() {
-            let w = elastic(i);
-            match &b.motion {
-                Motion::Tub { p0 } => {
-                    let u = state.tub.u + state.tub.alpha.cross(V::c(sub(*x, *p0)));
+        match &b.body.frame {
+            Frame::Floating { start, p0 } => {
+                let u = V::from_slice(&q[*start..start + 3]);
+                let alpha = V::from_slice(&q[start + 3..start + 6]);
+                for (i, x) in h.nodes.iter().enumerate() {
+                    let d = u + alpha.cross(V::c(sub(*x, *p0)));
                     points.push(*x);
-                    disp.push(add(u.0, w));
+                    disp.push(add(d.0, elastic(i)));
                 }
-                Motion::Drum { mount, axis, .. } => {
-                    let m = mount_state.as_ref().expect("set above for the drum");
-                    let e = V::c(*axis);
+            }
+            // The mount's motion and the turn (ratio x phi) are the same for every node.
+            Frame::Spinning {
+                mount, axis, ratio, ..
+            } => {
+                let m = mount.state(&state);
+                let (c, s) = ((phi * ratio).cos(), (phi * ratio).sin());
+                let e = V::c(*axis);
+                for (i, x) in h.nodes.iter().enumerate() {
                     let r = rotate(e, c, s, V::c(sub(*x, mount.point)));
-                    let p = add(mount.point, r.0);
-                    let d = (m.pos - V::c(mount.point)) + m.rot.cross(r) + rotate(e, c, s, V::c(w));
-                    points.push(p);
+                    let d = (m.pos - V::c(mount.point))
+                        + m.rot.cross(r)
+                        + rotate(e, c, s, V::c(elastic(i)));
+                    points.push(add(mount.point, r.0));
                     disp.push(d.0);
                 }
-                Motion::Cabinet => {
+            }
+            Frame::Fixed => {
+                for (i, x) in h.nodes.iter().enumerate() {
                     points.push(*x);
-                    disp.push(w);
+                    disp.push(elastic(i));
                 }
             }
         }
@@ -498,7 +461,7 @@ pub fn fields_command(
         .scene(Some(&text("scene")?))
         .map_err(|e| e.to_string())?;
     let eq = Equations::new(&model, &scene);
-    let rec = Recovery::new(&model, &eq, fe_dir)?;
+    let rec = Recovery::new(&eq, fe_dir)?;
     let states = States::read(&run_dir.join("states.parquet"))
         .map_err(|e| format!("{e} (run with --states to keep the states for field recovery)"))?;
     let out = out.map_or_else(|| run_dir.join("fields"), Path::to_path_buf);
@@ -525,7 +488,7 @@ pub fn fields_command(
                 files,
                 seconds: start.elapsed().as_secs_f64(),
                 largest: top.map(|r| ("drum front edge".into(), r.max_m, r.node, r.t)),
-                peak_stress: peak.map(|((pa, node), t)| ("drum".into(), pa, node, t)),
+                peak_stress: peak.map(|((pa, node), t)| (BodyRef::Drum.name().into(), pa, node, t)),
             })
         }
     }
@@ -550,7 +513,7 @@ pub fn drum_edge(rec: &Recovery, states: &States, stride: usize) -> Result<Vec<E
     let drum = rec
         .bodies
         .iter()
-        .find(|b| b.name == "drum")
+        .find(|b| b.body.id == BodyRef::Drum)
         .ok_or("no drum field")?;
     if drum.modes.is_none() {
         return Err("the drum is rigid in this scene: no deformation to show".into());

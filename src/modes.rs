@@ -112,7 +112,7 @@ pub fn rigid_modes(model: &Model, scene: Option<&str>) -> Result<Modes, String> 
     // Normalisation points: the door ring (rigid), else the dampers' tub ends.
     let (points, normalised_to): (Vec<[f64; 3]>, String) = match DoorRing::new(&m, &eq) {
         Some(r) => (
-            r.points.iter().map(|p| p.s).collect(),
+            r.points.iter().map(|p| p.at.s).collect(),
             "1 mm largest displacement of the door ring (its 8 points)".into(),
         ),
         None => (

@@ -47,11 +47,7 @@ pub fn variants(base: &Model, spec: &SweepSpec) -> Result<Vec<Variant>, String> 
     let ui = base
         .unbalances
         .iter()
-        .position(|u| {
-            base.rotors
-                .iter()
-                .any(|r| r.name == u.rotor && r.name == "drum")
-        })
+        .position(|u| base.drum().is_some_and(|r| r.name == u.rotor))
         .ok_or("the model has no unbalance on a rotor named `drum` to vary")?;
     let positions: Vec<Option<(String, f64)>> = if spec.positions.is_empty() {
         vec![None]

@@ -7,8 +7,8 @@
 
 use nalgebra::DMatrix;
 use washdyn_runtime::equations::Equations;
-use washdyn_runtime::ir::Model;
 use washdyn_runtime::ir::toml_file::load_str;
+use washdyn_runtime::ir::{BodyRef, Model};
 
 fn models_dir() -> std::path::PathBuf {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models")
@@ -69,7 +69,7 @@ fn free_tub_has_six_zero_and_calculix_frequencies() {
     ));
     let eq = Equations::new(&model, &model.scene(Some("free")).unwrap());
     let (m, c, k) = linearise(&eq, 0.0);
-    let data = eq.tub_modes.as_ref().unwrap().data().clone();
+    let data = eq.modes(BodyRef::Tub).unwrap().data().clone();
     let eigen = data.eigenmodes();
     // 100 eigenmodes and the six bearing correction modes.
     assert_eq!((m.nrows(), eigen), (6 + 106, 100));
@@ -128,7 +128,7 @@ fn clamped_spinning_drum_matches_the_reduced_campbell_diagram() {
     // checks against ccx's CORIOLIS.
     let model = drum_model(10, "", "\"elastic.drum\", \"centrifugal_stiffening\"");
     let eq = Equations::new(&model, &model.scene(Some("s")).unwrap());
-    let data = eq.drum.as_ref().unwrap().modes.data().clone();
+    let data = eq.elastic_drum().unwrap().modes.data().clone();
     let kg = data.geometric_stiffness.clone().unwrap();
     for rpm in [0.0, 400.0, 900.0, 1400.0] {
         let omega = rpm * std::f64::consts::PI / 30.0;
@@ -208,7 +208,7 @@ fn quasi_static_drum_deflection_under_the_unbalance_matches_calculix() {
         let eq0 = Equations::new(&without, &without.scene(Some("s")).unwrap());
         let (f1, _) = drum_load_and_stiffness(&eq, omega);
         let (f0, _) = drum_load_and_stiffness(&eq0, omega);
-        let drum = eq.drum.as_ref().unwrap();
+        let drum = eq.elastic_drum().unwrap();
         let w = drum.modes.rows([0.15, 0.0, 0.69]);
         let uz: f64 = (0..modes)
             .map(|k| w.w[k][2] * (f1[k] - f0[k]) / drum.modes.omega2[k])
@@ -239,7 +239,7 @@ fn quasi_static_drum_deflection_under_the_unbalance_matches_calculix() {
     );
     let eq = Equations::new(&with, &with.scene(Some("s")).unwrap());
     let eq0 = Equations::new(&without, &without.scene(Some("s")).unwrap());
-    let w = eq.drum.as_ref().unwrap().modes.rows([0.15, 0.0, 0.69]);
+    let w = eq.elastic_drum().unwrap().modes.rows([0.15, 0.0, 0.69]);
     let mut pts = Vec::new();
     for rpm in [400.0, 700.0, 1000.0, 1400.0] {
         let om = rpm * std::f64::consts::PI / 30.0;

@@ -13,6 +13,7 @@ use std::process::Command;
 use washdyn::fields::{Recovery, States, write_fields};
 use washdyn_fe::pipeline::build;
 use washdyn_runtime::equations::Equations;
+use washdyn_runtime::ir::BodyRef;
 use washdyn_runtime::system::Interpreter;
 
 fn tools() -> bool {
@@ -41,7 +42,7 @@ fn recovered_fields_are_read_back_by_meshio_and_continuous_at_the_bearing() {
     let scene = model.scene(Some("elastic")).unwrap();
     let eq = Equations::new(&model, &scene);
     // The fields must belong to the committed modal data (same solve): Recovery checks it.
-    let rec = Recovery::new(&model, &eq, dir.path()).unwrap_or_else(|e| panic!("{e}"));
+    let rec = Recovery::new(&eq, dir.path()).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(
         rec.bodies
             .iter()
@@ -82,7 +83,7 @@ fn recovered_fields_are_read_back_by_meshio_and_continuous_at_the_bearing() {
         q[1] + a[2] * r[0] - a[0] * r[2],
         q[2] + a[0] * r[1] - a[1] * r[0],
     ];
-    let tub_modes = eq.tub_modes.as_ref().unwrap();
+    let tub_modes = eq.modes(BodyRef::Tub).unwrap();
     let qs = &q[tub_modes.start..tub_modes.start + tub_modes.n];
     let nf = tub.field.modes();
     let basis = tub_modes.data().basis.clone();
@@ -218,8 +219,7 @@ fn drum_rim_sensor_reads_the_recovered_field(
     let scene = model.scene(Some("elastic")).unwrap();
     let eq0 = Equations::new(model, &scene);
     let point = eq0
-        .drum
-        .as_ref()
+        .elastic_drum()
         .unwrap()
         .modes
         .data()

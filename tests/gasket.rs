@@ -60,8 +60,8 @@ fn element(g: &washdyn_runtime::ir::Gasket) -> Gasket {
     let p0 = [0.0, 0.0, 0.45];
     Gasket::new(
         g,
-        MarkerDef::new(BodyRef::Tub, g.point, p0),
-        MarkerDef::new(BodyRef::Cabinet, g.point, p0),
+        MarkerDef::floating(BodyRef::Tub, g.point, 0, p0),
+        MarkerDef::fixed(BodyRef::Cabinet, g.point),
         true,
     )
 }

@@ -8,9 +8,9 @@
 use nalgebra::{Matrix3, Vector3};
 use washdyn_runtime::clearance::{DoorRing, DrumGap, Watch};
 use washdyn_runtime::equations::Equations;
-use washdyn_runtime::ir::Model;
 use washdyn_runtime::ir::modal::ModalPoint;
 use washdyn_runtime::ir::toml_file::{load_file, load_str};
+use washdyn_runtime::ir::{BodyRef, Model};
 use washdyn_runtime::ode::{Dopri5, Options};
 use washdyn_runtime::output::MemorySink;
 use washdyn_runtime::run::{Guard, Labels, RunOptions, Start, run_guarded};
@@ -67,9 +67,9 @@ fn door_ring_is_the_rigid_motion_on_the_rigid_tub_and_adds_the_modes_where_the_d
         "{}",
         ring.note
     );
-    let with_rows = ring.points.iter().filter(|p| p.modal.is_some()).count();
+    let with_rows = ring.points.iter().filter(|p| p.at.modal.is_some()).count();
     assert_eq!(with_rows, 2);
-    let tub = eq.tub_modes.as_ref().unwrap();
+    let tub = eq.modes(BodyRef::Tub).unwrap();
     let mut q = vec![0.0; eq.layout.n()];
     q[tub.start] = 1.0;
     let pt = tub.data().point("MP_TUB1").unwrap();
@@ -118,8 +118,8 @@ fn drum_tub_gap_closes_by_the_radial_relative_elastic_motion() {
     // The clearance from the points' radii: 0.27 - 0.24.
     assert!((gap.clearance - 0.03).abs() < 1e-12, "{}", gap.clearance);
     let (tub, drum) = (
-        eq.tub_modes.as_ref().unwrap(),
-        &eq.drum.as_ref().unwrap().modes,
+        eq.modes(BodyRef::Tub).unwrap(),
+        &eq.elastic_drum().unwrap().modes,
     );
     let (td, dd) = (tub.data(), drum.data());
     let mount = [-0.25, 0.0, 0.45];
@@ -183,7 +183,7 @@ fn a_rigid_drum_on_an_elastic_tub_passes_the_checker_and_runs() {
     let m = load_str(&text, "tub_only.toml", &data_dir()).unwrap_or_else(|e| panic!("{e}"));
     let scene = m.scene(Some("tub_only")).unwrap();
     let eq = Equations::new(&m, &scene);
-    assert!(eq.tub_modes.is_some() && eq.drum.is_none());
+    assert!(eq.modes(BodyRef::Tub).is_some() && eq.elastic_drum().is_none());
     let watch = Watch::new(&m, &eq);
     let mut sys = FirstOrder::new(Interpreter::new(&m, &scene));
     let dim = 2 * sys.layout().n();

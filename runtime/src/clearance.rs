@@ -15,10 +15,10 @@
 //! the modal data's node sets DRUM_EDGE_k (drum) and TUB_RING_k (tub), k = 0.., and the
 //! clearance is their mean radii's difference; a body without them counts as rigid there.
 
-use crate::equations::{Equations, ModalRows, rotate};
+use crate::equations::{Equations, MarkerDef, ModalRows, rotate};
 use crate::geom::{V, f};
-use crate::ir::Model;
 use crate::ir::modal::{ModalData, point_at};
+use crate::ir::{BodyRef, Model};
 
 /// Radius of the door ring about the drum axis, m: the tub's front opening where the gasket's
 /// bellows is clamped (reference machine: tub radius 0.27 m, ring at 0.25 m).
@@ -29,6 +29,9 @@ pub const DOOR_RING_POINTS: usize = 8;
 /// Everything watched beside the tub's rigid motion, with a note per item for the summary.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Watch {
+    /// The first of the floating frame's six rigid coordinates in q (u, alpha): what the
+    /// monitor's translation and rotation bounds read.
+    pub frame: usize,
     pub door_ring: Option<DoorRing>,
     pub drum_gap: Option<DrumGap>,
     pub notes: Vec<String>,
@@ -53,6 +56,7 @@ impl Watch {
             }
         };
         Watch {
+            frame: eq.bodies.floating().0,
             door_ring,
             drum_gap,
             notes,
@@ -60,28 +64,43 @@ impl Watch {
     }
 }
 
-/// A tub point watched for its displacement: lever from the tub's rest CoG p0 and, on the
-/// elastic tub, its modal rows.
+/// The force elements' ends on the tub, as markers on its frame (rigid motion only): the
+/// validity monitor's element deflections (`Guard::elements`).
+pub fn element_tub_ends(model: &Model, eq: &Equations) -> Vec<(String, MarkerDef)> {
+    let on_tub = |name: &str, ends: [(BodyRef, [f64; 3]); 2]| {
+        ends.into_iter()
+            .find(|(b, _)| *b == BodyRef::Tub)
+            .map(|(b, p)| (name.to_string(), eq.bodies.frame_marker(b, p)))
+    };
+    let m = model;
+    let springs = m.springs.iter().map(|e| (&e.name, &e.a, &e.b));
+    let dampers = m.dampers.iter().map(|e| (&e.name, &e.a, &e.b));
+    let friction = m.friction_dampers.iter().map(|e| (&e.name, &e.a, &e.b));
+    let mut out: Vec<_> = springs
+        .chain(dampers)
+        .chain(friction)
+        .filter_map(|(n, a, b)| on_tub(n, [(a.body, a.point), (b.body, b.point)]))
+        .collect();
+    out.extend(
+        m.gaskets
+            .iter()
+            .filter_map(|g| on_tub(&g.name, [(g.a, g.point), (g.b, g.point)])),
+    );
+    out
+}
+
+/// A tub point watched for its displacement: the body layer's marker there (with the tub's
+/// modal rows where its data has a point).
 #[derive(Clone, Debug, PartialEq)]
 pub struct WatchPoint {
     pub name: String,
-    pub s: [f64; 3],
-    pub modal: Option<ModalRows>,
+    pub at: MarkerDef,
 }
 
 impl WatchPoint {
-    /// u + alpha x s (+ W q): q[0..3] = u, q[3..6] = alpha (equations/mod.rs).
+    /// u + alpha x s (+ W q).
     pub fn displacement(&self, q: &[f64]) -> [f64; 3] {
-        let (u, a, s) = (&q[..3], &q[3..6], self.s);
-        let mut d = [
-            u[0] + a[1] * s[2] - a[2] * s[1],
-            u[1] + a[2] * s[0] - a[0] * s[2],
-            u[2] + a[0] * s[1] - a[1] * s[0],
-        ];
-        if let Some(r) = &self.modal {
-            d = f::add(d, r.motion(q).0.0);
-        }
-        d
+        self.at.displacement(q)
     }
 }
 
@@ -97,15 +116,13 @@ impl DoorRing {
     /// Around the first gasket's tub end, about the drum's axis; `None` without a gasket on the
     /// tub or a rotor `drum`.
     pub fn new(model: &Model, eq: &Equations) -> Option<DoorRing> {
-        use crate::ir::BodyRef;
         let g = model
             .gaskets
             .iter()
             .find(|g| g.a == BodyRef::Tub || g.b == BodyRef::Tub)?;
-        let drum = model.rotors.iter().find(|r| r.name == "drum")?;
+        let drum = model.drum()?;
         let (_, b1, b2) = frame(drum.axis);
-        let p0 = eq.p0();
-        let tub = eq.tub_modes.as_ref();
+        let tub = eq.modes(BodyRef::Tub);
         let mut elastic = Vec::new();
         let points = (0..DOOR_RING_POINTS)
             .map(|k| {
@@ -121,10 +138,11 @@ impl DoorRing {
                         elastic.push(name);
                         t.rows(p)
                     });
+                let mut at = eq.bodies.frame_marker(BodyRef::Tub, p);
+                at.modal = modal;
                 WatchPoint {
                     name: format!("door_ring_{k}"),
-                    s: f::sub(p, p0),
-                    modal,
+                    at,
                 }
             })
             .collect();
@@ -208,18 +226,10 @@ impl DrumGap {
     /// without drum edge points in the model's drum data (the note says why).
     pub fn new(model: &Model, eq: &Equations) -> Result<DrumGap, String> {
         let drum = model
-            .rotors
-            .iter()
-            .find(|r| r.name == "drum")
+            .drum()
             .ok_or("drum-tub gap: not watched (no rotor `drum`)")?;
-        let data = |name: &str| {
-            model
-                .elastic
-                .iter()
-                .find(|e| e.name == name)
-                .and_then(|e| e.data.as_ref())
-        };
-        let edge_pts = data("drum").map_or(Vec::new(), |d| named_points(d, "DRUM_EDGE"));
+        let data = |b: BodyRef| model.elastic_of(b).and_then(|e| e.data.as_ref());
+        let edge_pts = data(BodyRef::Drum).map_or(Vec::new(), |d| named_points(d, "DRUM_EDGE"));
         if edge_pts.is_empty() {
             return Err(
                 "drum-tub gap: not watched (the drum's modal data has no DRUM_EDGE_k \
@@ -229,8 +239,8 @@ impl DrumGap {
         }
         let (axis, b1, b2) = frame(drum.axis);
         let mount_p = drum.mount_point();
-        let tub = eq.tub_modes.as_ref();
-        let edrum = eq.drum.as_ref();
+        let tub = eq.modes(BodyRef::Tub);
+        let edrum = eq.elastic_drum();
         let edge: Vec<EdgePoint> = edge_pts
             .iter()
             .map(|p| EdgePoint {
@@ -239,7 +249,7 @@ impl DrumGap {
                 modal: edrum.map(|d| d.modes.rows(p.position)),
             })
             .collect();
-        let ring_pts = data("tub").map_or(Vec::new(), |d| named_points(d, "TUB_RING"));
+        let ring_pts = data(BodyRef::Tub).map_or(Vec::new(), |d| named_points(d, "TUB_RING"));
         let radius = |p: [f64; 3]| f::norm(reject(f::sub(p, drum.axis_point), axis));
         let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
         let r_drum = mean(

@@ -74,7 +74,7 @@ pub fn check_scene(eq: &Equations) -> Result<(), HarmonicError> {
         Some("`element_geometry` (exact element kinematics and second-order sensors)")
     } else if eq.unbalance_inertia {
         Some("`unbalance_inertia` (an unbalance mass makes M1 depend on the drum angle)")
-    } else if eq.drum.is_some() {
+    } else if eq.elastic_drum().is_some() {
         Some("`elastic.drum` (the spinning drum's modes make M1 depend on the drum angle)")
     } else if eq.sensors.iter().any(|s| s.spin.is_some()) {
         Some("a sensor turning with the drum (its point moves with the drum angle)")

@@ -3,6 +3,7 @@
 //! a typed error with the time reached; the samples written up to then stay written.
 
 use crate::clearance::Watch;
+use crate::equations::MarkerDef;
 use crate::ode::{OdeError, OdeSystem, Solver, Stats};
 use crate::output::SampleSink;
 use crate::statics::static_equilibrium;
@@ -83,10 +84,11 @@ pub struct Guard {
     /// A run whose simulated-time rate over a window projects the remaining time to more than
     /// this (wall-clock seconds) stops with [`RunError::Stalled`].
     pub max_projected_s: f64,
-    /// Force elements' tub ends (name, position relative to the tub's rest CoG, m): their
-    /// displacement u + alpha x s is the element's deflection (the cabinet is fixed), reported
-    /// and warned about at the translation bound (the tub wall's clearance), never a stop.
-    pub elements: Vec<(String, [f64; 3])>,
+    /// Force elements' tub ends (name, the body layer's marker on the tub's frame): their
+    /// rigid displacement u + alpha x s is the element's deflection (the cabinet is fixed),
+    /// reported and warned about at the translation bound (the tub wall's clearance), never a
+    /// stop (`clearance::element_tub_ends`).
+    pub elements: Vec<(String, MarkerDef)>,
     /// The fixed step of an explicit fixed-step method (rk4), s: checked at the start against
     /// the stability limit [`RK4_STABILITY`] / spectral radius of the Jacobian.
     pub fixed_step: Option<f64>,
@@ -590,13 +592,14 @@ impl<'a> Monitor<'a> {
         }
     }
 
-    /// q[0..3] = tub translation u, q[3..6] = tub rotation alpha (equations/mod.rs).
+    /// The floating frame's translation u and rotation alpha (from `Watch::frame`).
     fn check(&mut self, t: f64, q: &[f64], summary: &mut Summary) -> Result<(), RunError> {
-        if q.len() < 6 {
+        let c = self.guard.watch.frame;
+        if q.len() < c + 6 {
             return Ok(());
         }
         let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
-        let (u, a) = (norm(&q[..3]), norm(&q[3..6]));
+        let (u, a) = (norm(&q[c..c + 3]), norm(&q[c + 3..c + 6]));
         let ex = &mut summary.validity;
         if u > ex.max_translation_m {
             ex.max_translation_m = u;
@@ -648,17 +651,9 @@ impl<'a> Monitor<'a> {
 
     /// The largest deflection of an element's tub end, and a warning past the translation bound.
     fn elements(&mut self, t: f64, q: &[f64], summary: &mut Summary, worst: &mut Worst) {
-        if q.len() < 6 {
-            return;
-        }
-        let (u, a) = (&q[..3], &q[3..6]);
         let ex = &mut summary.validity;
-        for (i, (_, s)) in self.guard.elements.iter().enumerate() {
-            let d = [
-                u[0] + a[1] * s[2] - a[2] * s[1],
-                u[1] + a[2] * s[0] - a[0] * s[2],
-                u[2] + a[0] * s[1] - a[1] * s[0],
-            ];
+        for (i, (_, m)) in self.guard.elements.iter().enumerate() {
+            let d = m.displacement(q);
             let v = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
             if v > ex.max_element_deflection_m {
                 ex.max_element_deflection_m = v;

@@ -59,7 +59,7 @@ pub fn fit(eq: &Equations) -> Option<MassHarmonics> {
         .unbalances
         .iter()
         .map(|u| u.ratio)
-        .chain(eq.drum.iter().map(|d| d.ratio))
+        .chain(eq.elastic_drum().map(|d| d.ratio))
         .filter(|r| *r != 0.0)
         .map(f64::abs)
         .collect();

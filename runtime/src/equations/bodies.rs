@@ -2,7 +2,7 @@
 //! unbalances. The tub's constant mass blocks (rigid, or FE with its attached parts) are
 //! assembled once in `Equations::new`.
 
-use super::kinematics::{MarkerDef, ModalRows};
+use super::kinematics::{MarkerDef, ModalRows, Wrench};
 use super::{BodyState, Drive};
 use crate::geom::{V, f};
 use crate::ir::{Rotor, Unbalance};
@@ -75,13 +75,21 @@ impl RotorDef {
     pub fn add<T: Scalar>(&self, b: &BodyState<T>, d: &Drive<T>, h: &mut [T]) {
         let e = V::<T>::c(self.axis);
         let jp = self.polar_inertia * self.ratio;
-        let mut betad = b.tub.alphad;
+        let mut betad = self.mount.frame_rotation(b).1;
         if let Some(r) = &self.mount.modal {
             betad = betad + r.motion(b.qd).1;
         }
         let dh = e.scale(d.omega_dot * jp) + betad.cross(e).scale(d.omega * jp);
         let z = V::zero();
-        self.mount.load_on_tub(b, z, z, -dh, h);
+        self.mount.apply(
+            b,
+            &Wrench {
+                force: z,
+                moment: -dh,
+            },
+            z,
+            h,
+        );
     }
 }
 
@@ -167,14 +175,18 @@ impl UnbalanceDef {
             // A prescribed rotating load, a function of time only: centrifugal, tangential and
             // weight. (Keeping the weight's tilt with the tub, alpha x W at the turning lever,
             // would be a parametric term feeding even orders.)
-            self.mount.load_on_tub(b, f0, V::zero(), y.cross(f0), h);
+            let w = Wrench {
+                force: f0,
+                moment: y.cross(f0),
+            };
+            self.mount.apply(b, &w, V::zero(), h);
             if let Some(r) = &self.drum {
                 r.add_force(rot_t(f0), h);
             }
             return;
         }
-        let alpha = b.tub.alpha;
-        let (mut beta, mut betad) = (alpha, b.tub.alphad);
+        let (alpha, alphad) = self.mount.frame_rotation(b);
+        let (mut beta, mut betad) = (alpha, alphad);
         let mut theta = V::zero();
         if let Some(r) = &self.mount.modal {
             theta = r.motion(b.q).1;
@@ -198,7 +210,7 @@ impl UnbalanceDef {
         let force = f0 - extra * m;
         let f_t = force - alpha.cross(f0);
         let m_b = y.cross(f_t) + (theta.cross(y) + rw).cross(f0);
-        self.mount.load_on_tub(b, force, f0, m_b, h);
+        self.mount.apply(b, &Wrench { force, moment: m_b }, f0, h);
         if let Some(r) = &self.drum {
             r.add_force(rot_t(force - beta.cross(f0)), h);
         }

@@ -8,7 +8,7 @@
 //! matrices (seed paper), in the drum frame; per evaluation only R(phi) turns them.
 
 use super::bodies::rotate;
-use super::kinematics::{MarkerDef, tub_point_jacobian};
+use super::kinematics::{MarkerDef, Wrench};
 use super::{BodyState, Drive, ModalBody};
 use crate::geom::V;
 use crate::scalar::{Scalar, mat_vec_from};
@@ -146,7 +146,9 @@ impl ElasticDrum {
                 })
                 .collect()
         };
-        let frame = tub_point_jacobian(mount.s, mount.modal.as_ref(), n1);
+        let frame = mount
+            .jacobian(n1)
+            .expect("the drum's mount is on the floating tub");
         let stiffening = if stiffening {
             d.geometric_stiffness.as_ref().map(|k| k.per_omega2.clone())
         } else {
@@ -261,7 +263,7 @@ impl ElasticDrum {
         }
 
         // The frame's small rotation and its rate (tub rigid + elastic at B), in drum axes.
-        let (mut beta, mut betad) = (b.tub.alpha, b.tub.alphad);
+        let (mut beta, mut betad) = self.mount.frame_rotation(b);
         if let Some(r) = &self.mount.modal {
             beta = beta + r.motion(b.q).1;
             betad = betad + r.motion(b.qd).1;
@@ -300,7 +302,10 @@ impl ElasticDrum {
         T::mat_vec(&self.c_table, q, &mut cq);
         let f = V([fm[0], fm[1], fm[2]]);
         let mo = V([fm[3], fm[4], fm[5]]) + V(cq).cross(g_d);
-        let z = V::zero();
-        self.mount.load_on_tub(b, rot(f), z, rot(mo), h);
+        let w = Wrench {
+            force: rot(f),
+            moment: rot(mo),
+        };
+        self.mount.apply(b, &w, V::zero(), h);
     }
 }

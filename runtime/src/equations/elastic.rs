@@ -153,6 +153,7 @@ impl ModalBody {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::ir::BodyRef;
     use crate::ir::modal::{ModalData, SupportSpring, tests::tiny};
     use std::f64::consts::PI;
 
@@ -169,7 +170,7 @@ mod tests {
 
     fn entry(d: ModalData, support: Option<f64>, beta: f64) -> Elastic {
         Elastic {
-            name: "cabinet".into(),
+            name: BodyRef::Cabinet.name().into(),
             file: "cabinet.modal.toml".into(),
             modes: None,
             damping: 0.02,

@@ -20,7 +20,6 @@ use super::{BodyState, Drive, Equations, Placed, Terms};
 use crate::dual::{Dual, LANES};
 use crate::elements::Element;
 use crate::geom::V;
-use crate::ir::BodyRef;
 use crate::scalar::Scalar;
 
 type D = Dual<LANES>;
@@ -83,9 +82,9 @@ enum Field {
 fn inputs(m: &MarkerDef) -> [Option<(Port<'_>, Field)>; 4] {
     let mut out = [None; 4];
     let mut i = 0;
-    if m.body != BodyRef::Cabinet {
-        out[0] = Some((Port::Rigid(0), Field::U));
-        out[1] = Some((Port::Rigid(3), Field::Alpha));
+    if let Some(c) = m.frame {
+        out[0] = Some((Port::Rigid(c), Field::U));
+        out[1] = Some((Port::Rigid(c + 3), Field::Alpha));
         i = 2;
     }
     if let Some(r) = &m.modal {
@@ -142,9 +141,9 @@ fn outputs<'a, const N: usize>(
 ) -> [Option<(Port<'a>, V<Dual<N>>)>; 4] {
     let mut out = [None; 4];
     let mut i = 0;
-    if m.body != BodyRef::Cabinet {
-        out[0] = Some((Port::Rigid(0), l.force));
-        out[1] = Some((Port::Rigid(3), l.moment));
+    if let Some(c) = m.frame {
+        out[0] = Some((Port::Rigid(c), l.force));
+        out[1] = Some((Port::Rigid(c + 3), l.moment));
         i = 2;
     }
     if let Some(r) = &m.modal {
@@ -173,8 +172,11 @@ impl Equations {
         self.seeded_passes(d, q, qd, w, hq, hqd, 2 * n1, Terms::Bodies, |s| {
             (s >= n1, s % n1)
         });
-        if let Some(c) = &self.cabinet {
-            c.add_elastic_jacobian(hq, hqd, n);
+        // Subsystem 2's own terms are diagonal (modes on a fixed frame).
+        for b in self.bodies.list.iter().filter(|b| b.in_subsystem2()) {
+            if let Some(m) = b.modal() {
+                m.add_elastic_jacobian(hq, hqd, n);
+            }
         }
         // Force elements by their local Jacobians.
         let st = BodyState::new(q, qd);

@@ -1,22 +1,30 @@
-//! Markers: points fixed on a body, the interface between bodies and force elements. A force
-//! element sees only the two markers' states and returns a wrench on each; the body maps the
-//! wrench to generalised forces. Elastic bodies later add W q to a marker without touching
-//! any element.
+//! Markers: points fixed on a body, the interface between bodies and force elements (Exudyn's
+//! `MarkerData`). A marker carries its Jacobian over the body's coordinates: the rigid columns
+//! of the floating frame it rides on (u, alpha at a lever) and the mode-shape rows of the
+//! body's modes there. Force elements, sensors, rotors and unbalances see a marker's motion and
+//! give it a wrench; `MarkerDef::apply` maps the wrench to generalised forces (J^T w plus the
+//! linearised tilt terms). None of them asks which body the marker is on: the body layer
+//! (equations/body.rs) builds the marker, and its structure is all the derivation reads.
 
 use super::BodyState;
 use crate::geom::{V, f};
 use crate::ir::BodyRef;
 use crate::scalar::Scalar;
 
-/// A marker's definition: body and rest point (global), with its lever from the tub's reference,
-/// and on an elastic body its mode-shape rows.
+/// A marker's definition: body and rest point (global), the floating frame it rides on, and
+/// on an elastic body its mode-shape rows.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MarkerDef {
+    /// The body it is on: for reports and the recovery; the derivation never branches on it.
     pub body: BodyRef,
     pub point: [f64; 3],
-    /// point - p0 (used for tub markers).
+    /// The first of the six rigid coordinates (u, alpha) of the floating frame the point rides
+    /// on; `None` on a fixed frame (the cabinet on its feet, or the ground).
+    pub frame: Option<usize>,
+    /// point - p0, the lever from the floating frame's reference (zero on a fixed frame).
     pub s: [f64; 3],
-    /// The body's modes at this point, when the scene makes the body elastic.
+    /// The body's modes at this point (and, on a body spinning on a mount, the parent's modes
+    /// at the mount carried to the point), when the scene makes them elastic.
     pub modal: Option<ModalRows>,
 }
 
@@ -97,10 +105,11 @@ impl ModalRows {
     }
 }
 
-/// Velocity Jacobian of a point of the tub (lever `s` from p0, the tub's mode rows there if it
-/// is elastic): for each column j of q1, the translation and the rotation per unit q_j'.
-/// Columns beyond the tub's stay zero.
-pub fn tub_point_jacobian(
+/// Velocity Jacobian of a point on a floating frame whose rigid coordinates start at `start`
+/// (lever `s` from its reference, the frame's mode rows there if it is elastic): for each
+/// column j of q1, the translation and the rotation per unit q_j'. Other columns stay zero.
+pub fn frame_point_jacobian(
+    start: usize,
     s: [f64; 3],
     rows: Option<&ModalRows>,
     n1: usize,
@@ -109,8 +118,8 @@ pub fn tub_point_jacobian(
     for a in 0..3 {
         let mut e = [0.0; 3];
         e[a] = 1.0;
-        j[a].0 = e;
-        j[3 + a] = (f::cross(e, s), e);
+        j[start + a].0 = e;
+        j[start + 3 + a] = (f::cross(e, s), e);
     }
     if let Some(r) = rows {
         for k in 0..r.w.len() {
@@ -144,84 +153,117 @@ pub fn add_rigid_mass(
 }
 
 impl MarkerDef {
-    pub fn new(body: BodyRef, point: [f64; 3], p0: [f64; 3]) -> Self {
+    /// A point on a floating frame (rigid coordinates from `start`, reference `p0`).
+    pub fn floating(body: BodyRef, point: [f64; 3], start: usize, p0: [f64; 3]) -> Self {
         MarkerDef {
             body,
             point,
+            frame: Some(start),
             s: f::sub(point, p0),
             modal: None,
         }
     }
 
-    /// Generalised forces of a load on the tub at this marker: force `f` (global) whose tilt
-    /// with the tub is taken from `f_tilt` (the rest load when linearised, zero for loads of
-    /// first order), and moment `m_tub` in tub components. Rigid rows: f, and s x (f - alpha x
-    /// f_tilt) + (W q) x f_tilt + m_tub (the lever grows with the elastic displacement); modal
-    /// rows: W^T (f - alpha x f_tilt) + Phi^T m_tub (the modes live in the tub frame).
-    pub fn load_on_tub<T: Scalar>(
-        &self,
-        b: &BodyState<T>,
-        f: V<T>,
-        f_tilt: V<T>,
-        m_tub: V<T>,
-        h: &mut [T],
-    ) {
-        let w = self.modal.as_ref().map(|r| r.motion(b.q).0);
-        self.scatter(&self.tub_load(b.tub.alpha, w, f, f_tilt, m_tub), h);
+    /// A point on a fixed frame: it moves with the body's modes only.
+    pub fn fixed(body: BodyRef, point: [f64; 3]) -> Self {
+        MarkerDef {
+            body,
+            point,
+            frame: None,
+            s: [0.0; 3],
+            modal: None,
+        }
     }
 
-    /// The load of `load_on_tub` at its four ports, from the tub's rotation and the marker's
-    /// elastic displacement `w` (W q, when the tub is elastic).
-    pub fn tub_load<T: Scalar>(
+    /// The marker's velocity Jacobian over q1 (constant: folds at compile time); `None` on a
+    /// fixed frame, whose modes live in subsystem 2.
+    pub fn jacobian(&self, n1: usize) -> Option<Vec<([f64; 3], [f64; 3])>> {
+        self.frame
+            .map(|c| frame_point_jacobian(c, self.s, self.modal.as_ref(), n1))
+    }
+
+    /// The frame's small rotation and its rate at state b (zero on a fixed frame).
+    pub fn frame_rotation<T: Scalar>(&self, b: &BodyState<T>) -> (V<T>, V<T>) {
+        match self.frame {
+            Some(c) => (
+                V::from_slice(&b.q[c + 3..c + 6]),
+                V::from_slice(&b.qd[c + 3..c + 6]),
+            ),
+            None => (V::zero(), V::zero()),
+        }
+    }
+
+    /// h += J^T w at this marker, with the linearised tilt terms: force `w.force` (global)
+    /// whose turning with the frame is taken from `f_tilt` (the rest load when linearised,
+    /// zero for loads of first order), and moment `w.moment` in the frame's components. The
+    /// one way every element, unbalance, rotor and reaction reaches the generalised forces.
+    pub fn apply<T: Scalar>(&self, b: &BodyState<T>, w: &Wrench<T>, f_tilt: V<T>, h: &mut [T]) {
+        let wq = self.modal.as_ref().map(|r| r.motion(b.q).0);
+        let alpha = self.frame_rotation(b).0;
+        self.scatter(&self.load(alpha, wq, w, f_tilt), h);
+    }
+
+    /// The load of `apply` at the marker's ports, from the frame's rotation and the marker's
+    /// elastic displacement `w` (W q). On a floating frame: rigid rows f and
+    /// s x (f - alpha x f_tilt) + (W q) x f_tilt + m (the lever grows with the elastic
+    /// displacement); modal rows W^T (f - alpha x f_tilt) + Phi^T m (the modes live in the
+    /// frame). On a fixed frame: W^T f + Phi^T m.
+    pub fn load<T: Scalar>(
         &self,
         alpha: V<T>,
         w: Option<V<T>>,
-        f: V<T>,
+        wr: &Wrench<T>,
         f_tilt: V<T>,
-        m_tub: V<T>,
     ) -> Load<T> {
-        let f_tub = f - alpha.cross(f_tilt);
-        let mut m = V::<T>::c(self.s).cross(f_tub) + m_tub;
+        if self.frame.is_none() {
+            return Load {
+                force: V::zero(),
+                moment: V::zero(),
+                modal_force: wr.force,
+                modal_moment: wr.moment,
+            };
+        }
+        let f_frame = wr.force - alpha.cross(f_tilt);
+        let mut m = V::<T>::c(self.s).cross(f_frame) + wr.moment;
         if let Some(w) = w {
             m = m + w.cross(f_tilt);
         }
         Load {
-            force: f,
+            force: wr.force,
             moment: m,
-            modal_force: f_tub,
-            modal_moment: m_tub,
+            modal_force: f_frame,
+            modal_moment: wr.moment,
         }
     }
 
-    /// h += the load through the body's constant maps: the tub's rigid rows (force, moment),
-    /// and on an elastic body W^T modal_force + Phi^T modal_moment. The cabinet has no rigid
-    /// rows (fixed, or elastic only).
+    /// h += the load through the marker's constant maps: the floating frame's rigid rows
+    /// (force, moment), and on an elastic body W^T modal_force + Phi^T modal_moment.
     pub fn scatter<T: Scalar>(&self, l: &Load<T>, h: &mut [T]) {
-        if self.body != BodyRef::Cabinet {
-            l.force.add_to(h, 0);
+        if let Some(c) = self.frame {
+            l.force.add_to(h, c);
         }
         if let Some(r) = &self.modal {
             r.add_load(l.modal_force, l.modal_moment, h);
         }
-        if self.body != BodyRef::Cabinet {
-            l.moment.add_to(h, 3);
+        if let Some(c) = self.frame {
+            l.moment.add_to(h, c + 3);
         }
     }
 
     /// The marker's local coordinates at state b.
     pub fn local<T: Scalar>(&self, b: &BodyState<T>) -> Local<T> {
-        let mut l = match self.body {
-            BodyRef::Tub | BodyRef::Drum => Local {
-                u: b.tub.u,
-                alpha: b.tub.alpha,
-                ud: b.tub.ud,
-                alphad: b.tub.alphad,
+        let mut l = match self.frame {
+            Some(c) => Local {
+                u: V::from_slice(&b.q[c..c + 3]),
+                alpha: V::from_slice(&b.q[c + 3..c + 6]),
+                ud: V::from_slice(&b.qd[c..c + 3]),
+                alphad: V::from_slice(&b.qd[c + 3..c + 6]),
                 w: V::zero(),
                 phi: V::zero(),
                 wd: V::zero(),
                 phid: V::zero(),
             },
-            BodyRef::Cabinet => Local::zero(),
+            None => Local::zero(),
         };
         if let Some(r) = &self.modal {
             (l.w, l.phi) = r.motion(b.q);
@@ -235,10 +277,30 @@ impl MarkerDef {
         self.state_of(&self.local(b))
     }
 
+    /// The displacement of the point at q (first order: u + alpha x s + W q), what the
+    /// validity monitor and the recovery read.
+    pub fn displacement(&self, q: &[f64]) -> [f64; 3] {
+        let mut d = match self.frame {
+            Some(c) => {
+                let (u, a, s) = (&q[c..c + 3], &q[c + 3..c + 6], self.s);
+                [
+                    u[0] + a[1] * s[2] - a[2] * s[1],
+                    u[1] + a[2] * s[0] - a[0] * s[2],
+                    u[2] + a[0] * s[1] - a[1] * s[0],
+                ]
+            }
+            None => [0.0; 3],
+        };
+        if let Some(r) = &self.modal {
+            d = f::add(d, r.motion(q).0.0);
+        }
+        d
+    }
+
     /// The kinematic state from the local coordinates.
     pub fn state_of<T: Scalar>(&self, l: &Local<T>) -> Marker<T> {
-        let mut m = match self.body {
-            BodyRef::Tub | BodyRef::Drum => {
+        let mut m = match self.frame {
+            Some(_) => {
                 let s = V::<T>::c(self.s);
                 Marker {
                     pos: V::c(self.point) + l.u + l.alpha.cross(s),
@@ -247,7 +309,7 @@ impl MarkerDef {
                     angvel: l.alphad,
                 }
             }
-            BodyRef::Cabinet => Marker {
+            None => Marker {
                 pos: V::c(self.point),
                 vel: V::zero(),
                 rot: V::zero(),

@@ -15,6 +15,7 @@
 //! would drop (design-notes: preloaded springs); it makes the stiffness symmetric at equilibrium.
 
 mod bodies;
+pub mod body;
 mod drum;
 mod elastic;
 mod jacobian;
@@ -27,11 +28,12 @@ use crate::geom::{V, f};
 use crate::ir::{BodyRef, Effect, EffectSet, Model};
 use crate::scalar::Scalar;
 pub use bodies::{RotorDef, TubDef, UnbalanceDef, rotate};
+pub use body::{Bodies, Body, Frame, Modes};
 pub use drum::ElasticDrum;
 pub use elastic::ModalBody;
 pub use jacobian::{ForceJacobians, JacobianWork};
 pub use kinematics::{
-    Load, Local, Marker, MarkerDef, ModalRows, Wrench, add_rigid_mass, tub_point_jacobian,
+    Load, Local, Marker, MarkerDef, ModalRows, Wrench, add_rigid_mass, frame_point_jacobian,
 };
 pub use sensors::{SensorDef, Spin};
 
@@ -70,10 +72,8 @@ pub struct Equations {
     /// The constant part of M1 (row-major n1 x n1): the tub (rigid, or FE with the parts it
     /// carries: drum and rotors at their mounts) and the modal blocks.
     pub m1_const: Vec<f64>,
-    /// The tub's modes (q1 after the 6 rigid coordinates), when the scene makes it elastic.
-    pub tub_modes: Option<ModalBody>,
-    /// The drum's modes (q1 after the tub's), when the scene makes it elastic.
-    pub drum: Option<ElasticDrum>,
+    /// The bodies: kinds, coordinates, modes, own terms and markers.
+    pub bodies: Bodies,
     /// Rigid parts riding on the elastic tub (drum, rotors): their weight at their CoG.
     pub carried: Vec<(MarkerDef, f64)>,
     /// Unbalances as masses, or as prescribed forces (effect `unbalance_inertia`).
@@ -87,8 +87,6 @@ pub struct Equations {
     pub friction_dampers: Vec<Placed<FrictionDamper>>,
     pub gaskets: Vec<Placed<Gasket>>,
     pub sensors: Vec<SensorDef>,
-    /// The cabinet's modes (subsystem 2), when the scene makes it elastic.
-    pub cabinet: Option<ModalBody>,
 }
 
 /// A force element with its force on body a at rest: the load whose tilting with the tub the
@@ -122,128 +120,16 @@ impl<E: Element> Placed<E> {
 impl Equations {
     /// Resolve a checked model for a scene.
     pub fn new(model: &Model, scene: &EffectSet) -> Equations {
-        let p0 = model.tub.cog;
-        let g = model.gravity;
-        let entry = |name: &str| {
-            model
-                .elastic
-                .iter()
-                .find(|e| e.name == name && e.data.is_some())
-        };
-        let on = |name: &str| entry(name).filter(|_| scene.has(&Effect::Elastic(name.into())));
-        // Layout: q1 = tub rigid (6), tub modes, drum modes; q2 = cabinet modes.
-        let mut n1 = 6;
-        let tub_modes = on("tub").map(|e| {
-            let b = ModalBody::new(e, n1, g, scene.mode_cutoff);
-            n1 += b.n;
-            b
-        });
-        let drum_modes = on("drum").map(|e| {
-            let b = ModalBody::new(e, n1, g, scene.mode_cutoff);
-            n1 += b.n;
-            b
-        });
-        let cabinet = on("cabinet").map(|e| ModalBody::new(e, n1, g, scene.mode_cutoff));
-        let layout = Layout {
-            n1,
-            n2: cabinet.as_ref().map_or(0, |c| c.n),
-        };
-        // A drum point (sensors; on the axis) rides on the drum's mount: the tub's rows there,
-        // moved rigidly to the point.
-        let drum_mount = model
-            .rotors
-            .iter()
-            .find(|r| r.name == "drum")
-            .map(|r| r.mount_point());
-        let mk = |body: BodyRef, point: [f64; 3]| {
-            let mut m = MarkerDef::new(body, point, p0);
-            m.modal = match body {
-                BodyRef::Tub => tub_modes.as_ref().map(|c| c.rows(point)),
-                BodyRef::Cabinet => cabinet.as_ref().map(|c| c.rows(point)),
-                BodyRef::Drum => tub_modes.as_ref().map(|c| {
-                    let b = drum_mount.expect("checked: drum sensors need a rotor `drum`");
-                    c.rows(b).moved(f::sub(point, b))
-                }),
-            };
-            m
-        };
-
-        // The tub's constant mass: the rigid tub, or the FE tub with its modes and the rigid
-        // parts it carries (the drum's FE mass at the drum's mount, other rotors as point
-        // masses at their axis point), each moving with the tub's modes at its mount.
-        let mut m1_const = vec![0.0; n1 * n1];
-        let mut carried = Vec::new();
-        let tub = match &tub_modes {
-            None => {
-                let jac = tub_point_jacobian(f::sub(model.tub.cog, p0), None, n1);
-                add_rigid_mass(&mut m1_const, n1, model.tub.mass, model.tub.inertia, &jac);
-                TubDef {
-                    mass: model.tub.mass,
-                    p0,
-                    inertia: model.tub.inertia,
-                    cog_offset: f::sub(model.tub.cog, p0),
-                    modal_weight: None,
-                }
-            }
-            Some(t) => {
-                let d = t.data();
-                let jac = tub_point_jacobian(f::sub(d.cog, p0), None, n1);
-                add_rigid_mass(&mut m1_const, n1, d.mass, d.inertia, &jac);
-                t.add_frame_mass(&mut m1_const, n1, p0);
-                for r in &model.rotors {
-                    let mount = mk(BodyRef::Tub, r.mount_point());
-                    let (mass, cog, inertia) = match entry(&r.name).filter(|_| r.name == "drum") {
-                        Some(e) => {
-                            let d = e.data.as_ref().expect("filtered: data read");
-                            (d.mass, d.cog, d.inertia)
-                        }
-                        None => (r.mass, r.axis_point, [[0.0; 3]; 3]),
-                    };
-                    if mass == 0.0 {
-                        continue;
-                    }
-                    let rows = mount
-                        .modal
-                        .as_ref()
-                        .map(|m| m.moved(f::sub(cog, mount.point)));
-                    let jac = tub_point_jacobian(f::sub(cog, p0), rows.as_ref(), n1);
-                    add_rigid_mass(&mut m1_const, n1, mass, inertia, &jac);
-                    let mut at = MarkerDef::new(BodyRef::Tub, cog, p0);
-                    at.modal = rows;
-                    carried.push((at, mass));
-                }
-                TubDef {
-                    mass: d.mass,
-                    p0,
-                    inertia: d.inertia,
-                    cog_offset: f::sub(d.cog, p0),
-                    modal_weight: Some((t.start, t.weight_sums())),
-                }
-            }
-        };
-
+        let bodies = Bodies::new(model, scene);
+        let layout = bodies.layout;
+        let mk = |body: BodyRef, point: [f64; 3]| bodies.marker(body, point);
+        let (tub, m1_const, carried) = bodies.constant_mass(model);
         let all_rotors: Vec<RotorDef> = model
             .rotors
             .iter()
             .map(|r| RotorDef::new(r, mk(BodyRef::Tub, r.mount_point())))
             .collect();
-        let drum = drum_modes.map(|b| {
-            for k in 0..b.n {
-                m1_const[(b.start + k) * n1 + b.start + k] += 1.0;
-            }
-            let r = all_rotors
-                .iter()
-                .find(|r| r.name == "drum")
-                .expect("checked: an elastic drum has a rotor `drum`");
-            ElasticDrum::new(
-                b,
-                r.axis,
-                r.ratio,
-                r.mount.clone(),
-                n1,
-                scene.has(&Effect::CentrifugalStiffening),
-            )
-        });
+        let drum = bodies.spinning();
         let unbalances = model
             .unbalances
             .iter()
@@ -254,8 +140,7 @@ impl Equations {
                     .find(|r| r.name == u.rotor)
                     .expect("checked: rotor exists");
                 let rows = drum
-                    .as_ref()
-                    .filter(|_| u.rotor == "drum")
+                    .filter(|_| BodyRef::Drum.rotor() == Some(u.rotor.as_str()))
                     .map(|d| d.modes.rows(u.position));
                 UnbalanceDef::new(u, r, rows)
             })
@@ -269,7 +154,6 @@ impl Equations {
         let exact = scene.has(&Effect::ElementGeometry);
         let n = layout.n();
         let place = |e| Placed::new(e, exact, n);
-        // Elements and sensors first: their markers borrow the modal bodies moved below.
         let springs = model
             .springs
             .iter()
@@ -305,9 +189,7 @@ impl Equations {
                 name: s.name.clone(),
                 kind: s.kind,
                 at: mk(s.body, s.point),
-                spin: (s.body == BodyRef::Drum)
-                    .then(|| Spin::new(model, p0, s.point, tub_modes.as_ref(), drum.as_ref()))
-                    .flatten(),
+                spin: Spin::new(&bodies, s.body, s.point),
                 channels: s.channels(),
             })
             .collect();
@@ -319,8 +201,6 @@ impl Equations {
             gravity: model.gravity,
             tub,
             m1_const,
-            tub_modes,
-            drum,
             carried,
             rotors,
             unbalances,
@@ -329,8 +209,18 @@ impl Equations {
             friction_dampers,
             gaskets,
             sensors,
-            cabinet,
+            bodies,
         }
+    }
+
+    /// The modes of body `id`, when the scene makes it elastic.
+    pub fn modes(&self, id: BodyRef) -> Option<&ModalBody> {
+        self.bodies.modes(id)
+    }
+
+    /// The spinning elastic drum's terms, when the scene makes the drum elastic.
+    pub fn elastic_drum(&self) -> Option<&ElasticDrum> {
+        self.bodies.spinning()
     }
 
     /// Evaluate M1 (row-major n1 x n1, overwritten) and h (length n, overwritten).
@@ -362,14 +252,18 @@ impl Equations {
         let b = BodyState::new(q, qd);
         let g = V::<T>::c(self.gravity);
 
+        // The bodies' own terms, and the parts they carry (weights, rotors, unbalances), in
+        // the layout's order: the floating body, what rides on it, the spinning body, then
+        // subsystem 2.
+        let [floating, rest @ ..] = &self.bodies.list[..] else {
+            unreachable!("the tub is the first body")
+        };
         if terms != Terms::Subsystem2 {
             self.tub.add(&b, g, h);
-            if let Some(t) = &self.tub_modes {
-                t.add_elastic(q, qd, h);
-            }
+            floating.add(&b, d, g, None, n1, h);
             for (at, mass) in &self.carried {
                 let w = g * *mass;
-                at.load_on_tub(&b, w, w, V::zero(), h);
+                at.apply(&b, &Wrench::force(w), w, h);
             }
             for r in &self.rotors {
                 r.add(&b, d, h);
@@ -377,12 +271,11 @@ impl Equations {
             for u in &self.unbalances {
                 u.add(&b, d, g, self.unbalance_inertia, m1.as_deref_mut(), n1, h);
             }
-            if let Some(dr) = &self.drum {
-                dr.add(&b, d, g, m1, n1, h);
-            }
         }
-        if let Some(c) = &self.cabinet {
-            c.add(q, qd, h);
+        for body in rest {
+            if terms != Terms::Subsystem2 || body.in_subsystem2() {
+                body.add(&b, d, g, m1.as_deref_mut(), n1, h);
+            }
         }
 
         if terms == Terms::Bodies {
@@ -429,7 +322,9 @@ impl Equations {
     }
 
     /// The load of a wrench acting on a body at a marker (`on_a`: the element's end a, whose
-    /// rest load is stored; end b's is its negative).
+    /// rest load is stored; end b's is its negative). The moment is seen from the tilted frame:
+    /// the current wrench tilts with it (exact geometry), or the rest wrench (linearised), so
+    /// the term stays linear in the state.
     fn load<T: Scalar, E>(
         &self,
         at: &MarkerDef,
@@ -438,33 +333,25 @@ impl Equations {
         rest: &Placed<E>,
         on_a: bool,
     ) -> Load<T> {
-        match at.body {
-            // (Drum: no force element attaches there; checked.)
-            BodyRef::Tub | BodyRef::Drum => {
-                // The load seen from the tilted tub: the current load, or (linearised) the rest
-                // load, so the term stays linear in the state.
-                let (f_tilt, m_tilt) = if self.exact_geometry {
-                    (w.force, w.moment)
-                } else {
-                    let sign = if on_a { 1.0 } else { -1.0 };
-                    (
-                        V::c(rest.rest_force_a) * sign,
-                        V::c(rest.rest_moment_a) * sign,
-                    )
-                };
-                let m_tub = w.moment - l.alpha.cross(m_tilt);
-                let wq = at.modal.as_ref().map(|_| l.w);
-                at.tub_load(l.alpha, wq, w.force, f_tilt, m_tub)
-            }
-            // Rigid: fixed, it takes the reactions (no rows). Elastic: W^T F + Phi^T M (the
-            // cabinet has no rigid DOF, so its modal frame is the global one).
-            BodyRef::Cabinet => Load {
-                force: V::zero(),
-                moment: V::zero(),
-                modal_force: w.force,
-                modal_moment: w.moment,
+        let (f_tilt, m_tilt) = if self.exact_geometry {
+            (w.force, w.moment)
+        } else {
+            let sign = if on_a { 1.0 } else { -1.0 };
+            (
+                V::c(rest.rest_force_a) * sign,
+                V::c(rest.rest_moment_a) * sign,
+            )
+        };
+        let in_frame = Wrench {
+            force: w.force,
+            moment: if at.frame.is_some() {
+                w.moment - l.alpha.cross(m_tilt)
+            } else {
+                w.moment
             },
-        }
+        };
+        let wq = at.modal.as_ref().map(|_| l.w);
+        at.load(l.alpha, wq, &in_frame, f_tilt)
     }
 
     /// Total number of sensor channels (3 per sensor).

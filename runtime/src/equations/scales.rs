@@ -35,7 +35,7 @@ impl Equations {
             .chain(self.carried.iter().map(|c| &c.0))
             .chain(self.rotors.iter().map(|r| &r.mount))
             .chain(self.unbalances.iter().map(|u| &u.mount))
-            .chain(self.drum.iter().map(|d| &d.mount));
+            .chain(self.elastic_drum().map(|d| &d.mount));
         for m in markers {
             if let Some(r) = &m.modal {
                 see(r);
@@ -46,9 +46,9 @@ impl Equations {
                 see(r);
             }
         }
-        let rigid = 6.min(self.layout.n1);
+        let (c, _) = self.bodies.floating();
         for (i, s) in size.iter_mut().enumerate() {
-            if i < rigid || *s <= 0.0 || !s.is_finite() {
+            if (c..c + 6).contains(&i) || *s <= 0.0 || !s.is_finite() {
                 *s = 1.0;
             }
         }

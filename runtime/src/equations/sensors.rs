@@ -3,9 +3,9 @@
 //! it: the tub's motion at the drum's mount carried to the turning point, plus the elastic
 //! drum's own modes there, the same motion the field recovery gives its node (src/fields.rs).
 
-use super::{BodyRef, Drive, Equations, MarkerDef, ModalBody, ModalRows, rotate};
+use super::{Bodies, BodyRef, Drive, Equations, Frame, MarkerDef, ModalRows, rotate};
 use crate::geom::{V, f};
-use crate::ir::{Model, SensorKind};
+use crate::ir::SensorKind;
 use crate::scalar::Scalar;
 
 /// A sensor resolved against the model.
@@ -37,50 +37,60 @@ pub struct Spin {
 }
 
 impl Spin {
-    /// For a drum sensor at `point`; `None` for a point on the axis that the elastic drum
-    /// has no modal point at (it reads the mount's frame, as `at` does).
-    pub fn new(
-        model: &Model,
-        p0: [f64; 3],
-        point: [f64; 3],
-        tub: Option<&ModalBody>,
-        drum: Option<&super::ElasticDrum>,
-    ) -> Option<Spin> {
-        let r = model.rotors.iter().find(|r| r.name == "drum")?;
-        let e = f::unit(r.axis);
-        let b = r.mount_point();
-        let lever = f::sub(point, b);
-        let rows = drum
-            .filter(|d| crate::ir::modal::point_at(d.modes.data(), point).is_some())
-            .map(|d| d.modes.rows(point));
-        if f::norm(f::cross(lever, e)) <= 1e-9 && rows.is_none() {
+    /// For a sensor at `point` on body `body`; `None` for a body that does not spin, and for a
+    /// point on the axis that the elastic drum has no modal point at (it reads the mount's
+    /// frame, as the sensor's marker does).
+    pub fn new(bodies: &Bodies, body: BodyRef, point: [f64; 3]) -> Option<Spin> {
+        let b = bodies.get(body)?;
+        let Frame::Spinning {
+            mount, axis, ratio, ..
+        } = &b.frame
+        else {
+            return None;
+        };
+        let lever = f::sub(point, mount.point);
+        let rows = b
+            .modal()
+            .filter(|d| crate::ir::modal::point_at(d.data(), point).is_some())
+            .map(|d| d.rows(point));
+        if f::norm(f::cross(lever, *axis)) <= 1e-9 && rows.is_none() {
             return None;
         }
         Some(Spin {
-            mount: b,
-            mount_s: f::sub(b, p0),
+            mount: mount.point,
+            mount_s: mount.s,
             lever,
-            axis: e,
-            ratio: r.ratio,
-            tub: tub.map(|t| t.rows(b)),
+            axis: *axis,
+            ratio: *ratio,
+            tub: mount.modal.clone(),
             drum: rows,
         })
     }
 }
 
-/// The rigid tub's motion of a point at lever `r` from p0 (x = q or q''), with the rotation's
+/// The floating frame's motion (rigid coordinates from `c`) of a point at lever `r` from its
+/// reference (x = q or q''), with the rotation's
 /// second-order terms when the scene keeps exact geometry: the dynamics are linear in alpha,
 /// but a sensor reads the material point, whose centripetal part alpha' x (alpha' x r) and
 /// position term alpha x (alpha x r) / 2 carry the even orders (2x the rocking frequency).
-fn rigid<T: Scalar>(exact: bool, kind: SensorKind, q: &[T], qd: &[T], x: &[T], r: V<T>) -> V<T> {
-    let u = V::from_slice(&x[0..3]);
-    let a = V::from_slice(&x[3..6]);
-    let al = V::from_slice(&q[3..6]);
+#[allow(clippy::too_many_arguments)]
+fn rigid<T: Scalar>(
+    c: usize,
+    exact: bool,
+    kind: SensorKind,
+    q: &[T],
+    qd: &[T],
+    x: &[T],
+    r: V<T>,
+) -> V<T> {
+    let u = V::from_slice(&x[c..c + 3]);
+    let a = V::from_slice(&x[c + 3..c + 6]);
+    let al = V::from_slice(&q[c + 3..c + 6]);
     let second = match kind {
         _ if !exact => V::zero(),
         SensorKind::Displacement => al.cross(al.cross(r)).scale(T::c(0.5)),
         SensorKind::Acceleration => {
-            let ald = V::from_slice(&qd[3..6]);
+            let ald = V::from_slice(&qd[c + 3..c + 6]);
             ald.cross(ald.cross(r)) + (a.cross(al.cross(r)) + al.cross(a.cross(r))).scale(T::c(0.5))
         }
     };
@@ -107,13 +117,11 @@ impl Equations {
             return self.spinning(sp, s.kind, d, q, qd, qdd);
         }
         let elastic = s.at.modal.as_ref().map_or(V::zero(), |r| r.motion(x).0);
-        match s.at.body {
-            BodyRef::Cabinet => elastic.0,
+        match s.at.frame {
+            None => elastic.0,
             // A scene that linearises its elements (no `element_geometry`) reads its sensors
             // to first order too, so its only nonlinearity stays the friction law.
-            BodyRef::Tub | BodyRef::Drum => {
-                (rigid(self.exact_geometry, s.kind, q, qd, x, V::c(s.at.s)) + elastic).0
-            }
+            Some(c) => (rigid(c, self.exact_geometry, s.kind, q, qd, x, V::c(s.at.s)) + elastic).0,
         }
     }
 
@@ -131,6 +139,7 @@ impl Equations {
         qd: &[T],
         qdd: &[T],
     ) -> [T; 3] {
+        let (c0, _) = self.bodies.floating();
         let e = V::<T>::c(sp.axis);
         let th = d.phi * sp.ratio;
         let (c, sn) = (th.cos(), th.sin());
@@ -149,16 +158,17 @@ impl Equations {
         };
         match kind {
             SensorKind::Displacement => {
-                (rigid(self.exact_geometry, kind, q, qd, q, lever) + tub_rows(q, r) + drum_w(q)).0
+                (rigid(c0, self.exact_geometry, kind, q, qd, q, lever) + tub_rows(q, r) + drum_w(q))
+                    .0
             }
             SensorKind::Acceleration => {
                 let om = d.omega * sp.ratio;
                 let omd = d.omega_dot * sp.ratio;
                 let rd = e.cross(r).scale(om);
                 let rdd = e.cross(r).scale(omd) + e.cross(e.cross(r)).scale(om * om);
-                let ad = V::from_slice(&qd[3..6]);
-                let al = V::from_slice(&q[3..6]);
-                let mut acc = rigid(self.exact_geometry, kind, q, qd, qdd, lever)
+                let ad = V::from_slice(&qd[c0 + 3..c0 + 6]);
+                let al = V::from_slice(&q[c0 + 3..c0 + 6]);
+                let mut acc = rigid(c0, self.exact_geometry, kind, q, qd, qdd, lever)
                     + ad.cross(rd).scale(T::c(2.0))
                     + al.cross(rdd);
                 if let Some(rows) = &sp.tub {

@@ -412,11 +412,12 @@ fn elastic(c: &mut Ctx, m: &Model) {
     use modal::ElasticBodyKind as K;
     for (i, e) in m.elastic.iter().enumerate() {
         let p = Path::of(&["elastic"]).idx(i);
-        let kind = match e.name.as_str() {
-            "tub" => Some(K::Tub),
-            "drum" => Some(K::Drum),
-            "cabinet" => Some(K::Cabinet),
-            other => {
+        let kind = match e.body() {
+            Some(BodyRef::Tub) => Some(K::Tub),
+            Some(BodyRef::Drum) => Some(K::Drum),
+            Some(BodyRef::Cabinet) => Some(K::Cabinet),
+            None => {
+                let other = &e.name;
                 c.err(
                     p.clone().key("name"),
                     format!("elastic `{other}`: not a body; one of tub, drum, cabinet"),
@@ -498,7 +499,7 @@ fn elastic(c: &mut Ctx, m: &Model) {
 
 /// The drum carries sensors only (anywhere: a rim sensor turns with it; see `BodyRef::Drum`).
 fn drum_points(c: &mut Ctx, m: &Model) {
-    let drum = m.rotors.iter().find(|r| r.name == "drum");
+    let drum = m.drum();
     let ends = |a: &Attach, b: &Attach| [(a.body, "a"), (b.body, "b")];
     type End<'a> = (BodyRef, &'a str);
     let mut lists: Vec<(&str, usize, String, [End; 2])> = Vec::new();
@@ -543,11 +544,11 @@ fn drum_points(c: &mut Ctx, m: &Model) {
                 let e = crate::geom::f::unit(r.axis);
                 let off = crate::geom::f::sub(s.point, r.axis_point);
                 let on_axis = crate::geom::f::norm(crate::geom::f::cross(off, e)) <= 1e-3;
-                if let Some(d) = modal_of(m, "drum").filter(|_| !on_axis) {
+                if let Some(d) = modal_of(m, BodyRef::Drum).filter(|_| !on_axis) {
                     need_point(
                         c,
                         d,
-                        "drum",
+                        BodyRef::Drum,
                         p.key("point"),
                         format!("sensor `{}` (off the drum's axis)", s.name),
                         &s.point,
@@ -561,18 +562,22 @@ fn drum_points(c: &mut Ctx, m: &Model) {
 /// The modal data of an elastic body that some scene switches on (no declared scene: the
 /// implicit `full` has them all). A body no scene uses constrains nothing: a variant may move
 /// an unbalance off the drum's node sets and stay rigid.
-fn modal_of<'a>(m: &'a Model, name: &str) -> Option<&'a modal::ModalData> {
-    let effect = format!("elastic.{name}");
+fn modal_of(m: &Model, body: BodyRef) -> Option<&modal::ModalData> {
+    let effect = format!("elastic.{}", body.name());
     let used = m.scenes.is_empty() || m.scenes.iter().any(|s| s.effects.contains(&effect));
-    m.elastic
-        .iter()
-        .find(|e| e.name == name)
+    m.elastic_of(body)
         .filter(|_| used)
         .and_then(|e| e.data.as_ref())
 }
 
+/// The index of a body's `elastic` entry (for error paths).
+fn position_of(m: &Model, body: BodyRef) -> Option<usize> {
+    m.elastic.iter().position(|e| e.body() == Some(body))
+}
+
 /// A point on an elastic body must be one of its modal points; the message names the nearest.
-fn need_point(c: &mut Ctx, d: &modal::ModalData, body: &str, path: Path, what: String, p: &V3) {
+fn need_point(c: &mut Ctx, d: &modal::ModalData, body: BodyRef, path: Path, what: String, p: &V3) {
+    let body = body.name();
     let dist = |a: V3, b: V3| crate::geom::f::norm(crate::geom::f::sub(a, b));
     if modal::point_at(d, *p).is_none() {
         let near = d
@@ -594,7 +599,7 @@ fn need_point(c: &mut Ctx, d: &modal::ModalData, body: &str, path: Path, what: S
 
 /// On the elastic tub every rotor sits at a tub node set (its mount), on its own axis.
 fn rotor_mounts(c: &mut Ctx, m: &Model) {
-    let Some(tub) = modal_of(m, "tub") else {
+    let Some(tub) = modal_of(m, BodyRef::Tub) else {
         return;
     };
     for (i, r) in m.rotors.iter().enumerate() {
@@ -608,7 +613,7 @@ fn rotor_mounts(c: &mut Ctx, m: &Model) {
         need_point(
             c,
             tub,
-            "tub",
+            BodyRef::Tub,
             p.clone().key(key),
             format!("rotor `{}`: mount", r.name),
             &mp,
@@ -643,24 +648,20 @@ pub const TUB_MASS_TOLERANCE: f64 = 0.02;
 /// FE mass counts whenever the model has the drum's modal data, whether or not a scene makes
 /// the drum elastic: the equations put it on the elastic tub either way (`Equations::new`).
 fn tub_mass(c: &mut Ctx, m: &Model) {
-    let Some(tub) = modal_of(m, "tub") else {
+    let Some(tub) = modal_of(m, BodyRef::Tub) else {
         return;
     };
-    let drum_data = m
-        .elastic
-        .iter()
-        .find(|e| e.name == "drum")
-        .and_then(|e| e.data.as_ref());
+    let drum_data = m.elastic_of(BodyRef::Drum).and_then(|e| e.data.as_ref());
     let drum = drum_data.map_or(0.0, |d| d.mass);
     let rotors: f64 = m
         .rotors
         .iter()
-        .filter(|r| r.name != "drum" || drum_data.is_none())
+        .filter(|r| r.name != DRUM || drum_data.is_none())
         .map(|r| r.mass)
         .sum();
     let total = tub.mass + drum + rotors;
     if (total - m.tub.mass).abs() > TUB_MASS_TOLERANCE * m.tub.mass {
-        let i = m.elastic.iter().position(|e| e.name == "tub").unwrap_or(0);
+        let i = position_of(m, BodyRef::Tub).unwrap_or(0);
         c.err(
             Path::of(&["elastic"]).idx(i),
             format!(
@@ -676,24 +677,24 @@ fn tub_mass(c: &mut Ctx, m: &Model) {
 /// The elastic drum spins with the rotor `drum` and carries its unbalances at its node sets;
 /// stiffening needs the geometric stiffness in its modal data.
 fn elastic_drum(c: &mut Ctx, m: &Model) {
-    let Some(i) = m.elastic.iter().position(|e| e.name == "drum") else {
+    let Some(i) = position_of(m, BodyRef::Drum) else {
         return;
     };
-    if !m.rotors.iter().any(|r| r.name == "drum") {
+    if m.drum().is_none() {
         c.err(
             Path::of(&["elastic"]).idx(i).key("name"),
             "elastic `drum`: the model has no rotor `drum` to spin it".to_string(),
         );
     }
-    let Some(d) = modal_of(m, "drum") else {
+    let Some(d) = modal_of(m, BodyRef::Drum) else {
         return;
     };
     for (j, u) in m.unbalances.iter().enumerate() {
-        if u.rotor == "drum" {
+        if u.rotor == DRUM {
             need_point(
                 c,
                 d,
-                "drum",
+                BodyRef::Drum,
                 Path::of(&["unbalances"]).idx(j).key("position"),
                 format!("unbalance `{}`", u.name),
                 &u.position,
@@ -721,11 +722,10 @@ type Ends<'a> = (String, [(BodyRef, V3, &'a str); 2]);
 /// Every point a force element or sensor attaches to on an elastic body is one of the modal
 /// data's points (an FE node set), within `modal::POINT_TOLERANCE`.
 fn elastic_markers(c: &mut Ctx, m: &Model, which: BodyRef) {
-    let Some(data) = modal_of(m, which.name()) else {
+    let Some(data) = modal_of(m, which) else {
         return;
     };
-    let body = which.name();
-    let mut need = |path: Path, what: String, p: &V3| need_point(c, data, body, path, what, p);
+    let mut need = |path: Path, what: String, p: &V3| need_point(c, data, which, path, what, p);
     let ends = |a: &Attach, b: &Attach| [(a.body, a.point, "a"), (b.body, b.point, "b")];
     let lists: [(&str, Vec<Ends>); 3] = [
         (

@@ -111,6 +111,13 @@ pub struct Elastic {
     pub data: Option<modal::ModalData>,
 }
 
+impl Elastic {
+    /// The body this entry describes (the checker refuses other names).
+    pub fn body(&self) -> Option<BodyRef> {
+        BodyRef::from_name(&self.name)
+    }
+}
+
 fn two_percent() -> f64 {
     0.02
 }
@@ -128,6 +135,11 @@ pub enum BodyRef {
 }
 
 impl BodyRef {
+    /// Every body, in the order the state lays out their coordinates.
+    pub const ALL: [BodyRef; 3] = [BodyRef::Tub, BodyRef::Drum, BodyRef::Cabinet];
+
+    /// The body's name in a model (`elastic` entries, markers, effects): the one place the
+    /// names live.
     pub fn name(self) -> &'static str {
         match self {
             BodyRef::Tub => "tub",
@@ -135,7 +147,21 @@ impl BodyRef {
             BodyRef::Drum => "drum",
         }
     }
+
+    pub fn from_name(name: &str) -> Option<BodyRef> {
+        BodyRef::ALL.into_iter().find(|b| b.name() == name)
+    }
+
+    /// The rotor that turns this body (the drum's), by its name in the model.
+    pub fn rotor(self) -> Option<&'static str> {
+        (self == BodyRef::Drum).then_some(DRUM)
+    }
 }
+
+/// The rotor that carries the drum and defines the drive angle (ratio 1 by convention).
+pub const DRUM: &str = "drum";
+/// The motor's rotor (belt ratio to the drum).
+pub const MOTOR: &str = "motor";
 
 /// A point fixed on a body, given in global coordinates at rest.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -443,6 +469,27 @@ impl EffectSet {
 }
 
 impl Model {
+    /// The rotor named `name` (`DRUM`, `MOTOR`).
+    pub fn rotor(&self, name: &str) -> Option<&Rotor> {
+        self.rotors.iter().find(|r| r.name == name)
+    }
+
+    /// The drum's rotor.
+    pub fn drum(&self) -> Option<&Rotor> {
+        self.rotor(DRUM)
+    }
+
+    /// The `elastic` entry of a body.
+    pub fn elastic_of(&self, b: BodyRef) -> Option<&Elastic> {
+        self.elastic.iter().find(|e| e.body() == Some(b))
+    }
+
+    /// A body's modal data when the scene makes it elastic.
+    pub fn modes_in(&self, b: BodyRef, scene: &EffectSet) -> Option<&Elastic> {
+        self.elastic_of(b)
+            .filter(|e| e.data.is_some() && scene.has(&Effect::Elastic(b.name().into())))
+    }
+
     /// Every effect this model can switch: the scene `full`.
     pub fn all_effects(&self) -> Vec<Effect> {
         let mut v = vec![
@@ -463,7 +510,7 @@ impl Model {
         }
         for e in &self.elastic {
             v.push(Effect::Elastic(e.name.clone()));
-            if e.name == "drum" {
+            if e.body() == Some(BodyRef::Drum) {
                 v.push(Effect::CentrifugalStiffening);
             }
         }

@@ -66,6 +66,10 @@ enum Cmd {
         /// Fixed step of rk4, s (default 1e-4).
         #[arg(long)]
         step: Option<f64>,
+        /// galpha's spectral radius at infinity, in [0, 1] (default 0.8): 1 keeps the
+        /// unresolved high modes undamped, 0 removes them in one step.
+        #[arg(long)]
+        rho_inf: Option<f64>,
         /// generated (default for built-in models) or interpreted (default for model files).
         #[arg(long)]
         backend: Option<Backend>,
@@ -329,6 +333,7 @@ fn main() -> ExitCode {
                 },
             out,
             step,
+            rho_inf,
             backend,
             no_plots,
             svg,
@@ -346,6 +351,7 @@ fn main() -> ExitCode {
                 integrator,
                 tol,
                 step,
+                rho_inf,
                 backend,
                 scene,
                 sample_rate,

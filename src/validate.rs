@@ -29,6 +29,8 @@ pub struct Settings {
     pub profile_end: f64,
     pub tol: f64,
     pub step: Option<f64>,
+    /// `--rho-inf` (generalized-alpha only).
+    pub rho_inf: Option<f64>,
     pub sample_rate: f64,
     pub max_steps: Option<u64>,
     /// Sensor channels written per sample; `None`: the size is not checked.
@@ -64,6 +66,7 @@ impl Ctxt {
 pub fn check(s: &Settings) -> Result<(), String> {
     let mut cx = Ctxt::default();
     check_step(&mut cx, s);
+    check_rho_inf(&mut cx, s);
     check_tol(&mut cx, s);
     check_t_end(&mut cx, s);
     check_sample_rate(&mut cx, s);
@@ -90,6 +93,19 @@ fn check_step(cx: &mut Ctxt, s: &Settings) {
         (m, Some(h)) => cx.error(format!(
             "--step applies to rk4 only: {} chooses its own steps from --tol, got --step {h}",
             format!("{m:?}").to_lowercase()
+        )),
+        (_, None) => {}
+    }
+}
+
+/// Generalized-alpha's spectral radius at infinity: Chung & Hulbert's family is defined on
+/// [0, 1] (1: no numerical damping; 0: the unresolved modes annihilated in one step).
+fn check_rho_inf(cx: &mut Ctxt, s: &Settings) {
+    match (s.method, s.rho_inf) {
+        (Method::GeneralizedAlpha, Some(r)) => cx.range("--rho-inf", r, (0.0, 1.0), "", ""),
+        (m, Some(r)) => cx.error(format!(
+            "--rho-inf applies to galpha only: {m} has no spectral radius to set, got \
+             --rho-inf {r}"
         )),
         (_, None) => {}
     }

@@ -24,6 +24,7 @@ fn args(tag: &str) -> RunArgs {
         integrator: Method::Dopri5,
         tol: 1e-6,
         step: None,
+        rho_inf: None,
         backend: Some(Backend::Generated),
         scene: None,
         sample_rate: 200.0,
@@ -75,6 +76,33 @@ fn step_with_an_adaptive_integrator() {
         &a,
         &RunControl::default(),
         "--step applies to rk4 only: dopri5",
+    );
+}
+
+/// Chung & Hulbert's family is defined for rho_inf in [0, 1]; other methods have no such
+/// parameter, so the flag is refused there rather than ignored.
+#[test]
+fn rho_inf_out_of_range_or_without_galpha() {
+    for (i, r) in [1.5, -0.1, f64::NAN, f64::INFINITY].into_iter().enumerate() {
+        let a = RunArgs {
+            integrator: Method::GeneralizedAlpha,
+            rho_inf: Some(r),
+            ..args(&format!("rho{i}"))
+        };
+        refused(
+            &a,
+            &RunControl::default(),
+            "--rho-inf must be in [0e0, 1e0], got",
+        );
+    }
+    let a = RunArgs {
+        rho_inf: Some(0.5),
+        ..args("rho-dopri5")
+    };
+    refused(
+        &a,
+        &RunControl::default(),
+        "--rho-inf applies to galpha only: dopri5",
     );
 }
 
@@ -173,6 +201,7 @@ fn output_beyond_the_size_limit_names_its_size() {
         profile_end: 178.375,
         tol: 1e-6,
         step: None,
+        rho_inf: None,
         sample_rate: 1e5,
         max_steps: None,
         channels: Some(21),

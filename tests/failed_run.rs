@@ -18,6 +18,7 @@ fn spent_step_budget_fails_with_time_and_keeps_output() {
         integrator: Method::Dopri5,
         tol: 1e-6,
         step: None,
+        rho_inf: None,
         backend: Some(Backend::Interpreted),
         scene: None,
         sample_rate: 100.0,

@@ -44,6 +44,7 @@ fn reference_run(dir: &Path, t_end: f64, sample_rate: f64, states: bool) -> RunA
         integrator: Method::Dopri5,
         tol: 1e-6,
         step: None,
+        rho_inf: None,
         backend: Some(Backend::Generated),
         scene: None,
         sample_rate,

@@ -179,6 +179,9 @@ pub struct Summary {
     pub stiff_at: Option<f64>,
     /// Hand-overs between dopri5 and rodas4 (the composite method `auto`).
     pub method_switches: u64,
+    /// Generalized-alpha's spectral radius at infinity, when it ran.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rho_inf: Option<f64>,
     pub samples: u64,
     pub wall_time_s: f64,
     /// "ok", "failed" or "interrupted".
@@ -218,6 +221,7 @@ impl Summary {
             stiff_steps: 0,
             stiff_at: None,
             method_switches: 0,
+            rho_inf: None,
             samples: 0,
             wall_time_s: 0.0,
             status: "ok".into(),

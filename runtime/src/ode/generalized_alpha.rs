@@ -99,9 +99,9 @@ pub struct GeneralizedAlpha {
 }
 
 impl GeneralizedAlpha {
-    /// For a first-order state of dimension `dim` = 2n, with rho_inf = [`DEFAULT_RHO_INF`].
+    /// For a first-order state of dimension `dim` = 2n, with the options' `rho_inf`.
     pub fn new(dim: usize, options: Options) -> Self {
-        Self::with_rho_inf(dim, options, DEFAULT_RHO_INF)
+        Self::with_rho_inf(dim, options, options.rho_inf)
     }
 
     pub fn with_rho_inf(dim: usize, options: Options, rho_inf: f64) -> Self {

@@ -124,6 +124,10 @@ pub struct Options {
     pub h_max: f64,
     pub h_min: f64,
     pub max_steps: u64,
+    /// Generalized-alpha's spectral radius at h omega -> infinity, in [0, 1]: 1 keeps every
+    /// mode (no numerical damping), 0 annihilates the unresolved ones in one step. Other
+    /// methods ignore it.
+    pub rho_inf: f64,
 }
 
 impl Default for Options {
@@ -135,6 +139,7 @@ impl Default for Options {
             h_max: f64::INFINITY,
             h_min: 1e-14,
             max_steps: 50_000_000,
+            rho_inf: generalized_alpha::DEFAULT_RHO_INF,
         }
     }
 }

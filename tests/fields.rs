@@ -9,7 +9,9 @@
 
 mod common;
 
+use std::path::{Path, PathBuf};
 use std::process::Command;
+use std::sync::OnceLock;
 use washdyn::fields::{Recovery, States, write_fields};
 use washdyn_fe::pipeline::build;
 use washdyn_runtime::equations::Equations;
@@ -28,21 +30,44 @@ fn tools() -> bool {
     ) && common::required_tool(meshio, "meshio", "python3 -m pip install meshio")
 }
 
+/// The tub's and the drum's modal data and field files, built with ccx once for both tests
+/// (the two bodies in parallel, one ccx each) in the target's scratch folder.
+fn built() -> &'static Path {
+    static DIR: OnceLock<PathBuf> = OnceLock::new();
+    DIR.get_or_init(|| {
+        let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("fields");
+        std::fs::remove_dir_all(&dir).ok();
+        std::fs::create_dir_all(&dir).unwrap();
+        let specs = washdyn_fe::bodies::builtin();
+        // Each ccx in a folder of its own (its scratch files), the fields side by side.
+        std::thread::scope(|s| {
+            for spec in &specs[..2] {
+                let (d, name) = (dir.join(&spec.name), format!("{}.field.bin", spec.name));
+                let top = &dir;
+                s.spawn(move || {
+                    std::fs::create_dir_all(&d).unwrap();
+                    build(spec, &d).unwrap_or_else(|e| panic!("{e}"));
+                    std::fs::copy(d.join(&name), top.join(&name)).unwrap();
+                });
+            }
+        });
+        dir
+    })
+}
+
 #[test]
 fn recovered_fields_are_read_back_by_meshio_and_continuous_at_the_bearing() {
     if !tools() {
         return;
     }
+    let built = built();
     let dir = tempfile::tempdir().unwrap();
     let specs = washdyn_fe::bodies::builtin();
-    for spec in &specs[..2] {
-        build(spec, dir.path()).unwrap_or_else(|e| panic!("{e}"));
-    }
     let model = washdyn_models::built_in("reference").unwrap().unwrap();
     let scene = model.scene(Some("elastic")).unwrap();
     let eq = Equations::new(&model, &scene);
     // The fields must belong to the committed modal data (same solve): Recovery checks it.
-    let rec = Recovery::new(&eq, dir.path()).unwrap_or_else(|e| panic!("{e}"));
+    let rec = Recovery::new(&eq, built).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(
         rec.bodies
             .iter()
@@ -312,11 +337,12 @@ fn drum_rim_sensor_reads_the_recovered_field(
         diff / size
     );
     assert!(size > 1e-5, "the state moves the rim ({size} m)");
-    // Measured 8.3e-12 relative: the sensor reads the committed modal data's rows, the
-    // recovery this solve's field. The bound is what `Recovery::new` accepts between the two
-    // (1e-8 of the entries): another machine's solve may sit anywhere below it, and the
-    // formulas themselves agree to round-off.
-    assert!(diff < 1e-8 * size);
+    // Measured 8.3e-12 relative where the committed data came from this machine's ccx: the
+    // sensor reads the committed modal data's rows, the recovery this solve's field. The
+    // bound is what `Recovery::new` accepts between the two (`SHAPE_TOLERANCE` of each mode's
+    // amplitude): another machine's solve may sit anywhere below it, and the formulas
+    // themselves agree to round-off.
+    assert!(diff < washdyn_fe::field::SHAPE_TOLERANCE * size);
     // Acceleration: central differences of the recovered motion along the path.
     let dt = 1e-5;
     let at = |t: f64| {
@@ -352,8 +378,7 @@ fn drum_stresses_by_modal_superposition_match_calculix_under_the_same_displaceme
     }
     let dir = tempfile::tempdir().unwrap();
     let spec = washdyn_fe::bodies::builtin().remove(1);
-    build(&spec, dir.path()).unwrap_or_else(|e| panic!("{e}"));
-    let field = washdyn_fe::field::Field::read(&dir.path().join("drum.field.bin")).unwrap();
+    let field = washdyn_fe::field::Field::read(&built().join("drum.field.bin")).unwrap();
     assert!(field.has_stresses());
     let h = &field.header;
     // Every mode takes part, with alternating signs (m kg^0.5).

@@ -48,6 +48,13 @@ impl FrictionDamper {
 }
 
 impl Element for FrictionDamper {
+    const ELASTIC: bool = true;
+    const DISSIPATIVE: bool = true;
+
+    fn name(&self) -> &str {
+        &self.name
+    }
+
     fn markers(&self) -> (&MarkerDef, &MarkerDef) {
         (&self.a, &self.b)
     }

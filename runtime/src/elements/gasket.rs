@@ -56,6 +56,13 @@ pub fn reference_speed<T: Scalar>(omega: T) -> T {
 }
 
 impl Element for Gasket {
+    const ELASTIC: bool = true;
+    const DISSIPATIVE: bool = true;
+
+    fn name(&self) -> &str {
+        &self.name
+    }
+
     fn markers(&self) -> (&MarkerDef, &MarkerDef) {
         (&self.a, &self.b)
     }

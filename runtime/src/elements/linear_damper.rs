@@ -29,6 +29,13 @@ impl LinearDamper {
 }
 
 impl Element for LinearDamper {
+    const ELASTIC: bool = false;
+    const DISSIPATIVE: bool = true;
+
+    fn name(&self) -> &str {
+        &self.name
+    }
+
     fn markers(&self) -> (&MarkerDef, &MarkerDef) {
         (&self.a, &self.b)
     }

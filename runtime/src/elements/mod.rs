@@ -17,6 +17,12 @@ use crate::scalar::Scalar;
 
 /// What the derivation needs of every force element.
 pub trait Element {
+    /// Stores energy at rest velocity (a spring, the bearings' and the gasket's stiffness).
+    const ELASTIC: bool;
+    /// Dissipates through its velocity terms (friction, dampers, the gasket's damping).
+    const DISSIPATIVE: bool;
+    /// The element's name in the model (energy balance, reports).
+    fn name(&self) -> &str;
     /// The two attachment markers (a, b).
     fn markers(&self) -> (&MarkerDef, &MarkerDef);
     /// Wrenches on the bodies at a and b. `exact`: current geometry; otherwise kinematics

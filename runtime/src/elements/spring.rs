@@ -43,6 +43,13 @@ impl Spring {
 }
 
 impl Element for Spring {
+    const ELASTIC: bool = true;
+    const DISSIPATIVE: bool = false;
+
+    fn name(&self) -> &str {
+        &self.name
+    }
+
     fn markers(&self) -> (&MarkerDef, &MarkerDef) {
         (&self.a, &self.b)
     }

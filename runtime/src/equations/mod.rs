@@ -18,6 +18,7 @@ mod bodies;
 pub mod body;
 mod drum;
 mod elastic;
+mod energy;
 mod jacobian;
 pub mod kinematics;
 mod scales;
@@ -31,6 +32,7 @@ pub use bodies::{RotorDef, TubDef, UnbalanceDef, rotate};
 pub use body::{Bodies, Body, Frame, Modes};
 pub use drum::ElasticDrum;
 pub use elastic::ModalBody;
+pub use energy::{Category, EnergyWork, Kind};
 pub use jacobian::{ForceJacobians, JacobianWork};
 pub use kinematics::{
     Load, Local, Marker, MarkerDef, ModalRows, Wrench, add_rigid_mass, frame_point_jacobian,
@@ -250,7 +252,11 @@ impl Equations {
         }
         h.fill(T::zero());
         let b = BodyState::new(q, qd);
-        let g = V::<T>::c(self.gravity);
+        let g = if terms == Terms::BodiesWithoutGravity {
+            V::zero()
+        } else {
+            V::<T>::c(self.gravity)
+        };
 
         // The bodies' own terms, and the parts they carry (weights, rotors, unbalances), in
         // the layout's order: the floating body, what rides on it, the spinning body, then
@@ -278,7 +284,7 @@ impl Equations {
             }
         }
 
-        if terms == Terms::Bodies {
+        if matches!(terms, Terms::Bodies | Terms::BodiesWithoutGravity) {
             return;
         }
         self.elements(&self.springs, &b, d, h);
@@ -374,6 +380,9 @@ pub(crate) enum Terms {
     Subsystem2,
     /// Every term but the force elements (the Jacobians take those by their local structure).
     Bodies,
+    /// `Bodies` with g = 0 (the energy balance's gravity share is the difference; a fixed
+    /// frame's modal weight is a constant and stays).
+    BodiesWithoutGravity,
 }
 
 /// The whole state as the markers see it: the tub's rigid coordinates unpacked, and q, q' for

@@ -68,6 +68,8 @@ pub struct RunArgs {
     pub keep_samples: bool,
     /// Write the states (`states.parquet`) for field recovery.
     pub states: bool,
+    /// Keep the energy balance by category (`energy.parquet`, summary's `energy_closure`).
+    pub energy: bool,
     /// How the run starts: static equilibrium (default), or at rest under the mean loads.
     pub start: Start,
 }
@@ -208,6 +210,9 @@ pub fn run_command_with(
     let mut solver = AnySolver::new(args.integrator, dim, ode);
     let mut sink = SensorRecorder::new(&out_dir, args.format, args.keep_samples);
     sink.states = args.states.then(|| StateRecorder::new(&out_dir));
+    sink.energy = args
+        .energy
+        .then(|| crate::results::EnergyRecorder::new(&out_dir, args.format));
     let opts = RunOptions {
         t_start: 0.0,
         t_end,
@@ -260,6 +265,12 @@ pub fn run_command_with(
     let finished = sink.finish();
     write_summary(&out_dir, &summary)?;
     finished.map_err(|e| format!("cannot write {}: {e}", sink.path().display()))?;
+    if let Some(e) = &sink.energy {
+        let (t, lines) = e.lines();
+        let opts = crate::analysis::AnalysisOptions::default();
+        crate::analysis::plot::energy_plot(&t, &lines, &opts, &out_dir.join("energy"))
+            .map_err(|e| e.to_string())?;
+    }
     let samples = args
         .keep_samples
         .then(|| (sink.names.clone(), std::mem::take(&mut sink.memory)));

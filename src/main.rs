@@ -66,6 +66,11 @@ enum Cmd {
         /// Fixed step of rk4, s (default 1e-4).
         #[arg(long)]
         step: Option<f64>,
+        /// Also write the energy balance by category (DIR/energy.parquet and energy.png): the
+        /// drive's work, gravity, each body's modal strain and damping, each element's stored
+        /// and dissipated energy, and the kinetic energy, every 10 ms.
+        #[arg(long)]
+        energy: bool,
         /// galpha's spectral radius at infinity, in [0, 1] (default 0.8): 1 keeps the
         /// unresolved high modes undamped, 0 removes them in one step.
         #[arg(long)]
@@ -333,6 +338,7 @@ fn main() -> ExitCode {
                 },
             out,
             step,
+            energy,
             rho_inf,
             backend,
             no_plots,
@@ -359,6 +365,7 @@ fn main() -> ExitCode {
                 format,
                 keep_samples: !no_plots,
                 states,
+                energy,
                 start,
             };
             let bar = ProgressBar::new(1000);

@@ -32,6 +32,7 @@ fn args(tag: &str) -> RunArgs {
         format: washdyn::results::Format::Parquet,
         keep_samples: false,
         states: false,
+        energy: false,
         start: washdyn_runtime::run::Start::Static,
     }
 }

@@ -26,6 +26,7 @@ fn spent_step_budget_fails_with_time_and_keeps_output() {
         format: Format::Parquet,
         keep_samples: false,
         states: false,
+        energy: false,
         start: washdyn_runtime::run::Start::Static,
     };
     let o = run_command(&args, &mut |_| {}).expect("the run starts");

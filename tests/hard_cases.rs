@@ -23,7 +23,7 @@
 
 use std::time::Instant;
 use washdyn::commands::resolve_model;
-use washdyn_runtime::equations::{Category, EnergyWork, Kind};
+use washdyn_runtime::equations::{Category, EnergyWork, Kind, powers};
 use washdyn_runtime::ir::{EffectSet, Model, Scene};
 use washdyn_runtime::ode::{AnySolver, Method, OdeError, Options, Solver, Stepper};
 use washdyn_runtime::statics::mean_load_equilibrium;
@@ -154,7 +154,7 @@ fn run(
                 work += w * (b - a) * p;
                 throughput += w * (b - a) * p.abs();
                 let (q, qd) = yi.split_at(n);
-                sys.sys.powers(ti, q, qd, &mut ew, &mut pw);
+                assert!(powers(&mut sys.sys, ti, q, qd, &mut ew, &mut pw));
                 let largest = pw.iter().fold(0.0f64, |m, x| m.max(x.abs()));
                 let sum: f64 = pw.iter().sum();
                 split = split.max((sum - p).abs() / (p.abs() + largest).max(1e-300));

@@ -52,6 +52,7 @@ fn reference_run(dir: &Path, t_end: f64, sample_rate: f64, states: bool) -> RunA
         format: Format::Parquet,
         keep_samples: true,
         states,
+        energy: false,
         start: washdyn_runtime::run::Start::Static,
     }
 }

@@ -15,6 +15,18 @@ pub trait SampleSink {
     fn state(&mut self, _t: f64, _phi: f64, _q: &[f64]) -> io::Result<()> {
         Ok(())
     }
+    /// Whether the sink keeps the energy balance (the run then integrates it).
+    fn wants_energy(&self) -> bool {
+        false
+    }
+    /// The balance's categories, before the first energy row.
+    fn energy_header(&mut self, _categories: &[crate::equations::Category]) -> io::Result<()> {
+        Ok(())
+    }
+    /// One row of the balance: kinetic energy and each category's work since the start, J.
+    fn energy(&mut self, _t: f64, _rpm: f64, _kinetic: f64, _work: &[f64]) -> io::Result<()> {
+        Ok(())
+    }
 }
 
 /// `sensors.csv`: columns `time_s`, `drum_rpm`, then one per channel.

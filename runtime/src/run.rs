@@ -179,6 +179,10 @@ pub struct Summary {
     pub stiff_at: Option<f64>,
     /// Hand-overs between dopri5 and rodas4 (the composite method `auto`).
     pub method_switches: u64,
+    /// |T - T0 - sum of the categories' work| over the energy throughput at the end, when the
+    /// sink kept the energy balance (`run --energy`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub energy_closure: Option<f64>,
     /// Generalized-alpha's spectral radius at infinity, when it ran.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub rho_inf: Option<f64>,
@@ -222,6 +226,7 @@ impl Summary {
             stiff_at: None,
             method_switches: 0,
             rho_inf: None,
+            energy_closure: None,
             samples: 0,
             wall_time_s: 0.0,
             status: "ok".into(),
@@ -484,7 +489,11 @@ where
     let dt = 1.0 / opts.sample_rate;
     let n_samples = ((t_end - t0) * opts.sample_rate + 1e-9).floor() as u64 + 1;
     let mut k = 0u64;
-    let mut emit = |sys: &mut FirstOrder<S>, t: f64, y: &[f64], summary: &mut Summary| {
+    let mut emit = |sys: &mut FirstOrder<S>,
+                    sink: &mut dyn SampleSink,
+                    t: f64,
+                    y: &[f64],
+                    summary: &mut Summary| {
         let (q, qd) = y.split_at(n);
         sys.accelerations(t, q, qd, &mut qdd);
         summary.sample_evals += 1;
@@ -513,14 +522,29 @@ where
         }
     }
     solver.init(sys, t0, &y)?;
-    emit(sys, t0, &y, summary)?;
+    emit(sys, sink, t0, &y, summary)?;
     k += 1;
+    let mut balance = if sink.wants_energy() {
+        let b = crate::equations::Balance::new(&mut sys.sys, t0, &y).ok_or_else(|| {
+            setup("the energy balance needs the back end's resolved model".into())
+        })?;
+        sink.energy_header(&b.categories).map_err(io(t0))?;
+        Some(b)
+    } else {
+        None
+    };
     let mut last_report = Instant::now();
     for &stop in &stops {
         while solver.t() < stop {
             solver.step(sys, stop)?;
             let t = solver.t();
             summary.t_reached = t;
+            if let Some(b) = balance.as_mut() {
+                b.step(&mut sys.sys, solver, |ti, rpm, kin, work| {
+                    sink.energy(ti, rpm, kin, work).map_err(io(ti))
+                })?;
+                summary.energy_closure = Some(b.closure(&mut sys.sys, t, solver.y()));
+            }
             monitor.check(t, &solver.y()[..n], summary)?;
             monitor.elements(t, &solver.y()[..n], summary, worst);
             let phi = sys.sys.speed().drive(t).phi;
@@ -532,7 +556,7 @@ where
                     break;
                 }
                 solver.interpolate(ts, &mut y);
-                emit(sys, ts, &y, summary)?;
+                emit(sys, sink, ts, &y, summary)?;
                 k += 1;
             }
             if last_report.elapsed().as_millis() >= 100 {

@@ -69,43 +69,9 @@ pub struct Interpreter {
     pub speed: Speed,
     m2: Vec<f64>,
     work: JacobianWork,
-    /// An h for the energy balance's M1 evaluations.
-    scratch_h: Vec<f64>,
 }
 
 impl Interpreter {
-    /// The energy balance's category powers at (t, q, q') in the order of
-    /// `Equations::energy_categories`, the drive's with q'^T M1' q' / 2 (M1 depends on t only:
-    /// a central difference over 1e-6 s, 1e-12 of M1's rate at the drum's speeds). Their sum
-    /// is dT/dt for T = q'^T M q' / 2.
-    pub fn powers(
-        &mut self,
-        t: f64,
-        q: &[f64],
-        qd: &[f64],
-        w: &mut crate::equations::EnergyWork,
-        out: &mut Vec<f64>,
-    ) {
-        let d = self.speed.drive(t);
-        self.eq.powers(&d, q, qd, w, out);
-        let n1 = self.eq.layout.n1;
-        let dt = 1e-6;
-        let mut h = std::mem::take(&mut self.scratch_h);
-        h.resize(self.eq.layout.n(), 0.0);
-        self.eq
-            .eval(&self.speed.drive(t + dt), q, qd, &mut w.m1p, &mut h);
-        self.eq
-            .eval(&self.speed.drive(t - dt), q, qd, &mut w.m1m, &mut h);
-        self.scratch_h = h;
-        let mut p = 0.0;
-        for i in 0..n1 {
-            for j in 0..n1 {
-                p += 0.5 * qd[i] * (w.m1p[i * n1 + j] - w.m1m[i * n1 + j]) / (2.0 * dt) * qd[j];
-            }
-        }
-        out[0] += p;
-    }
-
     /// For a checked model and a scene of it.
     pub fn new(model: &Model, scene: &EffectSet) -> Interpreter {
         let eq = Equations::new(model, scene);
@@ -116,7 +82,6 @@ impl Interpreter {
         }
         Interpreter {
             work: JacobianWork::new(&eq),
-            scratch_h: vec![0.0; eq.layout.n()],
             eq,
             speed: Speed::new(&model.speed.table),
             m2,

@@ -20,6 +20,10 @@ pub struct ModalBody {
     pub damping: Vec<f64>,
     /// The body's weight on each mode, sum dm W_k . g, N per unit modal coordinate.
     pub weight: Vec<f64>,
+    /// The support springs' share of `damping` (the cabinet's feet): 2 omega_k zeta_s s_k,
+    /// with s_k the mode's strain-energy share in them; `None` without `support_damping`
+    /// (the feet's damping is then not told apart from the structure's).
+    pub support_damping: Option<Vec<f64>>,
     data: crate::ir::modal::ModalData,
 }
 
@@ -64,12 +68,19 @@ impl ModalBody {
             .map(|f| 2.0 * std::f64::consts::PI * f)
             .collect();
         let zeta = modal_damping(e, &d);
+        let support_damping = e.support_damping.map(|zs| {
+            w.iter()
+                .zip(d.support_energy())
+                .map(|(w, s)| 2.0 * w * zs * s)
+                .collect()
+        });
         ModalBody {
             name: e.name.clone(),
             start,
             n,
             omega2: w.iter().map(|w| w * w).collect(),
             damping: w.iter().zip(&zeta).map(|(w, z)| 2.0 * z * w).collect(),
+            support_damping,
             weight: (0..n)
                 .map(|k| (0..3).map(|a| d.elementary.c[a][k] * gravity[a]).sum())
                 .collect(),

@@ -9,8 +9,10 @@
 //!   Omega(t) and is not in T);
 //! - gravity: the weights' share of h (the body terms at g minus at g = 0, and a fixed frame's
 //!   modal weight);
-//! - `<body> modal strain`, `<body> modal damping`: -omega^2 q q' and -2 zeta omega q'^2 of the
-//!   body's modes (the cabinet's feet are in its modes: support springs and their damping);
+//! - `<body> modal strain`, `<body> modal damping`, `<body> feet`: -omega^2 q q' and
+//!   -2 zeta omega q'^2 of the body's modes, the latter split by the modal strain energy method
+//!   into the support springs' share 2 omega zeta_s s (the cabinet's feet, where the entry has
+//!   `support_damping`) and the structure's;
 //! - `<element> elastic`, `<element> dissipated`: the element's loads at the markers' current
 //!   positions with their velocities set to zero, and the rest (friction, dampers, the
 //!   bearings' and the gasket's damping).
@@ -99,6 +101,9 @@ impl Equations {
                 let name = b.id.name();
                 v.push(c(format!("{name} modal strain"), Kind::Stored));
                 v.push(c(format!("{name} modal damping"), Kind::Dissipated));
+                if b.modal().is_some_and(|m| m.support_damping.is_some()) {
+                    v.push(c(format!("{name} feet"), Kind::Dissipated));
+                }
             }
         }
         fn of<E: Element>(list: &[Placed<E>], v: &mut Vec<Category>) {
@@ -153,7 +158,13 @@ impl Equations {
             let strain: f64 = (0..m.n).map(|k| -m.omega2[k] * qm[k] * vm[k]).sum();
             let damping: f64 = (0..m.n).map(|k| -m.damping[k] * vm[k] * vm[k]).sum();
             own += strain + damping;
-            out.extend([strain, damping]);
+            match &m.support_damping {
+                Some(f) => {
+                    let feet: f64 = (0..m.n).map(|k| -f[k] * vm[k] * vm[k]).sum();
+                    out.extend([strain, damping - feet, feet]);
+                }
+                None => out.extend([strain, damping]),
+            }
         }
         out[0] = without_g - fixed_weight - own;
         out[1] = with_g - without_g + fixed_weight;

@@ -269,7 +269,14 @@ fn check_categories(case: &str, o: &Outcome) {
     );
 }
 
-const IMPLICIT: [Method; 3] = [Method::Sdirk4, Method::Rodas4, Method::GeneralizedAlpha];
+/// The methods that must complete every case: the L-stable ones, generalized-alpha and the
+/// composite `auto` (dopri5 while not stiff, rodas4 while stiff).
+const IMPLICIT: [Method; 4] = [
+    Method::Sdirk4,
+    Method::Rodas4,
+    Method::GeneralizedAlpha,
+    Method::Auto,
+];
 
 /// The implicit methods complete with finite values and a closed balance; the explicit one
 /// completes or stops with a typed error inside its budget.

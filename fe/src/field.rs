@@ -73,9 +73,10 @@ pub struct Field {
 }
 
 /// How far a field's check-point shapes may be from its modal data's, relative to each mode's
-/// amplitude there: 1e2 x the 1e-6 by which two machines' ccx solves of one deck differ, and
-/// 1e-2 of the least a different solve or mesh changes (a sign flip: 2).
-pub const SHAPE_TOLERANCE: f64 = 1e-4;
+/// amplitude there: 19 x the 5.3e-4 by which two machines' ccx solves of the built-in tub
+/// differ (the committed data against this project's machine, 2026-11), and 1/17 of what a
+/// pair of modes turned by 10 degrees changes (a sign flip: 2).
+pub const SHAPE_TOLERANCE: f64 = 1e-2;
 
 impl Field {
     /// From the mesh and the shapes the modal data was built from (same order).
@@ -251,12 +252,13 @@ impl Field {
     /// largest component there (at least 1e-3 of the largest of all modes, so a mode with a
     /// node at the point is not held to round-off): another solve's turned degenerate pair or
     /// flipped sign, or another mesh, moves a shape by the order of itself; two solves of one
-    /// deck on different machines differ by about 1e-6 (issue 23: ccx's round-off).
+    /// deck on different machines differ by up to 5.3e-4 (a tub mode at SPRING_1). Returns
+    /// the largest deviation found.
     pub fn matches(
         &self,
         data: &washdyn_runtime::ir::modal::ModalData,
         t: &nalgebra::DMatrix<f64>,
-    ) -> Result<(), String> {
+    ) -> Result<f64, String> {
         let h = &self.header;
         let p = data
             .point(&h.check_point)
@@ -296,7 +298,7 @@ impl Field {
                 h.check_point
             ));
         }
-        Ok(())
+        Ok(worst)
     }
 
     /// Displacement of node index i for modal coordinates q (the file's modes): sum W_k q_k.

@@ -16,6 +16,8 @@ use washdyn::fields::{Recovery, States, write_fields};
 use washdyn_fe::pipeline::build;
 use washdyn_runtime::equations::Equations;
 use washdyn_runtime::ir::BodyRef;
+use washdyn_runtime::ir::Model;
+use washdyn_runtime::ir::modal::ModalData;
 use washdyn_runtime::system::Interpreter;
 
 fn tools() -> bool {
@@ -31,28 +33,48 @@ fn tools() -> bool {
 }
 
 /// The tub's and the drum's modal data and field files, built with ccx once for both tests
-/// (the two bodies in parallel, one ccx each) in the target's scratch folder.
-fn built() -> &'static Path {
-    static DIR: OnceLock<PathBuf> = OnceLock::new();
+/// (the two bodies in parallel, one ccx each) in the target's scratch folder: the folder with
+/// `<body>.field.bin`, and each body's modal data from the same solve.
+fn built() -> &'static (PathBuf, Vec<(String, ModalData)>) {
+    static DIR: OnceLock<(PathBuf, Vec<(String, ModalData)>)> = OnceLock::new();
     DIR.get_or_init(|| {
         let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("fields");
         std::fs::remove_dir_all(&dir).ok();
         std::fs::create_dir_all(&dir).unwrap();
         let specs = washdyn_fe::bodies::builtin();
         // Each ccx in a folder of its own (its scratch files), the fields side by side.
-        std::thread::scope(|s| {
-            for spec in &specs[..2] {
-                let (d, name) = (dir.join(&spec.name), format!("{}.field.bin", spec.name));
-                let top = &dir;
-                s.spawn(move || {
-                    std::fs::create_dir_all(&d).unwrap();
-                    build(spec, &d).unwrap_or_else(|e| panic!("{e}"));
-                    std::fs::copy(d.join(&name), top.join(&name)).unwrap();
-                });
-            }
+        let data = std::thread::scope(|s| {
+            let jobs: Vec<_> = specs[..2]
+                .iter()
+                .map(|spec| {
+                    let (d, name) = (dir.join(&spec.name), format!("{}.field.bin", spec.name));
+                    let top = &dir;
+                    s.spawn(move || {
+                        std::fs::create_dir_all(&d).unwrap();
+                        let (data, _) = build(spec, &d).unwrap_or_else(|e| panic!("{e}"));
+                        std::fs::copy(d.join(&name), top.join(&name)).unwrap();
+                        (spec.name.clone(), data)
+                    })
+                })
+                .collect();
+            jobs.into_iter().map(|j| j.join().unwrap()).collect()
         });
-        dir
+        (dir, data)
     })
+}
+
+/// The reference machine on this solve's modal data for the bodies `built` made: the
+/// formulas compared below then meet the field of their own solve (another machine's ccx
+/// moves shapes by up to 5e-4: `washdyn_fe::field::SHAPE_TOLERANCE`).
+fn on_this_solve(model: &Model) -> Model {
+    let mut m = model.clone();
+    for e in &mut m.elastic {
+        if let Some((_, d)) = built().1.iter().find(|(n, _)| *n == e.name) {
+            e.data = Some(d.clone());
+        }
+    }
+    washdyn_runtime::ir::check::check(&m).unwrap_or_else(|e| panic!("{e:?}"));
+    m
 }
 
 #[test]
@@ -60,13 +82,17 @@ fn recovered_fields_are_read_back_by_meshio_and_continuous_at_the_bearing() {
     if !tools() {
         return;
     }
-    let built = built();
+    let built = &built().0;
     let dir = tempfile::tempdir().unwrap();
     let specs = washdyn_fe::bodies::builtin();
-    let model = washdyn_models::built_in("reference").unwrap().unwrap();
-    let scene = model.scene(Some("elastic")).unwrap();
+    let committed = washdyn_models::built_in("reference").unwrap().unwrap();
+    let scene = committed.scene(Some("elastic")).unwrap();
+    // The user's path: the committed modal data recovers this machine's fields (Recovery
+    // checks they are the same model's, to another machine's round-off).
+    Recovery::new(&Equations::new(&committed, &scene), built).unwrap_or_else(|e| panic!("{e}"));
+    // The formulas: on this solve's data, where two paths must agree to round-off.
+    let model = on_this_solve(&committed);
     let eq = Equations::new(&model, &scene);
-    // The fields must belong to the committed modal data (same solve): Recovery checks it.
     let rec = Recovery::new(&eq, built).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(
         rec.bodies
@@ -337,12 +363,9 @@ fn drum_rim_sensor_reads_the_recovered_field(
         diff / size
     );
     assert!(size > 1e-5, "the state moves the rim ({size} m)");
-    // Measured 8.3e-12 relative where the committed data came from this machine's ccx: the
-    // sensor reads the committed modal data's rows, the recovery this solve's field. The
-    // bound is what `Recovery::new` accepts between the two (`SHAPE_TOLERANCE` of each mode's
-    // amplitude): another machine's solve may sit anywhere below it, and the formulas
-    // themselves agree to round-off.
-    assert!(diff < washdyn_fe::field::SHAPE_TOLERANCE * size);
+    // Measured 8.3e-12 relative: the sensor reads the modal data's rows, the recovery the
+    // field of the same solve; the formulas agree to round-off.
+    assert!(diff < 1e-10 * size);
     // Acceleration: central differences of the recovered motion along the path.
     let dt = 1e-5;
     let at = |t: f64| {
@@ -378,7 +401,7 @@ fn drum_stresses_by_modal_superposition_match_calculix_under_the_same_displaceme
     }
     let dir = tempfile::tempdir().unwrap();
     let spec = washdyn_fe::bodies::builtin().remove(1);
-    let field = washdyn_fe::field::Field::read(&built().join("drum.field.bin")).unwrap();
+    let field = washdyn_fe::field::Field::read(&built().0.join("drum.field.bin")).unwrap();
     assert!(field.has_stresses());
     let h = &field.header;
     // Every mode takes part, with alternating signs (m kg^0.5).

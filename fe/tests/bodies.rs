@@ -140,8 +140,27 @@ fn decks_solve_and_reproduce_the_committed_modal_data() {
     if !have_ccx() {
         return;
     }
-    let dir = tempfile::tempdir().unwrap();
-    for b in bodies::builtin() {
+    let top = tempfile::tempdir().unwrap();
+    // One ccx per body, side by side (each single-threaded, in a folder of its own).
+    let bodies = bodies::builtin();
+    std::thread::scope(|s| {
+        let jobs: Vec<_> = bodies
+            .iter()
+            .map(|b| s.spawn(|| solve_and_compare(b, top.path())))
+            .collect();
+        for j in jobs {
+            if let Err(e) = j.join() {
+                std::panic::resume_unwind(e);
+            }
+        }
+    });
+}
+
+/// One body of `decks_solve_and_reproduce_the_committed_modal_data`, in `top/<name>`.
+fn solve_and_compare(b: &washdyn_fe::pipeline::BodySpec, top: &std::path::Path) {
+    let dir = top.join(&b.name);
+    std::fs::create_dir_all(&dir).unwrap();
+    {
         // ccx's own mass totals against our element integration (point masses aside: EMAS
         // leaves MASS elements out). ccx prints 7 significant digits (5e-7 relative); its
         // curved shells, expanded to bricks about nodal normals, add a little: measured 1.2e-6
@@ -157,8 +176,8 @@ fn decks_solve_and_reproduce_the_committed_modal_data() {
             spec.correction.clear();
             spec.recovery = false;
         }
-        let (data, report) = washdyn_fe::pipeline::build(&spec, dir.path()).unwrap();
-        let dat = std::fs::read_to_string(dir.path().join(format!("{}.dat", b.name))).unwrap();
+        let (data, report) = washdyn_fe::pipeline::build(&spec, dir.as_path()).unwrap();
+        let dat = std::fs::read_to_string(dir.as_path().join(format!("{}.dat", b.name))).unwrap();
         let e = washdyn_fe::dat::emas(&dat, "EALL").expect("EMAS totals in the .dat");
         let c = continuum_mass_props(&b.mesh);
         eprintln!("{report}  ccx EMAS {:.6} kg, ours {:.6} kg", e.mass, c.mass);
@@ -200,7 +219,7 @@ fn decks_solve_and_reproduce_the_committed_modal_data() {
         let rigid = report.all_frequencies.iter().filter(|f| **f < 1.0).count();
         assert_eq!(rigid, if b.name == "tub" { 6 } else { 0 }, "{}", b.name);
         if b.name == "cabinet" {
-            cabinet_preload_stresses_match_calculix(&spec, &data, dir.path());
+            cabinet_preload_stresses_match_calculix(&spec, &data, dir.as_path());
         }
     }
 }

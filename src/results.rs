@@ -130,6 +130,23 @@ pub struct Schema<'a> {
 }
 
 impl TableWriter {
+    /// A table of non-null f64 columns (sensors, states, energy).
+    pub fn create_f64(
+        path: &Path,
+        format: Format,
+        names: &[String],
+        metadata: &[(String, String)],
+    ) -> io::Result<TableWriter> {
+        let n = names.len();
+        let schema = Schema {
+            names,
+            text: &vec![false; n],
+            nullable: &vec![false; n],
+            metadata,
+        };
+        TableWriter::create(path, format, &schema)
+    }
+
     pub fn create(path: &Path, format: Format, schema: &Schema) -> io::Result<TableWriter> {
         let file = BufWriter::with_capacity(1 << 16, File::create(path)?);
         let inner = match format {
@@ -594,7 +611,6 @@ impl EnergyRecorder {
             return Ok(());
         }
         let names = self.names();
-        let n = names.len();
         let mut metadata: Vec<(String, String)> = names
             .iter()
             .map(|c| {
@@ -619,13 +635,7 @@ impl EnergyRecorder {
              work"
                 .into(),
         ));
-        let schema = Schema {
-            names: &names,
-            text: &vec![false; n],
-            nullable: &vec![false; n],
-            metadata: &metadata,
-        };
-        let mut w = TableWriter::create(&self.path, self.format, &schema)?;
+        let mut w = TableWriter::create_f64(&self.path, self.format, &names, &metadata)?;
         let cols: Vec<&[f64]> = self.cols.iter().map(Vec::as_slice).collect();
         w.append_slices(&cols)?;
         w.finish()
@@ -660,18 +670,17 @@ impl StateRecorder {
         let mut names = vec!["time_s".to_string(), "drum_angle_rad".to_string()];
         names.extend((0..n_q).map(|i| format!("q{i}")));
         let n = names.len();
-        let schema = Schema {
-            names: &names,
-            text: &vec![false; n],
-            nullable: &vec![false; n],
-            metadata: &[(
+        let mut w = TableWriter::create_f64(
+            &self.path,
+            Format::Parquet,
+            &names,
+            &[(
                 "washdyn".into(),
                 "states on the sample grid: q in the scene's layout (tub u m, alpha rad, \
                  then modal coordinates)"
                     .into(),
             )],
-        };
-        let mut w = TableWriter::create(&self.path, Format::Parquet, &schema)?;
+        )?;
         // Two groups in flight at most: a slow disk holds the run back instead of the memory
         // growing without bound.
         let (tx, rx) = std::sync::mpsc::sync_channel::<Vec<Vec<f64>>>(2);
@@ -807,13 +816,7 @@ impl washdyn_runtime::output::SampleSink for SensorRecorder {
              global axes (x along the drum axis towards the door, z up)"
                 .into(),
         ));
-        let schema = Schema {
-            names: &names,
-            text: &vec![false; n],
-            nullable: &vec![false; n],
-            metadata: &metadata,
-        };
-        let w = TableWriter::create(&self.path, self.format, &schema)?;
+        let w = TableWriter::create_f64(&self.path, self.format, &names, &metadata)?;
         // Kept samples are written from `memory`; the batch buffers stay empty then.
         let buffers = if self.keep { 0 } else { n };
         self.table = Some(

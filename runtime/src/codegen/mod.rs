@@ -451,9 +451,7 @@ mod tests {
     use crate::system::{Interpreter, Mechanical};
 
     fn reference() -> Model {
-        let src = include_str!("../../../models/data/reference.toml");
-        let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../models/data");
-        crate::ir::toml_file::load_str(src, "reference.toml", &data).unwrap()
+        crate::ir::toml_file::reference_for_tests()
     }
 
     #[test]

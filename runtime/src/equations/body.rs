@@ -337,9 +337,7 @@ mod tests {
     use super::*;
 
     fn reference() -> Model {
-        let src = include_str!("../../../models/data/reference.toml");
-        let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../models/data");
-        crate::ir::toml_file::load_str(src, "reference.toml", &data).unwrap()
+        crate::ir::toml_file::reference_for_tests()
     }
 
     /// The reference machine's bodies: the tub floats (0..6), the drum spins on it, the

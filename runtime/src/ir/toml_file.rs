@@ -60,6 +60,14 @@ pub fn load_file(path: &FsPath) -> Result<Model, ModelFileError> {
     load_str(&src, &name, &base)
 }
 
+/// The built-in reference machine, for the runtime's unit tests.
+#[cfg(test)]
+pub(crate) fn reference_for_tests() -> Model {
+    let src = include_str!("../../../models/data/reference.toml");
+    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../models/data");
+    load_str(src, "reference.toml", &data).unwrap()
+}
+
 /// Load and check model text; `file` names it in errors, `base` resolves relative data files.
 pub fn load_str(src: &str, file: &str, base: &FsPath) -> Result<Model, ModelFileError> {
     let at = |span: Option<std::ops::Range<usize>>, message: String| {

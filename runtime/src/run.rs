@@ -543,7 +543,8 @@ where
                 b.step(&mut sys.sys, solver, |ti, rpm, kin, work| {
                     sink.energy(ti, rpm, kin, work).map_err(io(ti))
                 })?;
-                summary.energy_closure = Some(b.closure(&mut sys.sys, t, solver.y()));
+                // At the last row (a failed run keeps it); the end's below.
+                summary.energy_closure = Some(b.row_closure);
             }
             monitor.check(t, &solver.y()[..n], summary)?;
             monitor.elements(t, &solver.y()[..n], summary, worst);
@@ -573,6 +574,9 @@ where
             y.copy_from_slice(solver.y());
             solver.init(sys, stop, &y)?;
         }
+    }
+    if let Some(b) = balance.as_mut() {
+        summary.energy_closure = Some(b.closure(&mut sys.sys, solver.t(), solver.y()));
     }
     progress(Progress {
         t: t_end,

@@ -90,7 +90,6 @@ impl Body {
     /// The body's own terms in h (and M1): its modes' stiffness and damping (on a fixed frame
     /// also their weight; on a moving frame the weight enters with the frame's motion), and a
     /// spinning body's modal inertia terms with their reaction on the parent.
-    #[allow(clippy::too_many_arguments)]
     pub fn add<T: Scalar>(
         &self,
         b: &BodyState<T>,

@@ -97,13 +97,12 @@ impl Equations {
             c("gravity".into(), Kind::Gravity),
         ];
         for b in &self.bodies.list {
-            if b.modal().is_some() {
-                let name = b.id.name();
-                v.push(c(format!("{name} modal strain"), Kind::Stored));
-                v.push(c(format!("{name} modal damping"), Kind::Dissipated));
-                if b.modal().is_some_and(|m| m.support_damping.is_some()) {
-                    v.push(c(format!("{name} feet"), Kind::Dissipated));
-                }
+            let Some(m) = b.modal() else { continue };
+            let name = b.id.name();
+            v.push(c(format!("{name} modal strain"), Kind::Stored));
+            v.push(c(format!("{name} modal damping"), Kind::Dissipated));
+            if m.support_damping.is_some() {
+                v.push(c(format!("{name} feet"), Kind::Dissipated));
             }
         }
         fn of<E: Element>(list: &[Placed<E>], v: &mut Vec<Category>) {
@@ -131,7 +130,7 @@ impl Equations {
 
     /// The power of each category at (d, q, q'), in the order of `energy_categories`; they add
     /// up to q'^T h. The drive's share lacks q'^T M1' q' / 2, which needs M1 at neighbouring
-    /// times (`system::Interpreter::powers` adds it).
+    /// times ([`powers`] adds it).
     pub fn powers(
         &self,
         d: &Drive<f64>,
@@ -194,13 +193,14 @@ impl Equations {
                 mb.scatter(&b, h);
                 dot(qd, h)
             };
-            let total = power(&la, &lb, &mut w.h);
-            let elastic = power(&still(&la), &still(&lb), &mut w.h0);
-            if E::ELASTIC {
-                out.push(elastic);
+            // An element without an elastic part has none at rest velocity (zero loads), and
+            // one that does not dissipate is its elastic part: one evaluation each.
+            let elastic = E::ELASTIC.then(|| power(&still(&la), &still(&lb), &mut w.h0));
+            if let Some(e) = elastic {
+                out.push(e);
             }
             if E::DISSIPATIVE {
-                out.push(total - elastic);
+                out.push(power(&la, &lb, &mut w.h) - elastic.unwrap_or(0.0));
             }
         }
     }
@@ -276,6 +276,8 @@ pub struct Balance {
     pub work: Vec<f64>,
     pub kinetic0: f64,
     pub throughput: f64,
+    /// The closure at the last row (what `closure` gives there, without evaluating M again).
+    pub row_closure: f64,
     w: EnergyWork,
     p: Vec<f64>,
     y: Vec<f64>,
@@ -298,6 +300,7 @@ impl Balance {
             categories,
             kinetic0,
             throughput: 0.0,
+            row_closure: 0.0,
             w,
             y: y0.to_vec(),
             t0,
@@ -349,6 +352,7 @@ impl Balance {
                 solver.interpolate(b, &mut self.y);
                 let (q, qd) = self.y.split_at(n);
                 let kin = kinetic(sys, b, q, qd, &mut self.w);
+                self.row_closure = self.residual(kin);
                 row(b, sys.speed().rpm(b), kin, &self.work)?;
                 self.rows += 1;
             }
@@ -361,6 +365,11 @@ impl Balance {
     pub fn closure<S: Mechanical + ?Sized>(&mut self, sys: &mut S, t: f64, y: &[f64]) -> f64 {
         let n = y.len() / 2;
         let kin = kinetic(sys, t, &y[..n], &y[n..], &mut self.w);
+        self.residual(kin)
+    }
+
+    /// |kin - T0 - sum W| / throughput.
+    fn residual(&self, kin: f64) -> f64 {
         let w: f64 = self.work.iter().sum();
         (kin - self.kinetic0 - w).abs() / self.throughput.max(f64::MIN_POSITIVE)
     }

@@ -37,6 +37,7 @@ fn four_dampers(kb: f64) -> Vec<FrictionDamper> {
             slope: 2000.0,
             bearing_stiffness: kb,
             bearing_damping: 0.05,
+            moving_part: None,
         });
     }
     out
@@ -127,6 +128,7 @@ fn strokes_are_the_axial_motion_of_each_damper_end_and_every_mode_strokes_the_ne
             slope: 2000.0,
             bearing_stiffness: 80.0,
             bearing_damping: 0.05,
+            moving_part: None,
         })
         .collect();
     let old = rigid_modes(&m_old, Some("full")).unwrap();

@@ -334,6 +334,7 @@ impl<'a> Builder<'a> {
                     at: add(at, sub(p, mount)),
                 })
             }
+            BodyRef::DamperPart(_) => Err("a damper's moving part is not on a mesh".into()),
         }
     }
 }

@@ -98,6 +98,7 @@ washdyn_macros::machine! {
             slope: 2000.0,
             bearing_stiffness: 20.0,
             bearing_damping: 0.2,
+            moving_part: { mass: 0.55, inertia: 1.69e-3, translational_stiffness: 5.0e5 },
         }
         friction_damper damper_front_right {
             a: { body: tub, point: [0.18, -0.18, 0.20] },
@@ -106,6 +107,7 @@ washdyn_macros::machine! {
             slope: 2000.0,
             bearing_stiffness: 20.0,
             bearing_damping: 0.2,
+            moving_part: { mass: 0.55, inertia: 1.69e-3, translational_stiffness: 5.0e5 },
         }
         friction_damper damper_rear_left {
             a: { body: tub, point: [-0.18, 0.18, 0.20] },
@@ -114,6 +116,7 @@ washdyn_macros::machine! {
             slope: 2000.0,
             bearing_stiffness: 20.0,
             bearing_damping: 0.2,
+            moving_part: { mass: 0.55, inertia: 1.69e-3, translational_stiffness: 5.0e5 },
         }
         friction_damper damper_rear_right {
             a: { body: tub, point: [-0.18, -0.18, 0.20] },
@@ -122,6 +125,7 @@ washdyn_macros::machine! {
             slope: 2000.0,
             bearing_stiffness: 20.0,
             bearing_damping: 0.2,
+            moving_part: { mass: 0.55, inertia: 1.69e-3, translational_stiffness: 5.0e5 },
         }
 
         // Door gasket (estimate): a bellows, soft axially, stiffer radially, non-diagonal as the
@@ -170,6 +174,17 @@ washdyn_macros::machine! {
             effects: [
                 unbalance.drum, friction_dampers, gasket_damping, element_geometry,
                 unbalance_inertia,
+            ],
+        }
+
+        // The seed paper's "two independent bodies": `full` with each damper's moving part as
+        // a body of its own instead of the massless element.
+        scene damper_mass {
+            effects: [
+                gyroscopic, unbalance.drum, unbalance.motor, friction_dampers, gasket_damping,
+                element_geometry, unbalance_inertia, damper_mass.damper_front_left,
+                damper_mass.damper_front_right, damper_mass.damper_rear_left,
+                damper_mass.damper_rear_right,
             ],
         }
 

@@ -68,7 +68,7 @@ pub struct Harmonic {
 /// The structural reasons a scene is not LTI at constant speed; `linearise` also checks
 /// numerically that M1 and the Jacobians do not change over the period.
 pub fn check_scene(eq: &Equations) -> Result<(), HarmonicError> {
-    let why = if !eq.friction_dampers.is_empty() {
+    let why = if !eq.friction_dampers.is_empty() || !eq.damper_joints.is_empty() {
         Some("friction dampers (a nonlinear friction law); use linear dampers")
     } else if eq.exact_geometry {
         Some("`element_geometry` (exact element kinematics and second-order sensors)")

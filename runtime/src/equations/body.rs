@@ -6,9 +6,11 @@
 //!
 //! Layout of q: the floating frame's six rigid coordinates (u, alpha about p0), then the modes
 //! of each body in subsystem 1 (floating and spinning bodies: the mass matrix M1 that the drum
-//! angle changes), then subsystem 2 (modes on a fixed frame: constant M2 = E).
+//! angle changes), then subsystem 2 (constant M2 = E: modes on a fixed frame, then the rigid
+//! parts of their own, mass-normalised: a friction damper's moving part).
 
 use super::kinematics::{MarkerDef, ModalRows, add_rigid_mass, frame_point_jacobian};
+use super::part::RigidPart;
 use super::{BodyState, Drive, ElasticDrum, Layout, ModalBody, TubDef};
 use crate::geom::{V, f};
 use crate::ir::{BodyRef, Effect, EffectSet, Model};
@@ -44,6 +46,8 @@ pub enum Modes {
     /// A spinning body's modes, turned with it: their inertia terms, their coupling into M1
     /// and their reaction on the parent (equations/drum.rs).
     Spinning(ElasticDrum),
+    /// A rigid part's own small motion on a fixed frame (equations/part.rs).
+    Part(RigidPart),
 }
 
 /// One body of a scene.
@@ -63,6 +67,7 @@ impl Body {
             (Frame::Spinning { .. }, Modes::Rigid) => "spinning rigid",
             (Frame::Spinning { .. }, _) => "spinning modal",
             (Frame::Fixed, Modes::Rigid) => "fixed rigid",
+            (_, Modes::Part(_)) => "rigid part",
             (Frame::Fixed, _) => "fixed modal",
         }
     }
@@ -70,7 +75,7 @@ impl Body {
     /// The body's modes, when the scene makes it elastic.
     pub fn modal(&self) -> Option<&ModalBody> {
         match &self.modes {
-            Modes::Rigid => None,
+            Modes::Rigid | Modes::Part(_) => None,
             Modes::Frame(m) => Some(m),
             Modes::Spinning(d) => Some(&d.modes),
         }
@@ -78,7 +83,10 @@ impl Body {
 
     /// The body's own coordinates in q: its frame's rigid ones and its modes.
     pub fn coordinates(&self) -> Range<usize> {
-        let modes = self.modal().map(|m| m.start..m.start + m.n);
+        let modes = match &self.modes {
+            Modes::Part(p) => Some(p.start..p.start + RigidPart::N),
+            _ => self.modal().map(|m| m.start..m.start + m.n),
+        };
         match (&self.frame, modes) {
             (Frame::Floating { start, .. }, Some(m)) if m.start == start + 6 => *start..m.end,
             (Frame::Floating { start, .. }, None) => *start..start + 6,
@@ -104,6 +112,7 @@ impl Body {
             (Frame::Fixed, Modes::Frame(m)) => m.add(b.q, b.qd, h),
             (_, Modes::Frame(m)) => m.add_elastic(b.q, b.qd, h),
             (_, Modes::Spinning(dr)) => dr.add(b, d, g, m1, n1, h),
+            (_, Modes::Part(p)) => p.add(g, h),
         }
     }
 
@@ -123,7 +132,8 @@ pub struct Bodies {
 
 impl Bodies {
     /// The checked model's bodies for a scene: the tub floating, the drum spinning on it, the
-    /// cabinet fixed; each with the modes the scene keeps.
+    /// cabinet fixed, each with the modes the scene keeps; then the moving part of each
+    /// friction damper the scene gives its mass (`damper_mass.<name>`).
     pub fn new(model: &Model, scene: &EffectSet) -> Bodies {
         let g = model.gravity;
         let modes = |b: BodyRef, start: &mut usize| {
@@ -138,6 +148,24 @@ impl Bodies {
         let drum_modes = modes(BodyRef::Drum, &mut n1);
         let mut n = n1;
         let cabinet_modes = modes(BodyRef::Cabinet, &mut n);
+        let parts: Vec<_> = model
+            .friction_dampers
+            .iter()
+            .enumerate()
+            .filter(|(_, d)| {
+                scene.has(&Effect::FrictionDampers)
+                    && scene.has(&Effect::DamperMass(d.name.clone()))
+            })
+            .map(|(i, d)| {
+                let mp = d
+                    .moving_part
+                    .as_ref()
+                    .expect("checked: damper_mass has its part");
+                let p = RigidPart::new(mp, d.a.point, d.b.point, n);
+                n += RigidPart::N;
+                (i, p)
+            })
+            .collect();
         let layout = Layout { n1, n2: n - n1 };
         let frame_modes = |m: Option<ModalBody>| m.map_or(Modes::Rigid, Modes::Frame);
         let mut bodies = Bodies {
@@ -181,6 +209,13 @@ impl Bodies {
             frame: Frame::Fixed,
             modes: frame_modes(cabinet_modes),
         });
+        for (i, p) in parts {
+            bodies.list.push(Body {
+                id: BodyRef::DamperPart(i),
+                frame: Frame::Fixed,
+                modes: Modes::Part(p),
+            });
+        }
         bodies
     }
 
@@ -231,6 +266,7 @@ impl Bodies {
                 let mut m = self.frame_marker(id, point);
                 m.modal = match &b.modes {
                     Modes::Frame(mb) => Some(mb.rows(point)),
+                    Modes::Part(p) => Some(p.rows(point)),
                     _ => None,
                 };
                 m

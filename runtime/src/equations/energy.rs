@@ -124,6 +124,7 @@ impl Equations {
         of(&self.springs, &mut v);
         of(&self.dampers, &mut v);
         of(&self.friction_dampers, &mut v);
+        of(&self.damper_joints, &mut v);
         of(&self.gaskets, &mut v);
         v
     }
@@ -171,6 +172,7 @@ impl Equations {
         self.element_powers(&self.springs, &st, d, qd, w, out);
         self.element_powers(&self.dampers, &st, d, qd, w, out);
         self.element_powers(&self.friction_dampers, &st, d, qd, w, out);
+        self.element_powers(&self.damper_joints, &st, d, qd, w, out);
         self.element_powers(&self.gaskets, &st, d, qd, w, out);
     }
 

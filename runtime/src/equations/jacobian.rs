@@ -183,6 +183,7 @@ impl Equations {
         self.element_jacobians(&self.springs, &st, d, &mut w.x, hq, hqd);
         self.element_jacobians(&self.dampers, &st, d, &mut w.x, hq, hqd);
         self.element_jacobians(&self.friction_dampers, &st, d, &mut w.x, hq, hqd);
+        self.element_jacobians(&self.damper_joints, &st, d, &mut w.x, hq, hqd);
         self.element_jacobians(&self.gaskets, &st, d, &mut w.x, hq, hqd);
     }
 

@@ -21,10 +21,11 @@ mod elastic;
 mod energy;
 mod jacobian;
 pub mod kinematics;
+mod part;
 mod scales;
 mod sensors;
 
-use crate::elements::{Element, FrictionDamper, Gasket, LinearDamper, Spring};
+use crate::elements::{DamperJoint, Element, FrictionDamper, Gasket, LinearDamper, Spring};
 use crate::geom::{V, f};
 use crate::ir::{BodyRef, Effect, EffectSet, Model};
 use crate::scalar::Scalar;
@@ -37,6 +38,7 @@ pub use jacobian::{ForceJacobians, JacobianWork};
 pub use kinematics::{
     Load, Local, Marker, MarkerDef, ModalRows, Wrench, add_rigid_mass, frame_point_jacobian,
 };
+pub use part::RigidPart;
 pub use sensors::{SensorDef, Spin};
 
 /// The prescribed drum motion at time t: angle, speed, acceleration (rad, rad/s, rad/s^2).
@@ -87,6 +89,8 @@ pub struct Equations {
     pub springs: Vec<Placed<Spring>>,
     pub dampers: Vec<Placed<LinearDamper>>,
     pub friction_dampers: Vec<Placed<FrictionDamper>>,
+    /// The bearings of the friction dampers the scene gives their moving part (two each).
+    pub damper_joints: Vec<Placed<DamperJoint>>,
     pub gaskets: Vec<Placed<Gasket>>,
     pub sensors: Vec<SensorDef>,
 }
@@ -168,16 +172,24 @@ impl Equations {
             .map(|d| LinearDamper::new(d, mk(d.a.body, d.a.point), mk(d.b.body, d.b.point)))
             .map(|e| Placed::new(e, exact, n))
             .collect();
-        let friction_dampers = if scene.has(&Effect::FrictionDampers) {
-            model
-                .friction_dampers
-                .iter()
-                .map(|d| FrictionDamper::new(d, mk(d.a.body, d.a.point), mk(d.b.body, d.b.point)))
-                .map(|e| Placed::new(e, exact, n))
-                .collect()
-        } else {
-            Vec::new()
-        };
+        // Each friction damper: the massless element, or two bearings on its moving part.
+        let mut friction_dampers = Vec::new();
+        let mut damper_joints = Vec::new();
+        for (i, d) in model.friction_dampers.iter().enumerate() {
+            if !scene.has(&Effect::FrictionDampers) {
+                break;
+            }
+            let (a, b) = (mk(d.a.body, d.a.point), mk(d.b.body, d.b.point));
+            let part = BodyRef::DamperPart(i);
+            if bodies.get(part).is_some() {
+                let ends = ((a, mk(part, d.a.point)), (b, mk(part, d.b.point)));
+                let [rod, housing] = DamperJoint::pair(d, ends.0, ends.1);
+                damper_joints.push(Placed::new(rod, exact, n));
+                damper_joints.push(Placed::new(housing, exact, n));
+            } else {
+                friction_dampers.push(Placed::new(FrictionDamper::new(d, a, b), exact, n));
+            }
+        }
         let gaskets = model
             .gaskets
             .iter()
@@ -209,6 +221,7 @@ impl Equations {
             springs,
             dampers,
             friction_dampers,
+            damper_joints,
             gaskets,
             sensors,
             bodies,
@@ -290,6 +303,7 @@ impl Equations {
         self.elements(&self.springs, &b, d, h);
         self.elements(&self.dampers, &b, d, h);
         self.elements(&self.friction_dampers, &b, d, h);
+        self.elements(&self.damper_joints, &b, d, h);
         self.elements(&self.gaskets, &b, d, h);
     }
 

@@ -30,6 +30,7 @@ impl Equations {
         let markers = element_markers(&self.springs)
             .chain(element_markers(&self.dampers))
             .chain(element_markers(&self.friction_dampers))
+            .chain(element_markers(&self.damper_joints))
             .chain(element_markers(&self.gaskets))
             .chain(self.sensors.iter().map(|s| &s.at))
             .chain(self.carried.iter().map(|c| &c.0))

@@ -260,10 +260,13 @@ pub fn check(m: &Model) -> Result<(), Vec<CheckError>> {
             d.bearing_stiffness,
         );
         c.non_negative(
-            p.key("bearing_damping"),
+            p.clone().key("bearing_damping"),
             &format!("{w}: bearing_damping"),
             d.bearing_damping,
         );
+        if let Some(mp) = &d.moving_part {
+            moving_part(&mut c, p.key("moving_part"), &w, mp);
+        }
     }
     for (i, g) in m.gaskets.iter().enumerate() {
         let p = Path::of(&["gaskets"]).idx(i);
@@ -301,6 +304,7 @@ pub fn check(m: &Model) -> Result<(), Vec<CheckError>> {
     // Scenes.
     let rotors: Vec<&str> = m.rotors.iter().map(|r| r.name.as_str()).collect();
     let elastic_names: Vec<&str> = m.elastic.iter().map(|e| e.name.as_str()).collect();
+    let massive = m.massive_dampers();
     let mut scene_names = HashSet::new();
     for (i, s) in m.scenes.iter().enumerate() {
         let p = Path::of(&["scenes"]).idx(i);
@@ -311,17 +315,28 @@ pub fn check(m: &Model) -> Result<(), Vec<CheckError>> {
             );
         }
         for (j, e) in s.effects.iter().enumerate() {
-            if Effect::parse(e, &rotors, &elastic_names).is_none() {
+            if Effect::parse(e, &rotors, &elastic_names, &massive).is_none() {
                 c.err(
                     p.clone().key("effects").idx(j),
                     format!(
                         "scene `{}`: unknown effect `{e}` (known: gyroscopic, friction_dampers, \
                          gasket_damping, element_geometry, unbalance_inertia, unbalance.<rotor>, \
-                         elastic.<body>, centrifugal_stiffening)",
+                         elastic.<body>, centrifugal_stiffening, damper_mass.<friction damper \
+                         with a moving_part>)",
                         s.name
                     ),
                 );
             }
+        }
+        let massive = s.effects.iter().position(|e| e.starts_with("damper_mass."));
+        if let Some(j) = massive.filter(|_| !s.effects.iter().any(|e| e == "friction_dampers")) {
+            c.err(
+                p.clone().key("effects").idx(j),
+                format!(
+                    "scene `{}`: `{}` needs the effect `friction_dampers`",
+                    s.name, s.effects[j]
+                ),
+            );
         }
         if let Some(o) = s.max_order {
             c.positive(
@@ -336,6 +351,29 @@ pub fn check(m: &Model) -> Result<(), Vec<CheckError>> {
         Ok(())
     } else {
         Err(c.errors)
+    }
+}
+
+/// A friction damper's moving part: a body with mass and inertia on stiff bearings, its CoG
+/// on the rod.
+fn moving_part(c: &mut Ctx, p: Path, w: &str, mp: &crate::ir::MovingPart) {
+    let w = format!("{w}: moving_part");
+    c.positive(p.clone().key("mass"), &format!("{w}.mass"), mp.mass);
+    c.positive(
+        p.clone().key("inertia"),
+        &format!("{w}.inertia"),
+        mp.inertia,
+    );
+    c.positive(
+        p.clone().key("translational_stiffness"),
+        &format!("{w}.translational_stiffness"),
+        mp.translational_stiffness,
+    );
+    if !(0.0..=1.0).contains(&mp.cog) {
+        c.err(
+            p.key("cog"),
+            format!("{w}.cog {} is not a fraction of the rod (0 to 1)", mp.cog),
+        );
     }
 }
 
@@ -416,7 +454,7 @@ fn elastic(c: &mut Ctx, m: &Model) {
             Some(BodyRef::Tub) => Some(K::Tub),
             Some(BodyRef::Drum) => Some(K::Drum),
             Some(BodyRef::Cabinet) => Some(K::Cabinet),
-            None => {
+            Some(BodyRef::DamperPart(_)) | None => {
                 let other = &e.name;
                 c.err(
                     p.clone().key("name"),

@@ -132,6 +132,10 @@ pub enum BodyRef {
     Tub,
     Cabinet,
     Drum,
+    /// The moving part of the friction damper with this index (a scene's `damper_mass.<name>`):
+    /// the body layer makes it; a model cannot attach to it.
+    #[serde(skip)]
+    DamperPart(usize),
 }
 
 impl BodyRef {
@@ -145,6 +149,7 @@ impl BodyRef {
             BodyRef::Tub => "tub",
             BodyRef::Cabinet => "cabinet",
             BodyRef::Drum => "drum",
+            BodyRef::DamperPart(_) => "damper part",
         }
     }
 
@@ -284,6 +289,36 @@ pub struct FrictionDamper {
     pub bearing_stiffness: f64,
     /// Rubber bearings, N m s/rad (both ends).
     pub bearing_damping: f64,
+    /// The damper's moving part as a body of its own, used where a scene names
+    /// `damper_mass.<name>` (otherwise the massless element).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub moving_part: Option<MovingPart>,
+}
+
+/// A friction damper's moving part (the seed paper's "two independent bodies"): the rod with
+/// its piston, a rigid body carried by the rubber bearing at end `a` and sliding with the
+/// arctan friction in the housing, which pivots in the rubber bearing at end `b`. Unlike the
+/// massless element's bearings, these are elastic in translation too (otherwise the part would
+/// have no motion of its own); in the limit of a stiff bearing and a small mass it is the
+/// massless element (tests/damper_mass.rs).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MovingPart {
+    /// kg.
+    pub mass: f64,
+    /// kg m^2, about its CoG, about the axes normal to the rod (no torsion: the bearings take
+    /// none, as in the massless element).
+    pub inertia: f64,
+    /// N/m, each rubber bearing in every direction (the housing's: across the rod only, the
+    /// rod slides in it).
+    pub translational_stiffness: f64,
+    /// The CoG on the rod, as a fraction of the way from `a` to `b`.
+    #[serde(default = "half")]
+    pub cog: f64,
+}
+
+fn half() -> f64 {
+    0.5
 }
 
 /// Door gasket: 6-D linear spring-damper between tub and cabinet at `point`, with full K and D
@@ -400,6 +435,10 @@ pub enum Effect {
     Unbalance(String),
     /// The friction dampers (axial friction and rubber bearings).
     FrictionDampers,
+    /// The named friction damper with its moving part as a body of its own (its
+    /// `moving_part`), instead of the massless element. Not in the scene `full`: it is the
+    /// alternative element, not an added effect.
+    DamperMass(String),
     /// The gasket's damping matrix.
     GasketDamping,
     /// Force elements with their exact kinematics (current axis, rod tilt) and the tilting of
@@ -418,8 +457,9 @@ pub enum Effect {
 }
 
 impl Effect {
-    /// Parse an effect name; `rotors` are the model's rotor names, `elastic` its elastic bodies.
-    pub fn parse(s: &str, rotors: &[&str], elastic: &[&str]) -> Option<Effect> {
+    /// Parse an effect name; `rotors` are the model's rotor names, `elastic` its elastic
+    /// bodies, `massive` its friction dampers with a moving part.
+    pub fn parse(s: &str, rotors: &[&str], elastic: &[&str], massive: &[&str]) -> Option<Effect> {
         match s {
             "gyroscopic" => Some(Effect::Gyroscopic),
             "friction_dampers" => Some(Effect::FrictionDampers),
@@ -430,6 +470,11 @@ impl Effect {
             _ => {
                 if let Some(b) = s.strip_prefix("elastic.") {
                     return elastic.contains(&b).then(|| Effect::Elastic(b.to_string()));
+                }
+                if let Some(d) = s.strip_prefix("damper_mass.") {
+                    return massive
+                        .contains(&d)
+                        .then(|| Effect::DamperMass(d.to_string()));
                 }
                 let r = s.strip_prefix("unbalance.")?;
                 rotors
@@ -448,6 +493,7 @@ impl Effect {
             Effect::UnbalanceInertia => "unbalance_inertia".into(),
             Effect::Unbalance(r) => format!("unbalance.{r}"),
             Effect::Elastic(b) => format!("elastic.{b}"),
+            Effect::DamperMass(d) => format!("damper_mass.{d}"),
             Effect::CentrifugalStiffening => "centrifugal_stiffening".into(),
         }
     }
@@ -477,6 +523,15 @@ impl Model {
     /// The drum's rotor.
     pub fn drum(&self) -> Option<&Rotor> {
         self.rotor(DRUM)
+    }
+
+    /// The names of the friction dampers that have a moving part (`damper_mass.<name>`).
+    pub fn massive_dampers(&self) -> Vec<&str> {
+        self.friction_dampers
+            .iter()
+            .filter(|d| d.moving_part.is_some())
+            .map(|d| d.name.as_str())
+            .collect()
     }
 
     /// The `elastic` entry of a body.
@@ -549,9 +604,10 @@ impl Model {
         })?;
         let rotors: Vec<&str> = self.rotors.iter().map(|r| r.name.as_str()).collect();
         let elastic: Vec<&str> = self.elastic.iter().map(|e| e.name.as_str()).collect();
+        let massive = self.massive_dampers();
         let mut effects = Vec::new();
         for e in &scene.effects {
-            let eff = Effect::parse(e, &rotors, &elastic)
+            let eff = Effect::parse(e, &rotors, &elastic, &massive)
                 .ok_or_else(|| format!("scene `{name}`: unknown effect `{e}`"))?;
             if !effects.contains(&eff) {
                 effects.push(eff);

@@ -1,6 +1,6 @@
 //! The force Jacobians dh/dq and dh/dq' (dual numbers through the one derivation) against
 //! central differences of the interpreter's h, an independent path through the same code with
-//! a step instead of derivative rules, on the rigid `full` and the `elastic` reference scenes,
+//! a step instead of derivative rules, on the rigid `full`, the `elastic` and the `damper_mass` reference scenes,
 //! at a state off rest (every coordinate moved, friction dampers on their slope) and at
 //! several drum speeds and angles.
 
@@ -66,9 +66,9 @@ fn off_rest(n: usize) -> (Vec<f64>, Vec<f64>) {
 }
 
 #[test]
-fn force_jacobians_match_central_differences_on_full_and_elastic() {
+fn force_jacobians_match_central_differences_on_full_elastic_and_damper_mass() {
     let model = washdyn_models::built_in("reference").unwrap().unwrap();
-    for scene in ["full", "elastic"] {
+    for scene in ["full", "elastic", "damper_mass"] {
         let s = model.scene(Some(scene)).unwrap();
         let eq = Equations::new(&model, &s);
         let n = eq.layout.n();

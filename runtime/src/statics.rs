@@ -98,6 +98,14 @@ fn equilibrium_avg<S: Mechanical>(
         for i in 0..n {
             q[i] += dq[i];
         }
+        // A step this small ends it too (Newton's next error is its square): a stiff
+        // bearing (a damper's moving part on 5e7 N/m) turns the positions' round-off into a
+        // residual on the tub above the absolute floor (1e-9 N), which no step can lower.
+        let step = dq.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let size = q.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        if step <= 1e-10 * size {
+            return Ok(q);
+        }
     }
     Err("static equilibrium: Newton did not converge in 50 iterations".into())
 }

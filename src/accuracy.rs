@@ -120,7 +120,14 @@ pub struct WindowStudy {
     pub truncation: Vec<(f64, usize, Trial)>,
     /// Other scenes over this window against this one.
     pub scenes: Vec<(String, Trial)>,
+    /// Generalized-alpha at one tolerance for each spectral radius at infinity.
+    #[serde(default)]
+    pub rho_inf: Vec<(f64, Trial)>,
 }
+
+/// The spectral radii the study runs generalized-alpha at: from annihilating the unresolved
+/// modes in one step (0) to keeping them undamped (1); 0.8 is the default.
+pub const RHO_INF: [f64; 4] = [0.0, 0.5, 0.8, 1.0];
 
 /// Everything the command measured; `accuracy.json`.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -163,6 +170,7 @@ fn simulate(
     method: Method,
     tol: f64,
     w: &Window,
+    rho_inf: Option<f64>,
 ) -> Result<Sim, String> {
     let mech = mechanical(model, model_name, built_in, scene, backend)?;
     let mut sys = FirstOrder::new(mech);
@@ -173,7 +181,10 @@ fn simulate(
         (tol, None)
     };
     // A budget no setting of the study needs, so a hopeless one stops instead of hanging.
-    let opts = integrator_options(method, tol_, step, Some(30_000_000));
+    let mut opts = integrator_options(method, tol_, step, Some(30_000_000));
+    if let Some(r) = rho_inf {
+        opts.rho_inf = r;
+    }
     let mut solver = AnySolver::new(method, dim, opts);
     let mut mem = MemorySink::default();
     let ropts = RunOptions {
@@ -432,7 +443,17 @@ pub fn study(args: &AccuracyArgs, log: &mut dyn FnMut(&str)) -> Result<Study, St
         // truncation, scenes) are the short windows' job.
         let long = w.t1 - w.t0 > LONG;
         let run = |method: Method, tol: f64, scene: &EffectSet, b: Backend| {
-            simulate(&model, &args.model, built_in, scene, b, method, tol, &w)
+            simulate(
+                &model,
+                &args.model,
+                built_in,
+                scene,
+                b,
+                method,
+                tol,
+                &w,
+                None,
+            )
         };
         // Reference and its confirmation by a different method (explicit against implicit).
         // A whole elastic run-up: dopri5 runs on its stability limit there, far below 1e-8.
@@ -479,6 +500,32 @@ pub fn study(args: &AccuracyArgs, log: &mut dyn FnMut(&str)) -> Result<Study, St
                 trials.push(t);
             }
         }
+        // Generalized-alpha's numerical damping of the unresolved modes: each spectral radius
+        // at the tolerance of its error class 1e-3 (a whole run-up: left to the short windows).
+        let mut rho_inf = Vec::new();
+        if !long {
+            let tol = if elastic || args.quick { 1e-5 } else { 1e-6 };
+            for rho in RHO_INF {
+                let m = Method::GeneralizedAlpha;
+                let s = simulate(
+                    &model,
+                    &args.model,
+                    built_in,
+                    &scene,
+                    backend,
+                    m,
+                    tol,
+                    &w,
+                    Some(rho),
+                )?;
+                let t = trial(m.name(), tol, &s, Some((&r.mem, &rt)));
+                log(&format!(
+                    "{}: galpha {tol:e} rho_inf {rho}: {} steps, {:.3} s, accel {:?}, orders {:?} dB, {}",
+                    w.scene, t.steps, t.wall_s, t.accel_err, t.order_db, t.status
+                ));
+                rho_inf.push((rho, t));
+            }
+        }
         // Generated against interpreted, dopri5 at 1e-6.
         let backends = if built_in && !args.quick && !long {
             let g = run(Method::Dopri5, 1e-6, &scene, Backend::Generated)?;
@@ -502,7 +549,17 @@ pub fn study(args: &AccuracyArgs, log: &mut dyn FnMut(&str)) -> Result<Study, St
         };
         let skip = ((w.t0 - early.t0) * SAMPLE_RATE).round() as usize;
         let run_early = |method: Method, tol: f64, scene: &EffectSet, b: Backend| {
-            simulate(&model, &args.model, built_in, scene, b, method, tol, &early)
+            simulate(
+                &model,
+                &args.model,
+                built_in,
+                scene,
+                b,
+                method,
+                tol,
+                &early,
+                None,
+            )
         };
         // Modal truncation (interpreted: any cut-off), against the finest.
         let mut truncation = Vec::new();
@@ -564,6 +621,7 @@ pub fn study(args: &AccuracyArgs, log: &mut dyn FnMut(&str)) -> Result<Study, St
             backends,
             truncation,
             scenes,
+            rho_inf,
         });
     }
     Ok(Study {
@@ -710,6 +768,29 @@ pub fn markdown(s: &Study) -> String {
                 e(i.accel_err),
                 db(i.order_db)
             );
+        }
+        if let Some((_, t0)) = w.rho_inf.first() {
+            let _ = writeln!(
+                m,
+                "Generalized-alpha's spectral radius at infinity (`--rho-inf`; rtol {:e}): \
+                 the amplitude it leaves a mode it does not resolve per step, 1 keeping such \
+                 modes undamped, 0 removing them in one step; the default 0.8.\n",
+                t0.tol
+            );
+            m += "| rho_inf | steps | rejected | wall s | accel | orders dB | status |\n|---|---|---|---|---|---|---|\n";
+            for (rho, t) in &w.rho_inf {
+                let _ = writeln!(
+                    m,
+                    "| {rho} | {} | {} | {:.3} | {} | {} | {} |",
+                    t.steps,
+                    t.rejected,
+                    t.wall_s,
+                    e(t.accel_err),
+                    db(t.order_db),
+                    t.status
+                );
+            }
+            m.push('\n');
         }
         if !w.truncation.is_empty() {
             let _ = writeln!(

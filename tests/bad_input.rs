@@ -312,6 +312,19 @@ fn friction_slope_1e12() {
 }
 
 #[test]
+fn damper_part_with_negative_mass() {
+    let p = variant(
+        "part",
+        "moving_part = { mass = 0.55",
+        "moving_part = { mass = -0.55",
+    );
+    model_refused(
+        &p,
+        "friction damper `damper_front_left`: moving_part.mass must be positive, got -0.55",
+    );
+}
+
+#[test]
 fn unbalance_of_50_kg() {
     let p = variant("unb", "mass = 0.6\n", "mass = 50.0\n");
     model_refused(&p, "mass 50 kg exceeds 0.1 x the tub mass (55 kg)");

@@ -20,6 +20,7 @@ pub const LISTS: &[(&str, &str, &str)] = &[
     ("damper", "dampers", "damper"),
     ("friction_damper", "friction_dampers", "friction damper"),
     ("gasket", "gaskets", "gasket"),
+    ("contact", "contacts", "contact"),
     ("sensor", "sensors", "sensor"),
     ("scene", "scenes", "scene"),
     ("elastic", "elastic", "elastic body"),

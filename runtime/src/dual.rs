@@ -159,6 +159,24 @@ impl<const N: usize> Scalar for Dual<N> {
     fn cos(self) -> Self {
         self.chain(self.v.cos(), -self.v.sin())
     }
+    fn max(self, o: Self) -> Self {
+        if self.v >= o.v { self } else { o }
+    }
+    /// As `sqrt`: only lanes that move take e v^(e-1), so a constant stays constant where the
+    /// factor is infinite (v = 0, e < 1).
+    fn powf(self, e: f64) -> Self {
+        let dv = e * self.v.powf(e - 1.0);
+        let mut d = self.d;
+        for x in &mut d {
+            if *x != 0.0 {
+                *x *= dv;
+            }
+        }
+        Dual {
+            v: self.v.powf(e),
+            d,
+        }
+    }
 }
 
 #[cfg(test)]
@@ -184,5 +202,12 @@ mod tests {
         assert_eq!(g.d, [-2.0, 2.0]);
         // A constant under a root at 0 stays a constant (no 0 x inf).
         assert_eq!(Dual::<2>::c(0.0).sqrt().d, [0.0, 0.0]);
+        // max takes the larger operand's derivatives; powf's is e x^(e-1), 0 at 0 for e > 1.
+        assert_eq!(x.max(y).d, [1.0, 0.0]);
+        assert_eq!(y.max(x * 0.0).d, [0.0, 0.0]);
+        let p = (x * 2.0).powf(1.5);
+        assert!((p.v - 1.4f64.powf(1.5)).abs() < 1e-15);
+        assert!((p.d[0] - 3.0 * 1.4f64.sqrt()).abs() < 1e-14, "{:?}", p.d);
+        assert_eq!((x - 0.7).powf(1.5).d, [0.0, 0.0]);
     }
 }

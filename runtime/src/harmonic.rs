@@ -70,6 +70,8 @@ pub struct Harmonic {
 pub fn check_scene(eq: &Equations) -> Result<(), HarmonicError> {
     let why = if !eq.friction_dampers.is_empty() || !eq.damper_joints.is_empty() {
         Some("friction dampers (a nonlinear friction law); use linear dampers")
+    } else if !eq.contacts.is_empty() {
+        Some("`contact` (a contact force is nonlinear)")
     } else if eq.exact_geometry {
         Some("`element_geometry` (exact element kinematics and second-order sensors)")
     } else if eq.unbalance_inertia {

@@ -25,6 +25,13 @@ pub trait Scalar:
     fn atan(self) -> Self;
     fn sin(self) -> Self;
     fn cos(self) -> Self;
+    /// The larger of two values (`f64::max`): a clamp that the derivation writes without
+    /// branching on a value, so a traced graph holds on both sides of it. Its derivative is the
+    /// larger operand's (the first's at a tie).
+    fn max(self, o: Self) -> Self;
+    /// self^e for a constant exponent (`f64::powf`); the derivative e self^(e-1) is 0 at 0 for
+    /// e > 1 (a Hertzian contact force is C1 at first touch).
+    fn powf(self, e: f64) -> Self;
     fn zero() -> Self {
         Self::c(0.0)
     }
@@ -66,6 +73,14 @@ impl Scalar for f64 {
     #[inline(always)]
     fn cos(self) -> Self {
         f64::cos(self)
+    }
+    #[inline(always)]
+    fn max(self, o: Self) -> Self {
+        f64::max(self, o)
+    }
+    #[inline(always)]
+    fn powf(self, e: f64) -> Self {
+        f64::powf(self, e)
     }
 }
 

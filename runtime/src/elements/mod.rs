@@ -2,12 +2,14 @@
 //! the wrench on each body (global components), so the same element serves rigid and elastic
 //! bodies and both back ends.
 
+mod contact;
 mod damper_joint;
 mod friction_damper;
 mod gasket;
 mod linear_damper;
 mod spring;
 
+pub use contact::Contact;
 pub use damper_joint::{Axial, DamperJoint};
 pub use friction_damper::{FrictionDamper, friction_force};
 pub use gasket::{Gasket, OMEGA_FLOOR, reference_speed};

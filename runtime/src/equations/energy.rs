@@ -15,7 +15,8 @@
 //!   `support_damping`) and the structure's;
 //! - `<element> elastic`, `<element> dissipated`: the element's loads at the markers' current
 //!   positions with their velocities set to zero, and the rest (friction, dampers, the
-//!   bearings' and the gasket's damping).
+//!   bearings' and the gasket's damping, a contact's Hunt-Crossley damping and its clamp:
+//!   `elements::contact` shows that part never positive).
 //!
 //! Strain and elastic categories store energy (their work is minus a potential change);
 //! dissipated ones only take it (their work is never positive).
@@ -126,6 +127,7 @@ impl Equations {
         of(&self.friction_dampers, &mut v);
         of(&self.damper_joints, &mut v);
         of(&self.gaskets, &mut v);
+        of(&self.contacts, &mut v);
         v
     }
 
@@ -174,6 +176,7 @@ impl Equations {
         self.element_powers(&self.friction_dampers, &st, d, qd, w, out);
         self.element_powers(&self.damper_joints, &st, d, qd, w, out);
         self.element_powers(&self.gaskets, &st, d, qd, w, out);
+        self.element_powers(&self.contacts, &st, d, qd, w, out);
     }
 
     fn element_powers<E: Element>(

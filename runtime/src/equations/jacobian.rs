@@ -185,6 +185,7 @@ impl Equations {
         self.element_jacobians(&self.friction_dampers, &st, d, &mut w.x, hq, hqd);
         self.element_jacobians(&self.damper_joints, &st, d, &mut w.x, hq, hqd);
         self.element_jacobians(&self.gaskets, &st, d, &mut w.x, hq, hqd);
+        self.element_jacobians(&self.contacts, &st, d, &mut w.x, hq, hqd);
     }
 
     /// The same Jacobians from the whole derivation over dual numbers, every column seeded

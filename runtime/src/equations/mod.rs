@@ -25,7 +25,9 @@ mod part;
 mod scales;
 mod sensors;
 
-use crate::elements::{DamperJoint, Element, FrictionDamper, Gasket, LinearDamper, Spring};
+use crate::elements::{
+    Contact, DamperJoint, Element, FrictionDamper, Gasket, LinearDamper, Spring,
+};
 use crate::geom::{V, f};
 use crate::ir::{BodyRef, Effect, EffectSet, Model};
 use crate::scalar::Scalar;
@@ -92,6 +94,8 @@ pub struct Equations {
     /// The bearings of the friction dampers the scene gives their moving part (two each).
     pub damper_joints: Vec<Placed<DamperJoint>>,
     pub gaskets: Vec<Placed<Gasket>>,
+    /// The tub-cabinet contacts (effect `contact`; none without it).
+    pub contacts: Vec<Placed<Contact>>,
     pub sensors: Vec<SensorDef>,
 }
 
@@ -196,6 +200,16 @@ impl Equations {
             .map(|g| Gasket::new(g, mk(g.a, g.point), mk(g.b, g.point), gasket_damping))
             .map(|e| Placed::new(e, exact, n))
             .collect();
+        let contacts = if scene.has(&Effect::Contact) {
+            model
+                .contacts
+                .iter()
+                .map(|c| Contact::new(c, mk(c.a, c.point), mk(c.b, c.b_point())))
+                .map(|e| Placed::new(e, exact, n))
+                .collect()
+        } else {
+            Vec::new()
+        };
         let sensors = model
             .sensors
             .iter()
@@ -223,6 +237,7 @@ impl Equations {
             friction_dampers,
             damper_joints,
             gaskets,
+            contacts,
             sensors,
             bodies,
         }
@@ -305,6 +320,7 @@ impl Equations {
         self.elements(&self.friction_dampers, &b, d, h);
         self.elements(&self.damper_joints, &b, d, h);
         self.elements(&self.gaskets, &b, d, h);
+        self.elements(&self.contacts, &b, d, h);
     }
 
     fn elements<T: Scalar, E: Element>(

@@ -294,6 +294,13 @@ pub fn check(m: &Model) -> Result<(), Vec<CheckError>> {
         loss_factor(&mut c, p.key("loss_factor"), &w, g.loss_factor.as_ref());
     }
 
+    for (i, k) in m.contacts.iter().enumerate() {
+        let p = Path::of(&["contacts"]).idx(i);
+        names.add(&mut c, p.clone(), "contact", &k.name);
+        contact(&mut c, p, k);
+    }
+    contact_markers(&mut c, m);
+
     // Sensors.
     for (i, s) in m.sensors.iter().enumerate() {
         let p = Path::of(&["sensors"]).idx(i);
@@ -322,7 +329,7 @@ pub fn check(m: &Model) -> Result<(), Vec<CheckError>> {
                         "scene `{}`: unknown effect `{e}` (known: gyroscopic, friction_dampers, \
                          gasket_damping, element_geometry, unbalance_inertia, unbalance.<rotor>, \
                          elastic.<body>, centrifugal_stiffening, damper_mass.<friction damper \
-                         with a moving_part>)",
+                         with a moving_part>, contact)",
                         s.name
                     ),
                 );
@@ -374,6 +381,114 @@ fn moving_part(c: &mut Ctx, p: Path, w: &str, mp: &crate::ir::MovingPart) {
             p.key("cog"),
             format!("{w}.cog {} is not a fraction of the rod (0 to 1)", mp.cog),
         );
+    }
+}
+
+/// Largest contact exponent p: Hertz's 1.5 for a point, 10/9 to 1.5 for the laws in use; p
+/// above 1 keeps the force C1 at first touch (zero slope at delta = 0).
+pub const MAX_CONTACT_EXPONENT: f64 = 3.0;
+
+/// A contact: its rules, one function each.
+fn contact(c: &mut Ctx, p: Path, k: &crate::ir::Contact) {
+    let w = format!("contact `{}`", k.name);
+    contact_bodies(c, &p, &w, k);
+    c.vec3(p.clone().key("point"), &w, &k.point);
+    if let Some(b) = &k.b_point {
+        c.vec3(p.clone().key("b_point"), &w, b);
+    }
+    contact_normal(c, p.clone().key("normal"), &w, &k.normal);
+    c.non_negative(p.clone().key("gap"), &format!("{w}: gap"), k.gap);
+    c.positive(
+        p.clone().key("stiffness"),
+        &format!("{w}: stiffness"),
+        k.stiffness,
+    );
+    contact_exponent(c, p.clone().key("exponent"), &w, k.exponent);
+    c.non_negative(p.key("alpha"), &format!("{w}: alpha (s/m)"), k.alpha);
+}
+
+/// A contact touches the tub against the cabinet (or the cabinet against the tub): two
+/// different bodies, neither the drum (the drum-tub gap is watched, not a contact).
+fn contact_bodies(c: &mut Ctx, p: &Path, w: &str, k: &crate::ir::Contact) {
+    let allowed = |b: BodyRef| matches!(b, BodyRef::Tub | BodyRef::Cabinet);
+    for (key, b) in [("a", k.a), ("b", k.b)] {
+        if !allowed(b) {
+            c.err(
+                p.clone().key(key),
+                format!(
+                    "{w}: {key} is the {}; a contact is between tub and cabinet",
+                    b.name()
+                ),
+            );
+        }
+    }
+    if k.a == k.b && allowed(k.a) {
+        c.err(
+            p.clone().key("b"),
+            format!("{w}: touches the {} with itself", k.a.name()),
+        );
+    }
+}
+
+/// The normal is a direction: finite and not the zero vector.
+fn contact_normal(c: &mut Ctx, p: Path, w: &str, n: &V3) {
+    if c.finite(&p, w, n) && norm(n) < 1e-12 {
+        c.err(p, format!("{w}: normal is the zero vector"));
+    }
+}
+
+/// 1 < p <= MAX_CONTACT_EXPONENT.
+fn contact_exponent(c: &mut Ctx, p: Path, w: &str, e: f64) {
+    if c.finite(&p, w, &[e]) && !(e > 1.0 && e <= MAX_CONTACT_EXPONENT) {
+        c.err(
+            p,
+            format!(
+                "{w}: exponent {e} must lie in (1, {MAX_CONTACT_EXPONENT}]: above 1 the force \
+                 is C1 at first touch, which the implicit methods need (Hertz: 1.5)"
+            ),
+        );
+    }
+}
+
+/// A contact's points on a body that a scene with `contact` makes elastic are modal points
+/// (the markers read the body's modes there). Only such scenes: a rigid contact scene may put
+/// its points anywhere on a body other scenes make elastic.
+fn contact_markers(c: &mut Ctx, m: &Model) {
+    for body in [BodyRef::Tub, BodyRef::Cabinet] {
+        let effect = format!("elastic.{}", body.name());
+        let both =
+            |s: &Scene| s.effects.iter().any(|e| e == "contact") && s.effects.contains(&effect);
+        let used =
+            (m.scenes.is_empty() && m.elastic_of(body).is_some()) || m.scenes.iter().any(both);
+        let Some(data) = m
+            .elastic_of(body)
+            .filter(|_| used)
+            .and_then(|e| e.data.as_ref())
+        else {
+            continue;
+        };
+        for (i, k) in m.contacts.iter().enumerate() {
+            let p = Path::of(&["contacts"]).idx(i);
+            let what = format!("contact `{}`", k.name);
+            if k.a == body {
+                need_point(
+                    c,
+                    data,
+                    body,
+                    p.clone().key("point"),
+                    what.clone(),
+                    &k.point,
+                );
+            }
+            if k.b == body {
+                let key = if k.b_point.is_some() {
+                    "b_point"
+                } else {
+                    "point"
+                };
+                need_point(c, data, body, p.key(key), what, &k.b_point());
+            }
+        }
     }
 }
 

@@ -50,6 +50,9 @@ pub struct Model {
     pub friction_dampers: Vec<FrictionDamper>,
     #[serde(default)]
     pub gaskets: Vec<Gasket>,
+    /// Tub-cabinet contacts, simulated where a scene names the effect `contact`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub contacts: Vec<Contact>,
     #[serde(default)]
     pub sensors: Vec<Sensor>,
     /// Named selections of effects; an empty list means the one scene `full`.
@@ -379,6 +382,48 @@ impl Gasket {
     }
 }
 
+/// A stiff penalty contact where the tub can reach the cabinet (`elements::contact`): point on
+/// `a` against a plane moving with `b`, normal force k delta^p (1 + 3/2 alpha delta') past the
+/// clearance `gap` along `normal`, never pulling.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Contact {
+    pub name: String,
+    /// The body whose point touches (the tub).
+    pub a: BodyRef,
+    /// The body whose surface it touches (the cabinet).
+    pub b: BodyRef,
+    /// The touching point on `a`, m.
+    pub point: V3,
+    /// The point of `b` whose motion the surface follows (on the elastic cabinet a node set
+    /// near the surface); default `point`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub b_point: Option<V3>,
+    /// Direction from the point towards the surface (normalised by the derivation).
+    pub normal: V3,
+    /// Clearance at rest along `normal`, m.
+    pub gap: f64,
+    /// k, N/m^exponent.
+    pub stiffness: f64,
+    /// p: 1.5 (Hertz) by default; above 1 so the force is C1 at first touch.
+    #[serde(default = "hertz")]
+    pub exponent: f64,
+    /// Hunt-Crossley damping alpha, s/m: e = 1 - alpha v0 for an impact at v0 (to first order;
+    /// alpha = (1 - e^2) / (2 v0) after Lankarani and Nikravesh).
+    pub alpha: f64,
+}
+
+fn hertz() -> f64 {
+    1.5
+}
+
+impl Contact {
+    /// The point on `b`.
+    pub fn b_point(&self) -> V3 {
+        self.b_point.unwrap_or(self.point)
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum SensorKind {
@@ -454,6 +499,9 @@ pub enum Effect {
     /// The elastic drum's stress stiffening from its centrifugal prestress, Omega^2 K_G (spin
     /// softening is always in; it is kinematics).
     CentrifugalStiffening,
+    /// The tub-cabinet contacts (`contacts`): penalty forces where the tub reaches the cabinet.
+    /// Off: no contact code or state; the validity monitor still watches the clearances.
+    Contact,
 }
 
 impl Effect {
@@ -467,6 +515,7 @@ impl Effect {
             "element_geometry" => Some(Effect::ElementGeometry),
             "unbalance_inertia" => Some(Effect::UnbalanceInertia),
             "centrifugal_stiffening" => Some(Effect::CentrifugalStiffening),
+            "contact" => Some(Effect::Contact),
             _ => {
                 if let Some(b) = s.strip_prefix("elastic.") {
                     return elastic.contains(&b).then(|| Effect::Elastic(b.to_string()));
@@ -495,6 +544,7 @@ impl Effect {
             Effect::Elastic(b) => format!("elastic.{b}"),
             Effect::DamperMass(d) => format!("damper_mass.{d}"),
             Effect::CentrifugalStiffening => "centrifugal_stiffening".into(),
+            Effect::Contact => "contact".into(),
         }
     }
 }
@@ -562,6 +612,9 @@ impl Model {
         }
         if !self.gaskets.is_empty() {
             v.push(Effect::GasketDamping);
+        }
+        if !self.contacts.is_empty() {
+            v.push(Effect::Contact);
         }
         for e in &self.elastic {
             v.push(Effect::Elastic(e.name.clone()));

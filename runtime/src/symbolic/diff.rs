@@ -47,6 +47,22 @@ pub fn derivative(outputs: &[Sym], var: u32) -> Vec<Sym> {
             Node::Atan(a) => get(a).map(|x| x / (s(a) * s(a) + 1.0)),
             Node::Sin(a) => get(a).map(|x| s(a).cos() * x),
             Node::Cos(a) => get(a).map(|x| -(s(a).sin() * x)),
+            // The larger operand's derivative: db + [a >= b] (da - db).
+            Node::Max(a, b) => match (get(a), get(b)) {
+                (None, None) => None,
+                (x, y) => {
+                    let (x, y) = (x.unwrap_or(Sym::c(0.0)), y.unwrap_or(Sym::c(0.0)));
+                    let pick = Sym::mk(Node::Ge(a, b));
+                    Some(y + pick * (x - y))
+                }
+            },
+            // A step: zero derivative wherever it is defined.
+            Node::Ge(..) => None,
+            // (a^e)' = e a^(e-1) a' (the exponent is a constant).
+            Node::Powf(a, e) => get(a).map(|x| {
+                let e = Sym(e);
+                Sym::mk(Node::Powf(a, (e - 1.0).0)) * e * x
+            }),
             // The MatVec holds no scalar; each pick differentiates its row:
             // d(y_k + sum_j a_kj x_j) = dy_k + sum_j a_kj dx_j.
             Node::MatVec { .. } => None,
@@ -103,5 +119,31 @@ mod tests {
             (v[0] - ex).abs() < 1e-14 && (v[1] - ey).abs() < 1e-14,
             "{v:?}"
         );
+    }
+
+    /// max(x, y)^1.5 on both sides of the tie, against the closed form: the derivative is the
+    /// larger operand's, 1.5 max^0.5.
+    #[test]
+    fn max_and_powf_differentiate_piecewise() {
+        let ((f, dx, dy), g) = trace(|| {
+            let x = Sym::input();
+            let y = Sym::input();
+            let f = x.max(y * 2.0).powf(1.5);
+            (f, derivative(&[f], 0)[0], derivative(&[f], 1)[0])
+        });
+        for (x, y) in [(0.9f64, 0.3f64), (0.4, 0.5)] {
+            let m = x.max(2.0 * y);
+            let v = g.eval(&[x, y], &[f, dx, dy]);
+            let (ex, ey) = if x >= 2.0 * y {
+                (1.5 * m.sqrt(), 0.0)
+            } else {
+                (0.0, 3.0 * m.sqrt())
+            };
+            assert!((v[0] - m.powf(1.5)).abs() < 1e-15, "{v:?}");
+            assert!(
+                (v[1] - ex).abs() < 1e-14 && (v[2] - ey).abs() < 1e-14,
+                "{v:?}"
+            );
+        }
     }
 }

@@ -106,6 +106,9 @@ impl<'g> Emitter<'g> {
             Node::Atan(a) => format!("{}.atan()", n(a)),
             Node::Sin(a) => format!("{}.sin()", n(a)),
             Node::Cos(a) => format!("{}.cos()", n(a)),
+            Node::Max(a, b) => format!("f64::max({}, {})", n(a), n(b)),
+            Node::Ge(a, b) => format!("f64::from(u8::from({} >= {}))", n(a), n(b)),
+            Node::Powf(a, b) => format!("{}.powf({})", n(a), n(b)),
             Node::MatVec { .. } | Node::Pick(..) => unreachable!("emitted by `mat_vec`"),
         }
     }

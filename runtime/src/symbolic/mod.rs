@@ -34,6 +34,12 @@ pub enum Node {
     Atan(u32),
     Sin(u32),
     Cos(u32),
+    /// f64::max(a, b).
+    Max(u32, u32),
+    /// 1 where a >= b, else 0: the derivative of `Max` picks its operand's with it.
+    Ge(u32, u32),
+    /// a.powf(b), b a constant (the exponent).
+    Powf(u32, u32),
     /// y + A x for the constant table `table` (column-major, `Graph::tables`); `x` and `y` are
     /// operand lists (`Graph::lists`). Its value is a vector, read through `Pick`.
     MatVec {
@@ -189,6 +195,22 @@ impl Graph {
                 Some(x) => self.konst(x.cos()),
                 None => self.intern(n),
             },
+            Max(a, b) => match (c(self, a), c(self, b)) {
+                (Some(x), Some(y)) => self.konst(x.max(y)),
+                _ if a == b => a,
+                _ => self.intern(Max(a.min(b), a.max(b))),
+            },
+            Ge(a, b) => match (c(self, a), c(self, b)) {
+                (Some(x), Some(y)) => self.konst(if x >= y { 1.0 } else { 0.0 }),
+                _ if a == b => self.konst(1.0),
+                _ => self.intern(n),
+            },
+            Powf(a, b) => match (c(self, a), c(self, b)) {
+                (Some(x), Some(y)) => self.konst(x.powf(y)),
+                (_, Some(y)) if y == 1.0 => a,
+                (_, Some(y)) if y == 0.0 => self.konst(1.0),
+                _ => self.intern(n),
+            },
             MatVec { .. } | Pick(..) => self.intern(n),
         }
     }
@@ -313,6 +335,9 @@ impl Graph {
                 Node::Atan(a) => v[a as usize].atan(),
                 Node::Sin(a) => v[a as usize].sin(),
                 Node::Cos(a) => v[a as usize].cos(),
+                Node::Max(a, b) => v[a as usize].max(v[b as usize]),
+                Node::Ge(a, b) => f64::from(u8::from(v[a as usize] >= v[b as usize])),
+                Node::Powf(a, b) => v[a as usize].powf(v[b as usize]),
             };
         }
         outputs.iter().map(|s| v[s.0 as usize]).collect()
@@ -357,7 +382,9 @@ fn operands(n: Node) -> impl Iterator<Item = u32> {
     let (a, b) = match n {
         Const(_) | Input(_) | MatVec { .. } => (None, None),
         Pick(m, _) => (Some(m), None),
-        Add(a, b) | Sub(a, b) | Mul(a, b) | Div(a, b) => (Some(a), Some(b)),
+        Add(a, b) | Sub(a, b) | Mul(a, b) | Div(a, b) | Max(a, b) | Ge(a, b) | Powf(a, b) => {
+            (Some(a), Some(b))
+        }
         Neg(a) | Sqrt(a) | Atan(a) | Sin(a) | Cos(a) => (Some(a), None),
     };
     a.into_iter().chain(b)
@@ -413,6 +440,12 @@ impl Scalar for Sym {
     }
     fn cos(self) -> Self {
         Sym::mk(Node::Cos(self.0))
+    }
+    fn max(self, o: Self) -> Self {
+        Sym::mk(Node::Max(self.0, o.0))
+    }
+    fn powf(self, e: f64) -> Self {
+        Sym::mk(Node::Powf(self.0, Sym::c(e).0))
     }
     fn mat_vec(a: &[f64], x: &[Sym], y: &mut [Sym]) {
         let xs: Vec<u32> = x.iter().map(|s| s.0).collect();

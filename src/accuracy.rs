@@ -28,7 +28,7 @@ const SAMPLE_RATE: f64 = 2000.0;
 const ORDERS: [f64; 3] = [1.0, 2.0, 3.0];
 /// Blocks of an order track whose reference amplitude is below this fraction of the track's
 /// peak (-40 dB) are not compared: there the order is noise, and dB errors mean nothing.
-const ORDER_FLOOR: f64 = 1e-2;
+pub const ORDER_FLOOR: f64 = 1e-2;
 /// Model comparisons (modal truncation, scenes) start this long before the window and compare
 /// only inside it, s: each model has its own start transient, which is not what is compared.
 const SETTLE: f64 = 2.0;
@@ -272,14 +272,22 @@ pub fn rms_error(x: &MemorySink, r: &MemorySink) -> Option<f64> {
     }
     let mut worst = 0.0f64;
     for (i, j, _) in accel_channels(x, r) {
-        let (a, b) = (x.column(i), r.column(j));
-        let num: f64 = a.iter().zip(&b).map(|(p, q)| (p - q) * (p - q)).sum();
-        let den: f64 = b.iter().map(|q| q * q).sum();
-        if den > 0.0 {
-            worst = worst.max((num / den).sqrt());
+        if let Some(e) = relative_rms(&x.column(i), &r.column(j)) {
+            worst = worst.max(e);
         }
     }
     Some(worst)
+}
+
+/// RMS of `x - r` over the RMS of `r` (one channel of [`rms_error`]); `None` where `r` is zero
+/// throughout or the lengths differ.
+pub fn relative_rms(x: &[f64], r: &[f64]) -> Option<f64> {
+    if x.len() != r.len() {
+        return None;
+    }
+    let num: f64 = x.iter().zip(r).map(|(p, q)| (p - q) * (p - q)).sum();
+    let den: f64 = r.iter().map(|q| q * q).sum();
+    (den > 0.0).then(|| (num / den).sqrt())
 }
 
 /// The order tracks of orders 1-3 of every acceleration channel.
@@ -332,16 +340,30 @@ fn order_error(x: &Tracks, r: &Tracks) -> Option<f64> {
             continue;
         };
         for (ra, xa) in rt.iter().zip(xt) {
-            let peak = ra.iter().flatten().fold(0.0f64, |m, v| m.max(*v));
-            for (a, b) in ra.iter().zip(xa) {
-                if let (Some(a), Some(b)) = (a, b)
-                    && *a >= ORDER_FLOOR * peak
-                    && *a > 0.0
-                    && *b > 0.0
-                {
-                    let db = (20.0 * (b / a).log10()).abs();
-                    worst = Some(worst.map_or(db, |w: f64| w.max(db)));
-                }
+            if let Some((db, _)) = track_error(xa, ra) {
+                worst = Some(worst.map_or(db.abs(), |w: f64| w.max(db.abs())));
+            }
+        }
+    }
+    worst
+}
+
+/// One order track `x` against the reference track `r` (one value per block): 20 log10(x / r)
+/// at the block where its magnitude is largest, and that block, over the blocks where both are
+/// resolved and positive and `r` is at least [`ORDER_FLOOR`] of its own peak (one track of
+/// [`order_error`]).
+pub fn track_error(x: &[Option<f64>], r: &[Option<f64>]) -> Option<(f64, usize)> {
+    let peak = r.iter().flatten().fold(0.0f64, |m, v| m.max(*v));
+    let mut worst: Option<(f64, usize)> = None;
+    for (k, (a, b)) in r.iter().zip(x).enumerate() {
+        if let (Some(a), Some(b)) = (a, b)
+            && *a >= ORDER_FLOOR * peak
+            && *a > 0.0
+            && *b > 0.0
+        {
+            let db = 20.0 * (b / a).log10();
+            if worst.is_none_or(|(w, _)| db.abs() > w.abs()) {
+                worst = Some((db, k));
             }
         }
     }

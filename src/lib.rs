@@ -4,6 +4,7 @@ pub mod accuracy;
 pub mod analysis;
 pub mod campbell;
 pub mod commands;
+pub mod compare;
 pub mod fields;
 pub mod full_mesh;
 pub mod modes;

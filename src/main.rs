@@ -157,6 +157,33 @@ enum Cmd {
         #[arg(long)]
         svg: bool,
     },
+    /// Compare two finished runs of one speed profile (directories written by `washdyn run`):
+    /// per channel and order the peaks over the run and their difference in dB (B against A),
+    /// the RMS differences, each run's cost; compare.md, compare.json and per channel the two
+    /// order plots side by side and the order tracks overlaid.
+    Compare {
+        /// The first run's directory (A: the reference of the differences).
+        #[arg(value_name = "RUN_A")]
+        run_a: PathBuf,
+        /// The second run's directory (B).
+        #[arg(value_name = "RUN_B")]
+        run_b: PathBuf,
+        /// Output directory.
+        #[arg(long, default_value = "out/compare")]
+        out: PathBuf,
+        /// Name of run A in tables and plots (default: its directory's name).
+        #[arg(long)]
+        label_a: Option<String>,
+        /// Name of run B in tables and plots (default: its directory's name).
+        #[arg(long)]
+        label_b: Option<String>,
+        /// Belt ratio (motor speed / drum speed) of the motor order tracked.
+        #[arg(long, default_value_t = 11.25)]
+        motor_ratio: f64,
+        /// Also write the plots as SVG (PNG always).
+        #[arg(long)]
+        svg: bool,
+    },
     /// FE models with CalculiX: `solve DECK.inp` runs ccx on a deck (errors with the deck's
     /// line) and lists its eigenfrequencies.
     Fe {
@@ -580,6 +607,34 @@ fn main() -> ExitCode {
                     ExitCode::from(2)
                 }
             }
+        }
+        Cmd::Compare {
+            run_a,
+            run_b,
+            out,
+            label_a,
+            label_b,
+            motor_ratio,
+            svg,
+        } => {
+            let name = |p: &Path, l: Option<String>| {
+                l.unwrap_or_else(|| {
+                    p.file_name()
+                        .map_or_else(|| p.display().to_string(), |n| n.to_string_lossy().into())
+                })
+            };
+            let args = washdyn::compare::CompareArgs {
+                labels: [name(&run_a, label_a), name(&run_b, label_b)],
+                runs: [run_a, run_b],
+                out,
+                motor_ratio,
+                svg,
+            };
+            wrote(
+                washdyn::compare::compare(&args)
+                    .map(|(_, files)| files)
+                    .map_err(|e| e.to_string()),
+            )
         }
         Cmd::Fields {
             run,

@@ -125,7 +125,7 @@ pub fn analyse_signals(
         source,
     })?;
     let layout = BlockLayout::new(opts, signals.sample_rate)?;
-    let stems = unique_stems(&signals.channels);
+    let stems = unique_stems(signals.channels.iter().map(|c| c.name.as_str()));
 
     // Channels are independent: spread them over the cores (plot encoding dominates).
     use rayon::prelude::*;
@@ -255,13 +255,12 @@ const DISPLACEMENT_OVERVIEW: &str = "displacements";
 
 /// One file stem per channel, unique even where sanitising maps two names to one
 /// (`a/b`, `a b`) or a name to the overview's: later ones get `_<column number>`.
-fn unique_stems(channels: &[Channel]) -> Vec<String> {
+pub fn unique_stems<'a>(names: impl Iterator<Item = &'a str>) -> Vec<String> {
     let mut seen = std::collections::HashSet::from([DISPLACEMENT_OVERVIEW.to_string()]);
-    channels
-        .iter()
+    names
         .enumerate()
-        .map(|(i, c)| {
-            let mut stem = file_stem(&c.name);
+        .map(|(i, name)| {
+            let mut stem = file_stem(name);
             while !seen.insert(stem.clone()) {
                 stem = format!("{stem}_{}", i + 3);
             }

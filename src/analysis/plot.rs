@@ -20,7 +20,7 @@ use plotters::style::{FontStyle, FontTransform, register_font};
 
 use super::error::AnalysisError;
 use super::options::{AnalysisOptions, ColourScale, fmt_order};
-use super::orders::RunUp;
+use super::orders::{Block, OrderTrack, RunUp};
 use super::signals::{Channel, Quantity, Signals};
 
 static FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
@@ -380,18 +380,34 @@ struct HeatPlot<'a> {
     overlay: Overlay,
 }
 
-fn draw_heat_plot<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &HeatPlot) -> PResult
+/// The top of a heat map's colour scale: the largest amplitude any of its pixels shows (every
+/// column's bins that overlap the y axis; each column covers at least one pixel column).
+fn heat_max(p: &HeatPlot) -> f64 {
+    p.columns
+        .iter()
+        .filter_map(|c| {
+            let top = c.amp.len().checked_sub(1)?;
+            let bin = |y: f64| ((y * c.bins_per_unit + 0.5) as usize).min(top);
+            let (lo, hi) = (bin(p.y_range.start.max(0.0)), bin(p.y_range.end));
+            (lo <= hi).then(|| c.amp[lo..=hi].iter().copied().filter(|v| !v.is_nan()))
+        })
+        .flatten()
+        .filter(|v| v.is_finite())
+        .fold(0.0, f64::max)
+}
+
+/// A heat map with its axes and overlay in `area`, coloured on `axis` (the caller's colour
+/// scale, so several panels can share one). Returns the right edge and the vertical range of
+/// the plotting area in root pixels, where a colour bar goes.
+fn draw_heat_panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    p: &HeatPlot,
+    axis: &AmplitudeAxis,
+) -> PResult<(i32, Range<i32>)>
 where
     DB::ErrorType: 'static,
 {
-    root.fill(&WHITE)?;
-    let body = root.titled(&p.title, font(TITLE_SIZE))?.titled(
-        &p.subtitle,
-        font(SUBTITLE_SIZE).color(&RGBColor(70, 70, 70)),
-    )?;
-    let (w, _) = body.dim_in_pixel();
-    let (main, _) = body.split_horizontally(w.saturating_sub(COLOUR_BAR_AREA));
-    let mut chart = ChartBuilder::on(&main)
+    let mut chart = ChartBuilder::on(area)
         .margin(12)
         .margin_right(24)
         .x_label_area_size(62)
@@ -401,12 +417,6 @@ where
     let (px, py) = chart.plotting_area().get_pixel_range();
     let (pw, ph) = ((px.end - px.start) as usize, (py.end - py.start) as usize);
     let values = heat_values(&p.columns, &p.x_range, &p.y_range, pw, ph);
-    let max = values
-        .iter()
-        .copied()
-        .filter(|v| v.is_finite())
-        .fold(0.0, f64::max);
-    let axis = AmplitudeAxis::new(p.scale, p.quantity, max);
     let mut rgb = Vec::with_capacity(pw * ph * 3);
     // A bin spans several pixels: reuse the colour of an equal neighbour (log10 per pixel was a
     // tenth of a run's time).
@@ -423,9 +433,15 @@ where
         };
         rgb.extend_from_slice(&[c.0, c.1, c.2]);
     }
-    let image = BitMapElement::with_owned_buffer((px.start, py.start), (pw as u32, ph as u32), rgb)
-        .ok_or("heat map buffer size mismatch")?;
-    root.draw(&image)?;
+    // The bitmap goes at the plotting area's root pixels, drawn on `area` (shifted by its base).
+    let (bx, by) = area.get_base_pixel();
+    let image = BitMapElement::with_owned_buffer(
+        (px.start - bx, py.start - by),
+        (pw as u32, ph as u32),
+        rgb,
+    )
+    .ok_or("heat map buffer size mismatch")?;
+    area.draw(&image)?;
 
     chart
         .configure_mesh()
@@ -441,8 +457,49 @@ where
         .draw()?;
 
     draw_overlay(&mut chart, &p.overlay, &p.x_range, &p.y_range)?;
-    draw_colour_bar(root, &axis, (px.end, py.clone()))?;
-    Ok(())
+    Ok((px.end, py))
+}
+
+fn draw_heat_plot<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &HeatPlot) -> PResult
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE)?;
+    let body = root.titled(&p.title, font(TITLE_SIZE))?.titled(
+        &p.subtitle,
+        font(SUBTITLE_SIZE).color(&RGBColor(70, 70, 70)),
+    )?;
+    let (w, _) = body.dim_in_pixel();
+    let (main, _) = body.split_horizontally(w.saturating_sub(COLOUR_BAR_AREA));
+    let axis = AmplitudeAxis::new(p.scale, p.quantity, heat_max(p));
+    let bar = draw_heat_panel(&main, p, &axis)?;
+    draw_colour_bar(root, &axis, bar)
+}
+
+/// Two heat maps side by side (`a` left, `b` right) on one colour scale and the same axes
+/// (the caller gives both the same ranges), each titled by its own `title`, one colour bar.
+fn draw_heat_pair<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    title: &str,
+    subtitle: &str,
+    a: &HeatPlot,
+    b: &HeatPlot,
+) -> PResult
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE)?;
+    let body = root
+        .titled(title, font(TITLE_SIZE))?
+        .titled(subtitle, font(SUBTITLE_SIZE).color(&RGBColor(70, 70, 70)))?;
+    let (w, _) = body.dim_in_pixel();
+    let (main, _) = body.split_horizontally(w.saturating_sub(COLOUR_BAR_AREA));
+    let (mw, _) = main.dim_in_pixel();
+    let (left, right) = main.split_horizontally(mw / 2);
+    let axis = AmplitudeAxis::new(a.scale, a.quantity, heat_max(a).max(heat_max(b)));
+    draw_heat_panel(&left.titled(&a.title, font(DESC_SIZE))?, a, &axis)?;
+    let bar = draw_heat_panel(&right.titled(&b.title, font(DESC_SIZE))?, b, &axis)?;
+    draw_colour_bar(root, &axis, bar)
 }
 
 type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
@@ -846,65 +903,8 @@ where
         .flat_map(|t| t.amplitude.iter().flatten())
         .fold(0.0, |m: f64, &a| m.max(a));
     let axis = AmplitudeAxis::new(opts.colour_scale, run.quantity, max * 1.12);
-    let series: Vec<TrackLines> = run
-        .tracks
-        .iter()
-        .map(|t| {
-            // Split into runs of consecutive defined values so gaps stay gaps.
-            let mut segs: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
-            for (a, b) in t.amplitude.iter().zip(&run.blocks) {
-                // Not resolved, or below the axis floor: a gap, not a line on the floor.
-                let v = a
-                    .map(|a| axis.axis_value(a))
-                    .filter(|v| matches!(axis.scale, ColourScale::Linear) || *v >= axis.lo);
-                match v {
-                    Some(v) => segs.last_mut().expect("non-empty").push((b.rpm, v)),
-                    None => segs.push(Vec::new()),
-                }
-            }
-            segs.retain(|s| !s.is_empty());
-            (t.label.clone(), segs)
-        })
-        .collect();
-    let mut builder = ChartBuilder::on(&top);
-    builder
-        .margin(12)
-        .margin_right(20)
-        .x_label_area_size(50)
-        .y_label_area_size(100);
-    let y_desc = axis.caption();
-    let fmt_y = tick_formatter(axis.hi - axis.lo);
-    match axis.scale {
-        ColourScale::Log { .. } => {
-            let mut chart =
-                builder.build_cartesian_2d(x_range.clone(), (axis.lo..axis.hi).log_scale())?;
-            chart
-                .configure_mesh()
-                .x_desc("drum speed [rpm]")
-                .y_desc(y_desc.as_str())
-                .axis_desc_style(font(DESC_SIZE))
-                .label_style(font(TICK_SIZE))
-                .x_label_formatter(&|v| format!("{v:.0}"))
-                .y_label_formatter(&fmt_y)
-                .light_line_style(RGBColor(235, 235, 235))
-                .draw()?;
-            draw_track_series(&mut chart, &series)?;
-        }
-        _ => {
-            let mut chart = builder.build_cartesian_2d(x_range.clone(), axis.lo..axis.hi)?;
-            chart
-                .configure_mesh()
-                .x_desc("drum speed [rpm]")
-                .y_desc(y_desc.as_str())
-                .axis_desc_style(font(DESC_SIZE))
-                .label_style(font(TICK_SIZE))
-                .x_label_formatter(&|v| format!("{v:.0}"))
-                .y_label_formatter(&fmt_y)
-                .light_line_style(RGBColor(235, 235, 235))
-                .draw()?;
-            draw_track_series(&mut chart, &series)?;
-        }
-    }
+    let series = track_lines(run.tracks.iter(), &run.blocks, &axis);
+    draw_track_chart(&top, &x_range, &axis, &[(&series, false)])?;
     let items: Vec<(String, RGBColor)> = series
         .iter()
         .enumerate()
@@ -931,9 +931,94 @@ where
     Ok(())
 }
 
+/// Order tracks as polylines over speed on `axis`: runs of consecutive values, with gaps where
+/// a track is not resolved or below the axis.
+fn track_lines<'a>(
+    tracks: impl Iterator<Item = &'a OrderTrack>,
+    blocks: &[Block],
+    axis: &AmplitudeAxis,
+) -> Vec<TrackLines> {
+    tracks
+        .map(|t| {
+            // Split into runs of consecutive defined values so gaps stay gaps.
+            let mut segs: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
+            for (a, b) in t.amplitude.iter().zip(blocks) {
+                // Not resolved, or below the axis floor: a gap, not a line on the floor.
+                let v = a
+                    .map(|a| axis.axis_value(a))
+                    .filter(|v| matches!(axis.scale, ColourScale::Linear) || *v >= axis.lo);
+                match v {
+                    Some(v) => segs.last_mut().expect("non-empty").push((b.rpm, v)),
+                    None => segs.push(Vec::new()),
+                }
+            }
+            segs.retain(|s| !s.is_empty());
+            (t.label.clone(), segs)
+        })
+        .collect()
+}
+
+/// A chart of order tracks over speed in `area` on `axis` (log axis where the scale is log);
+/// each set's i-th track in colour i, solid or dashed.
+fn draw_track_chart<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    x_range: &Range<f64>,
+    axis: &AmplitudeAxis,
+    sets: &[(&[TrackLines], bool)],
+) -> PResult
+where
+    DB::ErrorType: 'static,
+{
+    let mut builder = ChartBuilder::on(area);
+    builder
+        .margin(12)
+        .margin_right(20)
+        .x_label_area_size(50)
+        .y_label_area_size(100);
+    let y_desc = axis.caption();
+    let fmt_y = tick_formatter(axis.hi - axis.lo);
+    match axis.scale {
+        ColourScale::Log { .. } => {
+            let mut chart =
+                builder.build_cartesian_2d(x_range.clone(), (axis.lo..axis.hi).log_scale())?;
+            chart
+                .configure_mesh()
+                .x_desc("drum speed [rpm]")
+                .y_desc(y_desc.as_str())
+                .axis_desc_style(font(DESC_SIZE))
+                .label_style(font(TICK_SIZE))
+                .x_label_formatter(&|v| format!("{v:.0}"))
+                .y_label_formatter(&fmt_y)
+                .light_line_style(RGBColor(235, 235, 235))
+                .draw()?;
+            for (series, dashed) in sets {
+                draw_track_series(&mut chart, series, *dashed)?;
+            }
+        }
+        _ => {
+            let mut chart = builder.build_cartesian_2d(x_range.clone(), axis.lo..axis.hi)?;
+            chart
+                .configure_mesh()
+                .x_desc("drum speed [rpm]")
+                .y_desc(y_desc.as_str())
+                .axis_desc_style(font(DESC_SIZE))
+                .label_style(font(TICK_SIZE))
+                .x_label_formatter(&|v| format!("{v:.0}"))
+                .y_label_formatter(&fmt_y)
+                .light_line_style(RGBColor(235, 235, 235))
+                .draw()?;
+            for (series, dashed) in sets {
+                draw_track_series(&mut chart, series, *dashed)?;
+            }
+        }
+    }
+    Ok(())
+}
+
 fn draw_track_series<'a, DB: DrawingBackend + 'a, Y>(
     chart: &mut ChartContext<'a, DB, Cartesian2d<RangedCoordf64, Y>>,
     series: &[TrackLines],
+    dashed: bool,
 ) -> PResult
 where
     DB::ErrorType: 'static,
@@ -942,7 +1027,11 @@ where
     for (i, (_, segs)) in series.iter().enumerate() {
         let style = TRACK_COLOURS[i % TRACK_COLOURS.len()].stroke_width(2);
         for seg in segs {
-            chart.draw_series(LineSeries::new(seg.iter().copied(), style))?;
+            if dashed {
+                chart.draw_series(DashedLineSeries::new(seg.iter().copied(), 10, 6, style))?;
+            } else {
+                chart.draw_series(LineSeries::new(seg.iter().copied(), style))?;
+            }
         }
     }
     Ok(())
@@ -1111,6 +1200,135 @@ pub fn order_plot(
     init_fonts();
     let p = heat_plot_order(run, opts);
     Ok(render_both!(base, opts, draw_heat_plot(&p)))
+}
+
+/// Two runs' order plots of one channel side by side: `runs[0]` left, `runs[1]` right, each
+/// titled with its label, on one colour scale and the same axes (the same drawing as
+/// [`order_plot`], panel by panel). Writes `<base>.png` (and `.svg` where `opts.svg`), twice
+/// as wide as a single order plot less one colour bar.
+pub fn order_plot_pair(
+    runs: [&RunUp; 2],
+    labels: [&str; 2],
+    opts: &AnalysisOptions,
+    base: &Path,
+) -> Result<Vec<std::path::PathBuf>, AnalysisError> {
+    init_fonts();
+    let mut panels = runs.map(|r| heat_plot_order(r, opts));
+    let x = rpm_range(panels.iter().flat_map(|p| p.columns.iter().map(|c| c.rpm)));
+    for (p, label) in panels.iter_mut().zip(labels) {
+        p.x_range = x.clone();
+        p.title = label.to_string();
+    }
+    let title = format!(
+        "{}: order plots, {} (left) and {} (right) ({}, motor/drum ratio {})",
+        runs[0].channel,
+        labels[0],
+        labels[1],
+        runs[0].quantity.noun(),
+        fmt_order(opts.motor_ratio)
+    );
+    let subtitle = format!("{}; one colour scale", panels[0].subtitle);
+    let opts = AnalysisOptions {
+        plot_size: (
+            2 * opts.plot_size.0 - COLOUR_BAR_AREA,
+            opts.plot_size.1 + 40,
+        ),
+        ..opts.clone()
+    };
+    Ok(render_both!(
+        base,
+        opts,
+        draw_heat_pair(&title, &subtitle, &panels[0], &panels[1])
+    ))
+}
+
+/// Two runs' order tracks of one channel over speed in one chart: the tracks of `orders`
+/// (those the analysis tracked), `runs[0]` solid, `runs[1]` dashed, one colour per order.
+pub fn track_overlay_plot(
+    runs: [&RunUp; 2],
+    labels: [&str; 2],
+    orders: &[f64],
+    opts: &AnalysisOptions,
+    base: &Path,
+) -> Result<Vec<std::path::PathBuf>, AnalysisError> {
+    init_fonts();
+    Ok(render_both!(
+        base,
+        opts,
+        draw_track_overlay(runs, labels, orders, opts)
+    ))
+}
+
+fn draw_track_overlay<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    runs: [&RunUp; 2],
+    labels: [&str; 2],
+    orders: &[f64],
+    opts: &AnalysisOptions,
+) -> PResult
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE)?;
+    let body = root
+        .titled(
+            &format!(
+                "{}: order tracks, {} solid, {} dashed",
+                runs[0].channel, labels[0], labels[1]
+            ),
+            font(TITLE_SIZE),
+        )?
+        .titled(
+            &format!(
+                "order amplitudes (peak), angle domain, Hann over {} revolutions; gaps: not \
+                 resolved or below the axis",
+                opts.order_block_revs
+            ),
+            font(SUBTITLE_SIZE).color(&RGBColor(70, 70, 70)),
+        )?;
+    let (w, _) = body.dim_in_pixel();
+    let (plot, legend) = body.split_horizontally(w.saturating_sub(LEGEND_AREA));
+    let x_range = rpm_range(runs.iter().flat_map(|r| r.order_blocks().map(|b| b.rpm)));
+    fn picked<'r>(r: &'r RunUp, orders: &[f64]) -> Vec<&'r OrderTrack> {
+        r.tracks
+            .iter()
+            .filter(|t| orders.iter().any(|o| (o - t.order).abs() < 1e-9))
+            .collect()
+    }
+    let (ta, tb) = (picked(runs[0], orders), picked(runs[1], orders));
+    // 12 % headroom so the largest track is not drawn on the frame.
+    let max = ta
+        .iter()
+        .chain(&tb)
+        .flat_map(|t| t.amplitude.iter().flatten())
+        .fold(0.0, |m: f64, &a| m.max(a));
+    let axis = AmplitudeAxis::new(opts.colour_scale, runs[0].quantity, max * 1.12);
+    let sa = track_lines(ta.into_iter(), &runs[0].blocks, &axis);
+    let sb = track_lines(tb.into_iter(), &runs[1].blocks, &axis);
+    draw_track_chart(&plot, &x_range, &axis, &[(&sa, false), (&sb, true)])?;
+    let items: Vec<(String, RGBColor)> = sa
+        .iter()
+        .enumerate()
+        .map(|(i, (l, _))| (l.clone(), TRACK_COLOURS[i % TRACK_COLOURS.len()]))
+        .collect();
+    draw_legend(&legend, "drum orders:", &items, 30)?;
+    // Which run is which line style.
+    let style = font(TICK_SIZE).pos(Pos::new(HPos::Left, VPos::Center));
+    let top = 30 + 28 * (items.len() as i32 + 2);
+    legend.draw(&Text::new("runs:".to_string(), (12, top), style.clone()))?;
+    for (k, label) in labels.iter().enumerate() {
+        let y = top + 30 + 28 * k as i32;
+        let segs: &[(i32, i32)] = if k == 0 {
+            &[(14, 44)]
+        } else {
+            &[(14, 24), (30, 40)]
+        };
+        for &(x0, x1) in segs {
+            legend.draw(&PathElement::new([(x0, y), (x1, y)], BLACK.stroke_width(3)))?;
+        }
+        legend.draw(&Text::new(label.to_string(), (52, y), style.clone()))?;
+    }
+    Ok(())
 }
 
 /// Cascade: drum speed vs frequency, colour = amplitude, order rays marked.

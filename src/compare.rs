@@ -1,0 +1,632 @@
+//! `washdyn compare RUN_A RUN_B`: two finished runs of the same speed profile side by side
+//! (issue 21: what a model change, e.g. the friction dampers' moving parts, does to the order
+//! plots, and what each run cost).
+//!
+//! Both runs' sensor files are read with the analysis' reader ([`read_signals`]); channels are
+//! matched by name, and runs whose channel sets, sample rates or speed profiles differ beyond
+//! round-off are refused. Every channel that is not zero in both runs goes through the same
+//! order analysis as `washdyn analyse` ([`RunUp`] on one [`AngleGrid`] per run, the same
+//! options for both); per channel and tracked order the report gives each run's peak over the
+//! run with its speed, the difference of the peaks in dB, and the largest difference along the
+//! track ([`crate::accuracy::track_error`], the accuracy study's -40 dB floor), and per
+//! acceleration channel the RMS difference relative to A ([`crate::accuracy::relative_rms`]).
+//! A is the reference: dB = 20 log10(B / A).
+//!
+//! Writes `compare.md`, `compare.json` and per channel `<channel>_order_compare.png` (the two
+//! order plots on one colour scale) and `<channel>_tracks_compare.png` (order 1 and the largest
+//! other orders, A solid, B dashed).
+
+use crate::accuracy::{ORDER_FLOOR, relative_rms, track_error};
+use crate::analysis::angle::{AngleGrid, Kernel};
+use crate::analysis::options::fmt_order;
+use crate::analysis::{
+    AnalysisError, AnalysisOptions, Quantity, RunUp, Signals, plot, read_signals, unique_stems,
+};
+use serde::{Deserialize, Serialize};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// Drum orders the comparison tracks (the friction dampers' odd harmonics lie among them); the
+/// motor's first order is tracked beside them.
+pub const DRUM_ORDERS: [f64; 6] = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0];
+/// Relative difference of the sample rates, and of the drum speeds against the top speed,
+/// beyond which two runs are not the same profile (round-off of a CSV's printed digits stays
+/// far below it).
+pub const PROFILE_TOLERANCE: f64 = 1e-6;
+/// Orders drawn in a channel's track overlay besides order 1: the largest others.
+const OVERLAY_OTHERS: usize = 3;
+
+/// What `washdyn compare` is asked to do.
+#[derive(Debug, Clone)]
+pub struct CompareArgs {
+    /// The runs' directories (written by `washdyn run`): A is the reference of the differences.
+    pub runs: [PathBuf; 2],
+    /// Names of the runs in tables and plots.
+    pub labels: [String; 2],
+    /// Output directory.
+    pub out: PathBuf,
+    /// Motor speed / drum speed (the motor order tracked).
+    pub motor_ratio: f64,
+    /// Also write the plots as SVG.
+    pub svg: bool,
+}
+
+/// Why two runs cannot be compared.
+#[derive(Debug, thiserror::Error)]
+pub enum CompareError {
+    /// The run directory does not exist.
+    #[error("{dir}: no such run directory")]
+    NoRun { dir: PathBuf },
+    /// No sensor file in the run directory.
+    #[error(
+        "{dir}: no sensors.parquet or sensors.csv; a run directory is what `washdyn run` writes"
+    )]
+    NoSensors { dir: PathBuf },
+    /// summary.json missing or unreadable.
+    #[error("{path}: {message}")]
+    Summary { path: PathBuf, message: String },
+    /// The sensor file could not be read.
+    #[error(transparent)]
+    Read(#[from] AnalysisError),
+    /// The runs do not record the same channels.
+    #[error(
+        "{a} and {b} record different channels: only in the first: [{}], only in the second: [{}]",
+        only_a.join(", "),
+        only_b.join(", ")
+    )]
+    Channels {
+        a: PathBuf,
+        b: PathBuf,
+        only_a: Vec<String>,
+        only_b: Vec<String>,
+    },
+    /// The runs are sampled at different rates.
+    #[error("{a} is sampled at {rate_a} Hz, {b} at {rate_b} Hz")]
+    SampleRate {
+        a: PathBuf,
+        b: PathBuf,
+        rate_a: f64,
+        rate_b: f64,
+    },
+    /// The runs' drum speeds differ (length, start or values).
+    #[error("{a} and {b} do not follow the same speed profile: {detail}")]
+    Profile {
+        a: PathBuf,
+        b: PathBuf,
+        detail: String,
+    },
+    /// An output file could not be written.
+    #[error("cannot write {path}: {message}")]
+    Write { path: PathBuf, message: String },
+}
+
+/// What a run cost, from its summary.json (fields a summary lacks stay empty).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct Cost {
+    pub label: String,
+    pub dir: String,
+    pub model: Option<String>,
+    pub scene: Option<String>,
+    pub backend: Option<String>,
+    pub method: Option<String>,
+    pub rtol: Option<f64>,
+    pub status: Option<String>,
+    pub error: Option<String>,
+    pub t_reached: Option<f64>,
+    pub t_end: Option<f64>,
+    pub steps: Option<u64>,
+    pub rejected_steps: Option<u64>,
+    pub rhs_evals: Option<u64>,
+    pub wall_time_s: Option<f64>,
+    pub energy_closure: Option<f64>,
+}
+
+impl Cost {
+    /// The cost fields of a run's summary.json.
+    pub fn read(dir: &Path, label: &str) -> Result<Cost, CompareError> {
+        let path = dir.join("summary.json");
+        let err = |message: String| CompareError::Summary {
+            path: path.clone(),
+            message,
+        };
+        let text = std::fs::read_to_string(&path).map_err(|e| err(e.to_string()))?;
+        let v: serde_json::Value =
+            serde_json::from_str(&text).map_err(|e| err(format!("not JSON: {e}")))?;
+        if !v.is_object() {
+            return Err(err("not a run summary (expected a JSON object)".into()));
+        }
+        let s = |k: &str| v.get(k).and_then(|x| x.as_str()).map(str::to_string);
+        let f = |k: &str| v.get(k).and_then(serde_json::Value::as_f64);
+        let u = |k: &str| v.get(k).and_then(serde_json::Value::as_u64);
+        Ok(Cost {
+            label: label.to_string(),
+            dir: dir.display().to_string(),
+            model: s("model"),
+            scene: s("scene"),
+            backend: s("backend"),
+            method: s("integrator"),
+            rtol: f("rtol"),
+            status: s("status"),
+            error: s("error"),
+            t_reached: f("t_reached"),
+            t_end: f("t_end"),
+            steps: u("steps"),
+            rejected_steps: u("rejected_steps"),
+            rhs_evals: u("rhs_evals"),
+            wall_time_s: f("wall_time_s"),
+            energy_closure: f("energy_closure"),
+        })
+    }
+}
+
+/// One tracked order of one channel in both runs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct OrderComparison {
+    /// Drum order.
+    pub order: f64,
+    /// `order 1`, `motor order 1 (= 11.25)`.
+    pub label: String,
+    /// Largest track value over the run in A (SI units), `None` where never resolved.
+    pub peak_a: Option<f64>,
+    /// Drum speed of A's peak, rpm.
+    pub rpm_a: Option<f64>,
+    pub peak_b: Option<f64>,
+    pub rpm_b: Option<f64>,
+    /// 20 log10(peak B / peak A), where both are positive.
+    pub db: Option<f64>,
+    /// 20 log10(B / A) at the block of the track where its magnitude is largest, over the
+    /// blocks where both tracks are at least [`ORDER_FLOOR`] of their own peak.
+    pub worst_db: Option<f64>,
+    /// Drum speed of that block, rpm.
+    pub worst_rpm: Option<f64>,
+}
+
+/// One channel in both runs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ChannelComparison {
+    pub channel: String,
+    /// SI unit of the peaks and RMS values.
+    pub unit: String,
+    /// RMS over the run in A and B.
+    pub rms_a: f64,
+    pub rms_b: f64,
+    /// RMS(B - A) / RMS(A) (acceleration channels; `None` where A is zero).
+    pub rms_diff: Option<f64>,
+    pub orders: Vec<OrderComparison>,
+}
+
+/// The whole comparison (compare.json).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Comparison {
+    /// The two runs and what they cost, A first.
+    pub runs: [Cost; 2],
+    pub samples: usize,
+    pub sample_rate_hz: f64,
+    pub t_start_s: f64,
+    pub t_end_s: f64,
+    pub max_rpm: f64,
+    /// The analysis: revolutions per order block, angle samples per revolution.
+    pub order_block_revs: usize,
+    pub samples_per_rev: usize,
+    /// Fraction of its own peak below which a track's blocks are not compared (-40 dB).
+    pub floor: f64,
+    pub channels: Vec<ChannelComparison>,
+    /// Channels that are zero throughout in both runs (a fixed cabinet's): not analysed.
+    pub zero_in_both: Vec<String>,
+}
+
+/// The analysis settings both runs are analysed with: `washdyn analyse`'s defaults, tracking
+/// drum orders 1-6 and motor order 1, without time spectra (the comparison uses none).
+pub fn options(motor_ratio: f64, svg: bool) -> AnalysisOptions {
+    AnalysisOptions {
+        track_orders: DRUM_ORDERS.to_vec(),
+        motor_orders: 1,
+        motor_ratio,
+        cascades: false,
+        svg,
+        ..AnalysisOptions::default()
+    }
+}
+
+/// A run directory's signals (sensors.parquet, else sensors.csv) and its cost.
+pub fn load(dir: &Path, label: &str) -> Result<(Signals, Cost), CompareError> {
+    if !dir.is_dir() {
+        return Err(CompareError::NoRun {
+            dir: dir.to_path_buf(),
+        });
+    }
+    let file = ["sensors.parquet", "sensors.csv"]
+        .iter()
+        .map(|f| dir.join(f))
+        .find(|p| p.is_file())
+        .ok_or_else(|| CompareError::NoSensors {
+            dir: dir.to_path_buf(),
+        })?;
+    let cost = Cost::read(dir, label)?;
+    Ok((read_signals(file)?, cost))
+}
+
+/// Refuse runs that cannot be compared sample by sample: other channels, sample rates or drum
+/// speeds.
+pub fn check_comparable(dirs: [&Path; 2], a: &Signals, b: &Signals) -> Result<(), CompareError> {
+    let (da, db) = (dirs[0].to_path_buf(), dirs[1].to_path_buf());
+    let names = |s: &Signals| -> std::collections::BTreeSet<String> {
+        s.channels.iter().map(|c| c.name.clone()).collect()
+    };
+    let (na, nb) = (names(a), names(b));
+    if na != nb {
+        return Err(CompareError::Channels {
+            a: da,
+            b: db,
+            only_a: na.difference(&nb).cloned().collect(),
+            only_b: nb.difference(&na).cloned().collect(),
+        });
+    }
+    if (a.sample_rate - b.sample_rate).abs() > PROFILE_TOLERANCE * a.sample_rate {
+        return Err(CompareError::SampleRate {
+            a: da,
+            b: db,
+            rate_a: a.sample_rate,
+            rate_b: b.sample_rate,
+        });
+    }
+    let profile = |detail: String| CompareError::Profile {
+        a: da.clone(),
+        b: db.clone(),
+        detail,
+    };
+    let span = |s: &Signals| {
+        format!(
+            "{} samples, {} to {} s",
+            s.len(),
+            s.time[0],
+            s.time[s.len() - 1]
+        )
+    };
+    let dt = 1.0 / a.sample_rate;
+    if a.len() != b.len() || (a.time[0] - b.time[0]).abs() > PROFILE_TOLERANCE * dt {
+        return Err(profile(format!(
+            "the first has {}, the second {} (a run that stopped early cannot be compared)",
+            span(a),
+            span(b)
+        )));
+    }
+    let top = a.drum_rpm.iter().fold(0.0f64, |m, r| m.max(r.abs()));
+    let (k, d) = a
+        .drum_rpm
+        .iter()
+        .zip(&b.drum_rpm)
+        .map(|(p, q)| (p - q).abs())
+        .enumerate()
+        .fold(
+            (0, 0.0f64),
+            |best, (k, d)| if d > best.1 { (k, d) } else { best },
+        );
+    if d > PROFILE_TOLERANCE * top.max(1.0) {
+        return Err(profile(format!(
+            "drum_rpm differs by {d:.6} rpm at t = {} s ({} against {} rpm)",
+            a.time[k], a.drum_rpm[k], b.drum_rpm[k]
+        )));
+    }
+    Ok(())
+}
+
+/// 20 log10(b / a) where both are positive.
+fn db(a: Option<f64>, b: Option<f64>) -> Option<f64> {
+    match (a, b) {
+        (Some(a), Some(b)) if a > 0.0 && b > 0.0 => Some(20.0 * (b / a).log10()),
+        _ => None,
+    }
+}
+
+/// The comparison of two analysed channels (the same options, so the same tracks in order).
+pub fn compare_channel(ra: &RunUp, rb: &RunUp, xa: &[f64], xb: &[f64]) -> ChannelComparison {
+    let orders = ra
+        .tracks
+        .iter()
+        .zip(&rb.tracks)
+        .map(|(ta, tb)| {
+            let (ma, mb) = (ta.max(&ra.blocks), tb.max(&rb.blocks));
+            // Both above their own floor: B's blocks below its floor are left out here, A's by
+            // track_error (A is its reference).
+            let floor_b = ORDER_FLOOR * mb.map_or(0.0, |m| m.0);
+            let masked: Vec<Option<f64>> = tb
+                .amplitude
+                .iter()
+                .map(|v| v.filter(|v| *v >= floor_b))
+                .collect();
+            let worst = track_error(&masked, &ta.amplitude);
+            OrderComparison {
+                order: ta.order,
+                label: ta.label.clone(),
+                peak_a: ma.map(|m| m.0),
+                rpm_a: ma.map(|m| m.1),
+                peak_b: mb.map(|m| m.0),
+                rpm_b: mb.map(|m| m.1),
+                db: db(ma.map(|m| m.0), mb.map(|m| m.0)),
+                worst_db: worst.map(|w| w.0),
+                worst_rpm: worst.map(|w| ra.blocks[w.1].rpm),
+            }
+        })
+        .collect();
+    let rms = |x: &[f64]| (x.iter().map(|v| v * v).sum::<f64>() / x.len().max(1) as f64).sqrt();
+    ChannelComparison {
+        channel: ra.channel.clone(),
+        unit: ra.quantity.si_unit().to_string(),
+        rms_a: rms(xa),
+        rms_b: rms(xb),
+        rms_diff: (ra.quantity == Quantity::Acceleration)
+            .then(|| relative_rms(xb, xa))
+            .flatten(),
+        orders,
+    }
+}
+
+/// Orders of a channel's overlay plot: order 1 and the [`OVERLAY_OTHERS`] others with the
+/// largest peak in either run.
+fn overlay_orders(c: &ChannelComparison) -> Vec<f64> {
+    let mut others: Vec<(f64, f64)> = c
+        .orders
+        .iter()
+        .filter(|o| o.order != 1.0)
+        .map(|o| {
+            (
+                o.order,
+                o.peak_a.unwrap_or(0.0).max(o.peak_b.unwrap_or(0.0)),
+            )
+        })
+        .filter(|(_, p)| *p > 0.0)
+        .collect();
+    others.sort_by(|x, y| y.1.total_cmp(&x.1));
+    let mut v = vec![1.0];
+    v.extend(others.iter().take(OVERLAY_OTHERS).map(|o| o.0));
+    v
+}
+
+/// Compare the runs: read, check, analyse both with the same options, write the tables and
+/// plots into `args.out`. Returns the comparison and the files written.
+pub fn compare(args: &CompareArgs) -> Result<(Comparison, Vec<PathBuf>), CompareError> {
+    let [da, db] = [args.runs[0].as_path(), args.runs[1].as_path()];
+    let (sa, ca) = load(da, &args.labels[0])?;
+    let (sb, cb) = load(db, &args.labels[1])?;
+    check_comparable([da, db], &sa, &sb)?;
+    let opts = options(args.motor_ratio, args.svg);
+    opts.validate()?;
+    // Channels by A's order; a channel zero in both (a fixed cabinet's) has nothing to compare.
+    let mut pairs = Vec::new();
+    let mut zero_in_both = Vec::new();
+    for c in &sa.channels {
+        let other = sb.channel(&c.name).expect("the channel sets are equal");
+        if c.data.iter().chain(&other.data).all(|v| *v == 0.0) {
+            zero_in_both.push(c.name.clone());
+        } else {
+            pairs.push((c, other));
+        }
+    }
+    std::fs::create_dir_all(&args.out).map_err(|e| CompareError::Write {
+        path: args.out.clone(),
+        message: e.to_string(),
+    })?;
+    // One angle grid and one resampling pass per run, as `analyse` does.
+    let kernel = Kernel::new();
+    let grid = |s: &Signals| AngleGrid::new(&s.drum_rpm, s.sample_rate, opts.samples_per_rev);
+    let (ga, gb) = (grid(&sa), grid(&sb));
+    let xa = ga.resample_all(
+        &kernel,
+        &pairs
+            .iter()
+            .map(|p| p.0.data.as_slice())
+            .collect::<Vec<_>>(),
+    );
+    let xb = gb.resample_all(
+        &kernel,
+        &pairs
+            .iter()
+            .map(|p| p.1.data.as_slice())
+            .collect::<Vec<_>>(),
+    );
+    let labels = [args.labels[0].as_str(), args.labels[1].as_str()];
+    let stems = unique_stems(pairs.iter().map(|p| p.0.name.as_str()));
+    use rayon::prelude::*;
+    let per_channel = pairs
+        .par_iter()
+        .zip(&stems)
+        .zip(xa.par_iter().zip(&xb))
+        .map(|(((ca_, cb_), stem), (ya, yb))| {
+            let ra = RunUp::analyse_resampled(&sa, ca_, &opts, &ga, ya)?;
+            let rb = RunUp::analyse_resampled(&sb, cb_, &opts, &gb, yb)?;
+            let cmp = compare_channel(&ra, &rb, &ca_.data, &cb_.data);
+            let mut files = plot::order_plot_pair(
+                [&ra, &rb],
+                labels,
+                &opts,
+                &args.out.join(format!("{stem}_order_compare")),
+            )?;
+            files.extend(plot::track_overlay_plot(
+                [&ra, &rb],
+                labels,
+                &overlay_orders(&cmp),
+                &opts,
+                &args.out.join(format!("{stem}_tracks_compare")),
+            )?);
+            Ok((cmp, files))
+        })
+        .collect::<Result<Vec<_>, AnalysisError>>()?;
+    let (channels, plots): (Vec<_>, Vec<_>) = per_channel.into_iter().unzip();
+    let comparison = Comparison {
+        runs: [ca, cb],
+        samples: sa.len(),
+        sample_rate_hz: sa.sample_rate,
+        t_start_s: sa.time[0],
+        t_end_s: sa.time[sa.len() - 1],
+        max_rpm: sa.drum_rpm.iter().fold(0.0f64, |m, r| m.max(r.abs())),
+        order_block_revs: opts.order_block_revs,
+        samples_per_rev: opts.samples_per_rev,
+        floor: ORDER_FLOOR,
+        channels,
+        zero_in_both,
+    };
+    let mut files = write(&comparison, &args.out, &opts)?;
+    files.extend(plots.into_iter().flatten());
+    Ok((comparison, files))
+}
+
+/// compare.md and compare.json into `out`.
+fn write(c: &Comparison, out: &Path, opts: &AnalysisOptions) -> Result<Vec<PathBuf>, CompareError> {
+    let put = |name: &str, text: String| {
+        let p = out.join(name);
+        std::fs::write(&p, text)
+            .map(|_| p.clone())
+            .map_err(|e| CompareError::Write {
+                path: p,
+                message: e.to_string(),
+            })
+    };
+    let json = serde_json::to_string_pretty(c).expect("the comparison serialises");
+    Ok(vec![
+        put("compare.md", markdown(c, opts))?,
+        put("compare.json", json + "\n")?,
+    ])
+}
+
+/// A value in 4 significant digits, `-` where there is none.
+fn num(v: Option<f64>) -> String {
+    match v {
+        Some(v) if v != 0.0 && !(1e-2..1e4).contains(&v.abs()) => format!("{v:.3e}"),
+        Some(v) => format!("{v:.4}"),
+        None => "-".into(),
+    }
+}
+
+fn dbs(v: Option<f64>) -> String {
+    v.map_or("-".into(), |v| format!("{v:+.2}"))
+}
+
+fn rpm(v: Option<f64>) -> String {
+    v.map_or("-".into(), |v| format!("{v:.0}"))
+}
+
+/// The comparison as markdown: how it was made, the order table, the RMS table, the costs.
+pub fn markdown(c: &Comparison, opts: &AnalysisOptions) -> String {
+    let [a, b] = &c.runs;
+    let mut s = String::new();
+    let _ = writeln!(s, "# {} against {}\n", b.label, a.label);
+    let _ = writeln!(
+        s,
+        "A = {} (`{}`), B = {} (`{}`): {} samples at {} Hz, {:.3} to {:.3} s, drum up to {:.0} \
+         rpm.",
+        a.label,
+        a.dir,
+        b.label,
+        b.dir,
+        c.samples,
+        c.sample_rate_hz,
+        c.t_start_s,
+        c.t_end_s,
+        c.max_rpm
+    );
+    let _ = writeln!(
+        s,
+        "Order tracks as `washdyn analyse` makes them (angle domain, Hann over {} revolutions, {} \
+         samples per revolution), drum orders {} and motor order 1 (drum order {}), both runs \
+         with the same options. **peak**: the largest block value of the track over the run \
+         (SI units, amplitude), with the drum speed of that block; **dB** = 20 log10(peak B / \
+         peak A); **worst track dB**: 20 log10(B / A) where its magnitude is largest along the \
+         track, over the blocks where both runs are within {:.0} dB of their track's peak (the \
+         accuracy study's floor, `accuracy::track_error`), with its speed. `-`: not resolved.",
+        c.order_block_revs,
+        c.samples_per_rev,
+        DRUM_ORDERS
+            .iter()
+            .map(|o| fmt_order(*o))
+            .collect::<Vec<_>>()
+            .join(", "),
+        fmt_order(opts.motor_ratio),
+        -20.0 * c.floor.log10()
+    );
+    if !c.zero_in_both.is_empty() {
+        let _ = writeln!(
+            s,
+            "\nZero throughout in both runs (not compared): {}.",
+            c.zero_in_both.join(", ")
+        );
+    }
+    let _ = writeln!(s, "\n## Order peaks\n");
+    let _ = writeln!(
+        s,
+        "| channel | order | peak {} | peak {} | dB | at rpm {} / {} | worst track dB (at rpm) |",
+        a.label, b.label, a.label, b.label
+    );
+    let _ = writeln!(s, "|---|---|---|---|---|---|---|");
+    for ch in &c.channels {
+        for o in &ch.orders {
+            let _ = writeln!(
+                s,
+                "| {} [{}] | {} | {} | {} | {} | {} / {} | {} ({}) |",
+                ch.channel,
+                ch.unit,
+                fmt_order(o.order),
+                num(o.peak_a),
+                num(o.peak_b),
+                dbs(o.db),
+                rpm(o.rpm_a),
+                rpm(o.rpm_b),
+                dbs(o.worst_db),
+                rpm(o.worst_rpm)
+            );
+        }
+    }
+    let _ = writeln!(s, "\n## RMS over the run\n");
+    let _ = writeln!(
+        s,
+        "| channel | RMS {} | RMS {} | RMS(B - A) / RMS(A) |",
+        a.label, b.label
+    );
+    let _ = writeln!(s, "|---|---|---|---|");
+    for ch in &c.channels {
+        let _ = writeln!(
+            s,
+            "| {} [{}] | {} | {} | {} |",
+            ch.channel,
+            ch.unit,
+            num(Some(ch.rms_a)),
+            num(Some(ch.rms_b)),
+            ch.rms_diff.map_or("-".into(), |d| format!("{d:.3}"))
+        );
+    }
+    let _ = writeln!(s, "\n## Cost\n");
+    s.push_str(&cost_table(&c.runs));
+    s
+}
+
+/// The runs' costs as a markdown table (scene, method, tolerance, status, steps, rejected,
+/// wall time, energy closure).
+pub fn cost_table(runs: &[Cost]) -> String {
+    let mut s = String::from(
+        "| run | scene | method | tol | status | t reached / end s | steps | rejected | wall s | \
+         energy closure |\n|---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for r in runs {
+        let o = |v: &Option<String>| v.clone().unwrap_or_else(|| "-".into());
+        let status = match (&r.status, &r.error) {
+            (Some(st), Some(e)) => format!("{st}: {e}"),
+            (st, _) => o(st),
+        };
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {} | {} / {} | {} | {} | {} | {} |",
+            r.label,
+            o(&r.scene),
+            o(&r.method),
+            r.rtol.map_or("-".into(), |t| format!("{t:.0e}")),
+            status.replace('|', "/"),
+            r.t_reached.map_or("-".into(), |t| format!("{t:.3}")),
+            r.t_end.map_or("-".into(), |t| format!("{t:.3}")),
+            r.steps.map_or("-".into(), |v| v.to_string()),
+            r.rejected_steps.map_or("-".into(), |v| v.to_string()),
+            r.wall_time_s.map_or("-".into(), |v| format!("{v:.2}")),
+            r.energy_closure.map_or("-".into(), |v| format!("{v:.1e}"))
+        );
+    }
+    s
+}

@@ -212,7 +212,10 @@ fn a_stiff_part_condenses_to_the_massless_element() {
 
 /// Over the hold at 93 rpm, where the dampers stick and slip (3 s from the static start, the
 /// first 2 s left to settle), the drum's vertical motion with the lighter, stiffer parts
-/// approaches the massless element's as eps.
+/// approaches the massless element's as eps. (Its motion along x, normal to the dampers'
+/// planes and 30 um here, does not: it stays about 30 % apart at eps 1e-2 and 1e-3, without
+/// friction too, and 8 % with linearised element geometry, while the linear matrices at rest
+/// above agree to 1e-7: not explained yet, so not held here.)
 #[test]
 fn a_light_part_on_stiff_bearings_moves_the_drum_as_the_massless_element() {
     let window = (10.0, 13.0);

@@ -132,6 +132,9 @@ fn generated_run_allocates_only_at_set_up() {
     for (model, scene) in [
         ("reference", "full"),
         ("reference", "rigid_low_speed"),
+        // The dampers' moving parts (subsystem 2's rigid parts, their joints) and the contacts.
+        ("reference", "damper_mass"),
+        ("reference", "contact"),
         ("elastic_cabinet", "elastic"),
     ] {
         for method in [

@@ -460,15 +460,26 @@ where
     Ok((px.end, py))
 }
 
-fn draw_heat_plot<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &HeatPlot) -> PResult
+/// A white plot with its title and grey subtitle: the area below them.
+fn framed<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    title: &str,
+    subtitle: &str,
+) -> PResult<DrawingArea<DB, Shift>>
 where
     DB::ErrorType: 'static,
 {
     root.fill(&WHITE)?;
-    let body = root.titled(&p.title, font(TITLE_SIZE))?.titled(
-        &p.subtitle,
-        font(SUBTITLE_SIZE).color(&RGBColor(70, 70, 70)),
-    )?;
+    Ok(root
+        .titled(title, font(TITLE_SIZE))?
+        .titled(subtitle, font(SUBTITLE_SIZE).color(&RGBColor(70, 70, 70)))?)
+}
+
+fn draw_heat_plot<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &HeatPlot) -> PResult
+where
+    DB::ErrorType: 'static,
+{
+    let body = framed(root, &p.title, &p.subtitle)?;
     let (w, _) = body.dim_in_pixel();
     let (main, _) = body.split_horizontally(w.saturating_sub(COLOUR_BAR_AREA));
     let axis = AmplitudeAxis::new(p.scale, p.quantity, heat_max(p));
@@ -488,10 +499,7 @@ fn draw_heat_pair<DB: DrawingBackend>(
 where
     DB::ErrorType: 'static,
 {
-    root.fill(&WHITE)?;
-    let body = root
-        .titled(title, font(TITLE_SIZE))?
-        .titled(subtitle, font(SUBTITLE_SIZE).color(&RGBColor(70, 70, 70)))?;
+    let body = framed(root, title, subtitle)?;
     let (w, _) = body.dim_in_pixel();
     let (main, _) = body.split_horizontally(w.saturating_sub(COLOUR_BAR_AREA));
     let (mw, _) = main.dim_in_pixel();
@@ -877,20 +885,15 @@ fn draw_speed_plot<DB: DrawingBackend>(
 where
     DB::ErrorType: 'static,
 {
-    root.fill(&WHITE)?;
-    let body = root
-        .titled(
-            &format!("{}: speed plot ({})", run.channel, run.quantity.noun()),
-            font(TITLE_SIZE),
-        )?
-        .titled(
-            &format!(
-                "top: order amplitudes (peak), angle domain, Hann over {} revolutions; gaps: \
+    let body = framed(
+        root,
+        &format!("{}: speed plot ({})", run.channel, run.quantity.noun()),
+        &format!(
+            "top: order amplitudes (peak), angle domain, Hann over {} revolutions; gaps: \
                  not resolved or below the axis; bottom: raw signal",
-                opts.order_block_revs
-            ),
-            font(SUBTITLE_SIZE).color(&RGBColor(70, 70, 70)),
-        )?;
+            opts.order_block_revs
+        ),
+    )?;
     let (w, h) = body.dim_in_pixel();
     let (plots, legend) = body.split_horizontally(w.saturating_sub(LEGEND_AREA));
     let (top, bottom) = plots.split_vertically((h as f64 * 0.58) as u32);
@@ -1113,13 +1116,11 @@ fn draw_displacements<DB: DrawingBackend>(
 where
     DB::ErrorType: 'static,
 {
-    root.fill(&WHITE)?;
-    let body = root
-        .titled("displacements over drum speed", font(TITLE_SIZE))?
-        .titled(
-            "raw signals (band: every sample within a speed pixel)",
-            font(SUBTITLE_SIZE).color(&RGBColor(70, 70, 70)),
-        )?;
+    let body = framed(
+        root,
+        "displacements over drum speed",
+        "raw signals (band: every sample within a speed pixel)",
+    )?;
     let (w, _) = body.dim_in_pixel();
     let (plot, legend) = body.split_horizontally(w.saturating_sub(LEGEND_AREA));
     let x = rpm_range(signals.drum_rpm.iter().copied());
@@ -1269,23 +1270,18 @@ fn draw_track_overlay<DB: DrawingBackend>(
 where
     DB::ErrorType: 'static,
 {
-    root.fill(&WHITE)?;
-    let body = root
-        .titled(
-            &format!(
-                "{}: order tracks, {} solid, {} dashed",
-                runs[0].channel, labels[0], labels[1]
-            ),
-            font(TITLE_SIZE),
-        )?
-        .titled(
-            &format!(
-                "order amplitudes (peak), angle domain, Hann over {} revolutions; gaps: not \
+    let body = framed(
+        root,
+        &format!(
+            "{}: order tracks, {} solid, {} dashed",
+            runs[0].channel, labels[0], labels[1]
+        ),
+        &format!(
+            "order amplitudes (peak), angle domain, Hann over {} revolutions; gaps: not \
                  resolved or below the axis",
-                opts.order_block_revs
-            ),
-            font(SUBTITLE_SIZE).color(&RGBColor(70, 70, 70)),
-        )?;
+            opts.order_block_revs
+        ),
+    )?;
     let (w, _) = body.dim_in_pixel();
     let (plot, legend) = body.split_horizontally(w.saturating_sub(LEGEND_AREA));
     let x_range = rpm_range(runs.iter().flat_map(|r| r.order_blocks().map(|b| b.rpm)));
@@ -1387,13 +1383,11 @@ fn draw_energy<DB: DrawingBackend>(
 where
     DB::ErrorType: 'static,
 {
-    root.fill(&WHITE)?;
-    let body = root
-        .titled("energy balance by category", font(TITLE_SIZE))?
-        .titled(
-            "work done by the drive, energy stored, dissipated and kinetic, since the start",
-            font(SUBTITLE_SIZE).color(&RGBColor(70, 70, 70)),
-        )?;
+    let body = framed(
+        root,
+        "energy balance by category",
+        "work done by the drive, energy stored, dissipated and kinetic, since the start",
+    )?;
     let (w, _) = body.dim_in_pixel();
     let (plot, legend) = body.split_horizontally(w.saturating_sub(LEGEND_AREA + 80));
     let (lo, hi) = lines

@@ -268,6 +268,17 @@ fn check_categories(case: &str, o: &Outcome) {
     );
 }
 
+/// A run that must complete: printed, finite, its balance closed within `bound` of the
+/// throughput and held by category.
+fn completed(case: &str, o: &Outcome, bound: f64) {
+    print(case, o);
+    let m = o.method;
+    assert!(o.result.is_ok(), "{case}: {m} failed: {:?}", o.result);
+    assert!(o.finite, "{case}: {m}");
+    assert!(o.closure < bound, "{case}: {m}: closure {:.2e}", o.closure);
+    check_categories(case, o);
+}
+
 /// The methods that must complete every case: the L-stable ones, generalized-alpha and the
 /// composite `auto` (dopri5 while not stiff, rodas4 while stiff).
 const IMPLICIT: [Method; 4] = [
@@ -282,11 +293,7 @@ const IMPLICIT: [Method; 4] = [
 fn check_case(case: &str, model: &Model, scene: &EffectSet, window: (f64, f64), bound: f64) {
     for m in IMPLICIT {
         let o = run(model, scene, m, 1e-6, window, 5_000_000);
-        print(case, &o);
-        assert!(o.result.is_ok(), "{case}: {m} failed: {:?}", o.result);
-        assert!(o.finite, "{case}: {m}");
-        assert!(o.closure < bound, "{case}: {m}: closure {:.2e}", o.closure);
-        check_categories(case, &o);
+        completed(case, &o, bound);
     }
     let budget = 2_000_000;
     let o = run(model, scene, Method::Dopri5, 1e-6, window, budget);
@@ -390,10 +397,7 @@ fn long_run_up(methods: &[Method]) {
     let scene = m.scene(Some("full")).unwrap();
     for &method in methods {
         let o = run(&m, &scene, method, 1e-6, (0.0, 600.0), 20_000_000);
-        print("600 s run-up", &o);
-        assert!(o.result.is_ok() && o.finite, "{method}: {:?}", o.result);
-        assert!(o.closure < 1e-3, "{method}: closure {:.2e}", o.closure);
-        check_categories("600 s run-up", &o);
+        completed("600 s run-up", &o, 1e-3);
     }
 }
 
@@ -413,6 +417,14 @@ fn six_hundred_second_run_up_every_implicit_method() {
     long_run_up(&[Method::Sdirk4, Method::Rodas4, Method::Auto]);
 }
 
+/// The scene `elastic` with every mode of its modal data.
+fn all_modes(m: &Model) -> EffectSet {
+    EffectSet {
+        mode_cutoff: Some(1e5),
+        ..m.scene(Some("elastic")).unwrap()
+    }
+}
+
 /// Every mode the modal data holds (tub's 100 to 2 kHz and its bearing correction modes to
 /// 6.6 kHz, drum to 200 Hz, cabinet to 499 Hz: 188 coordinates) at 1180 rpm, over 0.1 s (galpha
 /// differences its Jacobian over all of them: 51 ms a step until issue 20's structured
@@ -420,20 +432,14 @@ fn six_hundred_second_run_up_every_implicit_method() {
 #[test]
 fn all_modes_of_the_modal_data() {
     let m = reference();
-    let scene = EffectSet {
-        mode_cutoff: Some(1e5),
-        ..m.scene(Some("elastic")).unwrap()
-    };
+    let scene = all_modes(&m);
     let lean = m.scene(Some("elastic")).unwrap();
     let n_all = Interpreter::new(&m, &scene).eq.layout.n();
     let n_lean = Interpreter::new(&m, &lean).eq.layout.n();
     assert!(n_all > n_lean, "{n_all} vs {n_lean}");
     for method in [Method::GeneralizedAlpha, Method::Auto] {
         let o = run(&m, &scene, method, 1e-5, (150.0, 150.1), 5_000_000);
-        print(&format!("all modes ({n_all} coordinates)"), &o);
-        assert!(o.result.is_ok() && o.finite, "{method}: {:?}", o.result);
-        assert!(o.closure < 1e-3, "{method}: closure {:.2e}", o.closure);
-        check_categories("all modes", &o);
+        completed(&format!("all modes ({n_all} coordinates)"), &o, 1e-3);
     }
     let o = run(&m, &scene, Method::Dopri5, 1e-5, (150.0, 150.1), 2_000_000);
     print(&format!("all modes ({n_all} coordinates)"), &o);
@@ -453,15 +459,9 @@ fn all_modes_of_the_modal_data() {
 #[ignore = "minutes: run with -- --ignored"]
 fn all_modes_every_implicit_method() {
     let m = reference();
-    let scene = EffectSet {
-        mode_cutoff: Some(1e5),
-        ..m.scene(Some("elastic")).unwrap()
-    };
+    let scene = all_modes(&m);
     for method in [Method::Sdirk4, Method::Rodas4] {
         let o = run(&m, &scene, method, 1e-5, (150.0, 150.1), 5_000_000);
-        print("all modes", &o);
-        assert!(o.result.is_ok() && o.finite, "{method}: {:?}", o.result);
-        assert!(o.closure < 1e-3, "{method}: closure {:.2e}", o.closure);
-        check_categories("all modes", &o);
+        completed("all modes", &o, 1e-3);
     }
 }

@@ -179,10 +179,13 @@ impl Equations {
         // Each friction damper: the massless element, or two bearings on its moving part.
         let mut friction_dampers = Vec::new();
         let mut damper_joints = Vec::new();
-        for (i, d) in model.friction_dampers.iter().enumerate() {
-            if !scene.has(&Effect::FrictionDampers) {
-                break;
-            }
+        let with_dampers = scene.has(&Effect::FrictionDampers);
+        for (i, d) in model
+            .friction_dampers
+            .iter()
+            .enumerate()
+            .filter(|_| with_dampers)
+        {
             let (a, b) = (mk(d.a.body, d.a.point), mk(d.b.body, d.b.point));
             let part = BodyRef::DamperPart(i);
             if bodies.get(part).is_some() {

@@ -31,7 +31,7 @@ fn main() {
                 "drum" => nd,
                 _ => nc,
             };
-            e.data.as_mut().unwrap().truncate(n);
+            e.data.as_mut().unwrap().truncate(n, &[]);
         }
         let mut effects: Vec<String> = m.scenes[0].effects.clone();
         effects.extend(

@@ -169,7 +169,7 @@ fn truncated(model: &Model, nt: usize, nc: usize, correction: bool) -> Model {
             if !correction {
                 *d = d.without_correction();
             }
-            d.truncate(n);
+            d.truncate(n, &[]);
         }
     }
     m

@@ -35,5 +35,11 @@ washdyn_macros::machine! {
                 element_geometry, unbalance_inertia, elastic.cabinet,
             ],
         }
+        scene elastic_fine {
+            effects: [
+                gyroscopic, unbalance.drum, unbalance.motor, friction_dampers, gasket_damping,
+                element_geometry, unbalance_inertia, elastic.cabinet,
+            ],
+        }
     }
 }

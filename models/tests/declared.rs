@@ -96,7 +96,7 @@ fn compact_differs_from_the_reference_exactly_where_declared() {
     undone.sensors.remove(rim);
 
     let reference = washdyn_models::reference();
-    for name in ["elastic", "elastic_rigid_tub"] {
+    for name in ["elastic", "elastic_fine", "elastic_rigid_tub"] {
         let scene = undone.scenes.iter_mut().find(|s| s.name == name).unwrap();
         assert!(
             !scene

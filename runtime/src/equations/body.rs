@@ -138,7 +138,8 @@ impl Bodies {
         let g = model.gravity;
         let modes = |b: BodyRef, start: &mut usize| {
             model.modes_in(b, scene).map(|e| {
-                let m = ModalBody::new(e, *start, g, scene.mode_cutoff);
+                let loads = model.element_loads(b, scene);
+                let m = ModalBody::new(e, *start, g, scene.mode_cutoff, &loads);
                 *start += m.n;
                 m
             })

@@ -4,7 +4,8 @@
 
 use super::kinematics::ModalRows;
 use crate::ir::Elastic;
-use crate::ir::modal::point_at;
+use crate::ir::loads::ElementLoad;
+use crate::ir::modal::{LoadCase, point_at};
 use crate::scalar::Scalar;
 
 /// A body's modes as the derivation uses them.
@@ -48,9 +49,16 @@ pub fn modal_damping(e: &Elastic, d: &crate::ir::modal::ModalData) -> Vec<f64> {
 
 impl ModalBody {
     /// From a checked, resolved `elastic` entry; its coordinates start at `start`. With a
-    /// scene's `cutoff` (Hz) only the eigenmodes up to it are kept (at least one), and the
-    /// static correction modes.
-    pub fn new(e: &Elastic, start: usize, gravity: [f64; 3], cutoff: Option<f64>) -> Self {
+    /// scene's `cutoff` (Hz) only the eigenmodes up to it are kept (at least one), the static
+    /// correction modes, and the dropped modes' static response to `loads` (the scene's
+    /// elements' loads on this body, `Model::element_loads`).
+    pub fn new(
+        e: &Elastic,
+        start: usize,
+        gravity: [f64; 3],
+        cutoff: Option<f64>,
+        loads: &[ElementLoad],
+    ) -> Self {
         let mut d = e.data.clone().expect("checked: modal data resolved");
         if let Some(fc) = cutoff {
             let e = d.eigenmodes();
@@ -59,7 +67,17 @@ impl ModalBody {
                 .filter(|f| **f <= fc)
                 .count()
                 .max(1);
-            d.truncate(keep);
+            let cases: Vec<LoadCase> = loads
+                .iter()
+                .filter_map(|l| {
+                    point_at(&d, l.point).map(|p| LoadCase {
+                        point: p.name.clone(),
+                        direction: l.direction,
+                        kind: l.kind,
+                    })
+                })
+                .collect();
+            d.truncate(keep, &cases);
         }
         let n = d.modes();
         let w: Vec<f64> = d
@@ -196,7 +214,7 @@ mod tests {
         let d = on_a_foot();
         // Closed form: e = (0.5, 0) from the spring above.
         assert_eq!(d.support_energy(), vec![0.5, 0.0]);
-        let b = ModalBody::new(&entry(d.clone(), Some(0.06), 1e-3), 0, [0.0; 3], None);
+        let b = ModalBody::new(&entry(d.clone(), Some(0.06), 1e-3), 0, [0.0; 3], None, &[]);
         let w = [2.0 * PI * 10.0, 2.0 * PI * 20.0];
         // zeta_k = 0.02 + (0.06 - 0.02) e_k + beta omega_k / 2.
         let zeta = [
@@ -207,7 +225,7 @@ mod tests {
             assert!((b.damping[k] - 2.0 * zeta[k] * w[k]).abs() < 1e-12, "{k}");
         }
         // Without the new keys: every mode has `damping` (old files and models unchanged).
-        let b = ModalBody::new(&entry(d, None, 0.0), 0, [0.0; 3], None);
+        let b = ModalBody::new(&entry(d, None, 0.0), 0, [0.0; 3], None, &[]);
         for k in 0..2 {
             assert_eq!(b.damping[k], 2.0 * 0.02 * w[k]);
         }
@@ -263,6 +281,7 @@ mod tests {
             0,
             [0.0; 3],
             Some(10.0),
+            &[],
         );
         let d = b.data();
         assert_eq!(d.modes(), 4);

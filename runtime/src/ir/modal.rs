@@ -240,9 +240,10 @@ impl ModalData {
             .fold(0.0, f64::max)
     }
     /// Keep the first `n` eigenmodes. Correction modes stay; the dropped eigenmodes' static
-    /// response to the load cases, sum_k Phi_k (f_j . Phi_k) / omega_k^2, becomes new correction
-    /// modes, so that truncation never loses flexibility at the load points.
-    pub fn truncate(&mut self, n: usize) {
+    /// response to the load cases (the correction's and `loads`, the scene's elements' at this
+    /// body, `Model::element_loads`), sum_k Phi_k (f_j . Phi_k) / omega_k^2, becomes new
+    /// correction modes, so that truncation never loses flexibility at the load points.
+    pub fn truncate(&mut self, n: usize, loads: &[LoadCase]) {
         let (m, e) = (self.modes(), self.eigenmodes());
         if n >= e {
             return;
@@ -253,15 +254,25 @@ impl ModalData {
             .map(|f| (2.0 * std::f64::consts::PI * f).powi(2))
             .collect();
         // Columns over the dropped modes n..e: the static shapes of the load cases.
-        let folded = match &self.correction {
-            Some(c) => {
-                let j = c.loads.len();
-                let u = nalgebra::DMatrix::from_fn(e - n, j, |r, col| {
-                    c.participation[(n + r) * j + col] / w2[n + r]
-                });
-                orthonormal_static_basis(&u, &w2[n..e])
+        let mut cols: Vec<Vec<f64>> = Vec::new();
+        if let Some(c) = &self.correction {
+            let j = c.loads.len();
+            cols.extend((0..j).map(|col| {
+                (n..e)
+                    .map(|k| c.participation[k * j + col] / w2[k])
+                    .collect()
+            }));
+        }
+        for l in loads {
+            if let Some(p) = self.point(&l.point) {
+                cols.push((n..e).map(|k| l.participation(p, k) / w2[k]).collect());
             }
-            None => (nalgebra::DMatrix::zeros(e - n, 0), Vec::new()),
+        }
+        let folded = if cols.is_empty() {
+            (nalgebra::DMatrix::zeros(e - n, 0), Vec::new())
+        } else {
+            let u = nalgebra::DMatrix::from_fn(e - n, cols.len(), |r, c| cols[c][r]);
+            orthonormal_static_basis(&u, &w2[n..e])
         };
         let (p, r) = (folded.1.len(), m - e);
         let mut t = nalgebra::DMatrix::zeros(m, n + p + r);
@@ -422,7 +433,7 @@ pub fn resolve(model: &mut super::Model, base: &FsPath) -> (Vec<PathBuf>, Vec<Ch
                             ),
                         });
                     }
-                    d.truncate(n);
+                    d.truncate(n, &[]);
                 }
                 e.data = Some(d);
             }
@@ -735,7 +746,7 @@ pub(crate) mod tests {
     fn truncation_keeps_the_leading_block() {
         let mut d = tiny();
         d.elementary.g[2][2] = vec![1.0, 0.1, 0.2, 1.0];
-        d.truncate(1);
+        d.truncate(1, &[]);
         assert_eq!(d.elementary.g[2][2], vec![1.0]);
         assert_eq!(d.points[0].w[2], vec![1.0]);
         assert_eq!(problems(&d), Vec::<String>::new());
@@ -796,7 +807,7 @@ pub(crate) mod tests {
         let full = with_correction();
         assert_eq!(problems(&full), Vec::<String>::new());
         let mut d = full.clone();
-        d.truncate(2);
+        d.truncate(2, &[]);
         // 2 eigenmodes, 1 folded shape (one load case), the correction mode.
         assert_eq!(d.modes(), 4);
         assert_eq!(d.eigenmodes(), 2);
@@ -824,7 +835,7 @@ pub(crate) mod tests {
         // Plain truncation would have lost modes 3-5's share.
         let mut plain = full.clone();
         plain.correction = None;
-        plain.truncate(2);
+        plain.truncate(2, &[]);
         assert!((static_at_p(&plain, 2, 2) - a).abs() > 0.05 * a.abs());
         // A force along y is no load case: its response is not held (the fold is for the listed
         // loads only).
@@ -864,7 +875,7 @@ pub(crate) mod tests {
                 .sum()
         };
         let mut d = full.clone();
-        d.truncate(2);
+        d.truncate(2, &[]);
         // 2 eigenmodes, 2 folded shapes (two load cases), the correction mode.
         assert_eq!(d.modes(), 5);
         assert!((rot(&d) - rot(&full)).abs() < 1e-12 * rot(&full));

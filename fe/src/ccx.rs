@@ -100,12 +100,6 @@ pub fn run_threads(deck: &Path, threads: usize) -> Result<CcxRun, CcxError> {
         .file_stem()
         .ok_or_else(|| io(std::io::Error::other("deck has no file name")))?;
     let text = std::fs::read_to_string(deck).map_err(io)?;
-    let cache = cache_dir(&text, &threads);
-    if let Some(c) = &cache
-        && let Some(run) = from_cache(c, dir, &job.to_string_lossy())
-    {
-        return Ok(run);
-    }
     let start = Instant::now();
     let out = Command::new(program())
         .arg("-i")
@@ -141,80 +135,11 @@ pub fn run_threads(deck: &Path, threads: usize) -> Result<CcxRun, CcxError> {
             messages: vec![(None, format!("exited with {}", out.status))],
         });
     }
-    let run = CcxRun {
+    Ok(CcxRun {
         job: dir.join(job),
         wall_s: start.elapsed().as_secs_f64(),
         stdout,
-    };
-    if let Some(c) = &cache {
-        // A cache that cannot be written costs only the next solve.
-        let _ = to_cache(c, &run);
-    }
-    Ok(run)
-}
-
-/// Where a solve of `text` on `threads` threads is kept when `WASHDYN_CCX_CACHE` names a
-/// folder (the workspace's `.cargo/config.toml` sets it for `cargo test`, so that the test
-/// binaries that solve the same deck, the tub's among them at about 3 minutes, solve it once).
-/// A one-thread ccx solve is repeatable byte for byte (`run_threads`), so a kept one is the
-/// solve. Decks that include other files are not kept.
-fn cache_dir(text: &str, threads: &str) -> Option<PathBuf> {
-    use std::hash::{Hash, Hasher};
-    let root = std::env::var_os("WASHDYN_CCX_CACHE")?;
-    if text.to_ascii_uppercase().contains("*INCLUDE") {
-        return None;
-    }
-    let mut h = std::hash::DefaultHasher::new();
-    (text, threads, program(), version()).hash(&mut h);
-    Some(PathBuf::from(root).join(format!("{:016x}-{}", h.finish(), text.len())))
-}
-
-/// The kept results of a solve, copied into `dir` as `<job>.*`.
-fn from_cache(c: &Path, dir: &Path, job: &str) -> Option<CcxRun> {
-    let meta = std::fs::read_to_string(c.join("run.txt")).ok()?;
-    let (wall, stdout) = meta.split_once('\n')?;
-    for e in std::fs::read_dir(c).ok()? {
-        let p = e.ok()?.path();
-        let ext = p.extension()?.to_str()?;
-        if p.file_stem()? == "job" {
-            std::fs::copy(&p, dir.join(format!("{job}.{ext}"))).ok()?;
-        }
-    }
-    Some(CcxRun {
-        job: dir.join(job),
-        wall_s: wall.parse().ok()?,
-        stdout: stdout.to_string(),
     })
-}
-
-/// Keep a solve's files (all `<job>.*` but the deck) and its output; written to a temporary
-/// folder and renamed, so that a reader never sees half of it.
-fn to_cache(c: &Path, run: &CcxRun) -> std::io::Result<()> {
-    let tmp = c.with_extension(format!("tmp{}", std::process::id()));
-    std::fs::create_dir_all(&tmp)?;
-    let dir = run.job.parent().unwrap_or(Path::new("."));
-    let stem = run.job.file_name().unwrap_or_default();
-    for e in std::fs::read_dir(dir)? {
-        let p = e?.path();
-        let Some(ext) = p.extension().and_then(|x| x.to_str()) else {
-            continue;
-        };
-        if p.file_stem() == Some(stem) && ext != "inp" {
-            std::fs::copy(&p, tmp.join(format!("job.{ext}")))?;
-        }
-    }
-    std::fs::write(
-        tmp.join("run.txt"),
-        format!("{}\n{}", run.wall_s, run.stdout),
-    )?;
-    match std::fs::rename(&tmp, c) {
-        Ok(()) => Ok(()),
-        Err(e) => {
-            let _ = std::fs::remove_dir_all(&tmp);
-            // Another process kept the same solve first.
-            if c.exists() { Ok(()) } else { Err(e) }
-        }
-    }
 }
 
 /// The `*ERROR` messages of a ccx output (each with its continuation lines), and the warnings

@@ -225,6 +225,7 @@ fn a_variant_merges_into_its_base_and_inherited_paths_point_at_base() {
         spring extra { a: { body: tub, point: [0.0, 0.0, 0.6] }, b: { body: cabinet, point: [0.0, 0.0, 0.8] }, stiffness: 1.0, free_length: 0.2 }
         scene elastic { effects: [unbalance.drum] }
         scene elastic_rigid_tub { effects: [unbalance.drum] }
+        scene elastic_fine { effects: [unbalance.drum] }
     }";
     let (_, model, built) =
         analyse(src.parse().unwrap(), &here()).unwrap_or_else(|d| panic!("{:#?}", d.list));

@@ -8,7 +8,8 @@
 //! `cargo run --release --example truncation -- [RPM...] > docs/truncation.md`.
 
 use std::time::Instant;
-use washdyn::accuracy::{BAND_HZ, ORDER_FLOOR, TRUNCATION_CUTS_HZ, band_error};
+use washdyn::accuracy::{BAND_HZ, ORDER_FLOOR, TRUNCATION_CUTS_HZ, band_error, is_accel};
+use washdyn::analysis::spectrum::Window;
 use washdyn_runtime::ir::EffectSet;
 use washdyn_runtime::ode::{AnySolver, Method, Options};
 use washdyn_runtime::output::MemorySink;
@@ -78,23 +79,21 @@ fn run(rpm: f64, cutoff: Option<f64>) -> Run {
 fn window(m: &MemorySink) -> Vec<(String, Vec<f64>)> {
     let skip = (SETTLE * SAMPLE_RATE).round() as usize;
     (0..m.channels.len())
-        .filter(|&c| m.channels[c].ends_with(['x', 'y', 'z']) && m.channels[c].contains("_a"))
+        .filter(|&c| is_accel(&m.channels[c]))
         .map(|c| (m.channels[c].clone(), m.column(c)[skip..].to_vec()))
         .collect()
 }
 
-/// Amplitude of the component at `f` (Hz): Hann-windowed DFT, amplitude-corrected.
+/// Amplitude of the component at `f` (Hz): Hann-windowed DFT at `f`, amplitude-corrected.
 fn amplitude(x: &[f64], f: f64) -> f64 {
-    let n = x.len();
-    let (mut re, mut im, mut ws) = (0.0, 0.0, 0.0);
-    for (k, v) in x.iter().enumerate() {
-        let w = 0.5 - 0.5 * (2.0 * std::f64::consts::PI * k as f64 / n as f64).cos();
+    let hann = Window::hann(x.len());
+    let (mut re, mut im) = (0.0, 0.0);
+    for (k, (v, w)) in x.iter().zip(hann.coeffs()).enumerate() {
         let p = 2.0 * std::f64::consts::PI * f * k as f64 / SAMPLE_RATE;
         re += v * w * p.cos();
         im += v * w * p.sin();
-        ws += w;
     }
-    2.0 * (re * re + im * im).sqrt() / ws
+    2.0 * (re * re + im * im).sqrt() / x.len() as f64 * hann.amplitude_correction()
 }
 
 fn main() {

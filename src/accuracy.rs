@@ -258,7 +258,7 @@ fn trim(m: &MemorySink, skip: usize, prefix: &str) -> MemorySink {
 }
 
 /// An acceleration channel: its name ends in `_ax`, `_ay` or `_az`.
-fn is_accel(name: &str) -> bool {
+pub fn is_accel(name: &str) -> bool {
     name.ends_with("_ax") || name.ends_with("_ay") || name.ends_with("_az")
 }
 
@@ -324,7 +324,8 @@ pub fn band_error(x: &[f64], r: &[f64], fs: f64, f_max: f64) -> Option<f64> {
     if x.len() != n || n < 2 {
         return None;
     }
-    let w = |k: usize| 0.5 - 0.5 * (2.0 * std::f64::consts::PI * k as f64 / n as f64).cos();
+    let hann = crate::analysis::spectrum::Window::hann(n);
+    let w = hann.coeffs();
     let fft = realfft::RealFftPlanner::<f64>::new().plan_fft_forward(n);
     let spectrum = |v: Vec<f64>| {
         let mut v = v;
@@ -333,8 +334,8 @@ pub fn band_error(x: &[f64], r: &[f64], fs: f64, f_max: f64) -> Option<f64> {
             .expect("lengths from the plan");
         out
     };
-    let d = spectrum((0..n).map(|k| (x[k] - r[k]) * w(k)).collect());
-    let s = spectrum((0..n).map(|k| r[k] * w(k)).collect());
+    let d = spectrum((0..n).map(|k| (x[k] - r[k]) * w[k]).collect());
+    let s = spectrum((0..n).map(|k| r[k] * w[k]).collect());
     let bins = ((f_max * n as f64 / fs).floor() as usize + 1).min(s.len());
     let num: f64 = d[..bins].iter().map(|c| c.norm_sqr()).sum();
     let den: f64 = s[..bins].iter().map(|c| c.norm_sqr()).sum();

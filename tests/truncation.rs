@@ -6,7 +6,7 @@
 
 use nalgebra::DMatrix;
 use washdyn_runtime::equations::body::{Bodies, Modes};
-use washdyn_runtime::ir::modal::{LoadCase, ModalData, point_at};
+use washdyn_runtime::ir::modal::{LoadCase, ModalData};
 use washdyn_runtime::ir::{BodyRef, Model};
 
 /// The element loads on `body` as load cases at the data's points.
@@ -17,11 +17,7 @@ fn cases(m: &Model, body: BodyRef, scene: &washdyn_runtime::ir::EffectSet) -> Ve
         .expect("data");
     m.element_loads(body, scene)
         .iter()
-        .map(|l| LoadCase {
-            point: point_at(d, l.point).expect("a point").name.clone(),
-            direction: l.direction,
-            kind: l.kind,
-        })
+        .map(|l| l.case(d).expect("a point"))
         .collect()
 }
 

@@ -5,7 +5,7 @@
 use super::kinematics::ModalRows;
 use crate::ir::Elastic;
 use crate::ir::loads::ElementLoad;
-use crate::ir::modal::{LoadCase, point_at};
+use crate::ir::modal::point_at;
 use crate::scalar::Scalar;
 
 /// A body's modes as the derivation uses them.
@@ -67,16 +67,7 @@ impl ModalBody {
                 .filter(|f| **f <= fc)
                 .count()
                 .max(1);
-            let cases: Vec<LoadCase> = loads
-                .iter()
-                .filter_map(|l| {
-                    point_at(&d, l.point).map(|p| LoadCase {
-                        point: p.name.clone(),
-                        direction: l.direction,
-                        kind: l.kind,
-                    })
-                })
-                .collect();
+            let cases: Vec<_> = loads.iter().filter_map(|l| l.case(&d)).collect();
             d.truncate(keep, &cases);
         }
         let n = d.modes();

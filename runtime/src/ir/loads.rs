@@ -2,10 +2,10 @@
 //! truncation keeps (`ModalData::truncate`). Eigenmodes cut at a frequency lose the local give
 //! of the body under its point loads (a tub wall under a spring, a damper bracket): a truncated
 //! tub with only its bearing's correction modes differs from all its modes by 5 % on the
-//! accelerations at top speed (docs/accuracy.md); folding the dropped modes' static response to
+//! accelerations at top speed (docs/modal-data.md); folding the dropped modes' static response to
 //! every attachment's loads keeps that give exactly.
 
-use super::modal::LoadKind;
+use super::modal::{LoadCase, LoadKind, ModalData, point_at};
 use super::{BodyRef, Effect, EffectSet, Model, V3};
 
 /// One load an element applies: at `point` (global, at rest) a force or moment along
@@ -15,6 +15,17 @@ pub struct ElementLoad {
     pub point: V3,
     pub kind: LoadKind,
     pub direction: V3,
+}
+
+impl ElementLoad {
+    /// The load case at `d`'s modal point here (`None`: the body has no node set here).
+    pub fn case(&self, d: &ModalData) -> Option<LoadCase> {
+        point_at(d, self.point).map(|p| LoadCase {
+            point: p.name.clone(),
+            direction: self.direction,
+            kind: self.kind,
+        })
+    }
 }
 
 const AXES: [V3; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];

@@ -2,6 +2,7 @@
 //! post-processing.
 pub mod accuracy;
 pub mod analysis;
+pub mod basis;
 pub mod campbell;
 pub mod commands;
 pub mod compare;

@@ -34,7 +34,7 @@ use crate::scalar::Scalar;
 pub use bodies::{RotorDef, TubDef, UnbalanceDef, rotate};
 pub use body::{Bodies, Body, Frame, Modes};
 pub use drum::ElasticDrum;
-pub use elastic::ModalBody;
+pub use elastic::{ModalBody, modal_damping};
 pub use energy::{Balance, Category, ENERGY_ROW_S, EnergyWork, Kind, kinetic, powers};
 pub use jacobian::{ForceJacobians, JacobianWork};
 pub use kinematics::{

@@ -287,9 +287,21 @@ impl ModalData {
         frequencies.extend(folded.1);
         frequencies.extend_from_slice(&self.frequencies[e..]);
         self.change_basis(&t, frequencies);
-        if let Some(c) = &mut self.correction {
-            c.modes = p + r;
-            c.participation.truncate(n * c.loads.len());
+        match &mut self.correction {
+            Some(c) => {
+                c.modes = p + r;
+                c.participation.truncate(n * c.loads.len());
+            }
+            // Data without correction modes (the drum): the folded shapes are correction
+            // modes all the same, so that `eigenmodes()` counts only eigenmodes.
+            None if p > 0 => {
+                self.correction = Some(Correction {
+                    loads: Vec::new(),
+                    modes: p,
+                    participation: Vec::new(),
+                })
+            }
+            None => {}
         }
     }
 

@@ -70,8 +70,9 @@ impl std::str::FromStr for Window {
             }),
             [name, a, b] => {
                 let (t0, t1) = (num(a)?, num(b)?);
-                if !(t0 >= 0.0 && t1 > t0) {
-                    return Err(format!("`{s}`: need 0 <= T0 < T1"));
+                let top = crate::validate::T_END_MAX;
+                if !(t0 >= 0.0 && t1 > t0 && t1 <= top) {
+                    return Err(format!("`{s}`: need 0 <= T0 < T1 <= {top} s"));
                 }
                 Ok(Window {
                     scene: name.to_string(),

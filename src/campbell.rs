@@ -24,15 +24,32 @@ pub fn compute(d: &ModalData, max_rpm: f64, steps: usize) -> Result<Campbell, St
     let rpm: Vec<f64> = (0..=steps)
         .map(|i| max_rpm * i as f64 / steps as f64)
         .collect();
+    let n = d.modes();
     let hz = rpm
         .iter()
         .map(|r| {
             let omega = r * std::f64::consts::PI / 30.0;
-            washdyn_fe::rotating::campbell(&d.frequencies, &d.elementary, kg, omega)
+            let f = washdyn_fe::rotating::try_campbell(&d.frequencies, &d.elementary, kg, omega)
+                .map_err(|e| format!("at {r:.0} rpm: {e} (geometric_stiffness, elementary.g)"))?;
+            // Below a divergence speed every mode oscillates; a mode that does not (or a
+            // non-symmetric stiffness's spurious pairs) leaves no curve to draw.
+            if f.len() != n || f.iter().any(|v| !v.is_finite()) {
+                return Err(format!(
+                    "at {r:.0} rpm {} of the {n} modes oscillate: diag(omega_0^2) + Omega^2 \
+                     (K_G - S_perp) is not positive definite there \
+                     (geometric_stiffness.per_omega2)",
+                    f.len()
+                ));
+            }
+            Ok(f)
         })
-        .collect();
+        .collect::<Result<_, String>>()?;
     Ok(Campbell { rpm, hz })
 }
+
+/// Largest motor/drum speed ratio: belt drives of washing machines are 10-20 (the reference
+/// 11.25), a direct drive 1; beyond 100 the motor order leaves any plot of drum frequencies.
+pub const MAX_MOTOR_RATIO: f64 = 100.0;
 
 /// The drum's modal data, top speed (rpm) and motor ratio from `source`: a `.modal.toml` file,
 /// or a model (built-in or file) whose elastic drum it takes, through the one resolver.
@@ -66,11 +83,22 @@ pub fn run(
 ) -> Result<Vec<PathBuf>, String> {
     let (d, top, motor) = source_data(source)?;
     let max_rpm = max_rpm.or(top).unwrap_or(1400.0);
+    let motor_ratio_arg = motor_ratio;
     let motor_ratio = motor_ratio.or(motor).unwrap_or(11.25);
     if !(max_rpm > 0.0 && max_rpm <= washdyn_runtime::ir::check::MAX_RPM) {
         return Err(format!(
             "--max-rpm must be in (0, {}], got {max_rpm}",
             washdyn_runtime::ir::check::MAX_RPM
+        ));
+    }
+    if !(motor_ratio > 0.0 && motor_ratio <= MAX_MOTOR_RATIO) {
+        let what = if motor_ratio_arg.is_some() {
+            "--motor-ratio"
+        } else {
+            "the model's rotor `motor`: ratio"
+        };
+        return Err(format!(
+            "{what} must be in (0, {MAX_MOTOR_RATIO}], got {motor_ratio}"
         ));
     }
     let c = compute(&d, max_rpm, 140)?;
@@ -150,7 +178,10 @@ where
     let n = c.hz.first().map_or(0, |v| v.len());
     for k in 0..n {
         chart.draw_series(LineSeries::new(
-            c.rpm.iter().zip(&c.hz).map(|(r, f)| (*r, f[k])),
+            c.rpm
+                .iter()
+                .zip(&c.hz)
+                .filter_map(|(r, f)| f.get(k).map(|v| (*r, *v))),
             BLUE.stroke_width(2),
         ))?;
     }

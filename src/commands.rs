@@ -308,7 +308,10 @@ pub fn check_model(model: &Model) -> Result<String, String> {
                      rotation {a:.2e} rad",
                     u * 1e3
                 );
-                if u > guard.translation_m || a > guard.rotation_rad {
+                // A NaN compares false: test finiteness first, then the bounds negated.
+                if !(q.iter().all(|x| x.is_finite()) && u.is_finite() && a.is_finite()) {
+                    errors.push(format!("{msg}: not a number (non-finite model data)"));
+                } else if !(u <= guard.translation_m && a <= guard.rotation_rad) {
                     errors.push(format!(
                         "{msg}: beyond the small-motion bounds ({} mm, {} rad); a spring pulling \
                          the wrong way or too soft?",

@@ -223,6 +223,25 @@ pub struct NodeStresses {
     pub principal: Vec<[f64; 3]>,
 }
 
+/// The times of `--times` (or `--revolution`) as numbers: finite and not negative. `option`
+/// names the flag in the error. Checked before any file is read or written; whether each lies
+/// inside the run is checked against its states (`States::instants`).
+pub fn check_times(option: &str, times: &[f64]) -> Result<(), String> {
+    let bad: Vec<String> = times
+        .iter()
+        .filter(|t| !(t.is_finite() && **t >= 0.0))
+        .map(|t| t.to_string())
+        .collect();
+    if bad.is_empty() {
+        Ok(())
+    } else {
+        Err(format!(
+            "{option}: {} is not a time in s (finite, >= 0)",
+            bad.join(", ")
+        ))
+    }
+}
+
 /// Which instants to recover.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Times {
@@ -235,6 +254,10 @@ pub enum Times {
 
 /// Frames of one revolution (every 10 degrees).
 pub const REVOLUTION_FRAMES: usize = 36;
+
+/// Most instants one `washdyn fields` call writes: each is a grid per body of 1-5 MB, so 1e4
+/// frames are already tens of GB; a range with a tiny step is a typo.
+pub const MAX_FRAMES: usize = 10_000;
 
 /// The states a run wrote: time, drum angle and q per sample.
 pub struct States {
@@ -265,7 +288,8 @@ impl States {
     /// (phi, q) at time `t`, linear between samples; an error outside the run.
     pub fn at(&self, t: f64) -> Result<(f64, Vec<f64>), String> {
         let n = self.t.len();
-        if n == 0 || t < self.t[0] - 1e-12 || t > self.t[n - 1] + 1e-12 {
+        // Negated: a NaN time is outside too.
+        if n == 0 || !(t >= self.t[0] - 1e-12 && t <= self.t[n - 1] + 1e-12) {
             return Err(format!(
                 "t = {t} s is outside the stored states ({} to {} s)",
                 self.t.first().unwrap_or(&0.0),
@@ -283,18 +307,41 @@ impl States {
         Ok((lerp(&self.phi), self.q.iter().map(|c| lerp(c)).collect()))
     }
 
-    /// The instants `times` asks for.
+    /// The instants `times` asks for, every one inside the stored states (all checked before
+    /// the first file is written).
     pub fn instants(&self, times: &Times) -> Result<Vec<f64>, String> {
+        let (option, list) = self.requested(times)?;
+        if list.len() > MAX_FRAMES {
+            return Err(format!(
+                "{option}: {} instants, more than {MAX_FRAMES}",
+                list.len()
+            ));
+        }
+        let bad: Vec<String> = list.iter().filter_map(|&t| self.at(t).err()).collect();
+        if !bad.is_empty() {
+            return Err(format!("{option}: {}", bad.join("; ")));
+        }
+        Ok(list)
+    }
+
+    /// The option's name and the instants it lists.
+    fn requested(&self, times: &Times) -> Result<(&'static str, Vec<f64>), String> {
         Ok(match times {
-            Times::List(v) => v.clone(),
+            Times::List(v) => ("--times", v.clone()),
             Times::Range(a, b, dt) => {
-                if !(*dt > 0.0 && b >= a) {
+                if !(*dt > 0.0 && b >= a && a.is_finite() && b.is_finite()) {
                     return Err(format!(
-                        "--range {a}:{b}:{dt}: need from <= to and step > 0"
+                        "--range {a}:{b}:{dt}: need from <= to and step > 0, all finite"
                     ));
                 }
-                let n = ((b - a) / dt + 1e-9).floor() as usize;
-                (0..=n).map(|k| a + k as f64 * dt).collect()
+                let n = ((b - a) / dt + 1e-9).floor();
+                if n >= MAX_FRAMES as f64 {
+                    return Err(format!(
+                        "--range {a}:{b}:{dt}: {n:e} instants, more than {MAX_FRAMES}"
+                    ));
+                }
+                let n = n as usize;
+                ("--range", (0..=n).map(|k| a + k as f64 * dt).collect())
             }
             Times::Revolution(t0) => {
                 // Frames at equal drum angles over one turn.
@@ -312,7 +359,7 @@ impl States {
                     let f = (target - self.phi[i - 1]) / (self.phi[i] - self.phi[i - 1]);
                     out.push(self.t[i - 1] + f * (self.t[i] - self.t[i - 1]));
                 }
-                out
+                ("--revolution", out)
             }
         })
     }
@@ -337,7 +384,6 @@ pub fn write_fields(
     out: &Path,
 ) -> Result<Written, String> {
     let start = std::time::Instant::now();
-    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     if states.q.len() != rec.n {
         return Err(format!(
             "the states have {} coordinates, the scene {}: another scene's run?",
@@ -345,6 +391,11 @@ pub fn write_fields(
             rec.n
         ));
     }
+    // Every instant before the first file: a refused one leaves no partial output.
+    for &t in instants {
+        states.at(t)?;
+    }
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let mut w = Written {
         files: Vec::new(),
         bytes: 0,
@@ -676,6 +727,19 @@ mod tests {
         assert!(e.contains("need from <= to and step > 0"), "{e}");
         let e = st.instants(&Times::Revolution(0.0)).unwrap_err();
         assert!(e.contains("ends before one revolution"), "{e}");
+        // Every instant is checked, not just the first: NaN (which compares false) included.
+        let e = st
+            .instants(&Times::List(vec![0.5, f64::NAN, 9.0]))
+            .unwrap_err();
+        assert!(
+            e.starts_with("--times: t = NaN s is outside") && e.contains("t = 9 s"),
+            "{e}"
+        );
+        let e = st
+            .instants(&Times::Range(0.0, 1.0, f64::MIN_POSITIVE))
+            .unwrap_err();
+        assert!(e.contains("more than 10000"), "{e}");
+        assert!(st.instants(&Times::Revolution(f64::NAN)).is_err());
         // A run directory without a summary, and one whose model has no field files.
         let dir = tempfile::tempdir().unwrap();
         let req = Request::Fields(Times::List(vec![0.0]));

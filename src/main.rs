@@ -510,6 +510,14 @@ fn main() -> ExitCode {
             jobs,
         } => {
             let result = (|| {
+                if let Some(j) = jobs
+                    && !(1..=washdyn::sweep::MAX_JOBS).contains(&j)
+                {
+                    return Err(format!(
+                        "--jobs must be in [1, {}], got {j}",
+                        washdyn::sweep::MAX_JOBS
+                    ));
+                }
                 let (m, _) = resolve_model(&model)?;
                 washdyn::commands::validate_sweep(
                     &m,
@@ -649,9 +657,14 @@ fn main() -> ExitCode {
         } => {
             use washdyn::fields::{Request, Times};
             let request = match (times, range, revolution, drum_edge) {
-                (Some(t), None, None, None) => Ok(Request::Fields(Times::List(t))),
+                (Some(t), None, None, None) => washdyn::fields::check_times("--times", &t)
+                    .map(|()| Request::Fields(Times::List(t))),
                 (None, Some(r), None, None) => parse_range(&r).map(Request::Fields),
-                (None, None, Some(t), None) => Ok(Request::Fields(Times::Revolution(t))),
+                (None, None, Some(t), None) => washdyn::fields::check_times("--revolution", &[t])
+                    .map(|()| Request::Fields(Times::Revolution(t))),
+                (None, None, None, Some(0)) => {
+                    Err("--drum-edge: the stride must be at least 1".into())
+                }
                 (None, None, None, Some(stride)) => Ok(Request::DrumEdge { stride, svg }),
                 _ => Err(
                     "give exactly one of --times, --range, --revolution, --drum-edge".to_string(),
@@ -694,6 +707,15 @@ fn main() -> ExitCode {
             out,
             quick,
         } => {
+            if let Some(t) = t_end
+                && !(t > 0.0 && t <= washdyn::validate::T_END_MAX)
+            {
+                eprintln!(
+                    "error: --t-end must be > 0 and at most {} s, got {t}",
+                    washdyn::validate::T_END_MAX
+                );
+                return ExitCode::from(2);
+            }
             let scenes = if scene.is_empty() {
                 vec!["full".to_string(), "elastic:150:152".to_string()]
             } else {

@@ -161,6 +161,11 @@ pub struct SweepRun {
     pub format: Format,
 }
 
+/// Most parallel runs of a sweep: each is a thread with its own model, state and output
+/// streams; beyond the machine's cores (or the variants) more gain nothing, and 1024 is above
+/// any workstation's core count.
+pub const MAX_JOBS: usize = 1024;
+
 /// Run every variant on `jobs` threads; `done` is called as each finishes. Writes
 /// `<out>/<variant>/{sensors.<format>, summary.json}` and `<out>/sweep.csv`.
 pub fn run_sweep(

@@ -278,6 +278,21 @@ pub fn campbell(
     kg: &GeometricStiffness,
     omega: f64,
 ) -> Vec<f64> {
+    try_campbell(frequencies, elementary, kg, omega).expect("the Schur iteration converges")
+}
+
+/// Iterations of the Schur decomposition before `try_campbell` gives up (nalgebra's default
+/// iterates for ever: a matrix of 1e300 entries never converged).
+pub const SCHUR_ITERATIONS: usize = 10_000;
+
+/// [`campbell`], or an error when the eigenvalue iteration does not converge (non-finite or
+/// absurdly scaled data) instead of iterating for ever.
+pub fn try_campbell(
+    frequencies: &[f64],
+    elementary: &Elementary,
+    kg: &GeometricStiffness,
+    omega: f64,
+) -> Result<Vec<f64>, String> {
     let n = frequencies.len();
     let g = gyroscopic(elementary, n, kg.axis);
     let k = spinning_stiffness(frequencies, elementary, kg, omega);
@@ -289,14 +304,19 @@ pub fn campbell(
             a[(n + i, n + j)] = -2.0 * omega * g[i * n + j];
         }
     }
-    let mut f: Vec<f64> = a
+    if a.iter().any(|v| !v.is_finite()) {
+        return Err("the reduced matrices are not finite".into());
+    }
+    let schur = nalgebra::linalg::Schur::try_new(a, f64::EPSILON, SCHUR_ITERATIONS)
+        .ok_or("the eigenvalue iteration did not converge")?;
+    let mut f: Vec<f64> = schur
         .complex_eigenvalues()
         .iter()
         .filter(|z| z.im > 0.0)
         .map(|z| z.im / (2.0 * std::f64::consts::PI))
         .collect();
     f.sort_by(f64::total_cmp);
-    f
+    Ok(f)
 }
 
 /// ccx's reference for the Campbell diagram: the prestressed body at `omega` (`*STATIC`

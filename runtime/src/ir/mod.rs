@@ -6,6 +6,7 @@
 //! this global frame, in the rest (reference) configuration.
 
 pub mod check;
+pub mod exact;
 pub mod loads;
 pub mod modal;
 pub mod toml_file;
@@ -26,6 +27,7 @@ pub struct Model {
     pub name: String,
     /// Gravity vector, m/s^2 (the reference machine: [0, 0, -9.81]).
     #[serde(default = "default_gravity")]
+    #[serde(deserialize_with = "crate::ir::exact::exact")]
     pub gravity: V3,
     /// The suspended tub assembly: 6 rigid DOF (subsystem 1).
     pub tub: Tub,
@@ -73,8 +75,10 @@ pub struct Tub {
     /// kg
     pub mass: f64,
     /// Centre of gravity at rest, m.
+    #[serde(deserialize_with = "crate::ir::exact::exact")]
     pub cog: V3,
     /// Inertia tensor about the CoG in global axes, kg m^2.
+    #[serde(deserialize_with = "crate::ir::exact::exact")]
     pub inertia: M3,
 }
 
@@ -177,6 +181,7 @@ pub const MOTOR: &str = "motor";
 #[serde(deny_unknown_fields)]
 pub struct Attach {
     pub body: BodyRef,
+    #[serde(deserialize_with = "crate::ir::exact::exact")]
     pub point: V3,
 }
 
@@ -189,9 +194,11 @@ pub struct Attach {
 #[serde(deny_unknown_fields)]
 pub struct Rotor {
     pub name: String,
+    #[serde(deserialize_with = "crate::ir::exact::exact")]
     pub axis_point: V3,
     /// Unit vector (normalised by the derivation); positive spin by the right-hand rule.
     #[serde(default = "default_axis")]
+    #[serde(deserialize_with = "crate::ir::exact::exact")]
     pub axis: V3,
     /// Speed ratio to the drum (drum 1, motor 11.25).
     #[serde(default = "one")]
@@ -204,6 +211,7 @@ pub struct Rotor {
     pub mass: f64,
     /// The tub point (an FE node set on its axis) that carries the rotor; default `axis_point`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(deserialize_with = "crate::ir::exact::exact")]
     pub mount: Option<V3>,
 }
 
@@ -229,6 +237,7 @@ pub struct Unbalance {
     pub rotor: String,
     /// kg
     pub mass: f64,
+    #[serde(deserialize_with = "crate::ir::exact::exact")]
     pub position: V3,
 }
 
@@ -238,6 +247,7 @@ pub struct Unbalance {
 pub struct SpeedProfile {
     /// (time s, drum rpm) pairs, strictly increasing in time; constant beyond the ends.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    #[serde(deserialize_with = "crate::ir::exact::exact")]
     pub table: Vec<[f64; 2]>,
     /// CSV with columns time_s, rpm (header optional); relative to the model file.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -334,10 +344,13 @@ pub struct Gasket {
     /// Body whose motion relative to `b` loads the gasket (the tub).
     pub a: BodyRef,
     pub b: BodyRef,
+    #[serde(deserialize_with = "crate::ir::exact::exact")]
     pub point: V3,
+    #[serde(deserialize_with = "crate::ir::exact::exact")]
     pub stiffness: M6,
     /// Viscous damping, N s/m etc. (default zero); adds to the hysteretic part.
     #[serde(default)]
+    #[serde(deserialize_with = "crate::ir::exact::exact")]
     pub damping: M6,
     /// Hysteretic damping: loss factor eta per direction (x, y, z, rx, ry, rz), or one for all.
     /// Frequency domain: K + i S K S, S = diag(sqrt(eta)); time domain: the equivalent viscous
@@ -395,12 +408,15 @@ pub struct Contact {
     /// The body whose surface it touches (the cabinet).
     pub b: BodyRef,
     /// The touching point on `a`, m.
+    #[serde(deserialize_with = "crate::ir::exact::exact")]
     pub point: V3,
     /// The point of `b` whose motion the surface follows (on the elastic cabinet a node set
     /// near the surface); default `point`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(deserialize_with = "crate::ir::exact::exact")]
     pub b_point: Option<V3>,
     /// Direction from the point towards the surface (normalised by the derivation).
+    #[serde(deserialize_with = "crate::ir::exact::exact")]
     pub normal: V3,
     /// Clearance at rest along `normal`, m.
     pub gap: f64,
@@ -438,6 +454,7 @@ pub enum SensorKind {
 pub struct Sensor {
     pub name: String,
     pub body: BodyRef,
+    #[serde(deserialize_with = "crate::ir::exact::exact")]
     pub point: V3,
     pub kind: SensorKind,
 }

@@ -46,7 +46,9 @@ pub struct ModalData {
     /// The FE body (its consistent mass): mass kg, CoG m, inertia about the CoG kg m^2 (global
     /// axes).
     pub mass: f64,
+    #[serde(deserialize_with = "crate::ir::exact::exact")]
     pub cog: V3,
+    #[serde(deserialize_with = "crate::ir::exact::exact")]
     pub inertia: [[f64; 3]; 3],
     /// Elementary matrices (seed paper, "Equations of motion"), sums over the FE model with its
     /// consistent mass matrix plus the attached rigid parts (docs/modal-data.md); positions x0
@@ -76,6 +78,7 @@ pub struct ModalData {
 #[serde(deny_unknown_fields)]
 pub struct SupportSpring {
     pub point: String,
+    #[serde(deserialize_with = "crate::ir::exact::exact")]
     pub stiffness: V3,
 }
 
@@ -104,6 +107,7 @@ pub struct Correction {
 #[serde(deny_unknown_fields)]
 pub struct LoadCase {
     pub point: String,
+    #[serde(deserialize_with = "crate::ir::exact::exact")]
     pub direction: V3,
     #[serde(default, skip_serializing_if = "LoadKind::is_force")]
     pub kind: LoadKind,
@@ -156,11 +160,14 @@ impl LoadCase {
 #[serde(deny_unknown_fields)]
 pub struct Elementary {
     /// c[a][k] = sum dm W_a,k (zero for free-free modes: orthogonal to translation).
+    #[serde(deserialize_with = "crate::ir::exact::exact")]
     pub c: [Vec<f64>; 3],
     /// s[a][b][k] = sum dm x0_a W_b,k (3 x 3 rows of n).
+    #[serde(deserialize_with = "crate::ir::exact::exact")]
     pub s: [[Vec<f64>; 3]; 3],
     /// g[a][b][k n + l] = sum dm W_a,k W_b,l (3 x 3 blocks of n x n, row-major);
     /// g_xx + g_yy + g_zz is the modal mass matrix (identity for mass-normalised modes).
+    #[serde(deserialize_with = "crate::ir::exact::exact")]
     pub g: [[Vec<f64>; 3]; 3],
 }
 
@@ -170,12 +177,15 @@ pub struct Elementary {
 pub struct ModalPoint {
     /// The FE model's node set (upper case, as in the deck).
     pub name: String,
+    #[serde(deserialize_with = "crate::ir::exact::exact")]
     pub position: V3,
     /// Number of FE nodes in the set; with fewer than 3 (non-collinear) the rotation is zero.
     pub nodes: usize,
     /// Translation per mode: w[a][k], m per unit modal coordinate.
+    #[serde(deserialize_with = "crate::ir::exact::exact")]
     pub w: [Vec<f64>; 3],
     /// Rotation per mode: phi[a][k], rad per unit modal coordinate.
+    #[serde(deserialize_with = "crate::ir::exact::exact")]
     pub phi: [Vec<f64>; 3],
 }
 
@@ -184,7 +194,9 @@ pub struct ModalPoint {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct GeometricStiffness {
+    #[serde(deserialize_with = "crate::ir::exact::exact")]
     pub axis_point: V3,
+    #[serde(deserialize_with = "crate::ir::exact::exact")]
     pub axis: V3,
     pub per_omega2: Vec<f64>,
     /// The speed (rad/s) of the prestressed solution it was extracted from.
@@ -416,11 +428,30 @@ pub fn generalised_eigen(
 pub fn read_file(path: &FsPath, shown: &str) -> Result<ModalData, String> {
     let name = shown;
     let src = std::fs::read_to_string(path).map_err(|e| format!("{name}: cannot read: {e}"))?;
-    toml::from_str(&src).map_err(|e| {
-        let line = e
-            .span()
-            .map_or(0, |s| src[..s.start.min(src.len())].lines().count().max(1));
-        format!("{name}:{line}: {}", e.message().trim())
+    from_toml(&src).map_err(|(span, m)| {
+        let line = span.map_or(0, |s| src[..s.start.min(src.len())].lines().count().max(1));
+        format!("{name}:{line}: {m}")
+    })
+}
+
+/// Deserialize TOML text; an error gives its span and a message that names the field
+/// (`points[2].position: invalid length 4, ...`), as serde_path_to_error tracks it.
+pub fn from_toml<T: serde::de::DeserializeOwned>(
+    src: &str,
+) -> Result<T, (Option<std::ops::Range<usize>>, String)> {
+    let de = toml::Deserializer::parse(src).map_err(|e| (e.span(), e.message().trim().into()))?;
+    serde_path_to_error::deserialize(de).map_err(|e| {
+        let path = e.path().to_string();
+        let e = e.into_inner();
+        let m = e.message().trim();
+        // A message of its own that starts with the field (`missing field`, `unknown field`)
+        // or an error at the top needs no path.
+        let m = if path == "." || m.contains(&format!("`{path}`")) {
+            m.to_string()
+        } else {
+            format!("{path}: {m}")
+        };
+        (e.span(), m)
     })
 }
 
@@ -433,6 +464,17 @@ pub fn resolve(model: &mut super::Model, base: &FsPath) -> (Vec<PathBuf>, Vec<Ch
         let path = base.join(&e.file);
         match read_file(&path, &e.file) {
             Ok(mut d) => {
+                // The file's own rules before anything computes with it (truncation's
+                // eigen-solver did not return on NaN); the checker skips a body without data.
+                let found = problems(&d);
+                if !found.is_empty() {
+                    errors.extend(found.into_iter().map(|m| CheckError {
+                        path: Path::default().key("elastic").idx(i).key("file"),
+                        message: format!("elastic `{}`: {}: {m}", e.name, e.file),
+                    }));
+                    files.push(path);
+                    continue;
+                }
                 if let Some(n) = e.modes {
                     if n > d.eigenmodes() {
                         errors.push(CheckError {
@@ -479,10 +521,12 @@ pub fn problems(d: &ModalData) -> Vec<String> {
     if n == 0 {
         out.push("frequencies: no modes".into());
     }
+    let (f_lo, f_hi) = FREQUENCY_RANGE;
     for (k, f) in d.frequencies.iter().enumerate() {
-        if !(f.is_finite() && *f > 0.0) {
+        if !(*f >= f_lo && *f <= f_hi) {
             out.push(format!(
-                "frequencies[{k}]: must be positive and finite, got {f}"
+                "frequencies[{k}]: must be positive and finite, within [{f_lo:e}, {f_hi:e}] Hz, \
+                 got {f}"
             ));
         }
     }
@@ -495,9 +539,8 @@ pub fn problems(d: &ModalData) -> Vec<String> {
             out.push("frequencies: not ascending (eigenmodes, then correction modes)".into());
         }
     }
-    if !(d.mass.is_finite() && d.mass > 0.0) {
-        out.push(format!("mass: must be positive, got {}", d.mass));
-    }
+    mass_properties(d, &mut out);
+    support(d, &mut out);
     let xyz = ["x", "y", "z"];
     let mut dims = |field: String, v: &[f64], len: usize| {
         if v.len() != len {
@@ -563,7 +606,10 @@ pub fn problems(d: &ModalData) -> Vec<String> {
                 ));
                 continue;
             };
-            if (crate::geom::f::norm(l.direction) - 1.0).abs() > 1e-9 {
+            if !at_most(
+                (crate::geom::f::norm(l.direction) - 1.0).abs(),
+                UNIT_TOLERANCE,
+            ) {
                 out.push(format!(
                     "correction.loads[{j}].direction: must be a unit vector, got {:?}",
                     l.direction
@@ -601,13 +647,47 @@ pub fn problems(d: &ModalData) -> Vec<String> {
             }
         }
     }
-    if let Some(b) = &d.basis
-        && (n == 0 || b.len() % n != 0)
-    {
-        out.push(format!(
-            "basis: {} values are no whole rows of {n}",
-            b.len()
-        ));
+    geometric_stiffness(d, &mut out);
+    gram(d, &mut out);
+    for (i, p) in d.points.iter().enumerate() {
+        let at = format!("points[{i}] ({})", p.name);
+        position(&format!("{at}.position"), &p.position, &mut out);
+        for (what, v, max) in [("w", &p.w, MAX_W), ("phi", &p.phi, MAX_PHI)] {
+            for a in 0..3 {
+                let big = v[a].iter().map(|x| x.abs()).fold(0.0, f64::max);
+                if big > max {
+                    out.push(format!(
+                        "{at}.{what}[{}]: {big:e} per unit modal coordinate, more than {max:e}",
+                        xyz[a]
+                    ));
+                }
+            }
+        }
+        if p.nodes < 3 && p.phi.iter().flatten().any(|x| *x != 0.0) {
+            out.push(format!(
+                "{at}.phi: a set of {} node(s) determines no rotation, so phi must be zero",
+                p.nodes
+            ));
+        }
+    }
+    if let Some(b) = &d.basis {
+        if n == 0 || b.len() % n != 0 {
+            out.push(format!(
+                "basis: {} values are no whole rows of {n}",
+                b.len()
+            ));
+        }
+        // Orthonormal columns (mass-normalised modes in mass-normalised modes): no entry
+        // exceeds 1 beyond round-off.
+        if let Some((i, v)) = b
+            .iter()
+            .enumerate()
+            .find(|(_, v)| !at_most(v.abs(), 1.0 + GRAM_TOLERANCE))
+        {
+            out.push(format!(
+                "basis[{i}]: {v}; the columns are orthonormal, so every entry lies in [-1, 1]"
+            ));
+        }
     }
     for (i, s) in d.support_springs.iter().enumerate() {
         match d.point(&s.point) {
@@ -622,9 +702,13 @@ pub fn problems(d: &ModalData) -> Vec<String> {
             )),
             Some(_) => {}
         }
-        if s.stiffness.iter().any(|k| !(k.is_finite() && *k >= 0.0)) {
+        if s.stiffness
+            .iter()
+            .any(|k| !(*k >= 0.0 && *k <= MAX_SUPPORT_STIFFNESS))
+        {
             out.push(format!(
-                "support_springs[{i}].stiffness: must be finite and >= 0, got {:?}",
+                "support_springs[{i}].stiffness: must be in [0, {MAX_SUPPORT_STIFFNESS:e}] N/m, \
+                 got {:?}",
                 s.stiffness
             ));
         }
@@ -662,6 +746,288 @@ pub fn problems(d: &ModalData) -> Vec<String> {
         }
     }
     out
+}
+
+/// Plausible mass of one elastic part of a washing machine, kg: the parts weigh kilograms to
+/// tens of kilograms (the committed drum 9.5 kg, cabinet 29 kg, tub 44 kg). A gram or ten
+/// tonnes is a unit slip (g or t for kg) or a broken deck, and 1e308 kg overflows the sums.
+pub const MASS_RANGE: (f64, f64) = (1e-3, 1e4);
+
+/// Elastic eigenfrequencies, Hz. Below 0.1 Hz a "mode" is a rigid-body motion left in (the
+/// multibody's own DOF; the committed data start at 26 Hz); above 1 MHz no structural mode of
+/// an appliance (the committed correction modes reach 6.6 kHz), and (2 pi f)^2 of 1e308
+/// overflows.
+pub const FREQUENCY_RANGE: (f64, f64) = (0.1, 1e6);
+
+/// Largest distance of a CoG, point or axis point from the machine frame's origin, m: a washing
+/// machine is under 1 m in each direction (the committed points within 0.91 m); 10 m still
+/// refuses a position in mm read as m.
+pub const MAX_EXTENT: f64 = 10.0;
+
+/// Largest translation of a point per unit modal coordinate, m kg^-1/2. A mass-normalised mode
+/// moves a node of mass dm by at most 1/sqrt(dm) (its share of the unit modal mass), and a
+/// point is a rigid fit of nodes; 1e3 is a node of 1 mg, far below any node of a sheet-metal
+/// or plastic mesh (the committed data: 1.7 at most).
+pub const MAX_W: f64 = 1e3;
+
+/// Largest rotation of a point per unit modal coordinate, rad kg^-1/2: `MAX_W` across a node
+/// set 1 mm wide (the committed data: 29 at most).
+pub const MAX_PHI: f64 = 1e6;
+
+/// Largest entry of K_G / Omega^2 (mass-normalised modes, so dimensionless): the stress
+/// stiffening of a ring's mode with n waves is of the order n^2; 1e4 is n = 100, beyond any
+/// mode a drum's data keep (the committed drum: 7.8; its spin softening at most 0.71).
+pub const MAX_PER_OMEGA2: f64 = 1e4;
+
+/// Stiffest support spring, N/m: a washing machine's feet are 1e5-1e6 N/m (the committed
+/// cabinet's 4e5 and 2e6); 1e10 N/m is a rigid support, a body clamped rather than on springs.
+pub const MAX_SUPPORT_STIFFNESS: f64 = 1e10;
+
+/// How far a direction given as a unit vector may be from unit length.
+pub const UNIT_TOLERANCE: f64 = 1e-9;
+
+/// Relative round-off allowed in the identities of a Gram matrix (symmetry, Cauchy-Schwarz):
+/// the committed data hold them to 1e-15.
+pub const GRAM_TOLERANCE: f64 = 1e-6;
+
+/// Margin on the Cauchy-Schwarz bounds of `c` and `s` against the mass properties (both are
+/// formed with the one consistent mass matrix, so the bounds hold exactly; the committed data
+/// reach 0.99 of them); the margin allows a user's data whose mass properties come from another
+/// integration of the same body.
+pub const MOMENT_BOUND_MARGIN: f64 = 1.1;
+
+/// `v <= max`, and false for NaN: a rule states what a value must be, so NaN fails it.
+fn at_most(v: f64, max: f64) -> bool {
+    v <= max
+}
+
+/// A position (CoG, point, axis point): finite and within `MAX_EXTENT` of the origin.
+fn position(field: &str, v: &V3, out: &mut Vec<String>) {
+    let r = crate::geom::f::norm(*v);
+    if !at_most(r, MAX_EXTENT) {
+        out.push(format!(
+            "{field}: {v:?} must be finite and within {MAX_EXTENT} m of the origin (SI units)"
+        ));
+    }
+}
+
+/// Mass, CoG and inertia: a plausible mass, a finite CoG inside the machine, and an inertia
+/// tensor some mass distribution has (symmetric, positive definite, the principal moments
+/// within the triangle inequality, none beyond mass x `MAX_EXTENT`^2).
+fn mass_properties(d: &ModalData, out: &mut Vec<String>) {
+    let (lo, hi) = MASS_RANGE;
+    if !(d.mass >= lo && d.mass <= hi) {
+        out.push(format!(
+            "mass: must be positive, within [{lo:e}, {hi:e}] kg for a part of a washing machine, \
+             got {}",
+            d.mass
+        ));
+    }
+    position("cog", &d.cog, out);
+    let m = &d.inertia;
+    if m.iter().flatten().any(|v| !v.is_finite()) {
+        out.push(format!("inertia: non-finite number in {m:?}"));
+        return;
+    }
+    let scale = m.iter().flatten().fold(0.0f64, |s, v| s.max(v.abs()));
+    for i in 0..3 {
+        for j in i + 1..3 {
+            if !at_most((m[i][j] - m[j][i]).abs(), 1e-9 * scale) {
+                out.push(format!(
+                    "inertia: not symmetric ([{i}][{j}] = {} but [{j}][{i}] = {})",
+                    m[i][j], m[j][i]
+                ));
+                return;
+            }
+        }
+    }
+    let ev = super::check::sym_eigenvalues(m);
+    if !(ev[0].is_finite() && ev[0] > 0.0) {
+        out.push(format!(
+            "inertia: not positive definite (principal moments {ev:?} kg m^2)"
+        ));
+    } else if ev[0] + ev[1] < ev[2] * (1.0 - 1e-12) {
+        out.push(format!(
+            "inertia: principal moments {ev:?} violate the triangle inequality (I1 + I2 >= I3), \
+             no mass distribution has them"
+        ));
+    } else if d.mass > 0.0 && ev[2] > d.mass * MAX_EXTENT * MAX_EXTENT {
+        out.push(format!(
+            "inertia: principal moment {:e} kg m^2 is more than mass x ({MAX_EXTENT} m)^2",
+            ev[2]
+        ));
+    }
+}
+
+/// The support the equations assume for each body: the tub's modes free-free (its 6 rigid DOF
+/// are the multibody's), the drum's clamped at its bearing, the cabinet's on its feet.
+fn support(d: &ModalData, out: &mut Vec<String>) {
+    let want = match d.body {
+        ElasticBodyKind::Tub => Support::FreeFree,
+        ElasticBodyKind::Drum => Support::Clamped,
+        ElasticBodyKind::Cabinet => Support::OnSprings,
+    };
+    if d.support != want {
+        out.push(format!(
+            "support: {:?} for the {:?}, whose modes the equations take as {want:?}",
+            d.support, d.body
+        ));
+    }
+}
+
+/// The sums of `elementary` are inner products in the body's mass, so they obey Gram
+/// identities whatever the modes: g[a][b][k n + l] = g[b][a][l n + k],
+/// |g[a][b][k n + l]| <= sqrt(g[a][a][k n + k] g[b][b][l n + l]), and by Cauchy-Schwarz
+/// |c[a][k]| <= sqrt(mass g[a][a][kk]), |s[a][b][k]| <= sqrt(J_aa g[b][b][kk]) with
+/// J_aa = sum dm x_a^2 = mass cog_a^2 + tr(I) / 2 - I_aa. A value outside is no sum over a
+/// body (an entry of -1e308 in an off-diagonal block hung the Campbell diagram).
+fn gram(d: &ModalData, out: &mut Vec<String>) {
+    let n = d.modes();
+    let e = &d.elementary;
+    let fine = |v: &[f64], len: usize| v.len() == len && v.iter().all(|x| x.is_finite());
+    if n == 0
+        || !(0..3).all(|a| {
+            fine(&e.c[a], n) && (0..3).all(|b| fine(&e.s[a][b], n) && fine(&e.g[a][b], n * n))
+        })
+    {
+        return; // `problems` reports the sizes and numbers
+    }
+    let xyz = ["x", "y", "z"];
+    let diag = |a: usize, k: usize| e.g[a][a][k * n + k];
+    for a in 0..3 {
+        // The three add up to the modal mass, 1 for a mass-normalised mode.
+        let top = 1.0 + MASS_NORMALISATION_TOLERANCE;
+        if let Some(k) = (0..n).find(|&k| !(diag(a, k) >= 0.0 && diag(a, k) <= top)) {
+            out.push(format!(
+                "elementary.g[{0}][{0}][{1}]: {2:e}, but sum dm W_a,k^2 of a mass-normalised \
+                 mode lies in [0, {top}]",
+                xyz[a],
+                k * n + k,
+                diag(a, k)
+            ));
+            return;
+        }
+    }
+    let scale = (0..3)
+        .flat_map(|a| (0..n).map(move |k| (a, k)))
+        .fold(0.0f64, |m, (a, k)| m.max(diag(a, k)));
+    for a in 0..3 {
+        for b in 0..3 {
+            for k in 0..n {
+                for l in 0..n {
+                    let v = e.g[a][b][k * n + l];
+                    let bound = (diag(a, k) * diag(b, l)).sqrt();
+                    let tol = GRAM_TOLERANCE * scale;
+                    if !at_most(v.abs(), bound + tol) {
+                        out.push(format!(
+                            "elementary.g[{}][{}][{}]: {v:e} exceeds sqrt(g_aa,kk g_bb,ll) = \
+                             {bound:e} (sum dm W_a,k W_b,l obeys Cauchy-Schwarz)",
+                            xyz[a],
+                            xyz[b],
+                            k * n + l
+                        ));
+                        return;
+                    }
+                    if !at_most((v - e.g[b][a][l * n + k]).abs(), tol) {
+                        out.push(format!(
+                            "elementary.g[{}][{}][{}]: {v:e}, but elementary.g[{}][{}][{}] = \
+                             {:e} (sum dm W_a,k W_b,l is symmetric)",
+                            xyz[a],
+                            xyz[b],
+                            k * n + l,
+                            xyz[b],
+                            xyz[a],
+                            l * n + k,
+                            e.g[b][a][l * n + k]
+                        ));
+                        return;
+                    }
+                }
+            }
+        }
+    }
+    if !(d.mass > 0.0 && d.mass.is_finite()) || d.cog.iter().any(|x| !x.is_finite()) {
+        return;
+    }
+    let i = &d.inertia;
+    let tr = i[0][0] + i[1][1] + i[2][2];
+    for a in 0..3 {
+        let j = d.mass * d.cog[a] * d.cog[a] + tr / 2.0 - i[a][a];
+        for k in 0..n {
+            let bound = MOMENT_BOUND_MARGIN * (d.mass * diag(a, k)).sqrt();
+            if !at_most(e.c[a][k].abs(), bound) {
+                out.push(format!(
+                    "elementary.c[{}][{k}]: {:e} exceeds sqrt(mass g_aa,kk) = {bound:e} \
+                     (x{MOMENT_BOUND_MARGIN}; sum dm W obeys Cauchy-Schwarz)",
+                    xyz[a], e.c[a][k]
+                ));
+                return;
+            }
+            for b in 0..3 {
+                let bound = MOMENT_BOUND_MARGIN * (j.max(0.0) * diag(b, k)).sqrt();
+                if !at_most(e.s[a][b][k].abs(), bound) {
+                    out.push(format!(
+                        "elementary.s[{}][{}][{k}]: {:e} exceeds sqrt(J_aa g_bb,kk) = {bound:e} \
+                         (x{MOMENT_BOUND_MARGIN}; J from mass, cog and inertia)",
+                        xyz[a], xyz[b], e.s[a][b][k]
+                    ));
+                    return;
+                }
+            }
+        }
+    }
+}
+
+/// The drum's geometric stiffness: a unit axis through a point inside the machine, a reference
+/// speed of the machine's range, K_G / Omega^2 symmetric (a stiffness) and within
+/// `MAX_PER_OMEGA2`.
+fn geometric_stiffness(d: &ModalData, out: &mut Vec<String>) {
+    let Some(k) = &d.geometric_stiffness else {
+        return;
+    };
+    let f = "geometric_stiffness";
+    position(&format!("{f}.axis_point"), &k.axis_point, out);
+    if !at_most((crate::geom::f::norm(k.axis) - 1.0).abs(), UNIT_TOLERANCE) {
+        out.push(format!("{f}.axis: must be a unit vector, got {:?}", k.axis));
+    }
+    let top = super::check::MAX_RPM * std::f64::consts::PI / 30.0;
+    if !(k.reference_speed > 0.0 && k.reference_speed <= top) {
+        out.push(format!(
+            "{f}.reference_speed: must be in (0, {top:.1}] rad/s ({} rpm), got {}",
+            super::check::MAX_RPM,
+            k.reference_speed
+        ));
+    }
+    let n = d.modes();
+    let g = &k.per_omega2;
+    if g.len() != n * n || g.iter().any(|v| !v.is_finite()) {
+        return; // `problems` reports it
+    }
+    if let Some((i, v)) = g
+        .iter()
+        .enumerate()
+        .find(|(_, v)| !at_most(v.abs(), MAX_PER_OMEGA2))
+    {
+        out.push(format!(
+            "{f}.per_omega2[{i}]: {v:e} exceeds {MAX_PER_OMEGA2:e} (stress stiffening per \
+             Omega^2 of mass-normalised modes)"
+        ));
+        return;
+    }
+    let scale = g.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    for r in 0..n {
+        for c in r + 1..n {
+            let (a, b) = (g[r * n + c], g[c * n + r]);
+            if !at_most((a - b).abs(), GRAM_TOLERANCE * scale) {
+                out.push(format!(
+                    "{f}.per_omega2[{}]: {a:e}, but [{}] = {b:e}: a stiffness is symmetric",
+                    r * n + c,
+                    c * n + r
+                ));
+                return;
+            }
+        }
+    }
 }
 
 /// How far (m) a marker's point may lie from the modal point (FE node set) it uses: a side
@@ -747,11 +1113,59 @@ pub(crate) mod tests {
                 .any(|m| m.starts_with("frequencies[0]: must be positive"))
         );
         assert!(p.iter().any(|m| m.starts_with("points[0] (FOOT_1).w[y]")));
+        // Each block's diagonal is within [0, 1.05]; their sum is the modal mass.
         let mut d = tiny();
         d.elementary.g[2][2][3] = 1.2;
         let p = problems(&d);
         assert_eq!(p.len(), 1);
+        assert!(p[0].starts_with("elementary.g[z][z][3]: 1.2e0"), "{p:?}");
+        let mut d = tiny();
+        d.elementary.g[0][0][3] = 0.5;
+        let p = problems(&d);
+        assert_eq!(p.len(), 1);
         assert!(p[0].contains("not mass-normalised"), "{p:?}");
+    }
+
+    #[test]
+    fn gram_identities_and_magnitudes_name_their_field() {
+        type Case = (fn(&mut ModalData), &'static str);
+        let cases: Vec<Case> = vec![
+            (
+                |d| d.elementary.g[0][2][1] = 0.5,
+                "elementary.g[x][z][1]: 5e-1 exceeds",
+            ),
+            (
+                |d| d.elementary.g[2][2][1] = 0.5,
+                "elementary.g[z][z][1]: 5e-1, but",
+            ),
+            (|d| d.elementary.c[2][0] = 2.0, "elementary.c[z][0]"),
+            (|d| d.elementary.s[0][2][0] = 1e3, "elementary.s[x][z][0]"),
+            (|d| d.points[0].w[2][0] = 1e4, "points[0] (FOOT_1).w[z]"),
+            (
+                |d| d.points[0].phi[0][0] = 1.0,
+                "points[0] (FOOT_1).phi: a set of 1",
+            ),
+            (|d| d.mass = 1e5, "mass: must be positive, within"),
+            (
+                |d| d.cog = [f64::NAN; 3],
+                "cog: [NaN, NaN, NaN] must be finite",
+            ),
+            (|d| d.inertia[1][1] = 5.0, "inertia: principal moments"),
+            (
+                |d| d.support = Support::Clamped,
+                "support: Clamped for the Cabinet",
+            ),
+            (
+                |d| d.basis = Some(vec![1.0, 0.0, 0.0, 1.5]),
+                "basis[3]: 1.5",
+            ),
+        ];
+        for (f, want) in cases {
+            let mut d = tiny();
+            f(&mut d);
+            let p = problems(&d);
+            assert!(p.iter().any(|m| m.starts_with(want)), "{want}: {p:?}");
+        }
     }
 
     #[test]

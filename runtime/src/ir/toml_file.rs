@@ -79,8 +79,8 @@ pub fn load_str(src: &str, file: &str, base: &FsPath) -> Result<Model, ModelFile
             message,
         }
     };
-    let mut model: Model = toml::from_str(src).map_err(|e| ModelFileError {
-        errors: vec![at(e.span(), e.message().trim().to_string())],
+    let mut model: Model = super::modal::from_toml(src).map_err(|(span, m)| ModelFileError {
+        errors: vec![at(span, m)],
     })?;
     if let Some(csv) = model.speed.csv.clone() {
         if !model.speed.table.is_empty() {

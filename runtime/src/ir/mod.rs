@@ -6,6 +6,7 @@
 //! this global frame, in the rest (reference) configuration.
 
 pub mod check;
+pub mod files;
 pub mod loads;
 pub mod modal;
 pub mod toml_file;

@@ -754,6 +754,36 @@ mod tests {
         assert!(e.contains("not a washdyn field file"), "{e}");
     }
 
+    /// A run on a model file: `fields` without --model takes the file summary.json names, and
+    /// refuses it, naming it, once its content changed.
+    #[test]
+    fn the_run_s_model_file_is_used_and_a_changed_one_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let model = dir.path().join("m.toml");
+        std::fs::write(&model, washdyn_models::REFERENCE_TOML).unwrap();
+        let hashed = FileHash::of(&model).unwrap();
+        let summary = serde_json::json!({
+            "model": "reference", "scene": "full", "model_files": [hashed],
+        });
+        std::fs::write(dir.path().join("summary.json"), summary.to_string()).unwrap();
+        let req = Request::Fields(Times::List(vec![0.0]));
+        // The file as run: loaded (its `../fe/` data is not beside it here: named absolute).
+        let e = fields_command(dir.path(), None, &req, dir.path(), None)
+            .err()
+            .unwrap();
+        assert!(e.contains(&format!("{}:", model.display())), "{e}");
+        assert!(e.contains("tub.modal.toml: cannot read"), "{e}");
+        std::fs::write(&model, "name = \"other\"").unwrap();
+        let e = fields_command(dir.path(), None, &req, dir.path(), None)
+            .err()
+            .unwrap();
+        assert!(
+            e.starts_with(&format!("{}: changed since the run", hashed.path)),
+            "{e}"
+        );
+        assert!(e.contains("--model"), "{e}");
+    }
+
     #[test]
     fn drum_edge_table_and_plot() {
         let rows: Vec<EdgeRow> = (0..50)

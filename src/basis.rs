@@ -198,7 +198,8 @@ mod tests {
         let mut one = d.clone();
         one.truncate(1, &[]);
         let t = Damped::new(&e, &one);
-        let err = basis_error(&r, &t, &[c.clone()], &[c], &[f]);
+        let one = std::slice::from_ref(&c);
+        let err = basis_error(&r, &t, one, one, &[f]);
         let expected = term(1).norm() / h.norm();
         assert!(
             (err.worst - expected).abs() <= 1e-12 * expected,
@@ -226,8 +227,9 @@ mod tests {
         };
         let bare = Damped::new(&e, &bare);
         let f = [0.01];
-        let ef = basis_error(&r, &folded, &[c.clone()], &[c.clone()], &f);
-        let eb = basis_error(&r, &bare, &[c.clone()], &[c], &f);
+        let one = std::slice::from_ref(&c);
+        let ef = basis_error(&r, &folded, one, one, &f);
+        let eb = basis_error(&r, &bare, one, one, &f);
         assert!(ef.worst < 1e-9, "folded {ef:?}");
         assert!(eb.worst > 1e-3, "bare {eb:?}");
     }

@@ -157,6 +157,12 @@ pub fn run_command_with(
     progress: &mut dyn FnMut(Progress),
 ) -> Result<RunOutcome, String> {
     let (model, built_in) = resolve_model(&args.model)?;
+    // A model file and its data files, hashed for `washdyn fields` (summary.json).
+    let model_files = if built_in {
+        Vec::new()
+    } else {
+        washdyn_runtime::ir::files::model_files(Path::new(&args.model), &model)?
+    };
     let scene = model.scene(args.scene.as_deref())?;
     // Generated code exists for what was compiled in: the built-in models.
     let backend = args.backend.unwrap_or(if built_in {
@@ -248,6 +254,7 @@ pub fn run_command_with(
         Err((e, s)) => (s, Some(e.to_string())),
     };
     let mut summary = summary;
+    summary.model_files = model_files;
     if args.integrator == Method::GeneralizedAlpha {
         summary.rho_inf = Some(ode.rho_inf);
     }

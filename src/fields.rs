@@ -16,6 +16,7 @@ use washdyn_runtime::equations::{Body, BodyState, Equations, Frame, ModalBody, r
 use washdyn_runtime::geom::V;
 use washdyn_runtime::geom::f::{add, sub};
 use washdyn_runtime::ir::BodyRef;
+use washdyn_runtime::ir::files::FileHash;
 use washdyn_runtime::ir::modal::ModalData;
 
 /// One body's mesh and how its nodes follow q: the scene's body (its frame says how the mesh
@@ -32,6 +33,8 @@ pub struct BodyField {
 pub struct Recovery {
     pub bodies: Vec<BodyField>,
     pub n: usize,
+    /// What the reader should know: a field re-projected onto its modal data's modes.
+    pub notes: Vec<String>,
 }
 
 /// q_file = T q_scene for a body's modal data (identity when not truncated).
@@ -42,16 +45,43 @@ fn basis(d: &ModalData, file_modes: usize) -> DMatrix<f64> {
     }
 }
 
-fn modal(b: &ModalBody, field: &Field) -> Result<(usize, DMatrix<f64>), String> {
+/// The body's q index and q_field = R T q_scene: T the data's truncation, R the field's modes
+/// onto the data file's (`Field::align`: identity for the same solve, a turn or flip per
+/// degenerate group for another). A note when R re-projects.
+fn modal(
+    b: &ModalBody,
+    field: &Field,
+    notes: &mut Vec<String>,
+) -> Result<(usize, DMatrix<f64>), String> {
+    let al = field.align(b.data())?;
+    let changed = al.changed();
+    if !changed.is_empty() {
+        let groups: Vec<String> = changed
+            .iter()
+            .map(|g| {
+                if g.len() == 1 {
+                    format!("{}", g.start + 1)
+                } else {
+                    format!("{}-{}", g.start + 1, g.end)
+                }
+            })
+            .collect();
+        notes.push(format!(
+            "the field of `{}` is another solve of its modal data: modes {} turned or flipped \
+             within their groups of equal frequency, re-projected (largest deviation {:.1e})",
+            field.header.body,
+            groups.join(", "),
+            al.worst()
+        ));
+    }
     let t = basis(b.data(), field.modes());
-    field.matches(b.data(), &t)?;
-    Ok((b.start, t))
+    Ok((b.start, al.r * t))
 }
 
 impl Recovery {
     /// The scene's bodies whose `<body>.field.bin` is in `fe_dir`.
     pub fn new(eq: &Equations, fe_dir: &Path) -> Result<Recovery, String> {
-        let mut bodies = Vec::new();
+        let (mut bodies, mut notes) = (Vec::new(), Vec::new());
         for body in &eq.bodies.list {
             let name = body.id.name();
             let path = fe_dir.join(format!("{name}.field.bin"));
@@ -60,7 +90,10 @@ impl Recovery {
                 continue;
             }
             let field = Field::read(&path)?;
-            let modes = body.modal().map(|b| modal(b, &field)).transpose()?;
+            let modes = body
+                .modal()
+                .map(|b| modal(b, &field, &mut notes))
+                .transpose()?;
             bodies.push(BodyField {
                 name: name.into(),
                 field,
@@ -78,6 +111,7 @@ impl Recovery {
         Ok(Recovery {
             bodies,
             n: eq.layout.n(),
+            notes,
         })
     }
 
@@ -374,6 +408,8 @@ pub struct Written {
     pub largest: Option<(String, f64, usize, f64)>,
     /// Largest von Mises stress: (body, Pa, node id, time).
     pub peak_stress: Option<(String, f64, usize, f64)>,
+    /// The recovery's notes (`Recovery::notes`).
+    pub notes: Vec<String>,
 }
 
 /// Recover the fields of every body at `instants` into `out` (`<body>_<k>.vtu`, `<body>.pvd`).
@@ -402,6 +438,7 @@ pub fn write_fields(
         seconds: 0.0,
         largest: None,
         peak_stress: None,
+        notes: rec.notes.clone(),
     };
     for b in &rec.bodies {
         let cells: Vec<Cell> = b
@@ -503,9 +540,26 @@ pub fn fields_command(
             .map(str::to_string)
             .ok_or_else(|| format!("summary.json: no {k}"))
     };
-    let spec = match model {
-        Some(m) => m.to_string(),
-        None => text("model")?,
+    // The run's model: `--model`, else the file the summary names (refused if it or a data
+    // file it names changed since), else the built-in model of the summary's name.
+    let files: Vec<FileHash> = match summary.get("model_files") {
+        Some(v) => serde_json::from_value(v.clone())
+            .map_err(|e| format!("summary.json: model_files: {e}"))?,
+        None => Vec::new(),
+    };
+    let spec = match (model, files.first()) {
+        (Some(m), _) => m.to_string(),
+        (None, Some(first)) => {
+            for f in &files {
+                f.unchanged().map_err(|e| {
+                    format!(
+                        "{e}: the run's model differs now (give it with --model to recover anyway)"
+                    )
+                })?;
+            }
+            first.path.clone()
+        }
+        (None, None) => text("model")?,
     };
     let (model, _) = crate::commands::resolve_model(&spec)?;
     let scene = model
@@ -540,6 +594,7 @@ pub fn fields_command(
                 seconds: start.elapsed().as_secs_f64(),
                 largest: top.map(|r| ("drum front edge".into(), r.max_m, r.node, r.t)),
                 peak_stress: peak.map(|((pa, node), t)| (BodyRef::Drum.name().into(), pa, node, t)),
+                notes: rec.notes.clone(),
             })
         }
     }
@@ -761,6 +816,36 @@ mod tests {
         std::fs::write(dir.path().join("tub.field.bin"), b"garbage").unwrap();
         let e = washdyn_fe::field::Field::read(&dir.path().join("tub.field.bin")).unwrap_err();
         assert!(e.contains("not a washdyn field file"), "{e}");
+    }
+
+    /// A run on a model file: `fields` without --model takes the file summary.json names, and
+    /// refuses it, naming it, once its content changed.
+    #[test]
+    fn the_run_s_model_file_is_used_and_a_changed_one_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let model = dir.path().join("m.toml");
+        std::fs::write(&model, washdyn_models::REFERENCE_TOML).unwrap();
+        let hashed = FileHash::of(&model).unwrap();
+        let summary = serde_json::json!({
+            "model": "reference", "scene": "full", "model_files": [hashed],
+        });
+        std::fs::write(dir.path().join("summary.json"), summary.to_string()).unwrap();
+        let req = Request::Fields(Times::List(vec![0.0]));
+        // The file as run: loaded (its `../fe/` data is not beside it here: named absolute).
+        let e = fields_command(dir.path(), None, &req, dir.path(), None)
+            .err()
+            .unwrap();
+        assert!(e.contains(&format!("{}:", model.display())), "{e}");
+        assert!(e.contains("tub.modal.toml: cannot read"), "{e}");
+        std::fs::write(&model, "name = \"other\"").unwrap();
+        let e = fields_command(dir.path(), None, &req, dir.path(), None)
+            .err()
+            .unwrap();
+        assert!(
+            e.starts_with(&format!("{}: changed since the run", hashed.path)),
+            "{e}"
+        );
+        assert!(e.contains("--model"), "{e}");
     }
 
     #[test]

@@ -674,6 +674,9 @@ fn main() -> ExitCode {
                 washdyn::fields::fields_command(&run, model.as_deref(), &r, &fe, out.as_deref())
             }) {
                 Ok(w) => {
+                    for n in &w.notes {
+                        eprintln!("note: {n}");
+                    }
                     println!(
                         "wrote {} files, {:.1} MB in {:.2} s",
                         w.files.len(),

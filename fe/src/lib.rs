@@ -21,3 +21,4 @@ pub mod modal;
 pub mod pipeline;
 pub mod rotating;
 pub mod stress;
+pub mod subspace;

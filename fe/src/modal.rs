@@ -238,6 +238,7 @@ impl Import<'_> {
             geometric_stiffness: None,
             correction: None,
             basis: None,
+            file_modes: None,
             support_springs: Vec::new(),
         })
     }

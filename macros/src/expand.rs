@@ -43,7 +43,10 @@ pub fn analyse(input: TokenStream, dir: &FsPath) -> Result<(Machine, Model, Buil
     let mut model = deserialize(&built, &mut diag);
     if let Some(m) = &mut model {
         // Modal data files: the runtime's one resolver, as for the TOML loader.
-        let (files, mut errors) = washdyn_runtime::ir::modal::resolve(m, dir);
+        let (files, mut errors) = washdyn_runtime::ir::modal::resolve(
+            m,
+            washdyn_runtime::ir::files::DataFiles::AsWritten(dir),
+        );
         built.files.extend(files);
         errors.extend(check(m).err().unwrap_or_default());
         for CheckError { path, message } in errors {

@@ -17,26 +17,45 @@ pub use elastic_cabinet_decl::elastic_cabinet;
 pub use reference_decl::reference;
 
 use washdyn_runtime::ir::Model;
-use washdyn_runtime::ir::toml_file::{ModelFileError, load_str};
+use washdyn_runtime::ir::files::{DataFiles, Embedded};
+use washdyn_runtime::ir::toml_file::{ModelFileError, load_with};
 
 /// The reference machine's TOML source.
 pub const REFERENCE_TOML: &str = include_str!("../data/reference.toml");
 
+/// The reference's modal data, compiled in under the names its TOML gives them, so that the
+/// built-in reference reads nothing from disk (an installed binary works without its checkout).
+pub const REFERENCE_DATA: &[Embedded] = &[
+    Embedded {
+        name: "../fe/tub.modal.toml",
+        origin: "built-in models/fe/tub.modal.toml",
+        text: include_str!("../fe/tub.modal.toml"),
+    },
+    Embedded {
+        name: "../fe/drum.modal.toml",
+        origin: "built-in models/fe/drum.modal.toml",
+        text: include_str!("../fe/drum.modal.toml"),
+    },
+    Embedded {
+        name: "../fe/cabinet.modal.toml",
+        origin: "built-in models/fe/cabinet.modal.toml",
+        text: include_str!("../fe/cabinet.modal.toml"),
+    },
+];
+
 /// Names of the built-in models.
 pub const BUILT_IN: &[&str] = &["reference", "compact", "elastic_cabinet"];
 
-/// The built-in model `name`: the reference from its TOML file (checked at load), the others
-/// as their `machine!` declaration filled them (checked at compile time).
+/// The built-in model `name`: the reference from its TOML text with its compiled-in modal data
+/// (checked at load), the others as their `machine!` declaration filled them (checked at
+/// compile time). Nothing is read from disk.
 pub fn built_in(name: &str) -> Option<Result<Model, ModelFileError>> {
     match name {
-        "reference" => {
-            let base = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data");
-            Some(load_str(
-                REFERENCE_TOML,
-                "models/data/reference.toml",
-                &base,
-            ))
-        }
+        "reference" => Some(load_with(
+            REFERENCE_TOML,
+            "built-in models/data/reference.toml",
+            DataFiles::Embedded(REFERENCE_DATA),
+        )),
         "compact" => Some(Ok(compact::model())),
         "elastic_cabinet" => Some(Ok(elastic_cabinet::model())),
         _ => None,

@@ -200,6 +200,11 @@ pub struct Summary {
     /// and tolerance (set by the CLI, which carries the study).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub error_class: Option<String>,
+    /// When the model was a file: it and the data files it names, by absolute path with a
+    /// content hash each (`ir::files::model_files`; set by the CLI), so `washdyn fields`
+    /// recovers with that model and refuses it if it changed. Empty for a built-in model.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub model_files: Vec<crate::ir::files::FileHash>,
 }
 
 impl Summary {
@@ -234,6 +239,7 @@ impl Summary {
             warnings: Vec::new(),
             error: None,
             error_class: None,
+            model_files: Vec::new(),
         }
     }
 

@@ -7,6 +7,7 @@
 
 pub mod check;
 pub mod exact;
+pub mod files;
 pub mod loads;
 pub mod modal;
 pub mod toml_file;

@@ -8,6 +8,7 @@
 
 use super::V3;
 use super::check::{CheckError, Path};
+use super::files::DataFiles;
 use serde::{Deserialize, Serialize};
 use std::path::{Path as FsPath, PathBuf};
 
@@ -67,10 +68,25 @@ pub struct ModalData {
     /// row-major), so that fields on the FE mesh can be recovered. None: the file's own modes.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub basis: Option<Vec<f64>>,
+    /// After truncation: the file's own modes at the points, so that a field on the FE mesh
+    /// (in the file's modes) can be checked against them (`washdyn fields`). None: the file's
+    /// own modes.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub file_modes: Option<FileModes>,
     /// The FE model's springs to the ground (the cabinet's feet), for damping by modal strain
     /// energy (`support_energy`). Empty: none recorded.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub support_springs: Vec<SupportSpring>,
+}
+
+/// The file's modes before truncation, as a field of them is checked: frequencies, the number
+/// of eigenmodes, and each point's w (in the order of `ModalData::points`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FileModes {
+    pub frequencies: Vec<f64>,
+    pub eigenmodes: usize,
+    pub w: Vec<[Vec<f64>; 3]>,
 }
 
 /// A spring from a one-node modal point to the ground: `stiffness` N/m along x, y, z.
@@ -333,6 +349,9 @@ impl ModalData {
     /// stiffness is diagonal with `frequencies`: every field is linear or bilinear in the shapes.
     fn change_basis(&mut self, t: &nalgebra::DMatrix<f64>, frequencies: Vec<f64>) {
         let (m, n) = t.shape();
+        if self.file_modes.is_none() {
+            self.file_modes = Some(self.own_modes());
+        }
         let row = |v: &[f64]| -> Vec<f64> {
             (0..n)
                 .map(|j| (0..m).map(|k| v[k] * t[(k, j)]).sum())
@@ -426,11 +445,15 @@ pub fn generalised_eigen(
 
 /// Read a modal data file; errors carry the file (as `shown`) and line.
 pub fn read_file(path: &FsPath, shown: &str) -> Result<ModalData, String> {
-    let name = shown;
-    let src = std::fs::read_to_string(path).map_err(|e| format!("{name}: cannot read: {e}"))?;
-    from_toml(&src).map_err(|(span, m)| {
+    let src = std::fs::read_to_string(path).map_err(|e| format!("{shown}: cannot read: {e}"))?;
+    read_str(&src, shown)
+}
+
+/// Parse modal data text; errors carry the file (as `shown`) and line.
+pub fn read_str(src: &str, shown: &str) -> Result<ModalData, String> {
+    from_toml(src).map_err(|(span, m)| {
         let line = span.map_or(0, |s| src[..s.start.min(src.len())].lines().count().max(1));
-        format!("{name}:{line}: {m}")
+        format!("{shown}:{line}: {m}")
     })
 }
 
@@ -455,14 +478,21 @@ pub fn from_toml<T: serde::de::DeserializeOwned>(
     })
 }
 
-/// Read every elastic body's modal data file (relative to `base`) into the model: the one
-/// resolver of both front ends. Returns the files read (the macro makes cargo watch them) and
-/// the problems, each at `elastic[i].file` and naming the file.
-pub fn resolve(model: &mut super::Model, base: &FsPath) -> (Vec<PathBuf>, Vec<CheckError>) {
-    let (mut files, mut errors) = (Vec::new(), Vec::new());
+/// Read every elastic body's modal data file (from `files`: relative to the model's directory,
+/// or compiled in) into the model: the one resolver of both front ends. Returns the files read
+/// from disk (the macro makes cargo watch them) and the problems, each at `elastic[i].file` and
+/// naming the file (an absolute path, or the embedded file's origin).
+pub fn resolve(model: &mut super::Model, files: DataFiles) -> (Vec<PathBuf>, Vec<CheckError>) {
+    let (mut read, mut errors) = (Vec::new(), Vec::new());
     for (i, e) in model.elastic.iter_mut().enumerate() {
-        let path = base.join(&e.file);
-        match read_file(&path, &e.file) {
+        let data = files
+            .read(&e.file)
+            .map_err(|e| e.to_string())
+            .and_then(|f| {
+                read.extend(f.path.clone());
+                read_str(&f.text, &f.shown)
+            });
+        match data {
             Ok(mut d) => {
                 // The file's own rules before anything computes with it (truncation's
                 // eigen-solver did not return on NaN); the checker skips a body without data.
@@ -470,9 +500,8 @@ pub fn resolve(model: &mut super::Model, base: &FsPath) -> (Vec<PathBuf>, Vec<Ch
                 if !found.is_empty() {
                     errors.extend(found.into_iter().map(|m| CheckError {
                         path: Path::default().key("elastic").idx(i).key("file"),
-                        message: format!("elastic `{}`: {}: {m}", e.name, e.file),
+                        message: format!("elastic `{}`: {}: {m}", e.name, files.shown(&e.file)),
                     }));
-                    files.push(path);
                     continue;
                 }
                 if let Some(n) = e.modes {
@@ -482,7 +511,7 @@ pub fn resolve(model: &mut super::Model, base: &FsPath) -> (Vec<PathBuf>, Vec<Ch
                             message: format!(
                                 "elastic `{}`: asks for {n} modes, `{}` has {}",
                                 e.name,
-                                e.file,
+                                files.shown(&e.file),
                                 d.eigenmodes()
                             ),
                         });
@@ -496,9 +525,8 @@ pub fn resolve(model: &mut super::Model, base: &FsPath) -> (Vec<PathBuf>, Vec<Ch
                 message: format!("elastic `{}`: {m}", e.name),
             }),
         }
-        files.push(path);
     }
-    (files, errors)
+    (read, errors)
 }
 
 /// Relative tolerance of the stored participation against the point's shapes (both come from
@@ -1048,6 +1076,19 @@ impl ModalData {
     pub fn point(&self, name: &str) -> Option<&ModalPoint> {
         self.points.iter().find(|p| p.name == name)
     }
+
+    /// The file's modes at the points: kept from before truncation, else the data's own.
+    pub fn file_modes(&self) -> FileModes {
+        self.file_modes.clone().unwrap_or_else(|| self.own_modes())
+    }
+
+    fn own_modes(&self) -> FileModes {
+        FileModes {
+            frequencies: self.frequencies.clone(),
+            eigenmodes: self.eigenmodes(),
+            w: self.points.iter().map(|p| p.w.clone()).collect(),
+        }
+    }
 }
 
 #[cfg(test)]
@@ -1085,6 +1126,7 @@ pub(crate) mod tests {
             geometric_stiffness: None,
             correction: None,
             basis: None,
+            file_modes: None,
             support_springs: Vec::new(),
         }
     }

@@ -2,6 +2,7 @@
 
 use super::Model;
 use super::check::{CheckError, Path, Seg, check};
+use super::files::DataFiles;
 use std::fmt;
 use std::path::{Path as FsPath, PathBuf};
 use toml::Spanned;
@@ -70,6 +71,12 @@ pub(crate) fn reference_for_tests() -> Model {
 
 /// Load and check model text; `file` names it in errors, `base` resolves relative data files.
 pub fn load_str(src: &str, file: &str, base: &FsPath) -> Result<Model, ModelFileError> {
+    load_with(src, file, DataFiles::Dir(base))
+}
+
+/// Load and check model text whose data files come from `files` (on disk or compiled in);
+/// `file` names the model text in errors.
+pub fn load_with(src: &str, file: &str, files: DataFiles) -> Result<Model, ModelFileError> {
     let at = |span: Option<std::ops::Range<usize>>, message: String| {
         let (line, column) = span.map_or((0, 0), |s| line_col(src, s.start));
         Located {
@@ -92,10 +99,18 @@ pub fn load_str(src: &str, file: &str, base: &FsPath) -> Result<Model, ModelFile
                 )],
             });
         }
-        let p = base.join(&csv);
-        model.speed.table = read_speed_csv(&p).map_err(|e| ModelFileError { errors: vec![e] })?;
+        let table = match files.read(&csv) {
+            Ok(f) => parse_speed_csv(&f.text, &f.shown),
+            Err(e) => Err(Located {
+                file: e.shown,
+                line: 0,
+                column: 1,
+                message: e.why,
+            }),
+        };
+        model.speed.table = table.map_err(|e| ModelFileError { errors: vec![e] })?;
     }
-    let (_, mut errs) = super::modal::resolve(&mut model, base);
+    let (_, mut errs) = super::modal::resolve(&mut model, files);
     errs.extend(check(&model).err().unwrap_or_default());
     if !errs.is_empty() {
         return Err(ModelFileError {
@@ -111,14 +126,24 @@ pub fn load_str(src: &str, file: &str, base: &FsPath) -> Result<Model, ModelFile
 /// Read a speed profile CSV: `time_s, rpm` per line, an optional header, `#` comments.
 pub fn read_speed_csv(path: &FsPath) -> Result<Vec<[f64; 2]>, Located> {
     let file = path.display().to_string();
-    let err = |line: usize, message: String| Located {
+    let text = std::fs::read_to_string(path).map_err(|e| Located {
         file: file.clone(),
+        line: 0,
+        column: 1,
+        message: format!("cannot read: {e}"),
+    })?;
+    parse_speed_csv(&text, &file)
+}
+
+/// Parse a speed profile CSV's text; `file` names it in errors.
+pub fn parse_speed_csv(text: &str, file: &str) -> Result<Vec<[f64; 2]>, Located> {
+    let err = |line: usize, message: String| Located {
+        file: file.to_string(),
         line,
         column: 1,
         message,
     };
-    let text = std::fs::read_to_string(path).map_err(|e| err(0, format!("cannot read: {e}")))?;
-    let line_at = |byte: u64| line_col(&text, byte as usize).0;
+    let line_at = |byte: u64| line_col(text, byte as usize).0;
     let mut rd = csv::ReaderBuilder::new()
         .has_headers(false)
         .trim(csv::Trim::All)

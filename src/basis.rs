@@ -126,16 +126,10 @@ pub fn ports(
     (inputs, outputs)
 }
 
-/// `data` cut as a scene with `cutoff` Hz cuts it (`ModalBody::new`): the eigenmodes up to
-/// it, the correction modes and the dropped modes' static response to `inputs`.
+/// `data` cut as a scene with `cutoff` Hz cuts it (`ModalData::cut`, as `ModalBody::new`).
 pub fn cut(data: &ModalData, cutoff: f64, inputs: &[LoadCase]) -> ModalData {
     let mut d = data.clone();
-    let keep = d.frequencies[..d.eigenmodes()]
-        .iter()
-        .filter(|f| **f <= cutoff)
-        .count()
-        .max(1);
-    d.truncate(keep, inputs);
+    d.cut(cutoff, inputs);
     d
 }
 
@@ -151,28 +145,8 @@ mod tests {
             .find(|e| e.name == "cabinet")
             .unwrap()
             .clone();
-        let mut d = e.data.clone().unwrap();
         // Two eigenmodes, nothing folded: no correction, no loads.
-        let e0 = d.eigenmodes();
-        if let Some(c) = &d.correction {
-            let n = d.modes();
-            d.frequencies.truncate(n - c.modes);
-            for p in &mut d.points {
-                for a in 0..3 {
-                    p.w[a].truncate(e0);
-                    p.phi[a].truncate(e0);
-                }
-            }
-            for a in 0..3 {
-                d.elementary.c[a].truncate(e0);
-                for b in 0..3 {
-                    d.elementary.s[a][b].truncate(e0);
-                    let g = &d.elementary.g[a][b];
-                    d.elementary.g[a][b] = (0..e0 * e0).map(|i| g[(i / e0) * n + i % e0]).collect();
-                }
-            }
-            d.correction = None;
-        }
+        let mut d = e.data.as_ref().unwrap().without_correction();
         d.truncate(2, &[]);
         assert_eq!(d.modes(), 2);
         (e, d)

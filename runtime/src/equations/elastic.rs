@@ -61,14 +61,8 @@ impl ModalBody {
     ) -> Self {
         let mut d = e.data.clone().expect("checked: modal data resolved");
         if let Some(fc) = cutoff {
-            let e = d.eigenmodes();
-            let keep = d.frequencies[..e]
-                .iter()
-                .filter(|f| **f <= fc)
-                .count()
-                .max(1);
             let cases: Vec<_> = loads.iter().filter_map(|l| l.case(&d)).collect();
-            d.truncate(keep, &cases);
+            d.cut(fc, &cases);
         }
         let n = d.modes();
         let w: Vec<f64> = d

@@ -333,6 +333,17 @@ impl ModalData {
         }
     }
 
+    /// Cut as a scene with `cutoff` Hz cuts it: the eigenmodes up to it (at least one), the
+    /// correction modes, and the dropped modes' static response to `loads` (`truncate`).
+    pub fn cut(&mut self, cutoff: f64, loads: &[LoadCase]) {
+        let keep = self.frequencies[..self.eigenmodes()]
+            .iter()
+            .filter(|f| **f <= cutoff)
+            .count()
+            .max(1);
+        self.truncate(keep, loads);
+    }
+
     /// The eigenmodes alone, without the correction modes (to measure what they buy).
     pub fn without_correction(&self) -> ModalData {
         let mut d = self.clone();

@@ -402,10 +402,14 @@ fn main() -> ExitCode {
             );
             let mut progress = |p: washdyn_runtime::run::Progress| {
                 bar.set_position((1000.0 * p.t / p.t_end) as u64);
-                bar.set_message(format!(
-                    "{:.2} / {:.2} s, drum {:.0} rpm",
-                    p.t, p.t_end, p.rpm
-                ));
+                bar.set_message(match p.start {
+                    // The periodic start iterates before t moves: say how far it is.
+                    Some((k, r)) => format!(
+                        "{:.2} s, periodic start at {:.0} rpm: {k} periods, residual {r:.1e} x tolerance",
+                        p.t, p.rpm
+                    ),
+                    None => format!("{:.2} / {:.2} s, drum {:.0} rpm", p.t, p.t_end, p.rpm),
+                });
             };
             // Ctrl-C stops the run between steps; the normal failure path then flushes the
             // samples and writes summary.json with status "interrupted".

@@ -244,5 +244,34 @@ fn runs_that_do_not_match_are_refused_naming_the_directories() {
     assert!(matches!(e, CompareError::Summary { .. }), "{e}");
     assert!(e.to_string().contains("summary.json"), "{e}");
     assert!(!root.join("out").exists(), "nothing written");
+
+    // A belt ratio that marks no motor order (issue 23): refused before anything is written,
+    // by compare and by analyse (the CLI, exit code 2).
+    for r in [f64::NAN, 0.0, -1.0, f64::INFINITY] {
+        let e = compare(&CompareArgs {
+            motor_ratio: r,
+            ..args(&a, &a, &root.join("out"))
+        })
+        .unwrap_err();
+        assert!(
+            matches!(
+                e,
+                CompareError::Read(washdyn::analysis::AnalysisError::InvalidOptions(_))
+            ),
+            "{r}: {e}"
+        );
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_washdyn"))
+            .arg("analyse")
+            .arg(&a)
+            .arg(format!("--motor-ratio={r}"))
+            .arg("--out")
+            .arg(root.join("out"))
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{r}: {err}");
+        assert!(err.contains("motor_ratio must be positive"), "{r}: {err}");
+    }
+    assert!(!root.join("out").exists(), "nothing written");
     let _ = std::fs::remove_dir_all(&root);
 }

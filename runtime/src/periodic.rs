@@ -18,6 +18,7 @@ use crate::speed::Speed;
 use crate::statics::{MEAN_REVOLUTIONS, mean_load_equilibrium};
 use crate::system::{FirstOrder, Mechanical};
 use nalgebra::{DMatrix, DVector};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Anderson's memory (previous iterates kept).
 const MEMORY: usize = 16;
@@ -27,6 +28,32 @@ const TOL: f64 = 1e-11;
 /// Integrations of one period at most.
 const MAX_FLOWS: usize = 300;
 
+/// Why the periodic start stopped without a state.
+#[derive(Debug, Clone, PartialEq)]
+pub enum StartStop {
+    /// The interrupt flag was set (Ctrl-C): polled at every step of every period.
+    Interrupted,
+    /// No periodic state: the reason.
+    Failed(String),
+}
+
+impl From<String> for StartStop {
+    fn from(s: String) -> Self {
+        StartStop::Failed(s)
+    }
+}
+
+/// What the periodic start reports and obeys while it iterates: one period of the elastic
+/// machine at rtol 1e-10 takes seconds, and the whole start minutes.
+#[derive(Default)]
+pub struct Watch<'a> {
+    /// Polled at every integrator step: when set, the start stops with
+    /// [`StartStop::Interrupted`].
+    pub interrupt: Option<&'a AtomicBool>,
+    /// Called after every period: (periods integrated so far, residual / tolerance).
+    pub progress: Option<&'a mut dyn FnMut(usize, f64)>,
+}
+
 /// The flow map over [t0, t0 + period] from y into `out`, integrated at `rtol`.
 fn flow<S: Mechanical>(
     sys: &mut FirstOrder<S>,
@@ -35,7 +62,8 @@ fn flow<S: Mechanical>(
     y: &[f64],
     out: &mut [f64],
     rtol: f64,
-) -> Result<(), String> {
+    interrupt: Option<&AtomicBool>,
+) -> Result<(), StartStop> {
     let mut s = Dopri5::new(
         y.len(),
         Options {
@@ -47,6 +75,9 @@ fn flow<S: Mechanical>(
     let t1 = t0 + period;
     s.init(sys, t0, y).map_err(|e| e.to_string())?;
     while s.t() < t1 {
+        if interrupt.is_some_and(|f| f.load(Ordering::Relaxed)) {
+            return Err(StartStop::Interrupted);
+        }
         s.step(sys, t1).map_err(|e| e.to_string())?;
     }
     out.copy_from_slice(s.y());
@@ -91,6 +122,19 @@ pub fn periodic_state_counted<S: Mechanical>(
     sys: &mut FirstOrder<S>,
     t0: f64,
 ) -> Result<(Vec<f64>, usize), String> {
+    periodic_state_watched(sys, t0, Watch::default()).map_err(|e| match e {
+        StartStop::Interrupted => "periodic start: interrupted".to_string(),
+        StartStop::Failed(s) => s,
+    })
+}
+
+/// [`periodic_state_counted`], reporting each period to `watch.progress` and stopping when
+/// `watch.interrupt` is set.
+pub fn periodic_state_watched<S: Mechanical>(
+    sys: &mut FirstOrder<S>,
+    t0: f64,
+    mut watch: Watch,
+) -> Result<(Vec<f64>, usize), StartStop> {
     let period = period(sys.sys.speed(), t0)?;
     let n = sys.layout().n();
     let m = 2 * n;
@@ -107,20 +151,23 @@ pub fn periodic_state_counted<S: Mechanical>(
     let mut best = f64::INFINITY;
     let rtol = 1e-10;
     for k in 0..MAX_FLOWS {
-        flow(sys, t0, period, &y, &mut g, rtol)?;
+        flow(sys, t0, period, &y, &mut g, rtol, watch.interrupt)?;
         let f: Vec<f64> = g.iter().zip(&y).map(|(a, b)| a - b).collect();
         // Converged when the period map moves the state by less than TOL of its scale
         // (positions in m and rad, velocities in m/s and rad/s).
         let scale = y.iter().fold(1e-3f64, |a, v| a.max(v.abs()));
         let res = f.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        if let Some(p) = watch.progress.as_mut() {
+            p(k + 1, res / (TOL * scale));
+        }
         if res <= TOL * scale {
             return Ok((y, k + 1));
         }
         if !res.is_finite() {
-            return Err(format!(
+            return Err(StartStop::Failed(format!(
                 "periodic start: the state became non-finite after {} periods",
                 k + 1
-            ));
+            )));
         }
         // A step that made things much worse starts the memory afresh (the map is not
         // affine there: friction changing between sticking and sliding).
@@ -145,7 +192,7 @@ pub fn periodic_state_counted<S: Mechanical>(
         let eps = 1e-12 * svd.singular_values.max();
         let gamma = svd
             .solve(&rhs, eps)
-            .map_err(|e| format!("periodic start: {e}"))?;
+            .map_err(|e| StartStop::Failed(format!("periodic start: {e}")))?;
         for i in 0..m {
             let mut v = g[i];
             for j in 0..mk {
@@ -154,7 +201,7 @@ pub fn periodic_state_counted<S: Mechanical>(
             y[i] = v;
         }
     }
-    Err(format!(
+    Err(StartStop::Failed(format!(
         "periodic start: no periodic state after {MAX_FLOWS} integrations of one period"
-    ))
+    )))
 }

@@ -339,6 +339,9 @@ pub struct Progress {
     pub t: f64,
     pub t_end: f64,
     pub rpm: f64,
+    /// While the periodic start iterates (before t moves): one-period integrations so far and
+    /// the fixed point's residual relative to its tolerance (done at 1).
+    pub start: Option<(usize, f64)>,
 }
 
 /// Labels for the summary.
@@ -481,7 +484,27 @@ where
         Start::MeanLoad => y[..n].copy_from_slice(
             &crate::statics::mean_load_equilibrium(&mut sys.sys, t0).map_err(setup)?,
         ),
-        Start::Periodic => y = crate::periodic::periodic_state(sys, t0).map_err(setup)?,
+        Start::Periodic => {
+            use crate::periodic::{StartStop, Watch, periodic_state_watched};
+            let rpm = sys.sys.speed().rpm(t0);
+            let mut report = |k: usize, r: f64| {
+                progress(Progress {
+                    t: t0,
+                    t_end,
+                    rpm,
+                    start: Some((k, r)),
+                })
+            };
+            let watch = Watch {
+                interrupt: guard.interrupt.as_deref(),
+                progress: Some(&mut report),
+            };
+            y = match periodic_state_watched(sys, t0, watch) {
+                Ok((y, _)) => y,
+                Err(StartStop::Interrupted) => return Err(RunError::Interrupted { t: t0 }),
+                Err(StartStop::Failed(e)) => return Err(setup(e)),
+            };
+        }
         Start::Reference => {}
     }
     let mut qdd = vec![0.0; n];
@@ -572,6 +595,7 @@ where
                     t,
                     t_end,
                     rpm: sys.sys.speed().rpm(t),
+                    start: None,
                 });
             }
         }
@@ -588,6 +612,7 @@ where
         t: t_end,
         t_end,
         rpm: sys.sys.speed().rpm(t_end),
+        start: None,
     });
     Ok(())
 }

@@ -15,6 +15,7 @@ pub mod dat;
 pub mod deck;
 pub mod field;
 pub mod frd;
+pub mod inp;
 pub mod lumping;
 pub mod mesh;
 pub mod modal;

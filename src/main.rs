@@ -281,6 +281,21 @@ enum FeCmd {
         #[arg(long, default_value = "out/fe")]
         out: PathBuf,
     },
+    /// Modal data from your own CalculiX deck: a spec (TOML: the deck and its units, the body
+    /// kind and support, the points, the modes, correction loads, the drum's spin; see
+    /// docs/modal-data.md) is solved like the built-in bodies and checked against the deck
+    /// (ccx's mass and centre of gravity, rigid-body modes, mass normalisation); writes
+    /// `<name>.modal.toml` (and `<name>.field.bin` with recovery) to `--out`.
+    Deck {
+        /// The spec file.
+        spec: PathBuf,
+        /// Where the modal data (and field) files go.
+        #[arg(long, default_value = "out/fe")]
+        out: PathBuf,
+        /// Scratch directory for decks and ccx results.
+        #[arg(long, default_value = "out/fe/work")]
+        work: PathBuf,
+    },
     /// Solve the built-in FE models with ccx and write their modal data
     /// (`<body>.modal.toml`) and a report; the decks and ccx's files go to `--work`.
     Modal {
@@ -778,6 +793,15 @@ fn main() -> ExitCode {
             }
         },
         Cmd::Fe {
+            cmd: FeCmd::Deck { spec, out, work },
+        } => match fe_deck(&spec, &out, &work) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(e) => {
+                eprintln!("error: {e}");
+                ExitCode::from(2)
+            }
+        },
+        Cmd::Fe {
             cmd: FeCmd::Modal { out, work, only },
         } => match fe_modal(&out, &work, &only) {
             Ok(()) => ExitCode::SUCCESS,
@@ -917,6 +941,43 @@ fn fe_modal(out: &Path, work: &Path, only: &[String]) -> Result<(), String> {
     let old = std::fs::read_to_string(&p).unwrap_or_default();
     let report = washdyn::commands::merge_report(&old, &sections, &order);
     std::fs::write(&p, report).map_err(|e| format!("{}: {e}", p.display()))
+}
+
+/// `washdyn fe deck`: a user's deck and spec to checked modal data (and field).
+fn fe_deck(spec: &Path, out: &Path, work: &Path) -> Result<(), String> {
+    let body = washdyn_fe::user::load(spec)?;
+    for d in [out, work] {
+        std::fs::create_dir_all(d).map_err(|e| format!("{}: {e}", d.display()))?;
+    }
+    let (data, report, c) = washdyn_fe::user::build_checked(&body, work)?;
+    let p = out.join(format!("{}.modal.toml", body.name));
+    let text = format!(
+        "# Modal data of `{}` from {} (washdyn fe deck).\n{}",
+        body.name,
+        spec.display(),
+        data.to_toml()
+    );
+    std::fs::write(&p, &text).map_err(|e| format!("{}: {e}", p.display()))?;
+    print!("{report}");
+    println!(
+        "  checked against the deck: mass {:.1e} off ccx's, CoG {:.1e} m, {} rigid-body modes, \
+         normalisation {:.1e}",
+        c.mass, c.cog, c.rigid_modes, c.normalisation
+    );
+    println!(
+        "  {} modes kept, {:.2} to {:.2} Hz; wrote {}",
+        data.modes(),
+        data.frequencies[0],
+        data.frequencies[data.modes() - 1],
+        p.display()
+    );
+    if body.recovery {
+        let field = format!("{}.field.bin", body.name);
+        std::fs::copy(work.join(&field), out.join(&field))
+            .map_err(|e| format!("{}: {e}", out.join(&field).display()))?;
+        println!("  wrote {}", out.join(&field).display());
+    }
+    Ok(())
 }
 
 /// `FROM:TO:STEP` of `washdyn fields --range`.

@@ -30,6 +30,45 @@ impl Units {
     }
 }
 
+/// `mesh` (SI) with every number in `units`: what a deck in those units holds (a user's
+/// deck in mm-t-s is written this way in the tests and the tutorial).
+pub fn in_units(mesh: &Mesh, units: Units) -> Mesh {
+    let (fl, fm, fs, frho, fk) = units.factors();
+    let mut m = mesh.clone();
+    for p in &mut m.nodes {
+        *p = p.map(|c| c / fl);
+    }
+    let scale = |mat: &mut Material| {
+        mat.e /= fs;
+        mat.rho /= frho;
+    };
+    for part in &mut m.parts {
+        match &mut part.section {
+            Section::Shell {
+                thickness,
+                material,
+            } => {
+                *thickness /= fl;
+                scale(material);
+            }
+            Section::Solid { material } | Section::ReducedSolid { material } => scale(material),
+            Section::Beam {
+                width,
+                height,
+                material,
+                ..
+            } => {
+                *width /= fl;
+                *height /= fl;
+                scale(material);
+            }
+            Section::Mass { kg } => *kg /= fm,
+            Section::Ground { k, .. } => *k /= fk,
+        }
+    }
+    m
+}
+
 /// A deck error: where, and what.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[error("{}:{line}: {message}", file.display())]
@@ -47,6 +86,9 @@ const RESERVED: [&str; 2] = ["NALL", "WD_PRINT"];
 
 /// Keywords of analysis set-up the model part may hold and the pipeline replaces: skipped.
 const SKIPPED: [&str; 3] = ["*HEADING", "*AMPLITUDE", "*PHYSICAL CONSTANTS"];
+
+/// A material's cards as read: (E and nu, density), each until its card comes.
+type MaterialCards = (Option<(f64, f64)>, Option<f64>);
 
 /// One card: keyword, parameters (upper-cased keys; values as written, upper-cased where they
 /// name something), data lines with their line numbers, where it stands.
@@ -249,8 +291,7 @@ pub fn read(path: &Path, units: Units) -> Result<Mesh, DeckError> {
     let mut elements: BTreeMap<i64, (String, Vec<i64>, PathBuf, usize)> = BTreeMap::new();
     let mut nsets: BTreeMap<String, Vec<i64>> = BTreeMap::new();
     let mut elsets: BTreeMap<String, Vec<i64>> = BTreeMap::new();
-    let mut materials: BTreeMap<String, (Option<(f64, f64)>, Option<f64>, PathBuf, usize)> =
-        BTreeMap::new();
+    let mut materials: BTreeMap<String, MaterialCards> = BTreeMap::new();
     // Section cards after the sets and materials they name: (card index).
     let mut sections: Vec<usize> = Vec::new();
     let mut rigid: Vec<usize> = Vec::new();
@@ -345,7 +386,7 @@ pub fn read(path: &Path, units: Units) -> Result<Mesh, DeckError> {
             }
             "*MATERIAL" => {
                 let name = card.need("NAME")?;
-                materials.insert(name, (None, None, card.file.clone(), card.line));
+                materials.insert(name, (None, None));
             }
             "*ELASTIC" | "*DENSITY" => {
                 let Some(name) = all[..ci]
@@ -418,7 +459,7 @@ pub fn read(path: &Path, units: Units) -> Result<Mesh, DeckError> {
     };
     let material = |card: &Card| -> Result<Material, DeckError> {
         let name = card.need("MATERIAL")?;
-        let (el, rho, ..) = materials
+        let (el, rho) = materials
             .get(&name)
             .ok_or_else(|| card.err(card.line, format!("no material `{name}` defined")))?;
         let (e, nu) =
@@ -775,44 +816,58 @@ mod tests {
     fn an_mm_t_s_deck_reads_to_the_si_mesh() {
         let dir = tempfile::tempdir().unwrap();
         for b in builtin() {
-            let mut mm = b.mesh.clone();
-            for p in &mut mm.nodes {
-                *p = p.map(|c| c * 1e3);
-            }
-            let scale = |m: &mut Material| {
-                m.e *= 1e-6;
-                m.rho *= 1e-12;
-            };
-            for part in &mut mm.parts {
-                match &mut part.section {
-                    Section::Shell {
-                        thickness,
-                        material,
-                    } => {
-                        *thickness *= 1e3;
-                        scale(material);
-                    }
-                    Section::Solid { material } | Section::ReducedSolid { material } => {
-                        scale(material)
-                    }
-                    Section::Beam {
-                        width,
-                        height,
-                        material,
-                        ..
-                    } => {
-                        *width *= 1e3;
-                        *height *= 1e3;
-                        scale(material);
-                    }
-                    Section::Mass { kg } => *kg *= 1e-3,
-                    Section::Ground { k, .. } => *k *= 1e-3,
-                }
-            }
+            let mm = in_units(&b.mesh, Units::MmTS);
             let path = dir.path().join(format!("{}_mm.inp", b.name));
             std::fs::write(&path, mm.deck(b.solve_modes).text()).unwrap();
             let read = read(&path, Units::MmTS).unwrap_or_else(|e| panic!("{e}"));
             assert_same(&read, &b.mesh);
+        }
+    }
+
+    /// mm-t-s by the textbook's numbers, not by `in_units`: steel 210 000 MPa and 7.85e-9
+    /// t/mm^3, a node at 1000 mm, 1e-3 t, 1 N/mm, a 0.7 mm shell, a 10 x 20 mm bar.
+    #[test]
+    fn mm_t_s_numbers_read_as_si() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("mm.inp");
+        let text = "*NODE\n1, 0, 0, 0\n2, 500, 0, 0\n3, 1000, 0, 0\n\
+            4, 0, 1000, 0\n5, 1000, 1000, 0\n6, 0, 500, 0\n7, 1000, 500, 0\n8, 500, 1000, 0\n\
+            *ELEMENT, TYPE=B32, ELSET=ROD\n1, 1, 2, 3\n\
+            *ELEMENT, TYPE=S8R, ELSET=SHEET\n2, 1, 3, 5, 4, 2, 7, 8, 6\n\
+            *ELEMENT, TYPE=MASS, ELSET=PM\n3, 5\n*ELEMENT, TYPE=SPRING1, ELSET=FOOT\n4, 1\n\
+            *MATERIAL, NAME=STEEL\n*ELASTIC\n210000, 0.3\n*DENSITY\n7.85e-9\n\
+            *BEAM SECTION, ELSET=ROD, MATERIAL=STEEL, SECTION=RECT\n10, 20\n0, 0, 1\n\
+            *SHELL SECTION, ELSET=SHEET, MATERIAL=STEEL\n0.7\n*MASS, ELSET=PM\n1e-3,\n\
+            *SPRING, ELSET=FOOT\n3\n1.0,\n";
+        std::fs::write(&path, text).unwrap();
+        let m = read(&path, Units::MmTS).unwrap();
+        assert_eq!(m.nodes[2], [1.0, 0.0, 0.0]);
+        let steel = Material {
+            name: "STEEL".into(),
+            e: 2.1e11,
+            nu: 0.3,
+            rho: 7850.0,
+        };
+        let want = [
+            Section::Beam {
+                width: 0.01,
+                height: 0.02,
+                normal: [0.0, 0.0, 1.0],
+                material: steel.clone(),
+            },
+            Section::Shell {
+                thickness: 7e-4,
+                material: steel,
+            },
+            Section::Mass { kg: 1.0 },
+            Section::Ground { dof: 3, k: 1000.0 },
+        ];
+        for (part, w) in m.parts.iter().zip(&want) {
+            assert!(
+                same_section(&part.section, w),
+                "{:?} vs {w:?}",
+                part.section
+            );
         }
     }
 

@@ -23,3 +23,4 @@ pub mod pipeline;
 pub mod rotating;
 pub mod stress;
 pub mod subspace;
+pub mod user;

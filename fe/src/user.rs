@@ -1,0 +1,298 @@
+//! A user's body: their CalculiX deck (`inp.rs`) and a short spec (TOML) naming what the
+//! machine needs of it (kind and support, the points, the modes and the correction loads, the
+//! drum's spin), turned into the same [`BodySpec`] the built-in bodies are, and built by the
+//! same pipeline. After the build, the result is checked against the deck: ccx's own mass and
+//! centre of gravity (EMAS) against the mass the modal data integrates, the rigid-body modes a
+//! free body must have, and the mass normalisation of the kept modes.
+
+use crate::inp::{self, Units};
+use crate::lumping::continuum_mass_props;
+use crate::modal::Keep;
+use crate::pipeline::{BodySpec, Report, Spin, build};
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+use washdyn_runtime::ir::modal::{ElasticBodyKind, LoadCase, ModalData, Support};
+
+/// The spec file, as written (SI units, whatever the deck's).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct UserSpec {
+    /// File stem of the outputs: `<name>.modal.toml`, `<name>.field.bin`.
+    pub name: String,
+    /// The deck, relative to the spec file.
+    pub deck: PathBuf,
+    /// The deck's units: "SI" or "mm-t-s".
+    pub units: Units,
+    /// tub, drum or cabinet.
+    pub body: ElasticBodyKind,
+    /// free_free, clamped or on_springs.
+    pub support: Support,
+    /// Eigenmodes ccx computes (a free body's 6 rigid ones included).
+    pub solve_modes: usize,
+    pub keep: KeepSpec,
+    /// Every point a force element, sensor or mount of the model attaches to: a node set of
+    /// the deck (its centroid is the point) or a position (the nodes near it form the set).
+    pub points: Vec<PointSpec>,
+    /// Unit loads whose static response becomes correction modes (non-spinning bodies).
+    #[serde(default)]
+    pub correction: Vec<LoadCase>,
+    /// The drum's spin: axis and the speed of the prestress.
+    pub spin: Option<SpinSpec>,
+    /// Also write `<name>.field.bin` for `washdyn fields`.
+    #[serde(default = "yes")]
+    pub recovery: bool,
+}
+
+fn yes() -> bool {
+    true
+}
+
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct KeepSpec {
+    /// Modes below this, Hz, are rigid-body modes (free bodies; 0 otherwise).
+    #[serde(default)]
+    pub rigid_below_hz: f64,
+    pub max_hz: f64,
+    pub max_modes: usize,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PointSpec {
+    pub name: String,
+    /// A node set of the deck.
+    pub nset: Option<String>,
+    /// Where the point is, m: with `nset`, where the set is read (the model's attachment;
+    /// default the set's centroid); alone, the nodes near it become the set.
+    pub at: Option<[f64; 3]>,
+}
+
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpinSpec {
+    pub axis_point: [f64; 3],
+    pub axis: [f64; 3],
+    /// The speed of the prestress, rpm (the top of the run-up).
+    pub reference_rpm: f64,
+    /// Prestressed modes for the geometric stiffness fit (about twice the kept modes).
+    pub modes: usize,
+}
+
+/// The spec file's line of a byte offset.
+fn line_of(text: &str, at: usize) -> usize {
+    text[..at.min(text.len())].matches('\n').count() + 1
+}
+
+/// Read the spec and its deck into a [`BodySpec`]. Errors name the file and line (spec or
+/// deck) and the set or field.
+pub fn load(spec_path: &Path) -> Result<BodySpec, String> {
+    let text = std::fs::read_to_string(spec_path)
+        .map_err(|e| format!("{}: cannot read: {e}", spec_path.display()))?;
+    let at = |span: Option<std::ops::Range<usize>>| {
+        span.map_or(String::new(), |s| format!(":{}", line_of(&text, s.start)))
+    };
+    let spec: UserSpec = washdyn_runtime::ir::modal::from_toml(&text)
+        .map_err(|(span, m)| format!("{}{}: {m}", spec_path.display(), at(span)))?;
+    // Where a field stands in the spec, for errors found after parsing.
+    let line = |needle: &str| {
+        text.find(needle)
+            .map_or(String::new(), |i| format!(":{}", line_of(&text, i)))
+    };
+    let bad = |needle: &str, m: String| format!("{}{}: {m}", spec_path.display(), line(needle));
+    let deck = spec_path
+        .parent()
+        .unwrap_or(Path::new("."))
+        .join(&spec.deck);
+    let mut mesh = inp::read(&deck, spec.units).map_err(|e| e.to_string())?;
+    if spec.solve_modes == 0 || spec.keep.max_modes == 0 || spec.keep.max_modes > spec.solve_modes {
+        return Err(bad(
+            "solve_modes",
+            format!(
+                "need 0 < keep.max_modes ({}) <= solve_modes ({})",
+                spec.keep.max_modes, spec.solve_modes
+            ),
+        ));
+    }
+    if !(spec.keep.max_hz > 0.0 && spec.keep.rigid_below_hz >= 0.0) {
+        return Err(bad("max_hz", "keep.max_hz must be positive".into()));
+    }
+    let free = spec.support == Support::FreeFree;
+    if free != (spec.body == ElasticBodyKind::Tub)
+        || (spec.spin.is_some()) != (spec.body == ElasticBodyKind::Drum)
+    {
+        return Err(bad(
+            "body",
+            format!(
+                "a {:?} is held {:?} and {} (tub: free_free; drum: clamped, with [spin]; \
+                 cabinet: on_springs or clamped)",
+                spec.body,
+                spec.support,
+                if spec.spin.is_some() {
+                    "spins"
+                } else {
+                    "does not spin"
+                }
+            ),
+        ));
+    }
+    let mut points = Vec::new();
+    for p in &spec.points {
+        let point = match (&p.nset, p.at) {
+            (Some(set), at) => {
+                let ids = mesh.nsets.get(&set.to_uppercase()).ok_or_else(|| {
+                    bad(
+                        &format!("\"{set}\""),
+                        format!(
+                            "point `{}`: the deck {} has no node set `{set}`",
+                            p.name,
+                            deck.display()
+                        ),
+                    )
+                })?;
+                // Read at `at` (where the model attaches) or else at the set's centroid.
+                let mut c = [0.0; 3];
+                for &id in ids {
+                    for i in 0..3 {
+                        c[i] += mesh.nodes[id - 1][i] / ids.len() as f64;
+                    }
+                }
+                if set.to_uppercase() != p.name {
+                    let ids = ids.clone();
+                    mesh.add_to_set(&p.name, &ids);
+                }
+                match at {
+                    Some(at) if at.iter().all(|v| v.is_finite()) => at,
+                    Some(_) => {
+                        return Err(bad(
+                            &format!("\"{}\"", p.name),
+                            format!("point `{}`: `at` is not finite", p.name),
+                        ));
+                    }
+                    None => c,
+                }
+            }
+            (None, Some(at)) if at.iter().all(|v| v.is_finite()) => {
+                crate::bodies::patch(&mut mesh, &p.name, at);
+                at
+            }
+            _ => {
+                return Err(bad(
+                    &format!("\"{}\"", p.name),
+                    format!("point `{}`: give nset, or a finite `at`, or both", p.name),
+                ));
+            }
+        };
+        points.push((p.name.clone(), point));
+    }
+    for c in &spec.correction {
+        if !points.iter().any(|(n, _)| *n == c.point) {
+            return Err(bad(
+                &format!("\"{}\"", c.point),
+                format!("correction: no point `{}` in `points`", c.point),
+            ));
+        }
+    }
+    let spin = match spec.spin {
+        Some(s) => {
+            let n = s.axis.iter().map(|v| v * v).sum::<f64>().sqrt();
+            if !(n.is_finite() && n > 0.0 && s.reference_rpm > 0.0 && s.modes > 0) {
+                return Err(bad(
+                    "[spin]",
+                    "spin: needs a nonzero axis, a positive reference_rpm and modes".into(),
+                ));
+            }
+            Some(Spin {
+                axis_point: s.axis_point,
+                axis: s.axis.map(|v| v / n),
+                reference_speed: s.reference_rpm * std::f64::consts::PI / 30.0,
+                modes: s.modes,
+            })
+        }
+        None => None,
+    };
+    Ok(BodySpec {
+        name: spec.name,
+        kind: spec.body,
+        support: spec.support,
+        mesh,
+        solve_modes: spec.solve_modes,
+        keep: Keep {
+            rigid_below_hz: spec.keep.rigid_below_hz,
+            max_hz: spec.keep.max_hz,
+            max_modes: spec.keep.max_modes,
+        },
+        points,
+        spin,
+        correction: spec.correction,
+        recovery: spec.recovery,
+    })
+}
+
+/// What the checks after the build measured.
+#[derive(Clone, Debug)]
+pub struct Checked {
+    /// |m_ccx / m_ours - 1| (ccx's EMAS over the deck's elements against our integration).
+    pub mass: f64,
+    /// |cog_ccx - cog_ours|, m.
+    pub cog: f64,
+    /// ccx's modes below `rigid_below_hz` (a free body must have 6).
+    pub rigid_modes: usize,
+    /// max |W^T M W - I| of the kept modes.
+    pub normalisation: f64,
+}
+
+/// Build the body in `work` and check it against the deck; the bounds: mass within 2e-5 (ccx
+/// prints 7 digits; the built-in bodies measure 1.2e-6 to 4.0e-6), CoG within 1e-4 m, 6 rigid modes on a
+/// free body, normalisation within 5e-3 (the built-in bodies measure 3.8e-5 to 1.2e-3
+/// (models/fe/report.txt): ccx expands S8R shells to 3-D bricks, whose mass the mid-surface
+/// integral does not hold exactly).
+pub fn build_checked(spec: &BodySpec, work: &Path) -> Result<(ModalData, Report, Checked), String> {
+    let (data, report) = build(spec, work)?;
+    let dat = std::fs::read_to_string(work.join(format!("{}.dat", spec.name)))
+        .map_err(|e| format!("{}: {e}", work.display()))?;
+    let e = crate::dat::emas(&dat, "EALL")
+        .ok_or_else(|| format!("{}: no EMAS totals in ccx's .dat", spec.name))?;
+    let ours = continuum_mass_props(&spec.mesh);
+    let cog = (0..3)
+        .map(|i| (e.cog[i] - ours.cog[i]).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    let checked = Checked {
+        mass: (e.mass / ours.mass - 1.0).abs(),
+        cog,
+        rigid_modes: report
+            .all_frequencies
+            .iter()
+            .filter(|f| **f < spec.keep.rigid_below_hz)
+            .count(),
+        normalisation: report.mass_error,
+    };
+    let mut wrong = Vec::new();
+    if checked.mass > 2e-5 {
+        wrong.push(format!(
+            "mass: ccx {} kg, integrated {} kg",
+            e.mass, ours.mass
+        ));
+    }
+    if checked.cog > 1e-4 {
+        wrong.push(format!("centre of gravity {cog:.2e} m off ccx's"));
+    }
+    if spec.support == Support::FreeFree && checked.rigid_modes != 6 {
+        wrong.push(format!(
+            "{} modes below {} Hz where a free body has 6 rigid-body modes (a loose part, or \
+             keep.rigid_below_hz too high or low)",
+            checked.rigid_modes, spec.keep.rigid_below_hz
+        ));
+    }
+    if checked.normalisation > 5e-3 {
+        wrong.push(format!(
+            "mass normalisation off by {:.1e}",
+            checked.normalisation
+        ));
+    }
+    if !wrong.is_empty() {
+        return Err(format!("{}: {}", spec.name, wrong.join("; ")));
+    }
+    Ok((data, report, checked))
+}

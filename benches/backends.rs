@@ -5,8 +5,9 @@
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 use std::io;
+use washdyn::simulation::integrator_options;
 use washdyn_runtime::equations::{Equations, JacobianWork};
-use washdyn_runtime::ode::{Dopri5, Options};
+use washdyn_runtime::ode::{Dopri5, Method};
 use washdyn_runtime::output::SampleSink;
 use washdyn_runtime::run::{Labels, RunOptions, run};
 use washdyn_runtime::system::{FirstOrder, Interpreter, Mechanical};
@@ -106,11 +107,8 @@ impl SampleSink for Null {
 fn run_up<S: Mechanical>(sys: S) -> u64 {
     let mut sys = FirstOrder::new(sys);
     let n = 2 * sys.layout().n();
-    let opts = Options {
-        rtol: 1e-6,
-        atol: 1e-9,
-        ..Options::default()
-    };
+    // `washdyn run`'s options for dopri5 at its default tolerance (rtol 1e-6, atol 1e-9).
+    let opts = integrator_options(Method::Dopri5, 1e-6, None, None);
     let mut solver = Dopri5::new(n, opts);
     let ro = RunOptions {
         t_end: sys.sys.speed().end(),
@@ -122,7 +120,7 @@ fn run_up<S: Mechanical>(sys: S) -> u64 {
         &mut solver,
         &ro,
         &Labels::default(),
-        (1e-6, 1e-9),
+        (opts.rtol, opts.atol),
         &mut Null,
         &mut |_| {},
     )

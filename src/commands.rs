@@ -1,48 +1,16 @@
 //! The CLI's commands as library functions, so tests drive them without a subprocess.
 
+use crate::error::Error;
 use crate::results::{Format, SensorRecorder, StateRecorder};
+pub use crate::simulation::{Backend, integrator_options, resolve_model};
+use crate::simulation::{Settings, Simulation, Source};
 use std::fs;
 use std::path::{Path, PathBuf};
-use washdyn_runtime::clearance::{Watch, element_tub_ends};
 use washdyn_runtime::equations::Equations;
-use washdyn_runtime::ir::toml_file::load_file;
 use washdyn_runtime::ir::{DRUM, MOTOR, Model};
-use washdyn_runtime::ode::{AnySolver, Method, Options};
-use washdyn_runtime::run::{Guard, Labels, Progress, RunOptions, Start, Summary, run_guarded};
-use washdyn_runtime::system::{FirstOrder, Interpreter, Mechanical};
-
-/// Which evaluator of the equations runs.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Backend {
-    Interpreted,
-    Generated,
-}
-
-impl std::str::FromStr for Backend {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s {
-            "interpreted" => Ok(Backend::Interpreted),
-            "generated" => Ok(Backend::Generated),
-            _ => Err(format!("unknown backend `{s}` (interpreted, generated)")),
-        }
-    }
-}
-
-/// A built-in model name or a path to a model file.
-pub fn resolve_model(spec: &str) -> Result<(Model, bool), String> {
-    if let Some(m) = washdyn_models::built_in(spec) {
-        return m.map(|m| (m, true)).map_err(|e| e.to_string());
-    }
-    let p = Path::new(spec);
-    if p.extension().is_some_and(|e| e == "toml") || p.exists() {
-        return load_file(p).map(|m| (m, false)).map_err(|e| e.to_string());
-    }
-    Err(format!(
-        "`{spec}` is neither a built-in model ({}) nor a model file",
-        washdyn_models::BUILT_IN.join(", ")
-    ))
-}
+use washdyn_runtime::ode::Method;
+use washdyn_runtime::run::{Guard, Progress, Start, Summary};
+use washdyn_runtime::system::Interpreter;
 
 /// Settings of `washdyn run`.
 #[derive(Clone, Debug)]
@@ -80,7 +48,8 @@ pub struct RunOutcome {
     /// The sensor file written.
     pub sensors: PathBuf,
     pub summary: Summary,
-    pub error: Option<String>,
+    /// Why the run stopped early ([`Error::Integration`]); its output up to then is kept.
+    pub error: Option<Error>,
     /// Column names and columns (time_s, drum_rpm, channels) when kept in memory.
     pub samples: Option<(Vec<String>, Vec<Vec<f64>>)>,
     /// The model's belt ratio (motor rotor speed / drum speed), for marking motor orders.
@@ -103,31 +72,11 @@ pub fn motor_ratio(model: &Model) -> Option<f64> {
         .map(|r| r.ratio / drum)
 }
 
-/// The integrator settings the CLI documents: relative tolerance `tol`, absolute 1e-3 x `tol`
-/// (m, rad), RK4's fixed step `step` (default 1e-4 s), an optional step budget.
-pub fn integrator_options(
-    method: Method,
-    tol: f64,
-    step: Option<f64>,
-    max_steps: Option<u64>,
-) -> Options {
-    Options {
-        rtol: tol,
-        atol: tol * 1e-3,
-        h0: match method {
-            Method::Rk4 => step.unwrap_or(1e-4),
-            _ => step.unwrap_or(0.0),
-        },
-        max_steps: max_steps.unwrap_or(Options::default().max_steps),
-        ..Options::default()
-    }
-}
-
 /// `DIR/summary.json`, written for finished and failed runs alike.
-pub fn write_summary(dir: &Path, summary: &Summary) -> Result<(), String> {
+pub fn write_summary(dir: &Path, summary: &Summary) -> Result<(), Error> {
     let json = serde_json::to_string_pretty(summary).expect("summary serialises");
-    fs::write(dir.join("summary.json"), json + "\n")
-        .map_err(|e| format!("cannot write {}/summary.json: {e}", dir.display()))
+    let path = dir.join("summary.json");
+    fs::write(&path, json + "\n").map_err(|e| Error::io("write", path, e))
 }
 
 /// What `run` watches and allows beyond [`RunArgs`].
@@ -144,139 +93,66 @@ pub struct RunControl {
 pub fn run_command(
     args: &RunArgs,
     progress: &mut dyn FnMut(Progress),
-) -> Result<RunOutcome, String> {
+) -> Result<RunOutcome, Error> {
     run_command_with(args, &RunControl::default(), progress)
 }
 
+impl RunArgs {
+    /// The simulation settings these arguments and `ctl` give.
+    pub fn settings(&self, ctl: &RunControl) -> Settings {
+        Settings {
+            scene: self.scene.clone(),
+            backend: self.backend,
+            method: self.integrator,
+            tol: self.tol,
+            step: self.step,
+            rho_inf: self.rho_inf,
+            max_steps: self.max_steps,
+            t_start: 0.0,
+            t_end: self.t_end,
+            sample_rate: self.sample_rate,
+            start: self.start,
+            guard: ctl.guard.clone(),
+            allow_large_output: ctl.allow_large_output,
+            analysis_band_hz: ctl.analysis_band_hz,
+            variant: None,
+        }
+    }
+}
+
+/// The simulation `washdyn run` sets up for `args` (every setting checked; nothing written).
+pub fn run_simulation(args: &RunArgs, ctl: &RunControl) -> Result<Simulation, Error> {
+    Simulation::new(Source::load(&args.model)?, &args.settings(ctl))
+}
+
 /// `washdyn run`: validate every setting (nothing is written before), integrate, stream
-/// `sensors.parquet` (or `.csv`), write `summary.json`. A failed integration still writes both and reports the
-/// error with its time.
+/// `sensors.parquet` (or `.csv`), write `summary.json`. A failed integration still writes both
+/// and reports the error with its time.
 pub fn run_command_with(
     args: &RunArgs,
     ctl: &RunControl,
     progress: &mut dyn FnMut(Progress),
-) -> Result<RunOutcome, String> {
-    let (model, built_in) = resolve_model(&args.model)?;
-    // A model file and its data files, hashed for `washdyn fields` (summary.json).
-    let model_files = if built_in {
-        Vec::new()
-    } else {
-        washdyn_runtime::ir::files::model_files(Path::new(&args.model), &model)?
-    };
-    let scene = model.scene(args.scene.as_deref())?;
-    // Generated code exists for what was compiled in: the built-in models.
-    let backend = args.backend.unwrap_or(if built_in {
-        Backend::Generated
-    } else {
-        Backend::Interpreted
-    });
-    let mech: Box<dyn Mechanical + Send> = match backend {
-        Backend::Interpreted => Box::new(Interpreter::new(&model, &scene)),
-        Backend::Generated if built_in => washdyn_models::generated(&args.model, &scene.name)
-            .ok_or_else(|| format!("no generated code for scene `{}`", scene.name))?,
-        Backend::Generated => {
-            return Err(format!(
-                "`{}` is a model file: generated code exists only for models compiled in with \
-                 machine! (built-in: {}); use --backend interpreted",
-                args.model,
-                washdyn_models::BUILT_IN.join(", ")
-            ));
-        }
-    };
-    crate::validate::check(&crate::validate::Settings {
-        method: args.integrator,
-        t_end: args.t_end,
-        profile_end: mech.speed().end(),
-        tol: args.tol,
-        step: args.step,
-        rho_inf: args.rho_inf,
-        sample_rate: args.sample_rate,
-        max_steps: args.max_steps,
-        channels: Some(mech.channel_names().len()),
-        analysis_band_hz: ctl.analysis_band_hz,
-        allow_large_output: ctl.allow_large_output,
-    })?;
-    if args.start == Start::Periodic {
-        washdyn_runtime::periodic::period(mech.speed(), 0.0)?;
-    }
+) -> Result<RunOutcome, Error> {
+    let sim = run_simulation(args, ctl)?;
     let out_dir = args
         .out
         .clone()
-        .unwrap_or_else(|| PathBuf::from("out").join(&model.name));
-    fs::create_dir_all(&out_dir)
-        .map_err(|e| format!("cannot create {}: {e}", out_dir.display()))?;
-
-    let t_end = args.t_end.unwrap_or_else(|| mech.speed().end());
-    let mut sys = FirstOrder::new(mech);
-    let dim = 2 * sys.layout().n();
-    let mut ode = integrator_options(args.integrator, args.tol, args.step, args.max_steps);
-    if let Some(r) = args.rho_inf {
-        ode.rho_inf = r;
-    }
-    let mut solver = AnySolver::new(args.integrator, dim, ode);
+        .unwrap_or_else(|| PathBuf::from("out").join(&sim.model().name));
+    fs::create_dir_all(&out_dir).map_err(|e| Error::io("create", &out_dir, e))?;
+    let motor_ratio = motor_ratio(sim.model());
     let mut sink = SensorRecorder::new(&out_dir, args.format, args.keep_samples);
     sink.states = args.states.then(|| StateRecorder::new(&out_dir));
     sink.energy = args
         .energy
         .then(|| crate::results::EnergyRecorder::new(&out_dir, args.format));
-    let opts = RunOptions {
-        t_start: 0.0,
-        t_end,
-        sample_rate: args.sample_rate,
-        start: args.start,
-    };
-    let labels = Labels {
-        model: model.name.clone(),
-        scene: scene.name.clone(),
-        backend: match backend {
-            Backend::Interpreted => "interpreted".into(),
-            Backend::Generated => "generated".into(),
-        },
-    };
-    let eq = Equations::new(&model, &scene);
-    let guard = Guard {
-        fixed_step: (args.integrator == Method::Rk4).then_some(ode.h0),
-        elements: element_tub_ends(&model, &eq),
-        watch: Watch::new(&model, &eq),
-        ..ctl.guard.clone()
-    };
-    let (summary, error) = match run_guarded(
-        &mut sys,
-        &mut solver,
-        &opts,
-        &labels,
-        (ode.rtol, ode.atol),
-        &mut sink,
-        progress,
-        &guard,
-    ) {
-        Ok(s) => (s, None),
-        Err((e, s)) => (s, Some(e.to_string())),
-    };
-    let mut summary = summary;
-    summary.model_files = model_files;
-    if args.integrator == Method::GeneralizedAlpha {
-        summary.rho_inf = Some(ode.rho_inf);
-    }
-    // A run that failed reached no class; the study measured generalized-alpha at its default
-    // spectral radius only.
-    let default_rho = args.rho_inf.is_none_or(|r| r == Options::default().rho_inf);
-    if error.is_none() && default_rho {
-        let tol = match (args.integrator, args.step) {
-            (Method::Rk4, h) => h.unwrap_or(ode.h0),
-            _ => args.tol,
-        };
-        summary.error_class =
-            crate::accuracy::error_class(&model.name, &scene.name, args.integrator, tol);
-    }
+    let (summary, error) = sim.integrate(&mut sink, progress);
     let finished = sink.finish();
     write_summary(&out_dir, &summary)?;
-    finished.map_err(|e| format!("cannot write {}: {e}", sink.path().display()))?;
+    finished.map_err(|e| Error::io("write", sink.path(), e))?;
     if let Some(e) = &sink.energy {
         let (t, lines) = e.lines();
         let opts = crate::analysis::AnalysisOptions::default();
-        crate::analysis::plot::energy_plot(&t, &lines, &opts, &out_dir.join("energy"))
-            .map_err(|e| e.to_string())?;
+        crate::analysis::plot::energy_plot(&t, &lines, &opts, &out_dir.join("energy"))?;
     }
     let samples = args
         .keep_samples
@@ -287,14 +163,14 @@ pub fn run_command_with(
         summary,
         error,
         samples,
-        motor_ratio: motor_ratio(&model),
+        motor_ratio,
     })
 }
 
 /// `washdyn check`: the model's own checks (done on loading), then what a run needs of each
 /// scene: a static equilibrium at t = 0 (a model without springs has none) and a rest position
 /// inside the small-motion bounds of [`Guard`].
-pub fn check_model(model: &Model) -> Result<String, String> {
+pub fn check_model(model: &Model) -> Result<String, Error> {
     let guard = Guard::default();
     let mut lines = vec![format!(
         "{}: ok; scenes: {}",
@@ -303,7 +179,9 @@ pub fn check_model(model: &Model) -> Result<String, String> {
     )];
     let mut errors = Vec::new();
     for name in model.scene_names() {
-        let scene = model.scene(Some(&name))?;
+        let scene = model
+            .scene(Some(&name))
+            .map_err(|m| Error::setting("--scene", m))?;
         let mut sys = Interpreter::new(model, &scene);
         match washdyn_runtime::statics::static_equilibrium(&mut sys, 0.0) {
             Ok(q) => {
@@ -335,35 +213,11 @@ pub fn check_model(model: &Model) -> Result<String, String> {
     if errors.is_empty() {
         Ok(lines.join("\n"))
     } else {
-        Err(format!("{}: {}", model.name, errors.join("\n")))
+        Err(Error::Scene {
+            model: model.name.clone(),
+            problems: errors,
+        })
     }
-}
-
-/// The rules of [`crate::validate`] for the settings a sweep shares across its variants (the
-/// output size is checked per variant by `run`'s rule only when the sweep calls it).
-pub fn validate_sweep(
-    model: &Model,
-    scene: Option<&str>,
-    method: Method,
-    tol: f64,
-    t_end: Option<f64>,
-    sample_rate: f64,
-) -> Result<(), String> {
-    let scene = model.scene(scene)?;
-    let sys = Interpreter::new(model, &scene);
-    crate::validate::check(&crate::validate::Settings {
-        method,
-        t_end,
-        profile_end: sys.speed().end(),
-        tol,
-        step: None,
-        rho_inf: None,
-        sample_rate,
-        max_steps: None,
-        channels: Some(sys.channel_names().len()),
-        analysis_band_hz: None,
-        allow_large_output: false,
-    })
 }
 
 /// `washdyn fe modal`'s report: the sections of `old` (one per body, starting with a line
@@ -393,6 +247,99 @@ pub fn merge_report(old: &str, new: &[(String, String)], order: &[String]) -> St
     let rank = |n: &str| order.iter().position(|o| o == n).unwrap_or(order.len());
     sections.sort_by_key(|(n, _)| rank(n));
     sections.into_iter().map(|(_, t)| t).collect()
+}
+
+/// `washdyn fe write`: the built-in decks (frequency decks, and the drum's prestressed one).
+pub fn fe_write(out: &Path) -> Result<(), String> {
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    for (name, text) in washdyn_fe::bodies::decks() {
+        let p = out.join(name);
+        std::fs::write(&p, &text).map_err(|e| format!("{}: {e}", p.display()))?;
+        println!("{} ({} kB)", p.display(), text.len() / 1024);
+    }
+    Ok(())
+}
+
+/// `washdyn fe modal`: solve the built-in bodies and write their modal data and a report.
+pub fn fe_modal(out: &Path, work: &Path, only: &[String]) -> Result<(), String> {
+    let bodies = washdyn_fe::bodies::builtin();
+    let names: Vec<&str> = bodies.iter().map(|b| b.name.as_str()).collect();
+    if let Some(bad) = only.iter().find(|o| !names.contains(&o.as_str())) {
+        return Err(format!(
+            "--only: no built-in body `{bad}`; the bodies are {}",
+            names.join(", ")
+        ));
+    }
+    for d in [out, work] {
+        std::fs::create_dir_all(d).map_err(|e| format!("{}: {e}", d.display()))?;
+    }
+    let order: Vec<String> = names.iter().map(|n| n.to_string()).collect();
+    let mut sections = Vec::new();
+    for b in bodies {
+        if !only.is_empty() && !only.contains(&b.name) {
+            continue;
+        }
+        let (data, r) = washdyn_fe::pipeline::build(&b, work)?;
+        let p = out.join(format!("{}.modal.toml", b.name));
+        let text = format!(
+            "# Modal data of the {} (docs/modal-data.md), written by `washdyn fe modal`.\n{}",
+            b.name,
+            data.to_toml()
+        );
+        std::fs::write(&p, &text).map_err(|e| format!("{}: {e}", p.display()))?;
+        let line = format!(
+            "{r}  {} modes kept, {:.2} to {:.2} Hz; {} ({} kB)\n",
+            data.modes(),
+            data.frequencies[0],
+            data.frequencies[data.modes() - 1],
+            p.display(),
+            text.len() / 1024
+        );
+        print!("{line}");
+        sections.push((b.name.clone(), line));
+    }
+    // With --only, the other bodies' sections of an existing report stay.
+    let p = out.join("report.txt");
+    let old = std::fs::read_to_string(&p).unwrap_or_default();
+    let report = merge_report(&old, &sections, &order);
+    std::fs::write(&p, report).map_err(|e| format!("{}: {e}", p.display()))
+}
+
+/// `washdyn fe deck`: a user's deck and spec to checked modal data (and field).
+pub fn fe_deck(spec: &Path, out: &Path, work: &Path) -> Result<(), String> {
+    let body = washdyn_fe::user::load(spec)?;
+    for d in [out, work] {
+        fs::create_dir_all(d).map_err(|e| format!("{}: {e}", d.display()))?;
+    }
+    let (data, report, c) = washdyn_fe::user::build_checked(&body, work)?;
+    let p = out.join(format!("{}.modal.toml", body.name));
+    let text = format!(
+        "# Modal data of `{}` from {} (washdyn fe deck).\n{}",
+        body.name,
+        spec.display(),
+        data.to_toml()
+    );
+    fs::write(&p, &text).map_err(|e| format!("{}: {e}", p.display()))?;
+    print!("{report}");
+    println!(
+        "  checked against the deck: mass {:.1e} off ccx's, CoG {:.1e} m, {} rigid-body modes, \
+         normalisation {:.1e}",
+        c.mass, c.cog, c.rigid_modes, c.normalisation
+    );
+    println!(
+        "  {} modes kept, {:.2} to {:.2} Hz; wrote {}",
+        data.modes(),
+        data.frequencies[0],
+        data.frequencies[data.modes() - 1],
+        p.display()
+    );
+    if body.recovery {
+        let field = format!("{}.field.bin", body.name);
+        fs::copy(work.join(&field), out.join(&field))
+            .map_err(|e| format!("{}: {e}", out.join(&field).display()))?;
+        println!("  wrote {}", out.join(&field).display());
+    }
+    Ok(())
 }
 
 #[cfg(test)]

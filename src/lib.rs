@@ -1,4 +1,5 @@
-//! washdyn: the command-line tool's library: model resolution, the `run` command and
+//! washdyn: the command-line tool's library: model resolution, one simulation set-up
+//! (`simulation`) for `run`, `sweep` and `accuracy`, their typed errors (`Error`), and
 //! post-processing.
 pub mod accuracy;
 pub mod analysis;
@@ -6,10 +7,14 @@ pub mod basis;
 pub mod campbell;
 pub mod commands;
 pub mod compare;
+pub mod error;
 pub mod fields;
 pub mod full_mesh;
 pub mod modes;
 pub mod results;
+pub mod simulation;
 pub mod sweep;
 pub mod validate;
 pub mod vtk;
+
+pub use error::Error;

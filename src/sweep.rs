@@ -4,17 +4,17 @@
 //! A variant that fails its check or its run gets a row with the reason; the others go on.
 
 use crate::analysis::{AnalysisOptions, Channel, RunUp, Signals};
-use crate::commands::{integrator_options, motor_ratio, write_summary};
+use crate::commands::{motor_ratio, write_summary};
+use crate::error::Error;
 use crate::results::{Format, SensorRecorder};
+use crate::simulation::{Backend, Settings, Simulation, Source, integrator_options};
 use std::collections::HashSet;
 use std::fs;
 use std::path::{Path, PathBuf};
 use washdyn_runtime::ir::Model;
-use washdyn_runtime::ir::check::check;
+use washdyn_runtime::ir::check::{CheckError, check};
 use washdyn_runtime::ir::toml_file::read_speed_csv;
-use washdyn_runtime::ode::{AnySolver, Method};
-use washdyn_runtime::run::{Labels, RunOptions, Start, Summary, run};
-use washdyn_runtime::system::{FirstOrder, Interpreter};
+use washdyn_runtime::run::{Labels, Summary};
 
 /// Named axial unbalance positions (x, m) of the built-in machines' drum
 /// (docs/reference-machine.md): front, middle, rear. Other models have other drums: give them
@@ -24,11 +24,21 @@ pub const POSITIONS: &[(&str, f64)] = &[("front", 0.15), ("middle", 0.0), ("rear
 /// Models whose drum the named positions describe.
 const NAMED_POSITION_MODELS: &[&str] = &["reference", "compact"];
 
-/// One variant of a sweep: its model, or why it cannot run.
+/// One variant of a sweep: its model, or the checker's findings on it.
 #[derive(Clone, Debug)]
 pub struct Variant {
     pub name: String,
-    pub model: Result<Model, String>,
+    pub model: Result<Model, Vec<CheckError>>,
+}
+
+impl Variant {
+    /// The model, or [`Error::Check`] with the findings.
+    pub fn checked(&self) -> Result<&Model, Error> {
+        self.model.as_ref().map_err(|errors| Error::Check {
+            model: self.name.clone(),
+            errors: errors.clone(),
+        })
+    }
 }
 
 /// What to vary; an empty list keeps the model's own value.
@@ -43,12 +53,22 @@ pub struct SweepSpec {
 }
 
 /// The cartesian product of the spec over the base model. Errors name the offending value.
-pub fn variants(base: &Model, spec: &SweepSpec) -> Result<Vec<Variant>, String> {
+pub fn variants(base: &Model, spec: &SweepSpec) -> Result<Vec<Variant>, Error> {
     let ui = base
         .unbalances
         .iter()
         .position(|u| base.drum().is_some_and(|r| r.name == u.rotor))
-        .ok_or("the model has no unbalance on a rotor named `drum` to vary")?;
+        .ok_or_else(|| {
+            let what = if spec.masses.is_empty() {
+                "--positions"
+            } else {
+                "--masses"
+            };
+            Error::setting(
+                what,
+                "the model has no unbalance on a rotor named `drum` to vary",
+            )
+        })?;
     let positions: Vec<Option<(String, f64)>> = if spec.positions.is_empty() {
         vec![None]
     } else {
@@ -59,18 +79,26 @@ pub fn variants(base: &Model, spec: &SweepSpec) -> Result<Vec<Variant>, String> 
                     return if x.is_finite() {
                         Ok(Some((format!("x{x}"), x)))
                     } else {
-                        Err(format!("position `{p}` must be a finite x in m"))
+                        Err(Error::setting(
+                            "--positions",
+                            format!("position `{p}` must be a finite x in m"),
+                        ))
                     };
                 }
                 let &(n, x) = POSITIONS.iter().find(|(n, _)| n == p).ok_or_else(|| {
-                    format!("unknown position `{p}` (front, middle, rear, or an axial x in m)")
+                    Error::setting(
+                        "--positions",
+                        format!(
+                            "unknown position `{p}` (front, middle, rear, or an axial x in m)"
+                        ),
+                    )
                 })?;
                 if !NAMED_POSITION_MODELS.contains(&base.name.as_str()) {
-                    return Err(format!(
+                    return Err(Error::setting("--positions", format!(
                         "position `{p}` is defined for the built-in drums ({}) only; give model                          `{}` its axial unbalance position in m, e.g. --positions 0.1,-0.1",
                         NAMED_POSITION_MODELS.join(", "),
                         base.name
-                    ));
+                    )));
                 }
                 Ok(Some((n.to_string(), x)))
             })
@@ -92,7 +120,7 @@ pub fn variants(base: &Model, spec: &SweepSpec) -> Result<Vec<Variant>, String> 
                     .map_or("profile".into(), |s| s.to_string_lossy().to_string());
                 read_speed_csv(p)
                     .map(|t| Some((stem, t)))
-                    .map_err(|e| e.to_string())
+                    .map_err(|e| Error::setting("--profiles", e.to_string()))
             })
             .collect::<Result<_, _>>()?
     };
@@ -128,10 +156,7 @@ pub fn variants(base: &Model, spec: &SweepSpec) -> Result<Vec<Variant>, String> 
                     name = format!("{stem}_{k}");
                     k += 1;
                 }
-                let model = check(&m).map(|_| m).map_err(|e| {
-                    let msgs: Vec<String> = e.iter().map(|e| e.to_string()).collect();
-                    msgs.join("; ")
-                });
+                let model = check(&m).map(|_| m);
                 out.push(Variant { name, model });
             }
         }
@@ -141,22 +166,21 @@ pub fn variants(base: &Model, spec: &SweepSpec) -> Result<Vec<Variant>, String> 
 
 /// A finished (or failed) variant: its summary and, per channel, the largest amplitude of
 /// drum order 1 over the run (its run-up envelope) with the drum speed where it occurs.
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 pub struct VariantResult {
     pub name: String,
     pub summary: Summary,
+    /// Why the variant failed: its model or settings refused, its run stopped early.
+    pub error: Option<Error>,
     pub peaks: Vec<(String, f64, f64)>,
 }
 
-/// Settings shared by every variant.
+/// Settings shared by every variant: a simulation's settings (`run`'s, without the back end:
+/// the interpreter runs every variant) and the sweep's own.
 #[derive(Clone, Debug)]
 pub struct SweepRun {
     pub out: PathBuf,
-    pub t_end: Option<f64>,
-    pub method: Method,
-    pub tol: f64,
-    pub scene: Option<String>,
-    pub sample_rate: f64,
+    pub settings: Settings,
     pub jobs: usize,
     pub format: Format,
 }
@@ -166,23 +190,48 @@ pub struct SweepRun {
 /// any workstation's core count.
 pub const MAX_JOBS: usize = 1024;
 
-/// Run every variant on `jobs` threads; `done` is called as each finishes. Writes
+/// The settings' rules on the base model, before anything is written: what `run` would refuse
+/// of these settings, the sweep refuses (a variant's own profile is checked again when it runs).
+pub fn check_settings(base: &Source, cfg: &SweepRun) -> Result<(), Error> {
+    if !(1..=MAX_JOBS).contains(&cfg.jobs) {
+        return Err(Error::setting(
+            "--jobs",
+            format!("--jobs must be in [1, {MAX_JOBS}], got {}", cfg.jobs),
+        ));
+    }
+    Simulation::new(base.variant(base.model.clone()), &cfg.settings).map(|_| ())
+}
+
+/// The simulation of variant `v` of `base`: the settings of `run` with the interpreter, the
+/// summary's model labelled `<model>/<variant>`.
+pub fn simulation(base: &Source, v: &Variant, cfg: &SweepRun) -> Result<Simulation, Error> {
+    let model = v.checked()?;
+    let settings = Settings {
+        backend: Some(Backend::Interpreted),
+        variant: Some(v.name.clone()),
+        ..cfg.settings.clone()
+    };
+    Simulation::new(base.variant(model.clone()), &settings)
+}
+
+/// Run every variant of `base` on `jobs` threads; `done` is called as each finishes. Writes
 /// `<out>/<variant>/{sensors.<format>, summary.json}` and `<out>/sweep.csv`.
 pub fn run_sweep(
+    base: &Source,
     vars: Vec<Variant>,
     cfg: &SweepRun,
     done: &(dyn Fn(&VariantResult) + Sync),
-) -> Result<Vec<VariantResult>, String> {
+) -> Result<Vec<VariantResult>, Error> {
     use rayon::prelude::*;
-    fs::create_dir_all(&cfg.out).map_err(|e| format!("{}: {e}", cfg.out.display()))?;
+    fs::create_dir_all(&cfg.out).map_err(|e| Error::io("create", &cfg.out, e))?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(cfg.jobs.max(1))
         .build()
-        .map_err(|e| e.to_string())?;
+        .map_err(|e| Error::refused("sweep", e.to_string()))?;
     let results: Vec<VariantResult> = pool.install(|| {
         vars.par_iter()
             .map(|v| {
-                let r = run_one(v, cfg).unwrap_or_else(|e| failed(v, cfg, e));
+                let r = run_one(base, v, cfg).unwrap_or_else(|e| failed(base, v, cfg, e));
                 done(&r);
                 r
             })
@@ -193,74 +242,51 @@ pub fn run_sweep(
 }
 
 /// The row of a variant that could not run.
-fn failed(v: &Variant, cfg: &SweepRun, error: String) -> VariantResult {
-    let model = v.model.as_ref().map_or("?".to_string(), |m| m.name.clone());
+fn failed(base: &Source, v: &Variant, cfg: &SweepRun, error: Error) -> VariantResult {
+    let model = v.model.as_ref().map_or(&base.model.name, |m| &m.name);
+    let s = &cfg.settings;
     let labels = Labels {
         model: format!("{model}/{}", v.name),
-        scene: cfg.scene.clone().unwrap_or_default(),
-        backend: "interpreted".into(),
+        scene: s.scene.clone().unwrap_or_default(),
+        backend: Backend::Interpreted.name().into(),
     };
-    let mut summary = Summary::new(
+    let mut options = integrator_options(s.method, s.tol, s.step, s.max_steps);
+    if let Some(r) = s.rho_inf {
+        options.rho_inf = r;
+    }
+    let mut summary = crate::simulation::unstarted_summary(
         &labels,
-        &format!("{:?}", cfg.method).to_lowercase(),
-        (cfg.tol, cfg.tol * 1e-3),
-        (0.0, cfg.t_end.unwrap_or(f64::NAN)),
+        s.method,
+        &options,
+        (s.t_start, s.t_end.unwrap_or(f64::NAN)),
     );
+    summary.model_files = base.files.clone();
     summary.status = "failed".into();
-    summary.error = Some(error);
+    summary.error = Some(error.to_string());
     VariantResult {
         name: v.name.clone(),
         summary,
+        error: Some(error),
         peaks: Vec::new(),
     }
 }
 
-fn run_one(v: &Variant, cfg: &SweepRun) -> Result<VariantResult, String> {
-    let model = v.model.as_ref().map_err(|e| format!("model check: {e}"))?;
-    let scene = model.scene(cfg.scene.as_deref())?;
+fn run_one(base: &Source, v: &Variant, cfg: &SweepRun) -> Result<VariantResult, Error> {
+    let sim = simulation(base, v, cfg)?;
     let dir = cfg.out.join(&v.name);
-    fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-    let interp = Interpreter::new(model, &scene);
-    let t_end = cfg.t_end.unwrap_or_else(|| interp.speed.end());
-    let mut sys = FirstOrder::new(interp);
-    let opts = integrator_options(cfg.method, cfg.tol, None, None);
-    let mut solver = AnySolver::new(cfg.method, 2 * sys.layout().n(), opts);
+    fs::create_dir_all(&dir).map_err(|e| Error::io("create", &dir, e))?;
+    let motor = motor_ratio(sim.model());
+    let rate = sim.run.sample_rate;
     let mut sink = SensorRecorder::new(&dir, cfg.format, true);
-    let ro = RunOptions {
-        t_start: 0.0,
-        t_end,
-        sample_rate: cfg.sample_rate,
-        start: Start::Static,
-    };
-    let labels = Labels {
-        model: format!("{}/{}", model.name, v.name),
-        scene: scene.name.clone(),
-        backend: "interpreted".into(),
-    };
-    let summary = match run(
-        &mut sys,
-        &mut solver,
-        &ro,
-        &labels,
-        (opts.rtol, opts.atol),
-        &mut sink,
-        &mut |_| {},
-    ) {
-        Ok(s) => s,
-        Err((_, s)) => s,
-    };
+    let (summary, error) = sim.integrate(&mut sink, &mut |_| {});
     let finished = sink.finish();
     write_summary(&dir, &summary)?;
-    finished.map_err(|e| format!("{}: {e}", sink.path().display()))?;
-    let peaks = order_one_peaks(
-        std::mem::take(&mut sink.memory),
-        &sink.names,
-        cfg.sample_rate,
-        motor_ratio(model),
-    )?;
+    finished.map_err(|e| Error::io("write", sink.path(), e))?;
+    let peaks = order_one_peaks(std::mem::take(&mut sink.memory), &sink.names, rate, motor)?;
     Ok(VariantResult {
         name: v.name.clone(),
         summary,
+        error,
         peaks,
     })
 }
@@ -274,7 +300,7 @@ fn order_one_peaks(
     names: &[String],
     sample_rate: f64,
     motor: Option<f64>,
-) -> Result<Vec<(String, f64, f64)>, String> {
+) -> Result<Vec<(String, f64, f64)>, Error> {
     if cols.len() < 3 || cols[0].len() < 2 {
         return Ok(Vec::new());
     }
@@ -287,8 +313,7 @@ fn order_one_peaks(
         .zip(data)
         .map(|(n, d)| Channel::new(n.clone(), d))
         .collect();
-    let signals =
-        Signals::from_uniform(t0, sample_rate, rpm, channels).map_err(|e| e.to_string())?;
+    let signals = Signals::from_uniform(t0, sample_rate, rpm, channels)?;
     // 4 s blocks: 6 revolutions at the 93 rpm distribution speed, so order 1 is resolved from
     // there on (the tracks follow the drum angle and do not smear at higher speed).
     let opts = AnalysisOptions {
@@ -318,8 +343,9 @@ fn order_one_peaks(
     Ok(out)
 }
 
-fn write_table(path: &Path, results: &[VariantResult]) -> Result<(), String> {
-    let mut w = csv::Writer::from_path(path).map_err(|e| format!("{}: {e}", path.display()))?;
+fn write_table(path: &Path, results: &[VariantResult]) -> Result<(), Error> {
+    let e = |e: csv::Error| Error::io("write", path, e.into());
+    let mut w = csv::Writer::from_path(path).map_err(e)?;
     let mut channels: Vec<String> = Vec::new();
     for r in results {
         for (c, _, _) in &r.peaks {
@@ -343,7 +369,6 @@ fn write_table(path: &Path, results: &[VariantResult]) -> Result<(), String> {
         header.push(format!("{c}_order1_peak"));
         header.push(format!("{c}_order1_peak_rpm"));
     }
-    let e = |e: csv::Error| format!("{}: {e}", path.display());
     w.write_record(&header).map_err(e)?;
     for r in results {
         let m = &r.summary;
@@ -370,5 +395,5 @@ fn write_table(path: &Path, results: &[VariantResult]) -> Result<(), String> {
         }
         w.write_record(&row).map_err(e)?;
     }
-    w.flush().map_err(|e| format!("{}: {e}", path.display()))
+    w.flush().map_err(|e| Error::io("write", path, e))
 }

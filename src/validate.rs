@@ -2,6 +2,7 @@
 //! on a shared context that collects every violation, so one message lists them all, and nothing
 //! is written before they pass.
 
+use crate::error::{Error, Refusal};
 use washdyn_runtime::ode::Method;
 
 /// Fixed step of rk4, s: below 1e-7 s a 20 s run-up needs 2e8 steps (hours); above 1e-2 s the
@@ -43,27 +44,37 @@ pub struct Settings {
 /// Collects the violations.
 #[derive(Default)]
 struct Ctxt {
-    errors: Vec<String>,
+    errors: Vec<Refusal>,
 }
 
 impl Ctxt {
-    fn error(&mut self, msg: String) {
-        self.errors.push(msg);
+    fn error(&mut self, option: &'static str, message: String) {
+        self.errors.push(Refusal { option, message });
     }
 
     /// `value` finite and within [lo, hi].
-    fn range(&mut self, option: &str, value: f64, (lo, hi): (f64, f64), unit: &str, why: &str) {
+    fn range(
+        &mut self,
+        option: &'static str,
+        value: f64,
+        (lo, hi): (f64, f64),
+        unit: &str,
+        why: &str,
+    ) {
         if !(value.is_finite() && value >= lo && value <= hi) {
-            self.error(format!(
-                "{option} must be in [{lo:e}, {hi:e}]{}{unit}{why}, got {value}",
-                if unit.is_empty() { "" } else { " " }
-            ));
+            self.error(
+                option,
+                format!(
+                    "{option} must be in [{lo:e}, {hi:e}]{}{unit}{why}, got {value}",
+                    if unit.is_empty() { "" } else { " " }
+                ),
+            );
         }
     }
 }
 
-/// Every rule on `s`; `Err` lists every violation, one a line.
-pub fn check(s: &Settings) -> Result<(), String> {
+/// Every rule on `s`; `Err` ([`Error::Settings`]) lists every violation with its option.
+pub fn check(s: &Settings) -> Result<(), Error> {
     let mut cx = Ctxt::default();
     check_step(&mut cx, s);
     check_rho_inf(&mut cx, s);
@@ -77,7 +88,7 @@ pub fn check(s: &Settings) -> Result<(), String> {
     if cx.errors.is_empty() {
         Ok(())
     } else {
-        Err(cx.errors.join("\n"))
+        Err(Error::Settings(cx.errors))
     }
 }
 
@@ -90,10 +101,13 @@ fn check_step(cx: &mut Ctxt, s: &Settings) {
     match (s.method, s.step) {
         (Method::Rk4, Some(h)) => cx.range("--step", h, RK4_STEP, "s", " for rk4"),
         (Method::Rk4, None) => {}
-        (m, Some(h)) => cx.error(format!(
-            "--step applies to rk4 only: {} chooses its own steps from --tol, got --step {h}",
-            format!("{m:?}").to_lowercase()
-        )),
+        (m, Some(h)) => cx.error(
+            "--step",
+            format!(
+                "--step applies to rk4 only: {} chooses its own steps from --tol, got --step {h}",
+                format!("{m:?}").to_lowercase()
+            ),
+        ),
         (_, None) => {}
     }
 }
@@ -103,10 +117,13 @@ fn check_step(cx: &mut Ctxt, s: &Settings) {
 fn check_rho_inf(cx: &mut Ctxt, s: &Settings) {
     match (s.method, s.rho_inf) {
         (Method::GeneralizedAlpha, Some(r)) => cx.range("--rho-inf", r, (0.0, 1.0), "", ""),
-        (m, Some(r)) => cx.error(format!(
-            "--rho-inf applies to galpha only: {m} has no spectral radius to set, got \
+        (m, Some(r)) => cx.error(
+            "--rho-inf",
+            format!(
+                "--rho-inf applies to galpha only: {m} has no spectral radius to set, got \
              --rho-inf {r}"
-        )),
+            ),
+        ),
         (_, None) => {}
     }
 }
@@ -119,9 +136,10 @@ fn check_t_end(cx: &mut Ctxt, s: &Settings) {
     if let Some(t) = s.t_end
         && !(t > 0.0 && t <= T_END_MAX)
     {
-        cx.error(format!(
-            "--t-end must be > 0 and at most {T_END_MAX} s, got {t}"
-        ));
+        cx.error(
+            "--t-end",
+            format!("--t-end must be > 0 and at most {T_END_MAX} s, got {t}"),
+        );
     }
 }
 
@@ -131,18 +149,24 @@ fn check_sample_rate(cx: &mut Ctxt, s: &Settings) {
         && s.sample_rate.is_finite()
         && s.sample_rate < 2.0 * band
     {
-        cx.error(format!(
-            "--sample-rate must be at least {} Hz for the analysis (twice its {band} Hz band), \
+        cx.error(
+            "--sample-rate",
+            format!(
+                "--sample-rate must be at least {} Hz for the analysis (twice its {band} Hz band), \
              got {} (or pass --no-plots)",
-            2.0 * band,
-            s.sample_rate
-        ));
+                2.0 * band,
+                s.sample_rate
+            ),
+        );
     }
 }
 
 fn check_max_steps(cx: &mut Ctxt, s: &Settings) {
     if s.max_steps == Some(0) {
-        cx.error("--max-steps must be at least 1, got 0".into());
+        cx.error(
+            "--max-steps",
+            "--max-steps must be at least 1, got 0".into(),
+        );
     }
 }
 
@@ -152,7 +176,7 @@ fn check_output_size(cx: &mut Ctxt, s: &Settings) {
     // Columns: time, drum speed, the channels.
     let bytes = samples * (ch as f64 + 2.0) * 8.0;
     if bytes > MAX_OUTPUT_BYTES && !s.allow_large_output {
-        cx.error(format!(
+        cx.error("--allow-large-output", format!(
             "the sensor output would hold {samples:.3e} samples x {} columns = {:.1} GB (8 bytes \
              a value), more than the {:.0} GB limit: lower --t-end or --sample-rate, or pass \
              --allow-large-output",

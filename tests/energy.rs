@@ -31,7 +31,7 @@ fn run(backend: Backend, tag: &str) -> (washdyn_runtime::run::Summary, Vec<Strin
         start: washdyn_runtime::run::Start::Static,
     };
     let o = run_command(&args, &mut |_| {}).expect("the run starts");
-    assert_eq!(o.error, None);
+    assert!(o.error.is_none(), "{:?}", o.error);
     assert!(out.join("energy.png").exists());
     let (names, cols) = read_parquet_f64(&out.join("energy.parquet")).unwrap();
     std::fs::remove_dir_all(&out).ok();

@@ -1,9 +1,11 @@
 //! A failing integration stops with a typed error carrying the time, and keeps what it wrote:
 //! the sensor file up to the failure and a summary that says why.
 
+use washdyn::Error;
 use washdyn::commands::{Backend, RunArgs, run_command};
 use washdyn::results::{Format, read_parquet_f64};
-use washdyn_runtime::ode::Method;
+use washdyn_runtime::ode::{Method, OdeError};
+use washdyn_runtime::run::RunError;
 
 #[test]
 fn spent_step_budget_fails_with_time_and_keeps_output() {
@@ -31,8 +33,16 @@ fn spent_step_budget_fails_with_time_and_keeps_output() {
     };
     let o = run_command(&args, &mut |_| {}).expect("the run starts");
     let err = o.error.expect("the run must fail");
-    assert!(err.contains("step budget of 5000 steps exhausted"), "{err}");
+    // The budget given above, spent: the integrator's typed error, with the time it reached.
+    let Error::Integration {
+        t,
+        source: RunError::Ode(OdeError::StepBudget { steps: 5000, .. }),
+    } = err
+    else {
+        panic!("expected the spent step budget, got {err:?}")
+    };
     let s = &o.summary;
+    assert_eq!(t, s.t_reached);
     assert_eq!(s.status, "failed");
     // dopri5 at 1e-6 on `full` is a setting the study measured; a failed run claims no class.
     assert_eq!(s.error_class, None);

@@ -22,9 +22,10 @@
 
 use std::time::Instant;
 use washdyn::commands::resolve_model;
+use washdyn::simulation::integrator_options;
 use washdyn_runtime::equations::{Category, EnergyWork, Kind, powers};
 use washdyn_runtime::ir::{EffectSet, Model, Scene};
-use washdyn_runtime::ode::{AnySolver, Method, OdeError, Options, Solver, Stepper};
+use washdyn_runtime::ode::{AnySolver, Method, OdeError, Solver, Stepper};
 use washdyn_runtime::statics::mean_load_equilibrium;
 use washdyn_runtime::system::{FirstOrder, Interpreter, Mechanical};
 
@@ -100,12 +101,8 @@ fn run(
         mean_load_equilibrium(&mut sys.sys, t0).unwrap_or_else(|e| panic!("rest position: {e}"));
     let mut y = vec![0.0; 2 * n];
     y[..n].copy_from_slice(&q0);
-    let opts = Options {
-        rtol: tol,
-        atol: tol * 1e-3,
-        max_steps,
-        ..Options::default()
-    };
+    // The options `washdyn run` gives the method (rtol tol, atol 1e-3 tol, the budget).
+    let opts = integrator_options(method, tol, None, Some(max_steps));
     let mut solver = AnySolver::new(method, 2 * n, opts);
     let lay = sys.layout();
     let mut buf = Buffers {

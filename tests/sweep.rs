@@ -1,13 +1,16 @@
 //! `washdyn sweep`: variants over the unbalance position run in parallel, one folder each and a
 //! comparison table.
 
+use washdyn::Error;
 use washdyn::results::Format;
+use washdyn::simulation::{Settings, Source};
 use washdyn::sweep::{SweepRun, SweepSpec, run_sweep, variants};
 use washdyn_runtime::ode::Method;
 
 #[test]
 fn positions_sweep_writes_folders_and_table() {
-    let base = washdyn_models::reference();
+    let source = Source::load("reference").unwrap();
+    let base = source.model.clone();
     let spec = SweepSpec {
         positions: vec!["front".into(), "middle".into(), "rear".into()],
         masses: vec![0.6],
@@ -22,15 +25,17 @@ fn positions_sweep_writes_folders_and_table() {
     let out = std::env::temp_dir().join(format!("washdyn-sweep-{}", std::process::id()));
     let cfg = SweepRun {
         out: out.clone(),
-        t_end: Some(20.0),
-        method: Method::Dopri5,
-        tol: 1e-5,
-        scene: None,
-        sample_rate: 200.0,
+        settings: Settings {
+            t_end: Some(20.0),
+            method: Method::Dopri5,
+            tol: 1e-5,
+            sample_rate: 200.0,
+            ..Settings::default()
+        },
         jobs: 2,
         format: Format::Parquet,
     };
-    let res = run_sweep(vars, &cfg, &|_| {}).unwrap();
+    let res = run_sweep(&source, vars, &cfg, &|_| {}).unwrap();
     assert!(res.iter().all(|r| r.summary.status == "ok"));
     for v in ["front_0.6kg", "middle_0.6kg", "rear_0.6kg"] {
         assert!(out.join(v).join("sensors.parquet").exists(), "{v}");
@@ -56,12 +61,13 @@ fn unknown_position_is_an_error() {
         ..SweepSpec::default()
     };
     let e = variants(&washdyn_models::reference(), &spec).unwrap_err();
-    assert!(e.contains("unknown position `back`"), "{e}");
+    assert_eq!(e.options(), ["--positions"], "{e}");
 }
 
 #[test]
 fn equal_variants_get_distinct_folders_and_a_bad_variant_its_own_row() {
-    let base = washdyn_models::reference();
+    let source = Source::load("reference").unwrap();
+    let base = source.model.clone();
     let spec = SweepSpec {
         positions: vec![],
         // 0.3 twice: two folders; -1 kg fails the checker but must not sink the others.
@@ -74,22 +80,29 @@ fn equal_variants_get_distinct_folders_and_a_bad_variant_its_own_row() {
     let out = std::env::temp_dir().join(format!("washdyn-sweep-dup-{}", std::process::id()));
     let cfg = SweepRun {
         out: out.clone(),
-        t_end: Some(2.0),
-        method: Method::Dopri5,
-        tol: 1e-5,
-        scene: None,
-        sample_rate: 200.0,
+        settings: Settings {
+            t_end: Some(2.0),
+            method: Method::Dopri5,
+            tol: 1e-5,
+            sample_rate: 200.0,
+            ..Settings::default()
+        },
         jobs: 2,
         format: Format::Csv,
     };
-    let res = run_sweep(vars, &cfg, &|_| {}).unwrap();
+    let res = run_sweep(&source, vars, &cfg, &|_| {}).unwrap();
     assert_eq!(res[0].summary.status, "ok");
     assert_eq!(res[1].summary.status, "ok");
     assert!(out.join("0.3kg").join("sensors.csv").exists());
     assert!(out.join("0.3kg_2").join("sensors.csv").exists());
     assert_eq!(res[2].summary.status, "failed");
-    let why = res[2].summary.error.clone().unwrap();
-    assert!(why.contains("mass"), "{why}");
+    // The checker's finding at the unbalance's mass (the field it names).
+    assert!(
+        matches!(&res[2].error, Some(Error::Check { errors, .. })
+            if errors.iter().any(|e| e.path.to_string().contains("mass"))),
+        "{:?}",
+        res[2].error
+    );
     let table = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
     assert_eq!(table.lines().count(), 4, "{table}");
     assert!(
@@ -110,7 +123,7 @@ fn named_positions_only_for_the_built_in_drums() {
         ..SweepSpec::default()
     };
     let e = variants(&m, &spec).unwrap_err();
-    assert!(e.contains("axial unbalance position in m"), "{e}");
+    assert_eq!(e.options(), ["--positions"], "{e}");
     let spec = SweepSpec {
         positions: vec!["0.1".into()],
         ..SweepSpec::default()

@@ -1,0 +1,355 @@
+//! `washdyn`'s command line (clap): the commands and their options.
+
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+use washdyn::commands::Backend;
+use washdyn::results::Format;
+use washdyn_runtime::ode::Method;
+use washdyn_runtime::run::Start;
+
+/// The exit codes (README, "Commands"), shown by `washdyn --help`.
+const EXIT_CODES: &str = "Exit codes:
+  0    success
+  1    a run stopped early (its output up to then is kept), or a sweep's variant failed
+  2    a setting refused before anything was written (an option or its value)
+  3    a model refused: it does not load, fails the checker, a scene cannot run, or it is
+       neither built in nor a file
+  4    a file or directory that cannot be read or written
+  5    other refused data: a signal file the analysis cannot take (also after a run), runs
+       that cannot be compared, FE or field input
+  130  interrupted (Ctrl-C); summary.json says so";
+
+#[derive(Parser)]
+#[command(
+    name = "washdyn",
+    version,
+    about = "Vibrations of washing machines as elastic multibody systems",
+    after_help = EXIT_CODES
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub cmd: Cmd,
+}
+
+/// Settings of a simulation, shared by `run` and `sweep`.
+#[derive(clap::Args)]
+pub struct Sim {
+    /// End time, s (default: the end of the speed profile).
+    #[arg(long)]
+    pub t_end: Option<f64>,
+    /// rk4 (fixed step), dopri5 (adaptive, explicit), sdirk4 (L-stable SDIRK), rodas4
+    /// (L-stable Rosenbrock), galpha (generalized-alpha on the second-order equations), auto
+    /// (dopri5 while not stiff, rodas4 while stiff, switching both ways).
+    #[arg(long, default_value = "dopri5")]
+    pub integrator: Method,
+    /// Relative tolerance of the adaptive integrators (absolute: 1e-3 x this, in m, m/s and
+    /// rad; a modal coordinate in the metres it moves a marker by). 1e-2 or looser warns: no
+    /// error class covers it.
+    #[arg(long, default_value_t = 1e-6)]
+    pub tol: f64,
+    /// Fixed step of rk4, s (default 1e-4).
+    #[arg(long)]
+    pub step: Option<f64>,
+    /// galpha's spectral radius at infinity, in [0, 1] (default 0.8): 1 keeps the
+    /// unresolved high modes undamped, 0 removes them in one step.
+    #[arg(long)]
+    pub rho_inf: Option<f64>,
+    /// Step budget; the run stops with an error (keeping its output) when it is spent.
+    #[arg(long)]
+    pub max_steps: Option<u64>,
+    /// A scene of the model (default: its first scene).
+    #[arg(long)]
+    pub scene: Option<String>,
+    /// Sampling rate of the sensor file, Hz.
+    #[arg(long, default_value_t = 2000.0)]
+    pub sample_rate: f64,
+    /// Format of the result files: parquet (columnar, compact) or csv.
+    #[arg(long, default_value = "parquet")]
+    pub format: Format,
+    /// How the run starts: `static` (equilibrium under every load at t = 0, a rotating
+    /// unbalance's centrifugal force included as if it stood still), `mean` (at rest
+    /// under gravity and the mean loads at the start speed) or `periodic` (on the
+    /// periodic steady state by shooting; constant speed only).
+    #[arg(long, default_value = "static")]
+    pub start: Start,
+    /// Keep running when the tub motion exceeds 5 x the small-motion bounds (30 mm, 0.05 rad).
+    #[arg(long)]
+    pub no_validity_stop: bool,
+    /// Write sensor output beyond the 2 GB limit.
+    #[arg(long)]
+    pub allow_large_output: bool,
+}
+
+#[derive(Subcommand)]
+pub enum Cmd {
+    /// Simulate a run-up: writes DIR/sensors.parquet and DIR/summary.json.
+    Run {
+        /// A built-in model (`reference`, `compact`) or a model file (.toml).
+        model: String,
+        #[command(flatten)]
+        sim: Sim,
+        /// Output directory (default: out/<model name>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Also write the energy balance by category (DIR/energy.parquet and energy.png): the
+        /// drive's work, gravity, each body's modal strain and damping, each element's stored
+        /// and dissipated energy, and the kinetic energy, every 10 ms.
+        #[arg(long)]
+        energy: bool,
+        /// generated (default for built-in models) or interpreted (default for model files).
+        #[arg(long)]
+        backend: Option<Backend>,
+        /// Skip the analysis: order plots, cascades, speed plots, spectra and order tracks
+        /// (DIR/analysis/).
+        #[arg(long)]
+        no_plots: bool,
+        /// Also write every plot as SVG (PNG always).
+        #[arg(long)]
+        svg: bool,
+        /// Also write cascades (time spectra over speed) and the spectra table.
+        #[arg(long)]
+        cascades: bool,
+        /// Also write the state at every sample (drum angle, q) to DIR/states.parquet, for
+        /// `washdyn fields`.
+        #[arg(long)]
+        states: bool,
+    },
+    /// Displacement fields on the FE meshes from a run's states (`run --states`), as VTK grids
+    /// with a .pvd collection per body (ParaView).
+    Fields {
+        /// The run's output directory (summary.json, states.parquet).
+        run: PathBuf,
+        /// The model, when the run's was a file (default: the summary's model).
+        #[arg(long)]
+        model: Option<String>,
+        /// Instants, s (comma-separated).
+        #[arg(long, value_delimiter = ',')]
+        times: Option<Vec<f64>>,
+        /// FROM:TO:STEP, s.
+        #[arg(long)]
+        range: Option<String>,
+        /// One drum revolution from this time, s (36 frames).
+        #[arg(long)]
+        revolution: Option<f64>,
+        /// Instead of grids: the drum's front-edge deformation over the run against speed
+        /// (drum_edge.csv, .png), every STRIDE-th stored sample.
+        #[arg(long, value_name = "STRIDE")]
+        drum_edge: Option<usize>,
+        /// Also write the drum-edge plot as SVG.
+        #[arg(long)]
+        svg: bool,
+        /// Where `washdyn fe modal` left the field files (<body>.field.bin).
+        #[arg(long, default_value = "out/fe/work")]
+        fe: PathBuf,
+        /// Output directory (default: RUN/fields).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Order analysis of a signal file (time_s, drum_rpm, channels...): order plots, cascades,
+    /// speed plots, spectra and order tracks.
+    Analyse {
+        /// Parquet or CSV with columns time_s, drum_rpm, then one column per channel.
+        file: PathBuf,
+        /// Output directory (default: beside the file, <stem>-analysis).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Belt ratio (motor speed / drum speed) for marking the motor orders.
+        #[arg(long, default_value_t = 11.25)]
+        motor_ratio: f64,
+        /// Format of the spectra and order-track tables: parquet or csv.
+        #[arg(long, default_value = "parquet")]
+        format: Format,
+        /// Also write every plot as SVG (PNG always).
+        #[arg(long)]
+        svg: bool,
+    },
+    /// Compare two finished runs of one speed profile (directories written by `washdyn run`):
+    /// per channel and order the peaks over the run and their difference in dB (B against A),
+    /// the RMS differences, each run's cost; compare.md, compare.json and per channel the two
+    /// order plots side by side and the order tracks overlaid.
+    Compare {
+        /// The first run's directory (A: the reference of the differences).
+        #[arg(value_name = "RUN_A")]
+        run_a: PathBuf,
+        /// The second run's directory (B).
+        #[arg(value_name = "RUN_B")]
+        run_b: PathBuf,
+        /// Output directory.
+        #[arg(long, default_value = "out/compare")]
+        out: PathBuf,
+        /// Name of run A in tables and plots (default: its directory's name).
+        #[arg(long)]
+        label_a: Option<String>,
+        /// Name of run B in tables and plots (default: its directory's name).
+        #[arg(long)]
+        label_b: Option<String>,
+        /// Belt ratio (motor speed / drum speed) of the motor order tracked.
+        #[arg(long, default_value_t = 11.25)]
+        motor_ratio: f64,
+        /// Also write the plots as SVG (PNG always).
+        #[arg(long)]
+        svg: bool,
+    },
+    /// FE models with CalculiX: `solve DECK.inp` runs ccx on a deck (errors with the deck's
+    /// line) and lists its eigenfrequencies.
+    Fe {
+        #[command(subcommand)]
+        cmd: FeCmd,
+    },
+    /// Check a model file and list its scenes.
+    Check { model: String },
+    /// What accuracy costs in time: every method over a sweep of tolerances against a
+    /// confirmed reference, modal truncation, scenes, back ends. Writes accuracy.md,
+    /// accuracy.json and a work-precision plot per scene (PNG, SVG).
+    Accuracy {
+        /// A built-in model or a model file.
+        #[arg(long, default_value = "reference")]
+        model: String,
+        /// Scenes and windows: NAME (the whole speed profile) or NAME:T0:T1, repeatable
+        /// [default: full and elastic:150:152].
+        #[arg(long)]
+        scene: Vec<String>,
+        /// End of the window of scenes given without one, s.
+        #[arg(long)]
+        t_end: Option<f64>,
+        /// Output directory (the repository keeps the study in docs/).
+        #[arg(long, default_value = "out/accuracy")]
+        out: PathBuf,
+        /// Two settings a method and looser references: a first look in seconds.
+        #[arg(long)]
+        quick: bool,
+    },
+    /// The spinning drum's frequencies over speed from its modal data (rotating frame:
+    /// Coriolis, spin softening, stress stiffening), with the excitation orders: campbell.csv
+    /// and campbell.png (.svg).
+    Campbell {
+        /// A model (built-in name or model file) with an elastic drum, or the drum's modal data
+        /// file (e.g. models/fe/drum.modal.toml).
+        source: String,
+        /// Highest drum speed, rpm [default: the model's top speed, else 1400].
+        #[arg(long)]
+        max_rpm: Option<f64>,
+        /// Motor/drum speed ratio for the motor order line [default: the model's rotor `motor`,
+        /// else 11.25].
+        #[arg(long)]
+        motor_ratio: Option<f64>,
+        /// Output directory.
+        #[arg(long, default_value = "out/campbell")]
+        out: PathBuf,
+        /// Also write the plot as SVG.
+        #[arg(long)]
+        svg: bool,
+    },
+    /// The rigid modes of the suspended tub (at rest, friction released) with each damper's
+    /// stroke per mode, as markdown on stdout and in DIR/modes.md.
+    Modes {
+        /// A built-in model or a model file.
+        model: String,
+        /// A scene of the model (default: its first scene); elastic bodies are taken rigid.
+        #[arg(long)]
+        scene: Option<String>,
+        /// Output directory (default: out/<model name>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Run variants (unbalance position, mass, speed profile) on all cores with the
+    /// interpreter and `run`'s simulation options: one folder each and a comparison table
+    /// DIR/sweep.csv.
+    Sweep {
+        /// A built-in model or a model file.
+        model: String,
+        /// Unbalance positions: front, middle, rear (comma-separated).
+        #[arg(long, value_delimiter = ',')]
+        positions: Vec<String>,
+        /// Unbalance masses, kg (comma-separated).
+        #[arg(long, value_delimiter = ',')]
+        masses: Vec<f64>,
+        /// Speed profile CSV files (time_s, rpm), comma-separated.
+        #[arg(long, value_delimiter = ',')]
+        profiles: Vec<PathBuf>,
+        #[command(flatten)]
+        sim: Sim,
+        /// Output directory (default: out/<model>-sweep).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Parallel runs (default: all cores).
+        #[arg(long)]
+        jobs: Option<usize>,
+    },
+}
+
+#[derive(Subcommand)]
+pub enum FeCmd {
+    /// Run ccx on a deck (`<job>.inp`; results beside it) and list the frequencies it found.
+    Solve { deck: PathBuf },
+    /// Write the built-in FE models (tub, drum, cabinet) as CalculiX decks.
+    Write {
+        /// Output directory.
+        #[arg(long, default_value = "out/fe")]
+        out: PathBuf,
+    },
+    /// Modal data from your own CalculiX deck: a spec (TOML: the deck and its units, the body
+    /// kind and support, the points, the modes, correction loads, the drum's spin; see
+    /// docs/modal-data.md) is solved like the built-in bodies and checked against the deck
+    /// (ccx's mass and centre of gravity, rigid-body modes, mass normalisation); writes
+    /// `<name>.modal.toml` (and `<name>.field.bin` with recovery) to `--out`.
+    Deck {
+        /// The spec file.
+        spec: PathBuf,
+        /// Where the modal data (and field) files go.
+        #[arg(long, default_value = "out/fe")]
+        out: PathBuf,
+        /// Scratch directory for decks and ccx results.
+        #[arg(long, default_value = "out/fe/work")]
+        work: PathBuf,
+    },
+    /// Solve the built-in FE models with ccx and write their modal data
+    /// (`<body>.modal.toml`) and a report; the decks and ccx's files go to `--work`.
+    Modal {
+        /// Where the modal data files go (the repository keeps them in models/fe).
+        #[arg(long, default_value = "out/fe")]
+        out: PathBuf,
+        /// Scratch directory for decks and ccx results.
+        #[arg(long, default_value = "out/fe/work")]
+        work: PathBuf,
+        /// Only these bodies (comma-separated: tub, drum, cabinet).
+        #[arg(long, value_delimiter = ',')]
+        only: Vec<String>,
+    },
+    /// The full-mesh reference: the linear machine assembled from the tub's and the cabinet's
+    /// meshes in CalculiX (`*STEADY STATE DYNAMICS`, drum order 1) against washdyn's Ritz model
+    /// of it, every sensor channel; writes full-mesh.md and full-mesh.json.
+    Reference {
+        /// A built-in model or a model file.
+        #[arg(long, default_value = "reference")]
+        model: String,
+        /// Output directory (the repository keeps the study in docs/).
+        #[arg(long, default_value = "out/full-mesh")]
+        out: PathBuf,
+        /// Scratch directory for the deck and ccx's files.
+        #[arg(long, default_value = "out/full-mesh/work")]
+        work: PathBuf,
+        /// ccx's mode counts (comma-separated, ascending; the last is the reference).
+        #[arg(long, value_delimiter = ',', default_values_t = washdyn::full_mesh::MODES)]
+        modes: Vec<usize>,
+        /// Drum speeds, rpm (comma-separated).
+        #[arg(long, value_delimiter = ',', default_values_t = washdyn::full_mesh::SPEEDS_RPM)]
+        speeds: Vec<f64>,
+        /// Skip the table of the Ritz model's convergence with its mode counts.
+        #[arg(long)]
+        no_convergence: bool,
+    },
+}
+
+/// `FROM:TO:STEP` of `washdyn fields --range`.
+pub fn parse_range(r: &str) -> Result<washdyn::fields::Times, String> {
+    let v: Vec<f64> = r
+        .split(':')
+        .map(|x| x.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("--range `{r}`: expected FROM:TO:STEP in seconds"))?;
+    match v[..] {
+        [a, b, dt] => Ok(washdyn::fields::Times::Range(a, b, dt)),
+        _ => Err(format!("--range `{r}`: expected FROM:TO:STEP in seconds")),
+    }
+}

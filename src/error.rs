@@ -1,0 +1,141 @@
+//! The errors of the commands above the runtime (`washdyn::Error`), one enum: what was refused
+//! or failed, with the option, file, field or time it concerns. `washdyn`'s exit code is a
+//! function of the variant (`src/main.rs`, `exit_code`; README, "Commands").
+
+use std::fmt;
+use std::path::PathBuf;
+use washdyn_runtime::ir::check::CheckError;
+use washdyn_runtime::ir::toml_file::ModelFileError;
+use washdyn_runtime::run::RunError;
+
+/// One refused setting: the option (as the command line spells it, `--tol`) and the message,
+/// which names its range or why.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Refusal {
+    pub option: &'static str,
+    pub message: String,
+}
+
+impl fmt::Display for Refusal {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// Settings refused before anything was written; every violation found, one a line.
+    #[error("{}", join(.0))]
+    Settings(Vec<Refusal>),
+    /// A model text that does not load or fails the checker: each problem with its file, line
+    /// and column (the field in its message).
+    #[error(transparent)]
+    Model(#[from] ModelFileError),
+    /// A model in memory (a sweep's variant) that fails the checker: each problem at its field.
+    #[error("model check: {}", errors.iter().map(|e| e.to_string()).collect::<Vec<_>>().join("; "))]
+    Check {
+        model: String,
+        errors: Vec<CheckError>,
+    },
+    /// A model that loads but whose scenes cannot run (`washdyn check`: no static equilibrium,
+    /// a rest position beyond the small-motion bounds).
+    #[error("{model}: {}", problems.join("\n"))]
+    Scene {
+        model: String,
+        problems: Vec<String>,
+    },
+    /// Neither a built-in model nor a model file.
+    #[error(
+        "`{spec}` is neither a built-in model ({}) nor a model file",
+        washdyn_models::BUILT_IN.join(", ")
+    )]
+    UnknownModel { spec: String },
+    /// A file or directory the command writes or reads could not be.
+    #[error("cannot {action} {}: {source}", path.display())]
+    Io {
+        action: &'static str,
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    /// A file named by the model or a run that cannot be read or hashed (the message names it).
+    #[error("{message}")]
+    File { message: String },
+    /// The integration stopped at `t` (the output up to then is kept).
+    #[error("{source}")]
+    Integration {
+        t: f64,
+        #[source]
+        source: RunError,
+    },
+    /// A signal file the analysis cannot read or analyse.
+    #[error(transparent)]
+    Analysis(#[from] crate::analysis::AnalysisError),
+    /// Two runs that cannot be compared.
+    #[error(transparent)]
+    Compare(#[from] crate::compare::CompareError),
+    /// Another command refused its input or could not finish (`fields`, `campbell`, `modes`,
+    /// `fe`, the full-mesh study, the accuracy study's runs): its message.
+    #[error("{message}")]
+    Refused {
+        command: &'static str,
+        message: String,
+    },
+}
+
+fn join<T: fmt::Display>(v: &[T]) -> String {
+    v.iter()
+        .map(|e| e.to_string())
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+impl Error {
+    /// One refused setting.
+    pub fn setting(option: &'static str, message: impl Into<String>) -> Error {
+        Error::Settings(vec![Refusal {
+            option,
+            message: message.into(),
+        }])
+    }
+
+    /// The options a [`Error::Settings`] refuses (empty for other errors).
+    pub fn options(&self) -> Vec<&'static str> {
+        match self {
+            Error::Settings(r) => r.iter().map(|r| r.option).collect(),
+            _ => Vec::new(),
+        }
+    }
+
+    /// A run's failure, with its time.
+    pub fn integration(source: RunError) -> Error {
+        Error::Integration {
+            t: source.time(),
+            source,
+        }
+    }
+
+    /// An I/O failure on `path`.
+    pub fn io(action: &'static str, path: impl Into<PathBuf>, source: std::io::Error) -> Error {
+        Error::Io {
+            action,
+            path: path.into(),
+            source,
+        }
+    }
+
+    /// A command whose errors are text.
+    pub fn refused(command: &'static str, message: impl Into<String>) -> Error {
+        Error::Refused {
+            command,
+            message: message.into(),
+        }
+    }
+}
+
+/// The commands whose own errors are still text take these as their message.
+impl From<Error> for String {
+    fn from(e: Error) -> String {
+        e.to_string()
+    }
+}

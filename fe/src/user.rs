@@ -1,4 +1,4 @@
-//! A user's body: their CalculiX deck (`inp.rs`) and a short spec (TOML) naming what the
+//! A user's body: their CalculiX deck (`inp/mod.rs`) and a short spec (TOML) naming what the
 //! machine needs of it (kind and support, the points, the modes and the correction loads, the
 //! drum's spin), turned into the same [`BodySpec`] the built-in bodies are, and built by the
 //! same pipeline. After the build, the result is checked against the deck: ccx's own mass and

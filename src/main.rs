@@ -206,8 +206,13 @@ fn command(cmd: Cmd) -> Result<ExitCode, Failure> {
             let res = washdyn::sweep::run_sweep(&base, vars, &cfg, &done)?;
             bar.finish_and_clear();
             let failed = res.iter().filter(|r| r.summary.status != "ok").count();
+            // The set-up's own warning (a loose tolerance) is every variant's: said once.
+            let common = washdyn::accuracy::class::tolerance_warning(sim.integrator, sim.tol);
+            if let Some(w) = &common {
+                eprintln!("warning: {w}");
+            }
             for r in &res {
-                for w in &r.summary.warnings {
+                for w in r.summary.warnings.iter().filter(|w| Some(*w) != common.as_ref()) {
                     eprintln!("warning: {}: {w}", r.name);
                 }
             }

@@ -220,10 +220,12 @@ mod tests {
 
     /// One impact of a 10 kg mass at v0 on the contact, integrated with RK4 at 1 us until it
     /// leaves: the coefficient of restitution is the exact relation's (Gonthier et al. 2004)
-    /// within 1e-6, and within (alpha v0)^2 of Hunt and Crossley's e = 1 - alpha v0.
+    /// within 5e-12 (measured 6.4e-13: RK4's error at 1e-6 s steps), and within (alpha v0)^2
+    /// of Hunt and Crossley's e = 1 - alpha v0.
     #[test]
     fn restitution_of_one_impact_matches_hunt_crossley() {
         let m = 10.0;
+        let mut worst: f64 = 0.0;
         for (alpha, v0) in [(0.05, 0.2), (0.3, 0.5), (0.6, 1.0)] {
             let c = contact(alpha);
             // x: penetration, v: its rate; starts at touch closing at v0.
@@ -251,8 +253,9 @@ mod tests {
             let e = -v / v0;
             let exact = restitution_exact(1.5 * alpha, v0);
             let hc = 1.0 - alpha * v0;
+            worst = worst.max((e - exact).abs());
             assert!(
-                (e - exact).abs() < 1e-6,
+                (e - exact).abs() < 5e-12,
                 "alpha {alpha}, v0 {v0}: {e} vs {exact}"
             );
             assert!(
@@ -260,5 +263,6 @@ mod tests {
                 "alpha {alpha}, v0 {v0}: {e} vs 1 - alpha v0 = {hc}"
             );
         }
+        println!("restitution against the exact relation: within {worst:.1e}");
     }
 }

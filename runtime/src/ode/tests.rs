@@ -321,7 +321,7 @@ fn hires_sdirk4_matches_the_test_set_reference() {
 
 /// HIRES with DOPRI5 at a tight tolerance (it is only mildly stiff, so the explicit method
 /// gets there, paying with steps limited by stability). Reached: rtol 1e-10, atol 1e-13 ->
-/// max rel error 4.9e-11 in 15483 steps, 92900 f evaluations.
+/// max rel error 4.9e-11 in 15483 steps, 92900 f evaluations (bound about 10x that).
 #[test]
 fn hires_dopri5_matches_the_test_set_reference() {
     let mut sys = Hires::default();
@@ -330,7 +330,7 @@ fn hires_dopri5_matches_the_test_set_reference() {
     let st = integrate(&mut s, &mut sys, 0.0, &Hires::Y0, Hires::T_END).unwrap();
     let err = hires_error(s.y());
     println!("hires dopri5 rtol {rtol:.0e}: max rel err {err:.2e}, {st:?}");
-    assert!(err < 1e-9, "{err}");
+    assert!(err < 5e-10, "{err}");
 }
 
 /// Stiff Van der Pol, problem VDPOL of the Test Set (eps = 1e-6, y(0) = (2, 0), t = 2),
@@ -724,11 +724,12 @@ fn sweep_order(points: &[(f64, u64)]) -> f64 {
 /// RODAS4 on HIRES and VDPOL (Test Set for IVP Solvers) against the published references,
 /// analytic and difference Jacobians, and the order the tolerance sweep shows (theory: 4).
 /// Reached (HIRES, atol = 1e-3 rtol): rtol 1e-5 -> 6.2e-6 (131 steps), 1e-7 -> 5.8e-8 (586),
-/// 1e-9 -> 2.5e-11 (3170): order 3.9 in steps. VDPOL: 1e-6 -> 2.7e-7, 1e-8 -> 1.6e-9.
+/// 1e-9 -> 2.5e-11 (3170): order 3.9 in steps; with the difference Jacobian 6.2e-6, 6.2e-8,
+/// 1.1e-10. VDPOL: 1e-6 -> 2.7e-7, 1e-8 -> 1.6e-9. Bounds about 10x the worst of each.
 #[test]
 fn rodas4_matches_the_test_set_references_with_order_4() {
     let mut pts = Vec::new();
-    for rtol in [1e-5, 1e-7, 1e-9] {
+    for (rtol, bound) in [(1e-5, 6e-5), (1e-7, 6e-7), (1e-9, 1e-9)] {
         for analytic in [true, false] {
             let mut sys = Hires {
                 analytic_jacobian: analytic,
@@ -737,7 +738,7 @@ fn rodas4_matches_the_test_set_references_with_order_4() {
             let st = integrate(&mut s, &mut sys, 0.0, &Hires::Y0, Hires::T_END).unwrap();
             let err = hires_error(s.y());
             println!("hires rodas4 rtol {rtol:.0e} analytic {analytic}: {err:.2e}, {st:?}");
-            assert!(err < 30.0 * rtol, "rtol {rtol}: {err}");
+            assert!(err < bound, "rtol {rtol}: {err}");
             if analytic {
                 pts.push((err, st.steps));
             }
@@ -750,7 +751,7 @@ fn rodas4_matches_the_test_set_references_with_order_4() {
     let mut sys = VanDerPol {
         eps: VanDerPol::TESTSET_EPS,
     };
-    for (tol, bound) in [(1e-6, 2e-5), (1e-8, 5e-7)] {
+    for (tol, bound) in [(1e-6, 3e-6), (1e-8, 2e-8)] {
         let mut s = Rodas4::new(2, tols(tol, tol));
         let st = integrate(
             &mut s,
@@ -771,11 +772,12 @@ fn rodas4_matches_the_test_set_references_with_order_4() {
 /// against the published reference, and its order from the tolerance sweep (theory: 2).
 /// Reached (rtol = atol): 1e-5 -> 1.8e-5 (642 steps), 1e-6 -> 1.7e-5 (1167), 1e-7 -> 1.1e-6
 /// (2380), 1e-8 -> 1.7e-7 (4976): least-squares order 2.5. The error at t = 2 is not monotone
-/// in the tolerance (it depends on where the last jump falls), hence the fit.
+/// in the tolerance (it depends on where the last jump falls), hence the fit. Bounds about 10x
+/// the errors (the difference Jacobian's alike: 1.7e-5 at 1e-6).
 #[test]
 fn generalized_alpha_matches_the_test_set_reference_with_order_2() {
     let mut pts = Vec::new();
-    for tol in [1e-5, 1e-6, 1e-7, 1e-8] {
+    for (tol, bound) in [(1e-5, 2e-4), (1e-6, 2e-4), (1e-7, 1e-5), (1e-8, 2e-6)] {
         for analytic in [true, false] {
             let mut sys = Withheld {
                 inner: VanDerPol {
@@ -794,7 +796,7 @@ fn generalized_alpha_matches_the_test_set_reference_with_order_2() {
             .unwrap();
             let e = vdpol_error(s.y());
             println!("vdpol galpha tol {tol:.0e} analytic {analytic}: rel err {e:.2e}, {st:?}");
-            assert!(e < 300.0 * tol, "tol {tol}: {e}");
+            assert!(e < bound, "tol {tol}: {e}");
             if analytic {
                 pts.push((e, st.steps));
             }
@@ -832,6 +834,7 @@ fn generalized_alpha_damps_the_highest_frequencies_by_rho_inf() {
         // triple, the amplitude goes like k^2 rho^k, and the ratio carries up to 2^(2/100).
         let ratio = (amp[199] / amp[99]).powf(1.0 / 100.0);
         println!("rho_inf {rho}: per-step amplitude ratio {ratio:.4}");
+        // Measured 0.0000, 0.5030, 0.8054, 1.0000: off by at most 0.0054 (the k^2 factor).
         assert!((ratio - rho).abs() < 0.03, "rho_inf {rho}: {ratio}");
     }
 }

@@ -54,11 +54,16 @@ fn every_point_has_its_node_set() {
 #[test]
 fn hrz_keeps_each_body_mass_exactly() {
     // HRZ scales each element's diagonal to the element's mass: the lumped total equals the
-    // element integral (3 points a direction) to round-off.
+    // element integral (3 points a direction) to round-off: measured 8.9e-15 (cabinet).
     for b in bodies::builtin() {
         let l = lump(&b.mesh).mass_props(&b.mesh);
         let c = washdyn_fe::lumping::element_mass(&b.mesh);
-        assert!((l.mass - c).abs() < 1e-9 * c, "{}: {l:?} vs {c}", b.name);
+        eprintln!(
+            "{}: HRZ mass {:.1e} off the element integral",
+            b.name,
+            (l.mass / c - 1.0).abs()
+        );
+        assert!((l.mass - c).abs() < 1e-13 * c, "{}: {l:?} vs {c}", b.name);
     }
 }
 
@@ -66,7 +71,8 @@ fn hrz_keeps_each_body_mass_exactly() {
 fn tub_drum_and_rotor_make_the_suspended_body() {
     // The rigid model's suspended body (models/data/reference.toml: 55 kg, CoG (0, 0, 0.45),
     // its inertia tensor) and the FE models' tub + drum + rotor must be one machine: within
-    // 2 % each (CoG per its height, 0.45 m; products per the diagonal).
+    // 1 % each (CoG per its height, 0.45 m; products per the diagonal). Measured 1.0e-3 at
+    // worst.
     let model = washdyn_runtime::ir::toml_file::load_file(
         &PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../models/data/reference.toml"),
     )
@@ -77,16 +83,24 @@ fn tub_drum_and_rotor_make_the_suspended_body() {
     let total = tub.combine(&drum).combine(&balance::rotor());
     let rigid = &model.tub;
     eprintln!("FE suspended body {total:?}\nrigid model {rigid:?}");
-    assert!((total.mass - rigid.mass).abs() < 0.02 * rigid.mass);
+    let mut worst = (total.mass / rigid.mass - 1.0).abs();
+    for i in 0..3 {
+        worst = worst.max((total.cog[i] - rigid.cog[i]).abs() / 0.45);
+        for j in 0..3 {
+            let scale = rigid.inertia[j][j].min(rigid.inertia[i][i]);
+            worst = worst.max((total.inertia[i][j] - rigid.inertia[i][j]).abs() / scale);
+        }
+    }
+    assert!((total.mass - rigid.mass).abs() < 0.01 * rigid.mass);
     for i in 0..3 {
         assert!(
-            (total.cog[i] - rigid.cog[i]).abs() < 0.02 * 0.45,
+            (total.cog[i] - rigid.cog[i]).abs() < 0.01 * 0.45,
             "{total:?}"
         );
         for j in 0..3 {
             let scale = rigid.inertia[j][j].min(rigid.inertia[i][i]);
             let dev = (total.inertia[i][j] - rigid.inertia[i][j]).abs() / scale;
-            assert!(dev < 0.02, "I[{i}][{j}]: {dev:.3}: {total:?}");
+            assert!(dev < 0.01, "I[{i}][{j}]: {dev:.3}: {total:?}");
         }
     }
     // The drum's polar inertia is the rigid model's drum rotor's.
@@ -96,8 +110,10 @@ fn tub_drum_and_rotor_make_the_suspended_body() {
         .find(|r| r.name == "drum")
         .unwrap()
         .polar_inertia;
+    worst = worst.max((drum.inertia[0][0] / polar - 1.0).abs());
+    eprintln!("suspended body and drum polar inertia: worst deviation {worst:.2e}");
     assert!(
-        (drum.inertia[0][0] - polar).abs() < 0.02 * polar,
+        (drum.inertia[0][0] - polar).abs() < 0.01 * polar,
         "{drum:?} vs {polar}"
     );
     // reference-machine.md's first estimate of the inertia, diag(2.6, 2.3, 2.3), is out of
@@ -315,6 +331,7 @@ fn drum_stress_stiffened_frequencies_come_back_from_the_committed_data() {
     let spec = bodies::builtin().remove(1);
     let dir = tempfile::tempdir().unwrap();
     let f0 = &drum.frequencies;
+    let mut worst: f64 = 0.0;
     for rpm in [400.0, 900.0, 1400.0] {
         let omega = rpm * std::f64::consts::PI / 30.0;
         let (frd, _) = washdyn_fe::rotating::solve_prestressed(
@@ -335,11 +352,14 @@ fn drum_stress_stiffened_frequencies_come_back_from_the_committed_data() {
         );
         for (k, (o, c)) in ours.iter().zip(&ccx_f).enumerate() {
             // Truncation to the 12 kept modes (a Rayleigh-Ritz projection: from above) and the
-            // fit residual of the extraction (1.5e-2 on the highest kept mode) bound the error.
+            // fit residual of the extraction (1.5e-2 on the highest kept mode) bound the error:
+            // measured 1.8e-3.
             let rel = (o - c) / c;
+            worst = worst.max(rel.abs());
             assert!(rel.abs() < 5e-3, "mode {k} at {rpm} rpm: {o} vs ccx {c}");
         }
     }
+    eprintln!("stress-stiffened frequencies against ccx: worst {worst:.1e}");
 }
 
 // The drum's Campbell diagram against CalculiX: `fe/tests/drum.rs`, on the knot-free brick

@@ -58,7 +58,8 @@ fn cantilever_bending_frequencies_converge_to_euler_bernoulli() {
         // ... to the beam theory's own difference: ccx's B32 is a shear-deformable beam with
         // rotary inertia (Timoshenko), which lowers mode i by about (beta_i r)^2 relative
         // (r = a / sqrt(12) / L = 0.0058: 1e-4, 7e-4, 2e-3) under Euler-Bernoulli: 0.5 % holds
-        // all three with the discretisation error of 40 elements.
+        // all three with the discretisation error of 40 elements. Measured at 40 elements:
+        // 1.7e-3, 1.5e-4, -2.4e-3.
         assert!(errors[2][i].abs() < 5e-3, "mode {}: {errors:?}", i + 1);
     }
 }

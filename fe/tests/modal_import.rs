@@ -154,37 +154,53 @@ fn small_body_through_ccx_to_modal_data() {
     assert_eq!(modes.len(), 10);
 
     // ccx's ROT NODE against the rigid fit of the part's point masses (their .frd
-    // translations): the same rotation, to the files' printed precision (6 digits).
+    // translations): the same rotation, to the files' printed precision (6 digits): measured
+    // 7.6e-7 of the largest rotation.
     let r = &mesh.rigid[0];
+    let mut worst_rot: f64 = 0.0;
     for (k, s) in modes.iter().enumerate() {
         let masses: Vec<usize> = mesh.parts[3].elements.iter().map(|e| e[0]).collect();
         let (_, th, _) = modal::rigid_fit(&mesh, &masses, &s.w).unwrap();
         let rot = s.rot[&r.rot_node];
         let scale = rot.iter().fold(1e-3f64, |m, v| m.max(v.abs()));
         for i in 0..3 {
+            worst_rot = worst_rot.max((th[i] - rot[i]).abs() / scale);
             assert!(
-                (th[i] - rot[i]).abs() < 1e-4 * scale,
+                (th[i] - rot[i]).abs() < 1e-5 * scale,
                 "mode {k}: fit {th:?} vs ROT {rot:?}"
             );
         }
     }
 
     // The seed paper's expansion for the rigid part (CoG, inertia, ROT) against summing its
-    // point masses as ordinary nodes: the same elementary matrices.
+    // point masses as ordinary nodes: the same elementary matrices (measured 2.7e-8).
     let paper = mass.elementary(&mesh, &modes).unwrap();
     let direct = consistent_point_masses_as_nodes(&mesh)
         .elementary(&mesh, &modes)
         .unwrap();
+    eprintln!("ROT NODE against the rigid fit: {worst_rot:.1e} of the largest rotation");
     let n = modes.len();
+    let mut worst_part: f64 = 0.0;
+    for a in 0..3 {
+        for b in 0..3 {
+            for (p, d) in paper.g[a][b].iter().zip(&direct.g[a][b]) {
+                worst_part = worst_part.max((p - d).abs());
+            }
+            for (p, d) in paper.s[a][b].iter().zip(&direct.s[a][b]) {
+                worst_part = worst_part.max((p - d).abs());
+            }
+        }
+    }
+    eprintln!("rigid part expanded against its point masses as nodes: {worst_part:.1e}");
     for a in 0..3 {
         for b in 0..3 {
             for i in 0..n * n {
                 let (p, d) = (paper.g[a][b][i], direct.g[a][b][i]);
-                assert!((p - d).abs() < 2e-4, "g[{a}][{b}][{i}]: {p} vs {d}");
+                assert!((p - d).abs() < 3e-7, "g[{a}][{b}][{i}]: {p} vs {d}");
             }
             for k in 0..n {
                 let (p, d) = (paper.s[a][b][k], direct.s[a][b][k]);
-                assert!((p - d).abs() < 2e-4, "s[{a}][{b}][{k}]: {p} vs {d}");
+                assert!((p - d).abs() < 3e-7, "s[{a}][{b}][{k}]: {p} vs {d}");
             }
         }
     }

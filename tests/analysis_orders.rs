@@ -419,8 +419,8 @@ fn crosstalk_below_minus_100_db_on_a_synthetic_run_up() {
     }
     println!("present orders: worst relative amplitude error {worst_present:.1e}");
     // The kernel's pass-band ripple (Kaiser, beta 12) and Hann over a whole number of
-    // revolutions: amplitudes exact to 1e-4.
-    assert!(worst_present < 1e-4, "{worst_present:e}");
+    // revolutions: measured 2.4e-6 (crosstalk -127, -120, -117, -108 dB by speed range).
+    assert!(worst_present < 3e-5, "{worst_present:e}");
 }
 
 /// Issue 7: a channel of amplitude 1e300 gave infinite order amplitudes (squares overflow), and

@@ -32,14 +32,14 @@ fn max_abs(v: &[f64]) -> f64 {
     v.iter().fold(0.0f64, |a, x| a.max(x.abs()))
 }
 
-/// Asserts every entry of `b` within 1e-12 of `a`'s largest entry (or equal), naming the
-/// entry by `what`; returns the largest relative difference.
+/// Asserts every entry of `b` within 5e-13 of `a`'s largest entry (or equal), naming the
+/// entry by `what`; returns the largest relative difference (measured 4.2e-14 on h and q'').
 fn agree(a: &[f64], b: &[f64], what: impl Fn(usize) -> String) -> f64 {
     let s = max_abs(a);
     let mut worst: f64 = 0.0;
     for (i, (x, y)) in a.iter().zip(b).enumerate() {
         let d = (x - y).abs();
-        assert!(d < 1e-12 * s || d == 0.0, "{}: {x} vs {y}", what(i));
+        assert!(d < 5e-13 * s || d == 0.0, "{}: {x} vs {y}", what(i));
         if s > 0.0 {
             worst = worst.max(d / s);
         }
@@ -72,14 +72,16 @@ fn mass_forces_and_accelerations_agree_for_random_states() {
                 gen_.eval(t, &q, &qd, &mut m1b, &mut hb);
                 let e = agree(&ha, &hb, |i| format!("{name}/{scene} h[{i}]"));
                 worst = worst.max(e);
-                agree(&m1a, &m1b, |i| format!("{name}/{scene} M1[{i}]"));
+                let e = agree(&m1a, &m1b, |i| format!("{name}/{scene} M1[{i}]"));
+                worst = worst.max(e);
                 // Sensors (a drum rim sensor on `compact` turns with the drive angle).
                 let qdd: Vec<f64> = (0..n).map(|_| 10.0 * rng.next()).collect();
                 let nc = interp.channel_names().len();
                 let (mut ca, mut cb) = (vec![0.0; nc], vec![0.0; nc]);
                 interp.sensors(t, &q, &qd, &qdd, &mut ca);
                 gen_.sensors(t, &q, &qd, &qdd, &mut cb);
-                agree(&ca, &cb, |i| format!("{name}/{scene} channel {i}"));
+                let e = agree(&ca, &cb, |i| format!("{name}/{scene} channel {i}"));
+                worst = worst.max(e);
                 // q'': the interpreter's Cholesky at run time vs the generated straight-line one.
                 let mut fa = FirstOrder::new(Interpreter::new(&m, &eff));
                 let (mut aa, mut ab) = (vec![0.0; n], vec![0.0; n]);
@@ -90,7 +92,7 @@ fn mass_forces_and_accelerations_agree_for_random_states() {
             }
         }
     }
-    eprintln!("largest relative disagreement of h and q'': {worst:.2e}");
+    eprintln!("largest relative disagreement of M1, h, sensors and q'': {worst:.2e}");
 }
 
 #[test]
@@ -207,6 +209,7 @@ fn whole_run_up_trajectories_agree() {
         washdyn_models::generated("reference", "full").unwrap(),
         t_end,
     );
+    // Measured 0: equal to the last bit (the bound leaves room for another compiler's folding).
     let worst = assert_same_signals(&a, &b, 1e-9);
     eprintln!("largest relative trajectory difference over the run-up: {worst:.2e}");
 }
@@ -224,6 +227,7 @@ fn elastic_run_trajectories_agree() {
         2.0,
         2e-5,
     );
+    // Measured 6.8e-11.
     let worst = assert_same_signals(&a, &b, 1e-9);
     eprintln!("elastic scene: largest relative trajectory difference over 2 s: {worst:.2e}");
 }

@@ -65,7 +65,7 @@ fn the_parts_frequencies_are_a_rigid_rod_on_its_bearings() {
         for (g, w) in got.iter().zip(&want) {
             // Measured 2.4e-16 relative (round-off of the assembly).
             assert!(
-                (g - w).abs() < 1e-12 * w,
+                (g - w).abs() < 3e-15 * w,
                 "{}: {got:?} vs {want:?}",
                 fd.name
             );

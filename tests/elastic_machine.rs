@@ -97,7 +97,7 @@ fn free_tub_has_six_zero_and_calculix_frequencies() {
     // consistent.rs), so the free-free modes decouple from the rigid motion and the modal
     // block is ccx's own normalisation (measured 1.3e-11 over the 100 eigenmodes, ccx's
     // printed digits; with HRZ lumping it was 1e-3 on 34 modes).
-    assert!(worst < 1e-9, "{worst}");
+    assert!(worst < 1e-10, "{worst}");
 }
 
 const DRUM: &str = "
@@ -143,7 +143,8 @@ fn clamped_spinning_drum_matches_the_reduced_campbell_diagram() {
             .fold(0.0f64, f64::max);
         eprintln!("{rpm} rpm: worst {worst:.1e}\n  ours {ours:?}\n  fe   {reference:?}");
         // Same data, two assemblies: round-off and the differencing (eps 1e-6 on a linear h).
-        assert!(worst < 1e-6, "{rpm} rpm: {worst}");
+        // Measured 3.6e-11 (400 rpm; 1.3e-11 at 900, 4.8e-12 at 1400, 0 at rest).
+        assert!(worst < 3e-10, "{rpm} rpm: {worst}");
     }
 }
 

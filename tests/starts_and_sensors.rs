@@ -53,15 +53,17 @@ fn mean_load_start_does_not_lift_the_tub() {
         ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
     };
     println!(
-        "static start {:.2} mm from rest, mean-load start {:.3} mm",
+        "static start {:.2} mm from rest, mean-load start {:.2e} mm",
         1e3 * d(&q_static, &q_rest),
         1e3 * d(&q_mean, &q_rest)
     );
+    // Measured 26.65 mm and 1.13e-5 mm (the drum's speed-dependent mean loads).
     assert!(d(&q_static, &q_rest) > 0.02, "the static start's bias");
-    assert!(d(&q_mean, &q_rest) < 1e-3);
+    assert!(d(&q_mean, &q_rest) < 1e-7);
 
     // From the mean-load start the tub's mean position over the 5th second stays within
-    // 1 mm of the start (the steady motion is +-2.9 mm about it).
+    // 1 mm of the start (the steady motion is +-2.9 mm about it). Measured 0.514 mm: the
+    // motion has not settled by then (a bound of the start's purpose, not of round-off).
     let mut fo = FirstOrder::new(sys);
     let n = fo.layout().n();
     let mut y = vec![0.0; 2 * n];
@@ -174,6 +176,7 @@ fn second_order_sensor_terms_carry_order_2() {
     }
     let mut worst_new: f64 = 0.0;
     let mut worst_lin: f64 = 0.0;
+    let mut worst_o1: f64 = 0.0;
     for (j, &i) in tub.iter().enumerate() {
         for (c, axis) in ["x", "y", "z"].iter().enumerate() {
             let o2 = |x: &[f64]| order_amplitude(x, rate, hz, 2.0);
@@ -197,6 +200,8 @@ fn second_order_sensor_terms_carry_order_2() {
                 e2l
             );
             let ex1 = o1(&exact[j][c]);
+            worst_o1 = worst_o1.max((o1(&new[j][c]) - ex1).abs() / ex1);
+            // Measured 1.04e-4 relative (the second differences' truncation).
             assert!(
                 (o1(&new[j][c]) - ex1).abs() <= 1e-3 * ex1 + 1e-6,
                 "order 1 must not change"
@@ -207,9 +212,11 @@ fn second_order_sensor_terms_carry_order_2() {
             }
         }
     }
+    println!("order 1: within {worst_o1:.2e} of the exact motion's");
     println!(
         "order 2 in y, z: worst relative error {worst_new:.2e} (second order) vs {worst_lin:.2e} (first order)"
     );
+    // Measured 3.05e-4 against 0.205.
     assert!(worst_new < 0.1 * worst_lin, "{worst_new} vs {worst_lin}");
 }
 

@@ -122,3 +122,400 @@ fn every_example_bench_and_script_a_document_runs_exists() {
         "documents run what is not there: {missing:#?}"
     );
 }
+
+// ---------------------------------------------------------------------------------------------
+// Stated bounds held to the tests (issue 23, point 7).
+//
+// The rules, kept simple so a document can be written to them:
+// - A *unit* of README.md or ARCHITECTURE.md is a bullet (a line starting with `- `, with the
+//   indented lines under it) or a paragraph. Code blocks, headings and table rows are no units.
+// - A *test file* is a path in a unit, written in full from the repository's root
+//   (`tests/energy.rs`, `fe/tests/drum.rs`, `runtime/src/ode/tests.rs`), of a file that holds
+//   `#[test]`.
+// - A *claim* is a bound followed by its measured value in brackets: `BOUND [MEASURED ...]`,
+//   each a number (`1e-12`, `0.5`, `2.0075`), the bound optionally with one unit of UNITS
+//   between them (`within 1e-12 m [8.3e-14 m]`, `within 5 % [0.5 %, tub3_ax]`). The first
+//   number in the brackets is the worst measured value, in the bound's unit unless it names
+//   its own; whatever follows it is commentary. A claim belongs to the last test file named
+//   before it in its unit, or, without one, the first named after it.
+// - A claim holds when its bound is a literal in the code of its test file (comments stripped;
+//   compared by value, as written or in SI: `5 %` is 5 or 0.05, `1 mm` is 1 or 1e-3), its
+//   measured value appears anywhere in that file (the `// Measured ...` comment beside the
+//   assert), and the bound is at most RATIO_LIMIT times the measured value (a lower bound
+//   passes that trivially).
+// - A *bound-like phrase* is `within`, `below`, `under`, `to` or `bound`, then a number in
+//   scientific notation or a percentage, outside brackets. In a unit that names a test file
+//   every bound-like phrase must be a claim's bound, and every bullet of README's "What the
+//   tests check" names a test file: a bound stated without what it measured, or a test without
+//   its file, fails here. (Measured results that are no test's bound, like a study's errors,
+//   are written without these words: "is off by 1.3e-2".)
+
+/// Units a claim's bound and measured value may carry, with their factor to SI (the code's).
+const UNITS: [(&str, f64); 10] = [
+    ("%", 1e-2),
+    ("m", 1.0),
+    ("mm", 1e-3),
+    ("rad", 1.0),
+    ("dB", 1.0),
+    ("Hz", 1.0),
+    ("kg", 1.0),
+    ("MPa", 1e6),
+    ("m/s^2", 1.0),
+    ("relative", 1.0),
+];
+
+/// The issue asks for bounds about 10x what was measured; more than this fails.
+const RATIO_LIMIT: f64 = 30.0;
+
+/// A number written at `s[i..]` (`1e-12`, `8.3e-14`, `0.5`, `1_000.0`, `1.0e-12_f64`): its
+/// value and the end of its text. None unless a number starts there (not inside a word or
+/// another number).
+fn number_at(s: &str, i: usize) -> Option<(f64, usize)> {
+    let b = s.as_bytes();
+    if !b.get(i)?.is_ascii_digit() {
+        return None;
+    }
+    if i > 0 && (b[i - 1].is_ascii_alphanumeric() || b"_.^".contains(&b[i - 1])) {
+        return None;
+    }
+    let digits = |mut j: usize| {
+        while j < b.len() && (b[j].is_ascii_digit() || b[j] == b'_') {
+            j += 1;
+        }
+        j
+    };
+    let mut j = digits(i);
+    if j + 1 < b.len() && b[j] == b'.' && b[j + 1].is_ascii_digit() {
+        j = digits(j + 1);
+    }
+    if j < b.len() && (b[j] == b'e' || b[j] == b'E') {
+        let mut k = j + 1;
+        if k < b.len() && (b[k] == b'-' || b[k] == b'+') {
+            k += 1;
+        }
+        if k < b.len() && b[k].is_ascii_digit() {
+            j = digits(k);
+        }
+    }
+    let v = s[i..j].replace('_', "").parse().ok()?;
+    Some((v, j))
+}
+
+/// Every number written in `s`.
+fn numbers(s: &str) -> Vec<f64> {
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < s.len() {
+        match number_at(s, i) {
+            Some((v, j)) => {
+                out.push(v);
+                i = j;
+            }
+            None => i += 1,
+        }
+    }
+    out
+}
+
+fn same(a: f64, b: f64) -> bool {
+    (a.abs() - b.abs()).abs() <= 1e-9 * b.abs().max(1e-300)
+}
+
+/// A unit of UNITS at `s[i..]` after blanks: its factor and the end of it and the blanks after.
+fn unit_at(s: &str, i: usize) -> Option<(&'static str, f64, usize)> {
+    let rest = &s[i..];
+    let start = i + rest.len() - rest.trim_start().len();
+    let word_end = s[start..]
+        .find(|c: char| c.is_whitespace() || "[](),;:".contains(c))
+        .map_or(s.len(), |k| start + k);
+    let word = &s[start..word_end];
+    let (name, f) = UNITS.iter().find(|(u, _)| *u == word)?;
+    let rest = &s[word_end..];
+    Some((name, *f, word_end + rest.len() - rest.trim_start().len()))
+}
+
+/// Rust source without its comments (line, doc and block comments); strings are kept.
+fn code_of(src: &str) -> String {
+    let b = src.as_bytes();
+    let mut out = String::with_capacity(src.len());
+    let mut i = 0;
+    while i < b.len() {
+        let rest = &src[i..];
+        if rest.starts_with("//") {
+            i += rest.find('\n').unwrap_or(rest.len());
+        } else if rest.starts_with("/*") {
+            i += rest.find("*/").map_or(rest.len(), |k| k + 2);
+        } else if let Some(raw) = rest.strip_prefix("r#\"") {
+            let end = raw.find("\"#").map_or(rest.len(), |k| k + 5);
+            out.push_str(&rest[..end]);
+            i += end;
+        } else if rest.starts_with("'\"'") {
+            out.push_str("'\"'");
+            i += 3;
+        } else if rest.starts_with('"') {
+            let mut j = 1;
+            while j < rest.len() && rest.as_bytes()[j] != b'"' {
+                j += if rest.as_bytes()[j] == b'\\' { 2 } else { 1 };
+            }
+            let end = (j + 1).min(rest.len());
+            out.push_str(&rest[..end]);
+            i += end;
+        } else {
+            let c = rest.chars().next().unwrap();
+            out.push(c);
+            i += c.len_utf8();
+        }
+    }
+    out
+}
+
+/// A bullet or paragraph of a document.
+struct Unit {
+    /// Its first line's number.
+    first: usize,
+    /// Its lines joined by '\n'.
+    text: String,
+    /// (offset in `text`, line number) of each line.
+    lines: Vec<(usize, usize)>,
+}
+
+/// The units of a document.
+fn units(text: &str) -> Vec<Unit> {
+    let mut out: Vec<Unit> = Vec::new();
+    let mut open = false;
+    let mut fence = false;
+    for (k, line) in text.lines().enumerate() {
+        let n = k + 1;
+        if line.trim_start().starts_with("```") {
+            fence = !fence;
+            open = false;
+            continue;
+        }
+        let t = line.trim_start();
+        if fence || t.is_empty() || t.starts_with('|') || t.starts_with('#') {
+            open = false;
+            continue;
+        }
+        if t.starts_with("- ") || !open {
+            out.push(Unit {
+                first: n,
+                text: String::new(),
+                lines: Vec::new(),
+            });
+            open = true;
+        }
+        let u = out.last_mut().unwrap();
+        u.lines.push((u.text.len(), n));
+        u.text.push_str(line);
+        u.text.push('\n');
+    }
+    out
+}
+
+struct Claim {
+    doc: &'static str,
+    line: usize,
+    bound: f64,
+    bound_unit: &'static str,
+    measured: f64,
+    measured_unit: &'static str,
+    file: String,
+}
+
+#[test]
+fn every_bound_the_documents_state_is_the_named_tests_bound() {
+    let is_test_file = |tok: &str| {
+        tok.ends_with(".rs")
+            && std::fs::read_to_string(root().join(tok)).is_ok_and(|s| s.contains("#[test]"))
+    };
+    let mut claims = Vec::new();
+    let mut problems = Vec::new();
+    for doc in ["README.md", "ARCHITECTURE.md"] {
+        let text = std::fs::read_to_string(root().join(doc)).expect("readable");
+        let mut section = "";
+        let heading_of: Vec<(usize, &str)> = text
+            .lines()
+            .enumerate()
+            .filter(|(_, l)| l.starts_with('#'))
+            .map(|(k, l)| (k + 1, l.trim_start_matches('#').trim()))
+            .collect();
+        for Unit {
+            first,
+            text: unit,
+            lines,
+        } in units(&text)
+        {
+            if let Some((_, h)) = heading_of.iter().rev().find(|(l, _)| *l < first) {
+                section = h;
+            }
+            let line_of = |at: usize| lines.iter().rev().find(|(o, _)| *o <= at).unwrap().1;
+            // The test files the unit names, at their offsets.
+            let mut files = Vec::new();
+            let path_char = |c: char| c.is_alphanumeric() || "/._-".contains(c);
+            let mut start = None;
+            for (o, c) in unit.char_indices().chain([(unit.len(), ' ')]) {
+                match (start, path_char(c)) {
+                    (None, true) => start = Some(o),
+                    (Some(s), false) => {
+                        let tok = unit[s..o].trim_matches('.');
+                        if is_test_file(tok) {
+                            files.push((s, tok.to_string()));
+                        }
+                        start = None;
+                    }
+                    _ => {}
+                }
+            }
+            if doc == "README.md"
+                && section.starts_with("What the tests check")
+                && unit.starts_with("- ")
+                && files.is_empty()
+            {
+                problems.push(format!(
+                    "{doc}:{first}: a test described without its file: {}",
+                    unit.lines().next().unwrap()
+                ));
+            }
+            // Claims and bound-like phrases, outside brackets.
+            let b = unit.as_bytes();
+            let mut depth = 0usize;
+            let mut bounds_claimed = Vec::new();
+            let mut i = 0;
+            while i < b.len() {
+                match b[i] {
+                    b'[' => depth += 1,
+                    b']' => depth = depth.saturating_sub(1),
+                    _ => {}
+                }
+                let Some((bound, j)) = (depth == 0).then(|| number_at(&unit, i)).flatten() else {
+                    i += 1;
+                    continue;
+                };
+                let (bound_unit, _, k) = unit_at(&unit, j).unwrap_or(("", 1.0, {
+                    let r = &unit[j..];
+                    j + r.len() - r.trim_start().len()
+                }));
+                if b.get(k) == Some(&b'[') {
+                    let inner = &unit[k + 1..];
+                    let s = inner.len() - inner.trim_start_matches([' ', '\n', '-']).len();
+                    if let Some((measured, e)) = number_at(inner, s) {
+                        let measured_unit = unit_at(inner, e).map_or("", |u| u.0);
+                        let file = files
+                            .iter()
+                            .rev()
+                            .find(|(o, _)| *o < i)
+                            .or_else(|| files.iter().find(|(o, _)| *o > i));
+                        match file {
+                            Some((_, f)) => claims.push(Claim {
+                                doc,
+                                line: line_of(i),
+                                bound,
+                                bound_unit,
+                                measured,
+                                measured_unit,
+                                file: f.clone(),
+                            }),
+                            None => problems.push(format!(
+                                "{doc}:{}: {bound:e} [{measured:e}] names no test file",
+                                line_of(i)
+                            )),
+                        }
+                        bounds_claimed.push(i);
+                    }
+                }
+                i = j;
+            }
+            // Bound-like phrases that are not claims.
+            if files.is_empty() {
+                continue;
+            }
+            let mut depth = 0usize;
+            let words: Vec<(usize, &str)> = unit
+                .split_inclusive(char::is_whitespace)
+                .scan(0, |o, w| {
+                    let at = *o;
+                    *o += w.len();
+                    Some((at, w))
+                })
+                .collect();
+            for w in words.windows(2) {
+                let (_, kw) = w[0];
+                depth += kw.matches('[').count();
+                depth = depth.saturating_sub(kw.matches(']').count());
+                let (at, _) = w[1];
+                if depth > 0 || !["within", "below", "under", "to", "bound"].contains(&kw.trim()) {
+                    continue;
+                }
+                let Some((_, e)) = number_at(&unit, at) else {
+                    continue;
+                };
+                let scientific = unit[at..e].contains('e');
+                let percent = unit_at(&unit, e).is_some_and(|u| u.0 == "%");
+                if (scientific || percent) && !bounds_claimed.contains(&at) {
+                    problems.push(format!(
+                        "{doc}:{}: \"{} {}{}\" states a bound without its measured value \
+                         (write BOUND [MEASURED])",
+                        line_of(at),
+                        kw.trim(),
+                        &unit[at..e],
+                        if percent { " %" } else { "" }
+                    ));
+                }
+            }
+        }
+    }
+    println!("{} claims:", claims.len());
+    for c in &claims {
+        let src = std::fs::read_to_string(root().join(&c.file)).unwrap();
+        let code = numbers(&code_of(&src));
+        let text = numbers(&src);
+        let scale = |u: &str| UNITS.iter().find(|(n, _)| *n == u).map_or(1.0, |x| x.1);
+        let bs = scale(c.bound_unit);
+        let ms = scale(if c.measured_unit.is_empty() {
+            c.bound_unit
+        } else {
+            c.measured_unit
+        });
+        let in_code = code
+            .iter()
+            .any(|&x| same(x, c.bound) || same(x, c.bound * bs));
+        let measured_in_file = text
+            .iter()
+            .any(|&x| same(x, c.measured) || same(x, c.measured * ms));
+        let ratio = (c.bound * bs) / (c.measured.abs() * ms);
+        println!(
+            "{}:{}: bound {:e} {} [measured {:e} {}] in {}: ratio {:.1}",
+            c.doc, c.line, c.bound, c.bound_unit, c.measured, c.measured_unit, c.file, ratio
+        );
+        let at = format!("{}:{} ({})", c.doc, c.line, c.file);
+        if !in_code {
+            problems.push(format!(
+                "{at}: bound {:e} is no literal of the code",
+                c.bound
+            ));
+        }
+        if !measured_in_file {
+            problems.push(format!(
+                "{at}: measured {:e} is not written in the file (a `Measured` comment)",
+                c.measured
+            ));
+        }
+        if ratio.is_nan() || ratio > RATIO_LIMIT {
+            problems.push(format!(
+                "{at}: bound {:e} is {ratio:.0}x the measured {:e} (at most {RATIO_LIMIT})",
+                c.bound, c.measured
+            ));
+        }
+    }
+    assert!(
+        problems.is_empty(),
+        "{} problems: {problems:#?}",
+        problems.len()
+    );
+    // The documents state 113 claims (measured): far fewer means the scan broke.
+    assert!(
+        claims.len() >= 80,
+        "only {} claims found: the scan is broken",
+        claims.len()
+    );
+}

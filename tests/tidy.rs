@@ -147,8 +147,8 @@ fn every_example_bench_and_script_a_document_runs_exists() {
 //   scientific notation or a percentage, outside brackets. In a unit that names a test file
 //   every bound-like phrase must be a claim's bound, and every bullet of README's "What the
 //   tests check" names a test file: a bound stated without what it measured, or a test without
-//   its file, fails here. (Measured results that are no test's bound, like a study's errors,
-//   are written without these words: "is off by 1.3e-2".)
+//   its file, fails here. (A rule's tolerance or a study's result that is no test's bound is
+//   written without these words: "at most 1 % off", "is off by 1.3e-2".)
 
 /// Units a claim's bound and measured value may carry, with their factor to SI (the code's).
 const UNITS: [(&str, f64); 10] = [

@@ -212,7 +212,12 @@ fn command(cmd: Cmd) -> Result<ExitCode, Failure> {
                 eprintln!("warning: {w}");
             }
             for r in &res {
-                for w in r.summary.warnings.iter().filter(|w| Some(*w) != common.as_ref()) {
+                for w in r
+                    .summary
+                    .warnings
+                    .iter()
+                    .filter(|w| Some(*w) != common.as_ref())
+                {
                     eprintln!("warning: {}: {w}", r.name);
                 }
             }

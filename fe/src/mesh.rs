@@ -43,6 +43,25 @@ pub enum Section {
     Ground { dof: usize, k: f64 },
 }
 
+/// The ccx element types a `Section` is written as, with their node counts: the types the
+/// pipeline integrates, and so the ones a user's deck may hold (`inp`).
+pub const ELEMENT_TYPES: [(&str, usize); 6] = [
+    ("S8R", 8),
+    ("C3D20", 20),
+    ("C3D20R", 20),
+    ("B32", 3),
+    ("MASS", 1),
+    ("SPRING1", 1),
+];
+
+/// Nodes per element of ccx type `ccx`, if the pipeline takes it.
+pub fn nodes_of(ccx: &str) -> Option<usize> {
+    ELEMENT_TYPES
+        .iter()
+        .find(|(t, _)| *t == ccx)
+        .map(|(_, n)| *n)
+}
+
 impl Section {
     pub fn ccx_type(&self) -> &'static str {
         match self {
@@ -55,12 +74,7 @@ impl Section {
         }
     }
     pub fn nodes_per_element(&self) -> usize {
-        match self {
-            Section::Shell { .. } => 8,
-            Section::Solid { .. } | Section::ReducedSolid { .. } => 20,
-            Section::Beam { .. } => 3,
-            Section::Mass { .. } | Section::Ground { .. } => 1,
-        }
+        nodes_of(self.ccx_type()).expect("every section's type is in ELEMENT_TYPES")
     }
     pub fn material(&self) -> Option<&Material> {
         match self {

@@ -5,7 +5,7 @@
 //! to SI on reading. What the pipeline cannot integrate (other element types, orthotropic
 //! materials, constraints) is refused with the file and line, never dropped.
 
-use crate::mesh::{Material, Mesh, Part, Rigid, Section};
+use crate::mesh::{self, Material, Mesh, Part, Rigid, Section};
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 
@@ -77,9 +77,6 @@ pub struct DeckError {
     pub line: usize,
     pub message: String,
 }
-
-/// The element types the pipeline integrates (mass, lumping, recovery), as ccx names them.
-pub const SUPPORTED_ELEMENTS: [&str; 6] = ["S8R", "C3D20", "C3D20R", "B32", "MASS", "SPRING1"];
 
 /// Node sets the deck writer (`Mesh::model_deck`) writes itself: not read into the mesh.
 const RESERVED: [&str; 2] = ["NALL", "WD_PRINT"];
@@ -330,21 +327,17 @@ pub fn read(path: &Path, units: Units) -> Result<Mesh, DeckError> {
             }
             "*ELEMENT" => {
                 let kind = card.need("TYPE")?;
-                let n = match kind.as_str() {
-                    "S8R" => 8,
-                    "C3D20" | "C3D20R" => 20,
-                    "B32" => 3,
-                    "MASS" | "SPRING1" => 1,
-                    other => {
-                        return Err(card.err(
-                            card.line,
-                            format!(
-                                "element type {other} is not supported (supported: {}); \
-                                 the pipeline integrates the mass of these only",
-                                SUPPORTED_ELEMENTS.join(", ")
-                            ),
-                        ));
-                    }
+                let Some(n) = mesh::nodes_of(&kind) else {
+                    let supported: Vec<&str> =
+                        mesh::ELEMENT_TYPES.iter().map(|(t, _)| *t).collect();
+                    return Err(card.err(
+                        card.line,
+                        format!(
+                            "element type {kind} is not supported (supported: {}); \
+                             the pipeline integrates the mass of these only",
+                            supported.join(", ")
+                        ),
+                    ));
                 };
                 let set = card.param("ELSET").map(str::to_uppercase);
                 for (line, f) in &card.data {
@@ -492,7 +485,7 @@ pub fn read(path: &Path, units: Units) -> Result<Mesh, DeckError> {
                 ))
             }
         };
-        let (section, kinds): (Section, &[&str]) = match card.keyword.as_str() {
+        let section = match card.keyword.as_str() {
             "*SHELL SECTION" => {
                 if card.param("OFFSET").is_some() || card.param("COMPOSITE").is_some() {
                     return Err(
@@ -505,13 +498,10 @@ pub fn read(path: &Path, units: Units) -> Result<Mesh, DeckError> {
                     "thickness",
                     *line,
                 )?;
-                (
-                    Section::Shell {
-                        thickness: t,
-                        material: material(card)?,
-                    },
-                    &["S8R"],
-                )
+                Section::Shell {
+                    thickness: t,
+                    material: material(card)?,
+                }
             }
             "*SOLID SECTION" => {
                 let m = material(card)?;
@@ -520,19 +510,11 @@ pub fn read(path: &Path, units: Units) -> Result<Mesh, DeckError> {
                     .get(&ids[0])
                     .map(|e| e.0.clone())
                     .unwrap_or_default();
-                let s = if kind == "C3D20R" {
+                if kind == "C3D20R" {
                     Section::ReducedSolid { material: m }
                 } else {
                     Section::Solid { material: m }
-                };
-                (
-                    s,
-                    if kind == "C3D20R" {
-                        &["C3D20R"]
-                    } else {
-                        &["C3D20"]
-                    },
-                )
+                }
             }
             "*BEAM SECTION" => {
                 let shape = card.need("SECTION")?;
@@ -553,20 +535,17 @@ pub fn read(path: &Path, units: Units) -> Result<Mesh, DeckError> {
                     num(card, *l2, n, 1, "1-direction y")?,
                     num(card, *l2, n, 2, "1-direction z")?,
                 ];
-                (
-                    Section::Beam {
-                        width: w,
-                        height: h,
-                        normal,
-                        material: material(card)?,
-                    },
-                    &["B32"],
-                )
+                Section::Beam {
+                    width: w,
+                    height: h,
+                    normal,
+                    material: material(card)?,
+                }
             }
             "*MASS" => {
                 let (line, f) = card.first()?;
                 let kg = positive(fm * num(card, *line, f, 0, "mass")?, "mass", *line)?;
-                (Section::Mass { kg }, &["MASS"])
+                Section::Mass { kg }
             }
             _ => {
                 // *SPRING for SPRING1: the dof line, then the stiffness.
@@ -580,13 +559,10 @@ pub fn read(path: &Path, units: Units) -> Result<Mesh, DeckError> {
                     .get(1)
                     .ok_or_else(|| card.err(card.line, "*SPRING needs its stiffness line"))?;
                 let k = positive(fk * num(card, *l2, f2, 0, "stiffness")?, "stiffness", *l2)?;
-                (
-                    Section::Ground {
-                        dof: dof as usize,
-                        k,
-                    },
-                    &["SPRING1"],
-                )
+                Section::Ground {
+                    dof: dof as usize,
+                    k,
+                }
             }
         };
         let mut part = Part {
@@ -601,7 +577,7 @@ pub fn read(path: &Path, units: Units) -> Result<Mesh, DeckError> {
                     format!("element set `{set}`: element {id} is not defined"),
                 )
             })?;
-            if !kinds.contains(&kind.as_str()) {
+            if *kind != part.section.ccx_type() {
                 return Err(DeckError {
                     file: file.clone(),
                     line: *line,

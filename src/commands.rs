@@ -7,6 +7,7 @@ use crate::simulation::{Settings, Simulation, Source};
 use std::fs;
 use std::path::{Path, PathBuf};
 use washdyn_runtime::equations::Equations;
+use washdyn_runtime::ir::modal::ModalData;
 use washdyn_runtime::ir::{DRUM, MOTOR, Model};
 use washdyn_runtime::ode::Method;
 use washdyn_runtime::run::{Guard, Progress, Start, Summary};
@@ -280,21 +281,11 @@ pub fn fe_modal(out: &Path, work: &Path, only: &[String]) -> Result<(), String> 
             continue;
         }
         let (data, r) = washdyn_fe::pipeline::build(&b, work)?;
-        let p = out.join(format!("{}.modal.toml", b.name));
-        let text = format!(
-            "# Modal data of the {} (docs/modal-data.md), written by `washdyn fe modal`.\n{}",
-            b.name,
-            data.to_toml()
+        let header = format!(
+            "the {} (docs/modal-data.md), written by `washdyn fe modal`",
+            b.name
         );
-        std::fs::write(&p, &text).map_err(|e| format!("{}: {e}", p.display()))?;
-        let line = format!(
-            "{r}  {} modes kept, {:.2} to {:.2} Hz; {} ({} kB)\n",
-            data.modes(),
-            data.frequencies[0],
-            data.frequencies[data.modes() - 1],
-            p.display(),
-            text.len() / 1024
-        );
+        let line = format!("{r}{}\n", write_modal(out, &b.name, &header, &data)?);
         print!("{line}");
         sections.push((b.name.clone(), line));
     }
@@ -305,6 +296,22 @@ pub fn fe_modal(out: &Path, work: &Path, only: &[String]) -> Result<(), String> 
     std::fs::write(&p, report).map_err(|e| format!("{}: {e}", p.display()))
 }
 
+/// `<out>/<name>.modal.toml` with a comment line saying whose data it is; returns the
+/// report's line for it (modes kept, their range, the file and its size).
+fn write_modal(out: &Path, name: &str, header: &str, data: &ModalData) -> Result<String, String> {
+    let p = out.join(format!("{name}.modal.toml"));
+    let text = format!("# Modal data of {header}.\n{}", data.to_toml());
+    fs::write(&p, &text).map_err(|e| format!("{}: {e}", p.display()))?;
+    Ok(format!(
+        "  {} modes kept, {:.2} to {:.2} Hz; {} ({} kB)",
+        data.modes(),
+        data.frequencies[0],
+        data.frequencies[data.modes() - 1],
+        p.display(),
+        text.len() / 1024
+    ))
+}
+
 /// `washdyn fe deck`: a user's deck and spec to checked modal data (and field).
 pub fn fe_deck(spec: &Path, out: &Path, work: &Path) -> Result<(), String> {
     let body = washdyn_fe::user::load(spec)?;
@@ -312,27 +319,15 @@ pub fn fe_deck(spec: &Path, out: &Path, work: &Path) -> Result<(), String> {
         fs::create_dir_all(d).map_err(|e| format!("{}: {e}", d.display()))?;
     }
     let (data, report, c) = washdyn_fe::user::build_checked(&body, work)?;
-    let p = out.join(format!("{}.modal.toml", body.name));
-    let text = format!(
-        "# Modal data of `{}` from {} (washdyn fe deck).\n{}",
-        body.name,
-        spec.display(),
-        data.to_toml()
-    );
-    fs::write(&p, &text).map_err(|e| format!("{}: {e}", p.display()))?;
+    let header = format!("`{}` from {} (washdyn fe deck)", body.name, spec.display());
+    let line = write_modal(out, &body.name, &header, &data)?;
     print!("{report}");
     println!(
         "  checked against the deck: mass {:.1e} off ccx's, CoG {:.1e} m, {} rigid-body modes, \
          normalisation {:.1e}",
         c.mass, c.cog, c.rigid_modes, c.normalisation
     );
-    println!(
-        "  {} modes kept, {:.2} to {:.2} Hz; wrote {}",
-        data.modes(),
-        data.frequencies[0],
-        data.frequencies[data.modes() - 1],
-        p.display()
-    );
+    println!("{line}");
     if body.recovery {
         let field = format!("{}.field.bin", body.name);
         fs::copy(work.join(&field), out.join(&field))

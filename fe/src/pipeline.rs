@@ -66,6 +66,9 @@ pub struct Report {
     pub prestress_fit_residual: Option<f64>,
     /// The static correction modes, if any.
     pub correction: Option<CorrectionReport>,
+    /// ccx's own mass totals of the structural elements (`EMAS` in the frequency solve's
+    /// `.dat`), to check our integration against.
+    pub emas: Option<crate::dat::Emas>,
 }
 
 /// What the static correction solve measured.
@@ -201,6 +204,7 @@ pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), String>
         translation_coupling,
         prestress_fit_residual,
         correction,
+        emas: crate::dat::emas(&solved.dat, "EALL"),
     };
     Ok((data, report))
 }

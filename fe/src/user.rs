@@ -249,9 +249,8 @@ pub struct Checked {
 /// integral does not hold exactly).
 pub fn build_checked(spec: &BodySpec, work: &Path) -> Result<(ModalData, Report, Checked), String> {
     let (data, report) = build(spec, work)?;
-    let dat = std::fs::read_to_string(work.join(format!("{}.dat", spec.name)))
-        .map_err(|e| format!("{}: {e}", work.display()))?;
-    let e = crate::dat::emas(&dat, "EALL")
+    let e = report
+        .emas
         .ok_or_else(|| format!("{}: no EMAS totals in ccx's .dat", spec.name))?;
     let ours = continuum_mass_props(&spec.mesh);
     let cog = (0..3)

@@ -149,7 +149,6 @@ fn command(cmd: Cmd) -> Result<ExitCode, Failure> {
             svg,
             cascades,
             states,
-            guard: guard(&sim),
             sim,
         }),
         Cmd::Sweep {
@@ -489,7 +488,6 @@ struct RunCli {
     svg: bool,
     cascades: bool,
     states: bool,
-    guard: Guard,
 }
 
 /// `washdyn run`: the run, its summary on stdout and warnings on stderr, then the analysis.
@@ -530,7 +528,7 @@ fn run(c: RunCli) -> Result<ExitCode, Failure> {
         });
     };
     let ctl = RunControl {
-        guard: c.guard,
+        guard: guard(&c.sim),
         allow_large_output: sim.allow_large_output,
         analysis_band_hz: (!c.no_plots).then_some(ANALYSIS_BAND_HZ),
     };

@@ -338,6 +338,11 @@ pub enum FeCmd {
         /// Skip the table of the Ritz model's convergence with its mode counts.
         #[arg(long)]
         no_convergence: bool,
+        /// Take ccx's answer for the last mode count from this file (a full-mesh.ccx.json an
+        /// earlier run wrote, e.g. the committed models/fe/full-mesh.ccx.json) instead of
+        /// solving; refused unless it came from the deck the code writes now.
+        #[arg(long)]
+        ccx_results: Option<PathBuf>,
     },
 }
 

@@ -432,6 +432,7 @@ fn command(cmd: Cmd) -> Result<ExitCode, Failure> {
                     modes,
                     speeds,
                     no_convergence,
+                    ccx_results,
                 },
         } => {
             let args = washdyn::full_mesh::Args {
@@ -441,6 +442,7 @@ fn command(cmd: Cmd) -> Result<ExitCode, Failure> {
                 spec: washdyn_fe::assembly::LinearSpec::default(),
                 work,
                 convergence: !no_convergence,
+                committed: ccx_results,
             };
             let study = text(
                 "fe",

@@ -4,7 +4,7 @@
 //! modes, springs attached at the same cabinet nodes) converge to ccx's as cabinet modes are
 //! added. Without ccx the test skips, except under CI (`CI=true`), where it fails.
 
-mod common;
+use crate::common;
 
 use nalgebra::SymmetricEigen;
 use washdyn_fe::bodies::cabinet::Cabinet;

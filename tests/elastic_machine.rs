@@ -148,7 +148,7 @@ fn clamped_spinning_drum_matches_the_reduced_campbell_diagram() {
     }
 }
 
-mod common;
+use crate::common;
 
 /// The drum's rows of h at q = 0 and of -dh/dq, at constant speed, for a scene.
 fn drum_load_and_stiffness(eq: &Equations, omega: f64) -> (Vec<f64>, DMatrix<f64>) {

@@ -7,7 +7,7 @@
 //!
 //! Without ccx or meshio the test skips, except under CI (`CI=true`), where it fails.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

@@ -436,7 +436,8 @@ fn six_hundred_second_run_up() {
 }
 
 /// The 600 s run-up with sdirk4, rodas4 and `auto` (measured 1.55 M, 2.02 M, 0.76 M steps;
-/// closure 1.2e-6, 7.9e-8, 4.4e-6): `cargo test --release --test hard_cases -- --ignored`.
+/// closure 1.2e-6, 7.9e-8, 4.4e-6): `cargo test --release --test integration hard_cases:: --
+/// --ignored`.
 #[test]
 #[ignore = "minutes per method: run with -- --ignored"]
 fn six_hundred_second_run_up_every_implicit_method() {

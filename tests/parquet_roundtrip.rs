@@ -3,7 +3,7 @@
 //! run computed, bit for bit, and must read the analysis tables with their nulls.
 //! Without pyarrow the test skips with a message, except under CI (`CI=true`), where it fails.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::Command;

@@ -1,7 +1,7 @@
 //! Physics of the rigid reference machine on the interpreter path, against expected values from
 //! outside the derivation: hand-assembled linear models and closed forms.
 
-mod common;
+use crate::common;
 
 use common::*;
 use std::f64::consts::PI;

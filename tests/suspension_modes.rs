@@ -4,7 +4,7 @@
 //! geometry directly, e_d . (u + alpha x s) at the tub end with the cabinet fixed, and the
 //! normalisation against the door ring's points computed here.
 
-mod common;
+use crate::common;
 
 use common::*;
 use washdyn::modes::rigid_modes;

@@ -2,7 +2,7 @@
 //! against the linear frequency response (K - W^2 M + i W (D + G(W)))^-1 F, with K, D, M, G and
 //! F assembled by hand from the IR (tests/common), not from the derivation under test.
 
-mod common;
+use crate::common;
 
 use common::*;
 use nalgebra::{Complex, DMatrix, DVector, Vector3};

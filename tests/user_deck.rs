@@ -8,7 +8,7 @@
 //! SI deck the FE front end writes itself: the same mesh through another path (our writer and
 //! SI, against a deck read back in mm-t-s). Needs ccx: skipped without it, except under CI.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::Command;

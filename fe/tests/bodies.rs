@@ -7,7 +7,7 @@
 //! rebuilt from a fresh solve equals the committed files; the drum's stress-stiffened
 //! frequencies at three speeds come back from the committed data.
 
-mod common;
+use crate::common;
 use common::have_ccx;
 
 use std::path::PathBuf;

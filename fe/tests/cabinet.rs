@@ -5,7 +5,7 @@
 //! stiff block on four feet anchors the energy share at its closed form, 1. Without ccx the
 //! CalculiX tests skip, except under CI (`CI=true`), where they fail.
 
-mod common;
+use crate::common;
 use common::have_ccx;
 
 use std::f64::consts::PI;

@@ -2,7 +2,7 @@
 //! ccx, frequencies read back. Without ccx the tests skip with a message, except under CI
 //! (`CI=true`), where they fail: CI installs calculix-ccx.
 
-mod common;
+use crate::common;
 use common::have_ccx;
 
 use std::f64::consts::PI;

@@ -7,7 +7,7 @@
 //! And the Campbell diagram (issue item 7): washdyn's whirl split against ccx's
 //! `*COMPLEX FREQUENCY, CORIOLIS` on the knot-free brick variant of the drum.
 
-mod common;
+use crate::common;
 use common::have_ccx;
 
 use std::collections::HashMap;

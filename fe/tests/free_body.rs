@@ -11,7 +11,7 @@
 //!
 //! Without ccx the tests skip, except under CI (`CI=true`), where they fail.
 
-mod common;
+use crate::common;
 use common::have_ccx;
 
 use std::f64::consts::PI;

@@ -4,7 +4,7 @@
 //! ccx itself (its mass normalisation, its rigid part's ROT NODE) and from the rigid motion of the
 //! point masses. Without ccx the test skips, except under CI (`CI=true`), where it fails.
 
-mod common;
+use crate::common;
 use common::have_ccx;
 
 use washdyn_fe::consistent::{self, consistent, consistent_point_masses_as_nodes};

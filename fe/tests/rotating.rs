@@ -3,7 +3,7 @@
 //! computes at three speeds (`*STATIC` CENTRIF + `*FREQUENCY` perturbation) must come back from
 //! the stored modal data alone. Without ccx the test skips, except under CI, where it fails.
 
-mod common;
+use crate::common;
 use common::have_ccx;
 
 use washdyn_fe::consistent::consistent;

@@ -12,7 +12,7 @@
 //! dofs: 8 modes of 40 dofs work, 9 do not. Numbers in a deck need a decimal point: ccx reads
 //! `*SPRING` data `4e3` as a degree of freedom (SPRING1) and refuses it.
 
-mod common;
+use crate::common;
 use common::have_ccx;
 use nalgebra::{Complex, DMatrix, DVector};
 use std::fmt::Write as _;

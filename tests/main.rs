@@ -1,0 +1,42 @@
+//! The integration tests as one binary, each file a module: one link instead of one per
+//! file, and every file's tests scheduled together on the machine's cores (cargo runs test
+//! binaries one after the other, so a binary waiting on a single-threaded ccx left the other
+//! core idle). The package sets `autotests = false`: a new file is added here, and
+//! tests/tidy.rs fails when one is not.
+//! tests/no_alloc.rs stays a binary of its own: it counts allocations through its global
+//! allocator, which other tests' threads would disturb.
+
+mod common;
+
+mod analysis_orders;
+mod analysis_plots;
+mod analysis_read;
+mod backend_agreement;
+mod bad_input;
+mod bad_modal_input;
+mod compare;
+mod contact;
+mod damper_mass;
+mod elastic_cabinet;
+mod elastic_machine;
+mod energy;
+mod failed_run;
+mod fields;
+mod full_mesh;
+mod gasket;
+mod half_wave;
+mod hard_cases;
+mod installed_binary;
+mod jacobians;
+mod model_files;
+mod parquet_roundtrip;
+mod rigid_physics;
+mod simulation;
+mod starts_and_sensors;
+mod suspension_modes;
+mod sweep;
+mod tidy;
+mod truncation;
+mod unbalance_response;
+mod user_deck;
+mod validity_watch;

@@ -2,14 +2,15 @@
 //! script, so the page and the test cannot drift. In document order, a block fenced `sh` runs
 //! in bash (`-euo pipefail`) in a fresh directory with the built `washdyn` first on the `PATH`
 //! and `WASHDYN` the checkout; `LANG file=NAME` is written to NAME; `LANG source=PATH` must equal
-//! that file of the checkout; `sh not-run` and untagged-file blocks (`text`) are only shown.
+//! that file of the checkout; `sh not-run` and `text` blocks are only shown.
 //! Part 1 (a cabinet with thicker side panels: its deck through CalculiX, a model file, a
 //! run-up, the order plots, a field and a comparison) needs ccx and is skipped without it,
 //! except under CI; part 2 (a `machine!` crate outside the workspace) builds that crate with
 //! cargo into this test's own scratch target directory.
 //!
 //! Beyond the exit codes, each part checks the physics the page states: the deck change
-//! reaches the solver as the mass and the modes a thicker sheet must give, the run-up shows the
+//! reaches the solver as exactly the sheet's added mass, and moves the modes as a heavier box
+//! with stiffer panels should (directions and brackets from plate theory), the run-up shows the
 //! side panel's resonance moving with it, and the crate's generated code gives the numbers the
 //! interpreter gives on the same machine from a model file.
 
@@ -250,7 +251,8 @@ fn part_1_a_cabinet_with_thicker_side_panels() {
 
     // The sway pair on the feet falls: more mass on the same feet (a rigid box: by
     // sqrt(m / m') = 0.961). The thicker sheets also stiffen the box's racking, which takes
-    // some of that back, so the fall is smaller than the rigid box's.
+    // some of that back, so the fall is smaller than the rigid box's (an engineering
+    // expectation, not a theorem: the added mass sits far out at the sides).
     let rigid = (reference.mass / thick.mass).sqrt();
     for k in 0..2 {
         let r = thick.frequencies[k] / reference.frequencies[k];

@@ -183,7 +183,7 @@ fn the_page_has_the_blocks_the_test_runs() {
 
 /// The area of one side panel, m^2: 2a x h with the crown b sin(pi u) sin(pi v) of the
 /// built-in cabinet (fe/src/bodies/cabinet.rs), by the midpoint rule on 400 x 400 cells
-/// (converged to 1e-10 relative).
+/// (the same as on 1000 x 1000 cells to 3e-15: the integrand is smooth and periodic).
 fn side_panel_area() -> f64 {
     let cab = washdyn_fe::bodies::cabinet::Cabinet::default();
     let (lx, lz, b) = (2.0 * cab.half, cab.height, cab.bulge);
@@ -334,8 +334,9 @@ fn part_1_a_cabinet_with_thicker_side_panels() {
     // Measured 1100 -> 1350 rpm: 55 Hz (the panel modes at 50-54 Hz) -> 67.5 Hz (67.0 Hz).
     assert!(rpm_b > rpm_a, "{rpm_a} -> {rpm_b}");
 
-    // The field: at 1350 rpm the side panel breathes; its largest displacement is on a side
-    // panel (|y| at the crowned sheet, 0.300 to 0.308 m).
+    // The field: at 1350 rpm the side panel breathes; its largest displacement is inside a
+    // side panel: on its crown (|y| beyond the panels' plane at 0.300 m, up to 0.308 m at the
+    // centre) and clear of the corner posts (|x| < 0.30 m).
     let fields = outputs
         .iter()
         .find(|o| o.contains("largest displacement"))
@@ -347,17 +348,22 @@ fn part_1_a_cabinet_with_thicker_side_panels() {
         .and_then(|s| s.parse().ok())
         .expect("a node number");
     let deck = std::fs::read_to_string(d.join("my_cabinet.inp")).unwrap();
-    let y: f64 = deck
+    let xyz: Vec<f64> = deck
         .lines()
         .skip_while(|l| !l.starts_with("*NODE"))
         .skip(1)
         .take_while(|l| !l.starts_with('*'))
         .find(|l| l.split(',').next().unwrap().trim().parse() == Ok(node))
-        .map(|l| l.split(',').nth(2).unwrap().trim().parse().unwrap())
+        .map(|l| {
+            l.split(',')
+                .skip(1)
+                .map(|v| v.trim().parse().unwrap())
+                .collect()
+        })
         .expect("the node in the deck");
-    println!("largest displacement at node {node}, y = {y:.4} m");
-    // Measured node 654, y = -0.3036 m.
-    assert!(y.abs() > 0.299, "{y}");
+    println!("largest displacement at node {node}, {xyz:.4?} m");
+    // Measured node 654 at (0.140, -0.3036, 0.675) m.
+    assert!(xyz[1].abs() > 0.3005 && xyz[0].abs() < 0.29, "{xyz:?}");
 }
 
 /// `rms CHANNEL VALUE` and `max tub translation X m at T s, rotation Y rad at T s` lines of

@@ -37,6 +37,7 @@ mod suspension_modes;
 mod sweep;
 mod tidy;
 mod truncation;
+mod tutorial;
 mod unbalance_response;
 mod user_deck;
 mod validity_watch;

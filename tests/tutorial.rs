@@ -14,7 +14,7 @@
 //! side panel's resonance moving with it, and the crate's generated code gives the numbers the
 //! interpreter gives on the same machine from a model file.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

@@ -22,8 +22,8 @@ use washdyn_runtime::ir::{BodyRef, Model};
 pub const PATCH_RADIUS: f64 = 0.04;
 
 /// Add the node set `name`: the structural node nearest to `point` and every structural node
-/// within `PATCH_RADIUS` of it.
-pub fn patch(m: &mut Mesh, name: &str, point: [f64; 3]) {
+/// within `PATCH_RADIUS` of it. Returns that node's distance from `point`, m.
+pub fn patch(m: &mut Mesh, name: &str, point: [f64; 3]) -> f64 {
     let nodes = m.element_nodes();
     let structural: Vec<usize> = nodes
         .into_iter()
@@ -36,6 +36,11 @@ pub fn patch(m: &mut Mesh, name: &str, point: [f64; 3]) {
     let c = m.nearest(point, Some(&structural));
     let set = geometry::near(m, structural, m.nodes[c - 1], PATCH_RADIUS);
     m.add_to_set(name, &set);
+    let q = m.nodes[c - 1];
+    (0..3)
+        .map(|i| (q[i] - point[i]).powi(2))
+        .sum::<f64>()
+        .sqrt()
 }
 
 /// The built-in decks as (file name, text): each body's frequency deck and, for the spinning
@@ -210,10 +215,12 @@ fn from_model(
 }
 
 /// The deck's node set `name` if the mesh has one (a gasket's edge, a bearing seat, a bracket),
-/// or else a patch about `point`.
-pub fn set_or_patch(m: &mut Mesh, name: &str, point: [f64; 3]) {
-    if !m.nsets.contains_key(name) {
-        patch(m, name, point);
+/// or else a patch about `point`. Returns the patch's distance from `point` (0 for a set).
+pub fn set_or_patch(m: &mut Mesh, name: &str, point: [f64; 3]) -> f64 {
+    if m.nsets.contains_key(name) {
+        0.0
+    } else {
+        patch(m, name, point)
     }
 }
 

@@ -182,9 +182,10 @@ const CABINET_POINTS: [(&str, &str); 10] = [
     ("DAMPER_3", "damper_rear_left"),
     ("DAMPER_4", "damper_rear_right"),
 ];
-/// MP_CAB2 is read 2 mm off the model's sensor `cabinet2` ([0, 0.30, 0.45], on the side
-/// panel's mid-surface), where the committed cabinet data has it; the model checker's 5 mm
-/// takes either, and the deck is the same (the patch is the nodes about the nearest one).
+/// MP_CAB2 is read 2 mm off the model's sensor `cabinet2` ([0, 0.30, 0.45]), where the
+/// committed cabinet data has it; the model checker's 5 mm takes either, and a patch at either
+/// holds the same nodes (`mp_cab2_is_two_millimetres_off_the_model`), so only the committed
+/// data's position and shapes keep it here.
 const MP_CAB2: [f64; 3] = [0.0, 0.302, 0.45];
 
 /// Where `model` attaches to `body`, under the built-in node set names of `names`, in its

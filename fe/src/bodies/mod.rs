@@ -330,6 +330,8 @@ pub fn builtin() -> Vec<BodySpec> {
 mod tests {
     use super::*;
 
+    type Named = (&'static str, [f64; 3]);
+
     fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
         (0..3).map(|i| (a[i] - b[i]).powi(2)).sum::<f64>().sqrt()
     }
@@ -340,7 +342,7 @@ mod tests {
     #[test]
     fn the_reference_models_points_are_the_built_in_lists() {
         let drum = drum::Drum::default();
-        let before: [(&str, &[(&str, [f64; 3])]); 3] = [
+        let before: [(&str, &[Named]); 3] = [
             (
                 "tub",
                 &[

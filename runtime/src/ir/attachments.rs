@@ -1,7 +1,7 @@
 //! Where a model attaches to each body: the points that must be modal points of the body's
 //! data when it is elastic. The checker matches each against the data (`check::need_point`,
 //! within `modal::POINT_TOLERANCE`), and the FE front end makes the body's points from the same
-//! list (`washdyn fe deck --model`, the built-in bodies), so the two never hold different lists.
+//! list (`washdyn fe deck` with a `model`, the built-in bodies), so the two never hold different lists.
 //! It reads only the model, never its modal data: the data is what the list helps make.
 
 use super::check::Path;
@@ -19,6 +19,9 @@ pub struct Attachment {
     pub name: String,
     pub point: V3,
 }
+
+/// An element's name and its two ends (body, point, key).
+type Ends<'a> = (&'a str, [(BodyRef, V3, &'a str); 2]);
 
 /// Some scene makes `body` elastic (no declared scene: the implicit `full` has them all). A
 /// body no scene uses constrains nothing: a variant may move an unbalance off the drum's node
@@ -55,7 +58,7 @@ pub fn attachments(m: &Model, body: BodyRef) -> Vec<Attachment> {
     };
     if matches!(body, BodyRef::Tub | BodyRef::Cabinet) {
         let ends = |a: &Attach, b: &Attach| [(a.body, a.point, "a"), (b.body, b.point, "b")];
-        let lists: [(&str, Vec<(&str, [(BodyRef, V3, &str); 2])>); 3] = [
+        let lists: [(&str, Vec<Ends>); 3] = [
             (
                 "springs",
                 m.springs

@@ -85,14 +85,16 @@ fn same_body(dir: &Path) {
         );
         let d = dist(*p, q).sqrt();
         if name == "CABINET2" {
-            assert!((d - 2e-3).abs() < 1e-12, "{d}");
+            // To the round-off of 0.302 - 0.30 (an ulp of 0.3 is 5.6e-17).
+            assert!((d - 2e-3).abs() < 5e-16, "{d}");
         } else {
             worst = worst.max(d);
         }
     }
-    // Measured 0: the model states the positions the built-in body lists.
+    // Measured 5.6e-17 m: the feet, nodes read back from the mm-t-s deck (an ulp at 0.28 m);
+    // the model's points equal the listed ones to the bit.
     println!("points from the model: {worst:.1e} m from the listed spec's");
-    assert!(worst <= 1e-12, "{worst}");
+    assert!(worst < 5e-16, "{worst}");
     // The listed spec's 14 and its own sensor.
     assert_eq!((ours.points.len(), listed.points.len()), (14, 15));
     for (a, b) in ours.correction.iter().zip(&listed.correction) {

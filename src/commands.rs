@@ -322,6 +322,8 @@ pub fn fe_deck(spec: &Path, out: &Path, work: &Path) -> Result<(), String> {
     let header = format!("`{}` from {} (washdyn fe deck)", body.name, spec.display());
     let line = write_modal(out, &body.name, &header, &data)?;
     print!("{report}");
+    let names: Vec<&str> = body.points.iter().map(|(n, _)| n.as_str()).collect();
+    println!("  points: {}", names.join(", "));
     println!(
         "  checked against the deck: mass {:.1e} off ccx's, CoG {:.1e} m, {} rigid-body modes, \
          normalisation {:.1e}",

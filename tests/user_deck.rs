@@ -37,6 +37,72 @@ const SETS: [&str; 15] = [
     "DAMPER_3", "DAMPER_4", "FOOT_1", "FOOT_2", "FOOT_3", "FOOT_4", "",
 ];
 
+/// The deck's node sets the model's points are read on, and the feet (not the model's: the
+/// deck's springs to the ground). Left to the model, the springs and sensors would be read on
+/// patches of the mm-t-s deck as read back, which differ from the SI mesh's at their rim
+/// (SPRING_1 by three nodes), and the gasket is refused (its point is the door opening's
+/// centre).
+const MAPS: &str = "  { name = \"spring_rear_left\", nset = \"SPRING_1\" },
+  { name = \"spring_rear_right\", nset = \"SPRING_2\" },
+  { name = \"spring_front\", nset = \"SPRING_3\" },
+  { name = \"cabinet1\", nset = \"MP_CAB1\" },
+  { name = \"cabinet2\", nset = \"MP_CAB2\" },
+  { name = \"door_gasket\", nset = \"GASKET\" },
+  { name = \"damper_front_left\", nset = \"DAMPER_1\" },
+  { name = \"damper_front_right\", nset = \"DAMPER_2\" },
+  { name = \"damper_rear_left\", nset = \"DAMPER_3\" },
+  { name = \"damper_rear_right\", nset = \"DAMPER_4\" },
+  { name = \"FOOT_1\", nset = \"FOOT_1\" },
+  { name = \"FOOT_2\", nset = \"FOOT_2\" },
+  { name = \"FOOT_3\", nset = \"FOOT_3\" },
+  { name = \"FOOT_4\", nset = \"FOOT_4\" },
+";
+
+/// The spec with its points from the model gives the listed spec's body: the same mesh, and
+/// each point the same node set at the same position (so the same modal data points, up to
+/// their names, without a second solve), but `cabinet2`, which the listed spec reads 2 mm
+/// away at the committed MP_CAB2 (fe/src/bodies/mod.rs).
+fn same_body(dir: &Path) {
+    let listed = washdyn_fe::user::load(&dir.join("my_cabinet.toml")).unwrap();
+    let ours = washdyn_fe::user::load(&dir.join("from_model.toml")).unwrap();
+    assert!(ours.mesh.nodes == listed.mesh.nodes && ours.mesh.parts == listed.mesh.parts);
+    let dist = |a: [f64; 3], b: [f64; 3]| (0..3).map(|i| (a[i] - b[i]).powi(2)).sum::<f64>();
+    let set = |b: &washdyn_fe::pipeline::BodySpec, name: &str| b.mesh.nsets[name].clone();
+    let twin = |p: [f64; 3]| {
+        let near = listed
+            .points
+            .iter()
+            .min_by(|a, b| dist(a.1, p).total_cmp(&dist(b.1, p)));
+        near.unwrap().clone()
+    };
+    let mut worst = 0.0f64;
+    for (name, p) in &ours.points {
+        let (other, q) = twin(*p);
+        assert_eq!(
+            set(&ours, name),
+            set(&listed, &other),
+            "{name} against {other}"
+        );
+        let d = dist(*p, q).sqrt();
+        if name == "CABINET2" {
+            // To the round-off of 0.302 - 0.30 (an ulp of 0.3 is 5.6e-17).
+            assert!((d - 2e-3).abs() < 5e-16, "{d}");
+        } else {
+            worst = worst.max(d);
+        }
+    }
+    // Measured 5.6e-17 m: the feet, nodes read back from the mm-t-s deck (an ulp at 0.28 m);
+    // the model's points equal the listed ones to the bit.
+    println!("points from the model: {worst:.1e} m from the listed spec's");
+    assert!(worst < 5e-16, "{worst}");
+    // The listed spec's 14 and its own sensor.
+    assert_eq!((ours.points.len(), listed.points.len()), (14, 15));
+    for (a, b) in ours.correction.iter().zip(&listed.correction) {
+        assert_eq!(set(&ours, &a.point), set(&listed, &b.point));
+        assert_eq!((a.direction, a.kind), (b.direction, b.kind));
+    }
+}
+
 fn washdyn(args: &[&str], dir: &Path) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_washdyn"))
         .args(args)
@@ -69,6 +135,44 @@ fn a_users_mm_t_s_cabinet_deck_gives_the_committed_modes_and_runs_in_the_machine
         .collect();
     // A sensor of the user's own, by position (on the left side panel at y = 0.30 m).
     points.push_str("  { name = \"MY_SENSOR\", at = [0.0, 0.30, 0.60] },\n");
+    // The reference machine with this body as its cabinet, whose modal data is yet to be made.
+    let model = std::fs::read_to_string(root.join("models/data/reference.toml"))
+        .unwrap()
+        .replace("../fe/cabinet.modal.toml", "data/my_cabinet.modal.toml")
+        .replace("../fe/", &format!("{}/models/fe/", root.display()));
+    std::fs::write(dir.path().join("machine.toml"), model).unwrap();
+    // The same body with its points from the model: the spec names the deck's set of each and
+    // gives no position, and its correction loads name the model's points.
+    let from_model = format!("model = \"machine.toml\"\n{}", spec("my_cabinet.inp", MAPS))
+        .replace("point = \"SPRING_1\"", "point = \"SPRING_REAR_LEFT\"")
+        .replace("point = \"SPRING_2\"", "point = \"SPRING_REAR_RIGHT\"")
+        .replace("point = \"SPRING_3\"", "point = \"SPRING_FRONT\"")
+        .replace("point = \"GASKET\"", "point = \"DOOR_GASKET\"");
+    std::fs::write(dir.path().join("from_model.toml"), &from_model).unwrap();
+    std::fs::write(
+        dir.path().join("my_cabinet.toml"),
+        spec("my_cabinet.inp", &points),
+    )
+    .unwrap();
+    same_body(dir.path());
+    // A point of the model's name 1 cm off the model's position is refused at its line.
+    let bad = from_model.replace(
+        "points = [\n",
+        "points = [\n  { name = \"spring_front\", at = [0.12, 0.01, 0.82] },\n",
+    );
+    std::fs::write(dir.path().join("bad.toml"), &bad).unwrap();
+    let out = washdyn(&["fe", "deck", "bad.toml"], dir.path());
+    let err = String::from_utf8_lossy(&out.stderr);
+    let line = 1 + bad
+        .lines()
+        .position(|l| l.contains("spring_front"))
+        .unwrap();
+    assert_eq!(out.status.code(), Some(5), "{err}");
+    assert!(
+        err.contains(&format!("bad.toml:{line}: point `spring_front`"))
+            && err.contains("10.0 mm from where the model puts it"),
+        "{err}"
+    );
 
     // Errors in the spec name the file, line and set; nothing is solved.
     let bad = spec(
@@ -100,11 +204,6 @@ fn a_users_mm_t_s_cabinet_deck_gives_the_committed_modes_and_runs_in_the_machine
     ) {
         return;
     }
-    std::fs::write(
-        dir.path().join("my_cabinet.toml"),
-        spec("my_cabinet.inp", &points),
-    )
-    .unwrap();
     let out = washdyn(
         &[
             "fe",
@@ -177,11 +276,6 @@ fn a_users_mm_t_s_cabinet_deck_gives_the_committed_modes_and_runs_in_the_machine
     assert!(ours.points.iter().any(|p| p.name == "MY_SENSOR"));
 
     // The machine takes it: the reference model with this file as its cabinet passes `check`.
-    let model = std::fs::read_to_string(root.join("models/data/reference.toml"))
-        .unwrap()
-        .replace("../fe/cabinet.modal.toml", "data/my_cabinet.modal.toml")
-        .replace("../fe/", &format!("{}/models/fe/", root.display()));
-    std::fs::write(dir.path().join("machine.toml"), model).unwrap();
     let out = washdyn(&["check", "machine.toml"], dir.path());
     assert!(
         out.status.success(),

@@ -26,7 +26,7 @@ impl Path {
         self.0.push(Seg::Index(i));
         self
     }
-    fn of(parts: &[&str]) -> Path {
+    pub(crate) fn of(parts: &[&str]) -> Path {
         Path(parts.iter().map(|p| Seg::Key(p.to_string())).collect())
     }
 }
@@ -299,7 +299,6 @@ pub fn check(m: &Model) -> Result<(), Vec<CheckError>> {
         names.add(&mut c, p.clone(), "contact", &k.name);
         contact(&mut c, p, k);
     }
-    contact_markers(&mut c, m);
 
     // Sensors.
     for (i, s) in m.sensors.iter().enumerate() {
@@ -447,48 +446,6 @@ fn contact_exponent(c: &mut Ctx, p: Path, w: &str, e: f64) {
                  is C1 at first touch, which the implicit methods need (Hertz: 1.5)"
             ),
         );
-    }
-}
-
-/// A contact's points on a body that a scene with `contact` makes elastic are modal points
-/// (the markers read the body's modes there). Only such scenes: a rigid contact scene may put
-/// its points anywhere on a body other scenes make elastic.
-fn contact_markers(c: &mut Ctx, m: &Model) {
-    for body in [BodyRef::Tub, BodyRef::Cabinet] {
-        let effect = format!("elastic.{}", body.name());
-        let both =
-            |s: &Scene| s.effects.iter().any(|e| e == "contact") && s.effects.contains(&effect);
-        let used =
-            (m.scenes.is_empty() && m.elastic_of(body).is_some()) || m.scenes.iter().any(both);
-        let Some(data) = m
-            .elastic_of(body)
-            .filter(|_| used)
-            .and_then(|e| e.data.as_ref())
-        else {
-            continue;
-        };
-        for (i, k) in m.contacts.iter().enumerate() {
-            let p = Path::of(&["contacts"]).idx(i);
-            let what = format!("contact `{}`", k.name);
-            if k.a == body {
-                need_point(
-                    c,
-                    data,
-                    body,
-                    p.clone().key("point"),
-                    what.clone(),
-                    &k.point,
-                );
-            }
-            if k.b == body {
-                let key = if k.b_point.is_some() {
-                    "b_point"
-                } else {
-                    "point"
-                };
-                need_point(c, data, body, p.key(key), what, &k.b_point());
-            }
-        }
     }
 }
 
@@ -643,8 +600,9 @@ fn elastic(c: &mut Ctx, m: &Model) {
         }
     }
     drum_points(c, m);
-    elastic_markers(c, m, BodyRef::Cabinet);
-    elastic_markers(c, m, BodyRef::Tub);
+    for body in [BodyRef::Cabinet, BodyRef::Tub, BodyRef::Drum] {
+        attached(c, m, body);
+    }
     rotor_mounts(c, m);
     tub_mass(c, m);
     elastic_drum(c, m);
@@ -679,48 +637,35 @@ fn drum_points(c: &mut Ctx, m: &Model) {
         }
     }
     for (i, s) in m.sensors.iter().enumerate() {
-        if s.body != BodyRef::Drum {
-            continue;
-        }
-        let p = Path::of(&["sensors"]).idx(i);
-        match drum {
-            None => c.err(
-                p.key("body"),
+        if s.body == BodyRef::Drum && drum.is_none() {
+            c.err(
+                Path::of(&["sensors"]).idx(i).key("body"),
                 format!(
                     "sensor `{}`: on the drum, but the model has no rotor `drum`",
                     s.name
                 ),
-            ),
-            Some(r) => {
-                // Off the axis the point turns with the drum: where a scene makes the drum
-                // elastic, its modes are read there, so the point must be a modal point.
-                let e = crate::geom::f::unit(r.axis);
-                let off = crate::geom::f::sub(s.point, r.axis_point);
-                let on_axis = crate::geom::f::norm(crate::geom::f::cross(off, e)) <= 1e-3;
-                if let Some(d) = modal_of(m, BodyRef::Drum).filter(|_| !on_axis) {
-                    need_point(
-                        c,
-                        d,
-                        BodyRef::Drum,
-                        p.key("point"),
-                        format!("sensor `{}` (off the drum's axis)", s.name),
-                        &s.point,
-                    );
-                }
-            }
+            );
         }
     }
 }
 
-/// The modal data of an elastic body that some scene switches on (no declared scene: the
-/// implicit `full` has them all). A body no scene uses constrains nothing: a variant may move
-/// an unbalance off the drum's node sets and stay rigid.
+/// The modal data of an elastic body that some scene switches on (`attachments::used`).
 fn modal_of(m: &Model, body: BodyRef) -> Option<&modal::ModalData> {
-    let effect = format!("elastic.{}", body.name());
-    let used = m.scenes.is_empty() || m.scenes.iter().any(|s| s.effects.contains(&effect));
     m.elastic_of(body)
-        .filter(|_| used)
+        .filter(|_| attachments::used(m, body))
         .and_then(|e| e.data.as_ref())
+}
+
+/// Every point the model attaches to an elastic body (`attachments::attachments`, which says
+/// where each counts) is one of its modal points (an FE node set), within
+/// `modal::POINT_TOLERANCE`.
+fn attached(c: &mut Ctx, m: &Model, body: BodyRef) {
+    let Some(data) = m.elastic_of(body).and_then(|e| e.data.as_ref()) else {
+        return;
+    };
+    for a in attachments::attachments(m, body) {
+        need_point(c, data, body, a.path, a.what, &a.point);
+    }
 }
 
 /// The index of a body's `elastic` entry (for error paths).
@@ -752,9 +697,9 @@ fn need_point(c: &mut Ctx, d: &modal::ModalData, body: BodyRef, path: Path, what
 
 /// On the elastic tub every rotor sits at a tub node set (its mount), on its own axis.
 fn rotor_mounts(c: &mut Ctx, m: &Model) {
-    let Some(tub) = modal_of(m, BodyRef::Tub) else {
+    if modal_of(m, BodyRef::Tub).is_none() {
         return;
-    };
+    }
     for (i, r) in m.rotors.iter().enumerate() {
         let p = Path::of(&["rotors"]).idx(i);
         let key = if r.mount.is_some() {
@@ -763,14 +708,6 @@ fn rotor_mounts(c: &mut Ctx, m: &Model) {
             "axis_point"
         };
         let mp = r.mount_point();
-        need_point(
-            c,
-            tub,
-            BodyRef::Tub,
-            p.clone().key(key),
-            format!("rotor `{}`: mount", r.name),
-            &mp,
-        );
         let e = crate::geom::f::unit(r.axis);
         let off = crate::geom::f::sub(mp, r.axis_point);
         if crate::geom::f::norm(crate::geom::f::cross(off, e)) > 1e-3 {
@@ -842,18 +779,6 @@ fn elastic_drum(c: &mut Ctx, m: &Model) {
     let Some(d) = modal_of(m, BodyRef::Drum) else {
         return;
     };
-    for (j, u) in m.unbalances.iter().enumerate() {
-        if u.rotor == DRUM {
-            need_point(
-                c,
-                d,
-                BodyRef::Drum,
-                Path::of(&["unbalances"]).idx(j).key("position"),
-                format!("unbalance `{}`", u.name),
-                &u.position,
-            );
-        }
-    }
     if d.geometric_stiffness.is_none() {
         for (j, s) in m.scenes.iter().enumerate() {
             if s.effects.iter().any(|e| e == "centrifugal_stiffening") {
@@ -865,73 +790,6 @@ fn elastic_drum(c: &mut Ctx, m: &Model) {
                     ),
                 );
             }
-        }
-    }
-}
-
-/// An element's name and its two ends (body, point, key).
-type Ends<'a> = (String, [(BodyRef, V3, &'a str); 2]);
-
-/// Every point a force element or sensor attaches to on an elastic body is one of the modal
-/// data's points (an FE node set), within `modal::POINT_TOLERANCE`.
-fn elastic_markers(c: &mut Ctx, m: &Model, which: BodyRef) {
-    let Some(data) = modal_of(m, which) else {
-        return;
-    };
-    let mut need = |path: Path, what: String, p: &V3| need_point(c, data, which, path, what, p);
-    let ends = |a: &Attach, b: &Attach| [(a.body, a.point, "a"), (b.body, b.point, "b")];
-    let lists: [(&str, Vec<Ends>); 3] = [
-        (
-            "springs",
-            m.springs
-                .iter()
-                .map(|s| (s.name.clone(), ends(&s.a, &s.b)))
-                .collect(),
-        ),
-        (
-            "dampers",
-            m.dampers
-                .iter()
-                .map(|s| (s.name.clone(), ends(&s.a, &s.b)))
-                .collect(),
-        ),
-        (
-            "friction_dampers",
-            m.friction_dampers
-                .iter()
-                .map(|s| (s.name.clone(), ends(&s.a, &s.b)))
-                .collect(),
-        ),
-    ];
-    for (list, items) in lists {
-        for (i, (name, e)) in items.iter().enumerate() {
-            for (body, point, key) in e {
-                if *body == which {
-                    need(
-                        Path::of(&[list]).idx(i).key(key).key("point"),
-                        format!("{list} `{name}`"),
-                        point,
-                    );
-                }
-            }
-        }
-    }
-    for (i, g) in m.gaskets.iter().enumerate() {
-        if g.a == which || g.b == which {
-            need(
-                Path::of(&["gaskets"]).idx(i).key("point"),
-                format!("gasket `{}`", g.name),
-                &g.point,
-            );
-        }
-    }
-    for (i, s) in m.sensors.iter().enumerate() {
-        if s.body == which {
-            need(
-                Path::of(&["sensors"]).idx(i).key("point"),
-                format!("sensor `{}`", s.name),
-                &s.point,
-            );
         }
     }
 }

@@ -5,6 +5,7 @@
 //! the left seen from the front, z up. SI units throughout. All points and directions are given in
 //! this global frame, in the rest (reference) configuration.
 
+pub mod attachments;
 pub mod check;
 pub mod exact;
 pub mod files;

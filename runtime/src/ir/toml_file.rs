@@ -48,6 +48,12 @@ impl fmt::Display for ModelFileError {
 
 /// Load and check a model file.
 pub fn load_file(path: &FsPath) -> Result<Model, ModelFileError> {
+    let (src, name, base) = read_model(path)?;
+    load_str(&src, &name, &base)
+}
+
+/// A model file's text, its name for errors and the directory its data files are relative to.
+fn read_model(path: &FsPath) -> Result<(String, String, PathBuf), ModelFileError> {
     let name = path.display().to_string();
     let src = std::fs::read_to_string(path).map_err(|e| ModelFileError {
         errors: vec![Located {
@@ -57,8 +63,11 @@ pub fn load_file(path: &FsPath) -> Result<Model, ModelFileError> {
             message: format!("cannot read: {e}"),
         }],
     })?;
-    let base = path.parent().map(PathBuf::from).unwrap_or_default();
-    load_str(&src, &name, &base)
+    Ok((
+        src,
+        name,
+        path.parent().map(PathBuf::from).unwrap_or_default(),
+    ))
 }
 
 /// The built-in reference machine, for the runtime's unit tests.
@@ -77,6 +86,28 @@ pub fn load_str(src: &str, file: &str, base: &FsPath) -> Result<Model, ModelFile
 /// Load and check model text whose data files come from `files` (on disk or compiled in);
 /// `file` names the model text in errors.
 pub fn load_with(src: &str, file: &str, files: DataFiles) -> Result<Model, ModelFileError> {
+    load_checked(src, file, files, true)
+}
+
+/// Load and check a model file without reading its modal data (every `elastic` entry's `data`
+/// stays `None`, and the checker skips the rules that need it): for the FE front end, which
+/// makes that data from the model's attachments (`attachments::attachments`).
+pub fn load_file_unresolved(path: &FsPath) -> Result<Model, ModelFileError> {
+    let (src, name, base) = read_model(path)?;
+    load_checked(&src, &name, DataFiles::Dir(&base), false)
+}
+
+/// [`load_file_unresolved`] for model text (a built-in model); `files` serves a speed CSV.
+pub fn load_unresolved(src: &str, file: &str, files: DataFiles) -> Result<Model, ModelFileError> {
+    load_checked(src, file, files, false)
+}
+
+fn load_checked(
+    src: &str,
+    file: &str,
+    files: DataFiles,
+    modal: bool,
+) -> Result<Model, ModelFileError> {
     let at = |span: Option<std::ops::Range<usize>>, message: String| {
         let (line, column) = span.map_or((0, 0), |s| line_col(src, s.start));
         Located {
@@ -110,7 +141,11 @@ pub fn load_with(src: &str, file: &str, files: DataFiles) -> Result<Model, Model
         };
         model.speed.table = table.map_err(|e| ModelFileError { errors: vec![e] })?;
     }
-    let (_, mut errs) = super::modal::resolve(&mut model, files);
+    let mut errs = if modal {
+        super::modal::resolve(&mut model, files).1
+    } else {
+        Vec::new()
+    };
     errs.extend(check(&model).err().unwrap_or_default());
     if !errs.is_empty() {
         return Err(ModelFileError {

@@ -1,9 +1,12 @@
 //! A user's body: their CalculiX deck (`inp/mod.rs`) and a short spec (TOML) naming what the
 //! machine needs of it (kind and support, the points, the modes and the correction loads, the
 //! drum's spin), turned into the same [`BodySpec`] the built-in bodies are, and built by the
-//! same pipeline. After the build, the result is checked against the deck: ccx's own mass and
+//! same pipeline. With a `model`, the points the model attaches to the body come from it
+//! (`points.rs`), so the spec lists only what the model does not say. After the build, the result is checked against the deck: ccx's own mass and
 //! centre of gravity (EMAS) against the mass the modal data integrates, the rigid-body modes a
 //! free body must have, and the mass normalisation of the kept modes.
+
+mod points;
 
 use crate::inp::{self, Units};
 use crate::lumping::continuum_mass_props;
@@ -11,7 +14,10 @@ use crate::modal::Keep;
 use crate::pipeline::{BodySpec, Report, Spin, build};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
+use washdyn_runtime::ir::BodyRef;
+use washdyn_runtime::ir::attachments::{Attachment, attachments};
 use washdyn_runtime::ir::modal::{ElasticBodyKind, LoadCase, ModalData, Support};
+use washdyn_runtime::ir::toml_file::load_file_unresolved;
 
 /// The spec file, as written (SI units, whatever the deck's).
 #[derive(Clone, Debug, Deserialize)]
@@ -30,8 +36,13 @@ pub struct UserSpec {
     /// Eigenmodes ccx computes (a free body's 6 rigid ones included).
     pub solve_modes: usize,
     pub keep: KeepSpec,
-    /// Every point a force element, sensor or mount of the model attaches to: a node set of
-    /// the deck (its centroid is the point) or a position (the nodes near it form the set).
+    /// The machine's model file (TOML, relative to the spec): every point it attaches to the
+    /// body becomes a point of the body (its modal data is not read: this makes it).
+    pub model: Option<PathBuf>,
+    /// Points besides the model's, or the deck's node set a model point is read on: a node
+    /// set of the deck (its centroid is the point) or a position (the nodes near it form the
+    /// set). Without a model, every point a force element, sensor or mount attaches to.
+    #[serde(default)]
     pub points: Vec<PointSpec>,
     /// Unit loads whose static response becomes correction modes (non-spinning bodies).
     #[serde(default)]
@@ -60,11 +71,12 @@ pub struct KeepSpec {
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PointSpec {
+    /// The node set's name; a model item's name (any case) makes this the model's point.
     pub name: String,
     /// A node set of the deck.
     pub nset: Option<String>,
-    /// Where the point is, m: with `nset`, where the set is read (the model's attachment;
-    /// default the set's centroid); alone, the nodes near it become the set.
+    /// Where the point is, m: with `nset`, where the set is read (default the model's point,
+    /// or else the set's centroid); alone, the nodes near it become the set.
     pub at: Option<[f64; 3]>,
 }
 
@@ -100,10 +112,8 @@ pub fn load(spec_path: &Path) -> Result<BodySpec, String> {
             .map_or(String::new(), |i| format!(":{}", line_of(&text, i)))
     };
     let bad = |needle: &str, m: String| format!("{}{}: {m}", spec_path.display(), line(needle));
-    let deck = spec_path
-        .parent()
-        .unwrap_or(Path::new("."))
-        .join(&spec.deck);
+    let dir = spec_path.parent().unwrap_or(Path::new("."));
+    let deck = dir.join(&spec.deck);
     let mut mesh = inp::read(&deck, spec.units).map_err(|e| e.to_string())?;
     if spec.solve_modes == 0 || spec.keep.max_modes == 0 || spec.keep.max_modes > spec.solve_modes {
         return Err(bad(
@@ -136,60 +146,24 @@ pub fn load(spec_path: &Path) -> Result<BodySpec, String> {
             ),
         ));
     }
-    let mut points = Vec::new();
-    for p in &spec.points {
-        let point = match (&p.nset, p.at) {
-            (Some(set), at) => {
-                let ids = mesh.nsets.get(&set.to_uppercase()).ok_or_else(|| {
-                    bad(
-                        &format!("\"{set}\""),
-                        format!(
-                            "point `{}`: the deck {} has no node set `{set}`",
-                            p.name,
-                            deck.display()
-                        ),
-                    )
-                })?;
-                // Read at `at` (where the model attaches) or else at the set's centroid.
-                let mut c = [0.0; 3];
-                for &id in ids {
-                    for i in 0..3 {
-                        c[i] += mesh.nodes[id - 1][i] / ids.len() as f64;
-                    }
-                }
-                if set.to_uppercase() != p.name {
-                    let ids = ids.clone();
-                    mesh.add_to_set(&p.name, &ids);
-                }
-                match at {
-                    Some(at) if at.iter().all(|v| v.is_finite()) => at,
-                    Some(_) => {
-                        return Err(bad(
-                            &format!("\"{}\"", p.name),
-                            format!("point `{}`: `at` is not finite", p.name),
-                        ));
-                    }
-                    None => c,
-                }
-            }
-            (None, Some(at)) if at.iter().all(|v| v.is_finite()) => {
-                crate::bodies::patch(&mut mesh, &p.name, at);
-                at
-            }
-            _ => {
-                return Err(bad(
-                    &format!("\"{}\"", p.name),
-                    format!("point `{}`: give nset, or a finite `at`, or both", p.name),
-                ));
-            }
-        };
-        points.push((p.name.clone(), point));
-    }
+    let attachments = match &spec.model {
+        Some(file) => model_attachments(&dir.join(file), spec.body, &bad)?,
+        None => Vec::new(),
+    };
+    let points = points::points(&spec.points, &attachments, &mut mesh, &deck, &bad)?;
     for c in &spec.correction {
         if !points.iter().any(|(n, _)| *n == c.point) {
             return Err(bad(
                 &format!("\"{}\"", c.point),
-                format!("correction: no point `{}` in `points`", c.point),
+                format!(
+                    "correction: no point `{}` in `points`{}",
+                    c.point,
+                    if spec.model.is_some() {
+                        " or the model's"
+                    } else {
+                        ""
+                    }
+                ),
             ));
         }
     }
@@ -227,6 +201,35 @@ pub fn load(spec_path: &Path) -> Result<BodySpec, String> {
         correction: spec.correction,
         recovery: spec.recovery,
     })
+}
+
+/// The points `model` attaches to the body of kind `kind`, its modal data unread; errors name
+/// the model file and line.
+fn model_attachments(
+    model: &Path,
+    kind: ElasticBodyKind,
+    bad: points::Bad,
+) -> Result<Vec<Attachment>, String> {
+    let m = load_file_unresolved(model).map_err(|e| e.to_string())?;
+    let body = match kind {
+        ElasticBodyKind::Tub => BodyRef::Tub,
+        ElasticBodyKind::Drum => BodyRef::Drum,
+        ElasticBodyKind::Cabinet => BodyRef::Cabinet,
+    };
+    let found = attachments(&m, body);
+    if found.is_empty() {
+        return Err(bad(
+            "model =",
+            format!(
+                "the model {} attaches nothing to the {} where a scene makes it elastic \
+                 (`elastic.{}`)",
+                model.display(),
+                body.name(),
+                body.name()
+            ),
+        ));
+    }
+    Ok(found)
 }
 
 /// What the checks after the build measured.

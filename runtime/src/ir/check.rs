@@ -755,7 +755,9 @@ fn tub_mass(c: &mut Ctx, m: &Model) {
         c.err(
             Path::of(&["elastic"]).idx(i),
             format!(
-                "elastic `tub`: FE tub {:.3} kg + drum {drum:.3} kg + rotors {rotors:.3} kg =                  {total:.3} kg, but the rigid tub has {} kg (more than {} % apart): add the                  drum's elastic entry or the rotors' `mass`, or correct `tub.mass`",
+                "elastic `tub`: FE tub {:.3} kg + drum {drum:.3} kg + rotors {rotors:.3} kg = \
+                 {total:.3} kg, but the rigid tub has {} kg (more than {} % apart): add the \
+                 drum's elastic entry or the rotors' `mass`, or correct `tub.mass`",
                 tub.mass,
                 m.tub.mass,
                 TUB_MASS_TOLERANCE * 100.0

@@ -106,6 +106,20 @@ fn every_example_bench_and_script_a_document_runs_exists() {
                 "--example" => format!("examples/{name}.rs"),
                 "--bench" => format!("benches/{name}.rs"),
                 "bash" if name.ends_with(".sh") => name.to_string(),
+                // A test target: a `[[test]]` of a package's manifest (`autotests = false`).
+                "--test" => {
+                    seen += 1;
+                    let declared = [".", "fe", "runtime", "models", "macros"].iter().any(|p| {
+                        std::fs::read_to_string(root().join(p).join("Cargo.toml")).is_ok_and(|m| {
+                            m.contains(&format!("[[test]]\nname = \"{name}\""))
+                                || root().join(p).join(format!("tests/{name}.rs")).exists()
+                        })
+                    });
+                    if !declared {
+                        missing.push(format!("{doc}: --test {name} (no such test target)"));
+                    }
+                    continue;
+                }
                 _ => continue,
             };
             seen += 1;
@@ -114,9 +128,9 @@ fn every_example_bench_and_script_a_document_runs_exists() {
             }
         }
     }
-    // The documents run examples, benches and scripts 7 times (measured): far fewer means the
-    // scan broke.
-    assert!(seen >= 4, "only {seen} commands found: the scan is broken");
+    // The documents run examples, benches, scripts and test targets 15 times (measured): far
+    // fewer means the scan broke.
+    assert!(seen >= 8, "only {seen} commands found: the scan is broken");
     assert!(
         missing.is_empty(),
         "documents run what is not there: {missing:#?}"

@@ -84,14 +84,23 @@ impl CcxReference {
         }
     }
 
-    /// The committed answer in `path` for this deck, or why it does not fit.
-    pub fn read(path: &Path, deck: &str, modes: usize, rpm: &[f64]) -> Result<Solution, String> {
+    /// The committed answer in `path` for this deck (`channels` per speed), or why it does
+    /// not fit.
+    pub fn read(
+        path: &Path,
+        deck: &str,
+        modes: usize,
+        rpm: &[f64],
+        channels: usize,
+    ) -> Result<Solution, String> {
         let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
         let r: CcxReference =
             serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
         let hash = content_hash(deck.as_bytes());
-        let regenerate = "regenerate it with `washdyn fe reference --no-convergence` and copy \
-                          its full-mesh.ccx.json there";
+        let regenerate = format!(
+            "regenerate it with `washdyn fe reference --modes {modes} --no-convergence` and \
+             copy its full-mesh.ccx.json there"
+        );
         if r.deck_fnv1a64 != hash {
             return Err(format!(
                 "{}: ccx's answer is for the deck {}, the code writes {hash} now (mesh, model \
@@ -100,12 +109,21 @@ impl CcxReference {
                 r.deck_fnv1a64
             ));
         }
-        if r.modes != modes || r.rpm != rpm || r.channels.len() != rpm.len() {
+        if r.modes != modes || r.rpm != rpm {
             return Err(format!(
                 "{}: {} modes at {:?} rpm, asked for {modes} at {rpm:?}: {regenerate}",
                 path.display(),
                 r.modes,
                 r.rpm
+            ));
+        }
+        // The hash fixes the sensors, so this fails only for an edited file; the study indexes
+        // every channel.
+        if r.channels.len() != rpm.len() || r.channels.iter().any(|c| c.len() != channels) {
+            return Err(format!(
+                "{}: `channels` is not {} speeds of {channels} channels: {regenerate}",
+                path.display(),
+                rpm.len()
             ));
         }
         Ok(Solution {
@@ -305,7 +323,13 @@ pub fn study(args: &Args, log: &mut dyn FnMut(&str)) -> Result<Study, String> {
         let last = n == *args.modes.last().expect("a mode count");
         let s = match &args.committed {
             Some(path) if last => {
-                let s = CcxReference::read(path, a.deck.text(), n, &args.speeds_rpm)?;
+                let s = CcxReference::read(
+                    path,
+                    a.deck.text(),
+                    n,
+                    &args.speeds_rpm,
+                    3 * a.sensors.len(),
+                )?;
                 log(&format!(
                     "  ccx's answer from {} (solved in {:.1} s, {} modes up to {:.1} Hz)",
                     path.display(),
@@ -685,7 +709,8 @@ mod tests {
         let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(COMMITTED);
         let r: CcxReference =
             serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
-        let e = CcxReference::read(&path, "** another deck\n", r.modes, &r.rpm).unwrap_err();
+        let nc = r.channels[0].len();
+        let e = CcxReference::read(&path, "** another deck\n", r.modes, &r.rpm, nc).unwrap_err();
         assert!(
             e.contains(&r.deck_fnv1a64) && e.contains("regenerate"),
             "{e}"
@@ -697,8 +722,13 @@ mod tests {
         let mut r2 = r.clone();
         r2.deck_fnv1a64 = content_hash(b"deck");
         std::fs::write(&copy, serde_json::to_string(&r2).unwrap()).unwrap();
-        assert!(CcxReference::read(&copy, "deck", r.modes, &r.rpm).is_ok());
-        assert!(CcxReference::read(&copy, "deck", r.modes - 1, &r.rpm).is_err());
-        assert!(CcxReference::read(&copy, "deck", r.modes, &r.rpm[1..]).is_err());
+        assert!(CcxReference::read(&copy, "deck", r.modes, &r.rpm, nc).is_ok());
+        assert!(CcxReference::read(&copy, "deck", r.modes - 1, &r.rpm, nc).is_err());
+        assert!(CcxReference::read(&copy, "deck", r.modes, &r.rpm[1..], nc).is_err());
+        // An edited file with a channel short at one speed: refused, not indexed past its end.
+        r2.channels[3].pop();
+        std::fs::write(&copy, serde_json::to_string(&r2).unwrap()).unwrap();
+        let e = CcxReference::read(&copy, "deck", r.modes, &r.rpm, nc).unwrap_err();
+        assert!(e.contains("channels"), "{e}");
     }
 }

@@ -71,7 +71,8 @@ fn committed_ccx_answer_is_what_ccx_gives_now() {
     let fresh = s.reference.as_ref().unwrap();
     let deck = work.path().join(format!("full_mesh_{MODES}.inp"));
     let deck = std::fs::read_to_string(deck).unwrap();
-    let old = CcxReference::read(&committed(), &deck, MODES, &SPEEDS_RPM).unwrap();
+    let channels = fresh.channels[0].len();
+    let old = CcxReference::read(&committed(), &deck, MODES, &SPEEDS_RPM, channels).unwrap();
     let mut worst = 0.0f64;
     for (a, b) in old
         .channels

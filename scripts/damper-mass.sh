@@ -64,8 +64,8 @@ The reference machine's 178 s run-up (0 to 1400 rpm, rigid bodies) in two scenes
 `models/data/reference.toml`: `full`, where each of the four friction dampers is a massless
 element between tub and cabinet, and `damper_mass`, where each damper's moving part is a body of
 its own (0.55 kg, 1.69e-3 kg m^2, about 1/100 of the tub's mass) on rubber bearings of 5e5 N/m,
-the friction acting between it and the housing (`runtime/src/equations/part.rs`,
-`runtime/src/elements/damper_joint.rs`). Each scene ran with rodas4, galpha, sdirk4, auto and
+the friction acting between it and the housing (`model/src/equations/part.rs`,
+`model/src/elements/damper_joint.rs`). Each scene ran with rodas4, galpha, sdirk4, auto and
 dopri5 (`washdyn run reference --scene S --integrator M --no-plots`, default tolerance 1e-6,
 generated back end; dopri5 with `--max-steps 3000000`), one run at a time; the comparison
 below is of the two rodas4 runs (`washdyn compare`).

@@ -2,7 +2,6 @@
 //! (`simulation`) for `run`, `sweep` and `accuracy`, their typed errors (`Error`), and
 //! post-processing.
 pub mod accuracy;
-pub mod analysis;
 pub mod basis;
 pub mod campbell;
 pub mod commands;
@@ -11,10 +10,11 @@ pub mod error;
 pub mod fields;
 pub mod full_mesh;
 pub mod modes;
-pub mod results;
 pub mod simulation;
 pub mod sweep;
 pub mod validate;
 pub mod vtk;
 
 pub use error::Error;
+/// Result files and the order analysis live in `washdyn-analysis`; here under their old paths.
+pub use washdyn_analysis::{self as analysis, results};

@@ -1,4 +1,4 @@
-//! Tub-cabinet contact (issue 21 point 5; `runtime/src/elements/contact.rs`): a hard case drives
+//! Tub-cabinet contact (issue 21 point 5; `model/src/elements/contact.rs`): a hard case drives
 //! the reference machine's door ring into the cabinet's opening. A 5 kg unbalance (8 x the
 //! seed paper's test mass, near the checker's limit of 0.1 x the tub) at the front position
 //! runs from 60 to 420 rpm in 4 s, through the suspension's rigid resonances (2-5 Hz), and
@@ -6,7 +6,7 @@
 //!
 //! - Every implicit method (sdirk4, rodas4, galpha, auto) completes the reference's scene
 //!   `contact` (rigid cabinet) with finite values; the energy balance closes along its dense
-//!   output (`equations::Balance`, as `washdyn run --energy` integrates it); each contact has
+//!   output (`energy::Balance`, as `washdyn run --energy` integrates it); each contact has
 //!   its own `elastic` and `dissipated` categories, the dissipated never positive.
 //! - The knock shows in the cabinet's channels: with the cabinet's modes (a scene of its own
 //!   here: `full` + `elastic.cabinet`, with and without `contact`) the cabinet sensors' peak
@@ -22,7 +22,8 @@ use std::time::Instant;
 use washdyn::commands::resolve_model;
 use washdyn_runtime::clearance::DoorRing;
 use washdyn_runtime::elements::Element;
-use washdyn_runtime::equations::{Balance, BodyState, Kind};
+use washdyn_runtime::energy::Balance;
+use washdyn_runtime::equations::{BodyState, Kind};
 use washdyn_runtime::ir::{Model, Scene, check::check};
 use washdyn_runtime::ode::{AnySolver, Method, OdeError, Options, Solver, Stepper};
 use washdyn_runtime::statics::mean_load_equilibrium;

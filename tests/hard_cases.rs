@@ -23,7 +23,8 @@
 use std::time::Instant;
 use washdyn::commands::resolve_model;
 use washdyn::simulation::integrator_options;
-use washdyn_runtime::equations::{Category, EnergyWork, Kind, powers};
+use washdyn_runtime::energy::powers;
+use washdyn_runtime::equations::{Category, EnergyWork, Kind};
 use washdyn_runtime::ir::{EffectSet, Model, Scene};
 use washdyn_runtime::ode::{AnySolver, Method, OdeError, Solver, Stepper};
 use washdyn_runtime::statics::mean_load_equilibrium;

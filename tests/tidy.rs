@@ -163,7 +163,7 @@ fn every_example_bench_and_script_a_document_runs_exists() {
 // - A *unit* of README.md or ARCHITECTURE.md is a bullet (a line starting with `- `, with the
 //   indented lines under it) or a paragraph. Code blocks, headings and table rows are no units.
 // - A *test file* is a path in a unit, written in full from the repository's root
-//   (`tests/energy.rs`, `fe/tests/drum.rs`, `runtime/src/ode/tests.rs`), of a file that holds
+//   (`tests/energy.rs`, `fe/tests/drum.rs`, `ode/src/tests.rs`), of a file that holds
 //   `#[test]`.
 // - A *claim* is a bound followed by its measured value in brackets: `BOUND [MEASURED ...]`,
 //   each a number (`1e-12`, `0.5`, `2.0075`), the bound optionally with one unit of UNITS
@@ -589,4 +589,44 @@ fn every_test_file_is_compiled() {
         missing.is_empty(),
         "test files no target compiles: {missing:?}"
     );
+}
+
+/// The workspace's own crates a package depends on (its `[dependencies]`, not its dev- or
+/// build-dependencies), by package name.
+fn washdyn_dependencies(pkg: &str) -> Vec<String> {
+    let manifest = std::fs::read_to_string(root().join(pkg).join("Cargo.toml")).unwrap();
+    let mut section = String::new();
+    let mut out = Vec::new();
+    for line in manifest.lines().map(str::trim) {
+        if line.starts_with('[') {
+            section = line.to_string();
+        } else if section == "[dependencies]" && line.starts_with("washdyn-") {
+            out.push(line.split(['.', ' ', '=']).next().unwrap().to_string());
+        }
+    }
+    out
+}
+
+/// The layering ARCHITECTURE.md draws (issue 23 point 8): the integrators know no machine, the
+/// model knows no integrator, and the macro builds the model only, so compiling a `machine!`
+/// compiles no integrator and no run driver.
+#[test]
+fn crates_depend_only_downwards() {
+    let allowed: &[(&str, &[&str])] = &[
+        ("ode", &[]),
+        ("model", &[]),
+        ("macros", &["washdyn-model"]),
+        ("runtime", &["washdyn-model", "washdyn-ode"]),
+        ("analysis", &["washdyn-runtime"]),
+    ];
+    for (pkg, ok) in allowed {
+        let deps = washdyn_dependencies(pkg);
+        let extra: Vec<_> = deps.iter().filter(|d| !ok.contains(&d.as_str())).collect();
+        assert!(
+            extra.is_empty(),
+            "{pkg}/ depends on {extra:?} (allowed: {ok:?})"
+        );
+    }
+    // The check reads what it should: the runtime's two.
+    assert_eq!(washdyn_dependencies("runtime").len(), 2);
 }

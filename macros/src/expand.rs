@@ -9,9 +9,9 @@ use serde::de::DeserializeOwned;
 use serde_json::Value;
 use std::collections::HashSet;
 use std::path::Path as FsPath;
-use washdyn_runtime::codegen::generate;
-use washdyn_runtime::ir::check::{CheckError, Path, Seg, check};
-use washdyn_runtime::ir::{
+use washdyn_model::codegen::generate;
+use washdyn_model::ir::check::{CheckError, Path, Seg, check};
+use washdyn_model::ir::{
     Cabinet, Elastic, FrictionDamper, Gasket, LinearDamper, Model, Rotor, Scene, Sensor,
     SpeedProfile, Spring, Tub, Unbalance, V3,
 };
@@ -43,9 +43,9 @@ pub fn analyse(input: TokenStream, dir: &FsPath) -> Result<(Machine, Model, Buil
     let mut model = deserialize(&built, &mut diag);
     if let Some(m) = &mut model {
         // Modal data files: the runtime's one resolver, as for the TOML loader.
-        let (files, mut errors) = washdyn_runtime::ir::modal::resolve(
+        let (files, mut errors) = washdyn_model::ir::modal::resolve(
             m,
-            washdyn_runtime::ir::files::DataFiles::AsWritten(dir),
+            washdyn_model::ir::files::DataFiles::AsWritten(dir),
         );
         built.files.extend(files);
         errors.extend(check(m).err().unwrap_or_default());

@@ -1,10 +1,11 @@
 //! `machine!`: a washing machine declared in Rust, checked at compile time by the same checker
-//! as the TOML files and compiled by washdyn-runtime's code generator.
+//! as the TOML files and compiled by washdyn-model's code generator.
 //!
 //! The shape follows serde_derive: parse -> IR -> check (collecting located errors) -> generate.
 //! This crate only reads tokens and places errors; the IR, the checker and the generator live in
-//! `washdyn_runtime`, so both front ends fill and check the same model. The calling crate needs
-//! `washdyn-runtime` as a dependency (the generated code names `::washdyn_runtime`).
+//! `washdyn_model` (this crate builds no integrator), so both front ends fill and check the same
+//! model. The calling crate needs `washdyn-runtime` as a dependency (the generated code names
+//! `::washdyn_runtime`, which re-exports the model).
 //!
 //! # Syntax
 //!
@@ -30,7 +31,7 @@
 //! ```
 //!
 //! - The first identifier names the model and the generated module `pub mod NAME`, which holds
-//!   what `washdyn_runtime::codegen::generate` emits (`model()`, `MODEL_JSON`, ...).
+//!   what `washdyn_model::codegen::generate` emits (`model()`, `MODEL_JSON`, ...).
 //! - Inside: `key: value` fields (`gravity`, `base`), blocks `tub`, `cabinet`, `speed`, and
 //!   items `KIND NAME { .. }` with KIND one of rotor, unbalance, spring, damper,
 //!   friction_damper, gasket, sensor, scene; each item is one element of the IR's list of that

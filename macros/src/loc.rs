@@ -7,7 +7,7 @@ use proc_macro2::{Punct, Spacing, Span, TokenStream};
 use quote::{ToTokens, TokenStreamExt};
 use std::collections::HashMap;
 use std::fmt::Display;
-use washdyn_runtime::ir::check::Path;
+use washdyn_model::ir::check::Path;
 
 /// A range of tokens: `start` and `end` are the first and last token's spans (stable proc_macro
 /// cannot join spans, but rustc underlines from one to the other when an error carries both).

@@ -7,7 +7,7 @@ use crate::syntax::{self, Num, number};
 use crate::tree;
 use proc_macro2::{Literal, TokenStream};
 use std::path::{Path as FsPath, PathBuf};
-use washdyn_runtime::ir::check::Path;
+use washdyn_model::ir::check::Path;
 
 fn lit(src: &str) -> Literal {
     let ts: TokenStream = src.parse().unwrap();
@@ -120,7 +120,7 @@ fn a_valid_machine_fills_the_ir() {
     assert_eq!(model.springs[0].stiffness, 100.0);
     assert_eq!(
         model.sensors[0].kind,
-        washdyn_runtime::ir::SensorKind::Acceleration
+        washdyn_model::ir::SensorKind::Acceleration
     );
     assert_eq!(model.speed.table, vec![[0.0, 0.0], [1.0, 100.0]]);
 }
@@ -239,7 +239,7 @@ fn a_variant_merges_into_its_base_and_inherited_paths_point_at_base() {
         .unwrap();
     // Deep merge: the point changed, the body stayed.
     assert_eq!(front.a.point, [0.12, 0.0, 0.60]);
-    assert_eq!(front.a.body, washdyn_runtime::ir::BodyRef::Tub);
+    assert_eq!(front.a.body, washdyn_model::ir::BodyRef::Tub);
     assert_eq!(model.springs.len(), 4);
     assert!(built.files.iter().any(|f| f.ends_with("reference.toml")));
 
@@ -354,9 +354,9 @@ fn an_elastic_entry_takes_support_and_stiffness_damping() {
     // strain energy shares stay within [0, 1].
     let dir = scratch("support");
     let committed = here().join("../models/fe/cabinet.modal.toml");
-    let mut d = washdyn_runtime::ir::modal::read_file(&committed, "cabinet.modal.toml").unwrap();
+    let mut d = washdyn_model::ir::modal::read_file(&committed, "cabinet.modal.toml").unwrap();
     d.support_springs = (1..=4)
-        .map(|k| washdyn_runtime::ir::modal::SupportSpring {
+        .map(|k| washdyn_model::ir::modal::SupportSpring {
             point: format!("FOOT_{k}"),
             stiffness: [5e4, 5e4, 2e5],
         })
@@ -382,7 +382,7 @@ fn an_elastic_entry_takes_support_and_stiffness_damping() {
 
 #[test]
 fn gasket_loss_factor_one_number_or_six_and_a_wrong_count_at_its_token() {
-    use washdyn_runtime::ir::LossFactor;
+    use washdyn_model::ir::LossFactor;
     let k = "[[1.0, 0.0, 0.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 0.0, 0.0, 1.0]]";
     let gasket = |eta: &str| {
         machine(&format!(

@@ -9,8 +9,8 @@ use crate::syntax::{Entry, Field, Machine, Name, Object, Value as Syn};
 use serde_json::{Map, Number, Value};
 use std::collections::HashSet;
 use std::path::{Path as FsPath, PathBuf};
-use washdyn_runtime::ir::check::{Path, Seg};
-use washdyn_runtime::ir::toml_file::{Located, load_file, read_speed_csv};
+use washdyn_model::ir::check::{Path, Seg};
+use washdyn_model::ir::toml_file::{Located, load_file, read_speed_csv};
 
 /// Named item kinds: keyword, IR list, and how messages call one.
 pub const LISTS: &[(&str, &str, &str)] = &[

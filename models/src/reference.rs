@@ -158,7 +158,7 @@ washdyn_macros::machine! {
         // 4e6 N/m^1.5 (estimate: a plastic rim on a rubber bumper against the steel collar,
         // secant 1.8e5 N/m at 2 mm, 2.8e5 N/m at 5 mm), Hertz's exponent 1.5, Hunt-Crossley
         // alpha 1.0 s/m (estimate: e = 0.66 at 0.5 m/s by the exact relation in
-        // runtime/src/elements/contact.rs, a rubber bumper's 0.5-0.8). The tub's sides (r 0.27 m
+        // model/src/elements/contact.rs, a rubber bumper's 0.5-0.8). The tub's sides (r 0.27 m
         // against panels at 0.30 m: 30 mm) are not contacts: the door ring moves about 3 x as
         // far as the tub's centre (11.9 against 4.1 mm in `full`) with less clearance.
         contact door_ring_0 {

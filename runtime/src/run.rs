@@ -554,7 +554,7 @@ where
     emit(sys, sink, t0, &y, summary)?;
     k += 1;
     let mut balance = if sink.wants_energy() {
-        let b = crate::equations::Balance::new(&mut sys.sys, t0, &y).ok_or_else(|| {
+        let b = crate::energy::Balance::new(&mut sys.sys, t0, &y).ok_or_else(|| {
             setup("the energy balance needs the back end's resolved model".into())
         })?;
         sink.energy_header(&b.categories).map_err(io(t0))?;

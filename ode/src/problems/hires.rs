@@ -3,7 +3,7 @@
 //! gives the reference solution at t = 321.8122 computed with RADAU5 in quadruple-like
 //! precision (rtol = atol = 1.1e-18).
 
-use crate::ode::OdeSystem;
+use crate::OdeSystem;
 
 /// Whether the Jacobian is supplied (false exercises the finite-difference path).
 #[derive(Clone, Copy, Debug)]

@@ -19,7 +19,7 @@ pub use vdpol::{VanDerPol, VanDerPolClassic};
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ode::OdeSystem;
+    use crate::OdeSystem;
 
     /// Each analytic Jacobian agrees with central differences of its own right-hand side
     /// (relative to the Jacobian's scale) at an arbitrary non-special point.

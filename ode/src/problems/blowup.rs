@@ -1,6 +1,6 @@
 //! y' = y^2, y(0) = 1: y = 1 / (1 - t) blows up at t = 1. Exercises the failure paths.
 
-use crate::ode::OdeSystem;
+use crate::OdeSystem;
 
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Blowup;

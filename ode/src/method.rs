@@ -184,7 +184,7 @@ mod tests {
     /// A CLI holds the model as `dyn OdeSystem` and the method as a name: both must work.
     #[test]
     fn runs_a_dyn_system_picked_by_name() {
-        use crate::ode::problems::Harmonic;
+        use crate::problems::Harmonic;
         for name in ["rk4", "dopri5", "sdirk4", "rodas4", "galpha", "auto"] {
             let m: Method = name.parse().unwrap();
             let opts = Options {

@@ -4,7 +4,7 @@
 //! eps = 1/mu^2 relates it to the classic form x'' = mu (1 - x^2) x' - x by t = mu * tau,
 //! y2 = x' / mu.
 
-use crate::ode::OdeSystem;
+use crate::OdeSystem;
 
 #[derive(Clone, Copy, Debug)]
 pub struct VanDerPol {

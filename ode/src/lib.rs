@@ -2,6 +2,9 @@
 //! `problems/`. All work arrays are allocated in `new`; `init`, `step` and `interpolate` never
 //! allocate (a counting allocator test checks it).
 
+// Index loops over vectors read like the formulas they implement.
+#![allow(clippy::needless_range_loop)]
+
 use thiserror::Error;
 
 pub mod auto;

@@ -35,7 +35,7 @@ pub use bodies::{RotorDef, TubDef, UnbalanceDef, rotate};
 pub use body::{Bodies, Body, Frame, Modes};
 pub use drum::ElasticDrum;
 pub use elastic::{ModalBody, modal_damping};
-pub use energy::{Balance, Category, ENERGY_ROW_S, EnergyWork, Kind, kinetic, powers};
+pub use energy::{Category, EnergyWork, Kind};
 pub use jacobian::{ForceJacobians, JacobianWork};
 pub use kinematics::{
     Load, Local, Marker, MarkerDef, ModalRows, Wrench, add_rigid_mass, frame_point_jacobian,

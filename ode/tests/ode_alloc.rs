@@ -5,8 +5,8 @@
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 
-use washdyn_runtime::ode::problems::{Hires, VanDerPol};
-use washdyn_runtime::ode::{AnySolver, Method, OdeSystem, Options, Solver, Stepper};
+use washdyn_ode::problems::{Hires, VanDerPol};
+use washdyn_ode::{AnySolver, Method, OdeSystem, Options, Solver, Stepper};
 
 struct Counting;
 
@@ -105,7 +105,7 @@ fn integrators_do_not_allocate_after_construction() {
 #[test]
 fn errors_do_not_allocate() {
     for m in [Method::Dopri5, Method::Sdirk4] {
-        let mut sys = washdyn_runtime::ode::problems::Blowup;
+        let mut sys = washdyn_ode::problems::Blowup;
         let mut solver = AnySolver::new(m, 1, Options::default());
         let before = allocations();
         Solver::<_>::init(&mut solver, &mut sys, 0.0, &[1.0]).unwrap();

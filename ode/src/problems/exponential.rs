@@ -1,6 +1,6 @@
 //! y' = lambda * y, the Dahlquist test equation: y(t) = y0 * exp(lambda * (t - t0)).
 
-use crate::ode::OdeSystem;
+use crate::OdeSystem;
 
 #[derive(Clone, Copy, Debug)]
 pub struct Exponential {

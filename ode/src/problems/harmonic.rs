@@ -1,7 +1,7 @@
 //! Undamped harmonic oscillator x'' = -omega^2 x as y = (x, v): the simplest vibration model,
 //! with the exact solution x = x0 cos(omega t) + v0/omega sin(omega t).
 
-use crate::ode::OdeSystem;
+use crate::OdeSystem;
 
 #[derive(Clone, Copy, Debug)]
 pub struct Harmonic {

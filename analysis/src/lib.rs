@@ -10,7 +10,9 @@
 //! `<channel>_order`, `<channel>_cascade` and `<channel>_speed` plots (PNG, and SVG unless
 //! turned off), plus `displacements_speed` if there are displacement channels; the spectra
 //! and order tracks of all channels go to one table each (`spectra`, `orders`: see
-//! [`export`]).
+//! [`export`]). The result files themselves (`results`: Parquet/CSV writers and readers, the
+//! sensor, state and energy recorders) are here too: the analysis reads and writes them, and the
+//! energy table draws with the plots.
 
 pub mod angle;
 pub mod error;
@@ -18,6 +20,7 @@ pub mod export;
 pub mod options;
 pub mod orders;
 pub mod plot;
+pub mod results;
 pub mod signals;
 pub mod spectrum;
 

@@ -2,7 +2,7 @@
 //! stiff spring dragged along by a slow motion. Closed form for y(0) = y0:
 //! y = p(t) + (y0 - p(0)) exp(-k t), p(t) = (k^2 cos t + k sin t) / (k^2 + 1).
 
-use crate::ode::OdeSystem;
+use crate::OdeSystem;
 
 #[derive(Clone, Copy, Debug)]
 pub struct StiffDecay {

@@ -876,7 +876,7 @@ impl<S: OdeSystem> OdeSystem for Withheld<S> {
 /// class and it costs far fewer right-hand sides than dopri5 on its stability limit.
 #[test]
 fn auto_switches_both_ways_on_vdpol_and_meets_the_reference() {
-    use crate::ode::Auto;
+    use crate::Auto;
     // Measured: 4.1e-7 (tol 1e-6) and 6.4e-9 (1e-8), 5 hand-overs each, 5 080 and 24 286
     // right-hand sides against dopri5's 7.0 M.
     for (tol, bound) in [(1e-6, 4e-6), (1e-8, 6e-8)] {

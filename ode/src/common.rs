@@ -244,7 +244,7 @@ pub fn start<S: OdeSystem + ?Sized>(
 /// `t_prev`, `t`, `y_prev`, `y`, `f_prev`, `f` and whose counters are `stats`.
 macro_rules! hermite_stepper {
     ($ty:ty, $name:expr) => {
-        impl $crate::ode::Stepper for $ty {
+        impl $crate::Stepper for $ty {
             fn name(&self) -> &'static str {
                 $name
             }
@@ -258,7 +258,7 @@ macro_rules! hermite_stepper {
                 self.t_prev
             }
             fn interpolate(&self, t: f64, out: &mut [f64]) {
-                $crate::ode::common::hermite(
+                $crate::common::hermite(
                     self.t_prev,
                     self.t - self.t_prev,
                     &self.y_prev,
@@ -269,7 +269,7 @@ macro_rules! hermite_stepper {
                     out,
                 );
             }
-            fn stats(&self) -> $crate::ode::Stats {
+            fn stats(&self) -> $crate::Stats {
                 self.stats
             }
         }

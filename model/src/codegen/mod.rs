@@ -448,7 +448,7 @@ pub fn generate_with_stats(model: &Model) -> Result<(String, Vec<SceneStats>), S
 mod tests {
     use super::*;
     use crate::ir::Model;
-    use crate::system::{Interpreter, Mechanical};
+    use crate::speed::Speed;
 
     fn reference() -> Model {
         crate::ir::toml_file::reference_for_tests()
@@ -461,7 +461,7 @@ mod tests {
         assert_eq!(type_name("2x"), "Scene2x");
     }
 
-    /// The traced graph, evaluated numerically, reproduces the interpreter (same derivation,
+    /// The traced graph, evaluated numerically, reproduces `Equations::eval` (same derivation,
     /// so only round-off may differ) for random states and times.
     #[test]
     fn traced_graph_agrees_with_interpreter() {
@@ -470,7 +470,7 @@ mod tests {
             let eff = m.scene(Some(&scene)).unwrap();
             let eq = Equations::new(&m, &eff);
             let t = trace_equations(&eq);
-            let mut interp = Interpreter::new(&m, &eff);
+            let speed = Speed::new(&m.speed.table);
             let n = t.n;
             let mut rng = 0x2545F4914F6CDD1Du64;
             let mut r = || {
@@ -483,13 +483,13 @@ mod tests {
                 let q: Vec<f64> = (0..n).map(|_| 0.01 * r()).collect();
                 let qd: Vec<f64> = (0..n).map(|_| 0.1 * r()).collect();
                 let time = 200.0 * (r() + 0.5);
-                let d = interp.speed.drive(time);
+                let d = speed.drive(time);
                 let mut inputs = q.clone();
                 inputs.extend(&qd);
                 inputs.extend([d.phi, d.omega, d.omega_dot]);
                 let mut m1 = vec![0.0; t.n1 * t.n1];
                 let mut h = vec![0.0; n];
-                interp.eval(time, &q, &qd, &mut m1, &mut h);
+                eq.eval(&d, &q, &qd, &mut m1, &mut h);
                 let (g, sm1, sh) = &t.mh;
                 let gm1 = g.eval(&inputs, sm1);
                 let gh = g.eval(&inputs, sh);

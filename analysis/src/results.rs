@@ -507,8 +507,8 @@ impl EnergyRecorder {
     /// the energy stored (springs and bearings with the gasket's stiffness; modal strain;
     /// gravity), dissipated by each dissipative element and by modal damping (each as a
     /// positive amount since the start), and the residual T - T0 - sum W.
-    pub fn lines(&self) -> (Vec<f64>, Vec<crate::analysis::plot::EnergyLine>) {
-        use crate::analysis::plot::EnergyLine;
+    pub fn lines(&self) -> (Vec<f64>, Vec<crate::plot::EnergyLine>) {
+        use crate::plot::EnergyLine;
         use washdyn_runtime::equations::Kind;
         let t = self.cols.first().cloned().unwrap_or_default();
         let rows = t.len();
@@ -630,7 +630,7 @@ impl EnergyRecorder {
         }
         metadata.push((
             "washdyn".into(),
-            "energy balance by category (runtime/src/equations/energy.rs): kinetic energy of the \
+            "energy balance by category (model/src/equations/energy.rs): kinetic energy of the \
              vibration and each category's work since the start; residual = T - T0 - sum of the \
              work"
                 .into(),

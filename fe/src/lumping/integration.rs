@@ -2,7 +2,7 @@
 //! an element's Gauss points with their positions, volume weights and tangents. Separate from
 //! the lumping (`lumping/mod.rs`) because everything that integrates over the mesh uses it: HRZ
 //! lumping, the mass properties (`mass_props.rs`) and the consistent mass matrix
-//! (`consistent.rs`).
+//! (`consistent/mod.rs`).
 
 use crate::mesh::{Mesh, Section};
 use washdyn_runtime::geom::f::{cross, norm};
@@ -26,7 +26,7 @@ pub enum Rule {
     /// ccx's own points: its e_c3d.f integrates the mass at the stiffness's points, and S8R is
     /// expanded into C3D20R (2 x 2 x 2), so a shell's in-plane integral takes 2 x 2 points;
     /// C3D20 and B32 (expanded into C3D20) take 3 per direction. The consistent mass matrix
-    /// (`consistent.rs`) must be the one ccx normalised its modes with.
+    /// (`consistent/mod.rs`) must be the one ccx normalised its modes with.
     Ccx,
 }
 

@@ -2,7 +2,7 @@
 //! Applications of Finite Element Analysis", 3rd ed., 1989, sec. 13.3): each element's nodal mass
 //! is the diagonal of its consistent mass matrix, scaled so the element keeps its total mass. The
 //! seed paper formed its elementary matrices with these masses; we use the consistent mass
-//! (`consistent.rs`) and keep HRZ for comparison.
+//! (`consistent/mod.rs`) and keep HRZ for comparison.
 //!
 //! Point masses that belong to a rigid part are not lumped onto their nodes: they make up the
 //! rigid part (mass, CoG, inertia), which enters the elementary matrices through the paper's

@@ -94,7 +94,7 @@ fn free_tub_has_six_zero_and_calculix_frequencies() {
     // Six rigid-body modes: no stiffness on u, alpha (exactly zero: no element, no gravity).
     assert!(ev[..6].iter().all(|f| *f < 1e-3), "{:?}", &ev[..6]);
     // ccx's frequencies: the invariants come from the consistent mass matrix (fe's
-    // consistent.rs), so the free-free modes decouple from the rigid motion and the modal
+    // consistent/mod.rs), so the free-free modes decouple from the rigid motion and the modal
     // block is ccx's own normalisation (measured 1.3e-11 over the 100 eigenmodes, ccx's
     // printed digits; with HRZ lumping it was 1e-3 on 34 modes).
     assert!(worst < 1e-10, "{worst}");

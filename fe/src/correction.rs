@@ -6,7 +6,7 @@
 //! (stiffness- and consistent-mass-orthogonal to every eigenmode, exactly: it is the
 //! M-orthogonal projection in ccx's own mass, Phi_k^T M Psi = Phi_k^T K Psi / omega_k^2), and the
 //! residual shapes are made orthonormal on their own: K_rr = Psi_r^T f (exact: K Psi = f) and
-//! M_rr with the consistent mass (`consistent.rs`), as the rest of the modal data.
+//! M_rr with the consistent mass (`consistent/mod.rs`), as the rest of the modal data.
 //!
 //! A free body (the tub) has no static solution to a load that is not in equilibrium, and ccx
 //! has no inertia relief, so we apply it ourselves: the load less the rigid-body inertia it

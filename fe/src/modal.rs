@@ -1,5 +1,5 @@
 //! FE results -> modal data: the kept modes, the seed paper's elementary matrices over the
-//! body's mass matrix (`consistent.rs`, with the attached rigid parts through their CoG and
+//! body's mass matrix (`consistent/mod.rs`, with the attached rigid parts through their CoG and
 //! inertia), and the mode shapes at the named points (a rigid fit of each node set).
 
 use crate::consistent::MassMatrix;

@@ -1,7 +1,7 @@
 //! A small free-free body shaped like the tub (a thin S8R drum shell with a back wall, a C3D20
 //! hub behind it sharing the wall's nodes, a B32 strut and an attached rigid part on the hub)
 //! against CalculiX:
-//! - the consistent mass (`consistent.rs`) keeps 100+ of ccx's modes mass-normalised where the
+//! - the consistent mass (`consistent/mod.rs`) keeps 100+ of ccx's modes mass-normalised where the
 //!   HRZ lumping error grows with the mode count, and its mass properties are the element
 //!   integrals of `lumping::consistent_mass_props` (a second path) and ccx's own (`EMAS`);
 //! - free-free static correction modes by inertia relief, with forces and moments at the hub:

@@ -1,4 +1,4 @@
-//! What the full-mesh reference (`assembly.rs`) relies on in CalculiX 2.20's
+//! What the full-mesh reference (`assembly/`) relies on in CalculiX 2.20's
 //! `*STEADY STATE DYNAMICS`, on a deck small enough to solve by hand: a chain of 40 point masses
 //! along x (SPRINGA between them, one DASHPOTA inside the chain and one to a held node whose
 //! constant depends on frequency), Rayleigh beta, loads in both load cases (on one node too).

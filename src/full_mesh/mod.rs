@@ -1,6 +1,6 @@
 //! `washdyn fe reference`: our own full-mesh reference. The linear machine
 //! (`assembly::linear_machine`) solved twice at drum order 1: by CalculiX on the assembled full
-//! meshes (`*STEADY STATE DYNAMICS`, `assembly.rs`) and by washdyn's Ritz model in the frequency
+//! meshes (`*STEADY STATE DYNAMICS`, `assembly/`) and by washdyn's Ritz model in the frequency
 //! domain (`harmonic.rs`); every sensor channel compared per speed, ccx's convergence with its
 //! mode count, and washdyn's with the tub's and the cabinet's modes, with and without static
 //! correction modes. Writes full-mesh.md and full-mesh.json.

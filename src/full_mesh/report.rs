@@ -60,7 +60,7 @@ pub fn write(s: &Study, out: &Path) -> Result<Vec<PathBuf>, String> {
          cabinet, the springs and the gasket). CalculiX: the tub's and the cabinet's full meshes \
          ({} nodes, {} elements) assembled with the drum as rigid point masses, the springs as \
          SPRINGA, the dampers as DASHPOTA, the gasket's 6 x 6 K and D through scalar dofs, \
-         solved with `*STEADY STATE DYNAMICS` at drum order 1 (fe/src/assembly.rs). washdyn: \
+         solved with `*STEADY STATE DYNAMICS` at drum order 1 (fe/src/assembly/). washdyn: \
          the same machine's Ritz model (tub and cabinet modal data) in the frequency domain \
          (runtime/src/harmonic.rs). Mass: ccx {} kg, Ritz model {:.3} kg.\n",
         s.model,

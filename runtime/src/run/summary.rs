@@ -1,0 +1,240 @@
+//! What a run reports: the summary (extremes, validity, integrator counters, advice), the typed
+//! error with the time reached, progress and labels. The loop fills them; the CLI writes them.
+
+use crate::ode::{OdeError, Stats};
+use serde::Serialize;
+use thiserror::Error;
+
+/// The largest tub motion of a run, with when it happened.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Extremes {
+    /// max |u| over the run, m, and its time, s.
+    pub max_translation_m: f64,
+    pub max_translation_t: f64,
+    /// max |alpha| over the run, rad, and its time, s.
+    pub max_rotation_rad: f64,
+    pub max_rotation_t: f64,
+    /// max over the force elements' tub ends of |u + alpha x s|, m, its time, s, and element.
+    pub max_element_deflection_m: f64,
+    pub max_element_deflection_t: f64,
+    pub max_element: String,
+    /// The bounds the run was checked against.
+    pub translation_bound_m: f64,
+    pub rotation_bound_rad: f64,
+    /// max over the door ring's points of their displacement (rigid motion, plus the elastic
+    /// tub's modes where its data has the point), m, its time, s, and the point.
+    pub max_door_ring_m: f64,
+    pub max_door_ring_t: f64,
+    pub max_door_ring_point: String,
+    /// Largest closure of the drum-tub gap (a drum front-edge point's radial motion towards the
+    /// tub's ring, both bodies' elastic motion), m, its time, s, its edge point, and the radial
+    /// clearance at rest (0: not watched).
+    pub max_gap_closure_m: f64,
+    pub max_gap_closure_t: f64,
+    pub max_gap_closure_point: String,
+    pub gap_clearance_m: f64,
+    /// What the monitor watched beside the tub's rigid motion, and how.
+    pub watched: Vec<String>,
+}
+
+/// What a run did; written as `summary.json`.
+#[derive(Clone, Debug, Serialize)]
+pub struct Summary {
+    pub model: String,
+    pub scene: String,
+    pub backend: String,
+    pub integrator: String,
+    pub rtol: f64,
+    pub atol: f64,
+    pub t_start: f64,
+    pub t_end: f64,
+    /// Time reached (t_end when the run succeeded).
+    pub t_reached: f64,
+    pub steps: u64,
+    pub rejected_steps: u64,
+    /// Right-hand-side evaluations by the integrator.
+    pub rhs_evals: u64,
+    /// Extra evaluations to get sensor accelerations at the samples.
+    pub sample_evals: u64,
+    pub jacobian_evals: u64,
+    pub lu_decompositions: u64,
+    pub newton_iterations: u64,
+    /// Steps an explicit method took on its stability boundary (Hairer's test; dopri5), and
+    /// the time from which it called the problem stiff, if it did.
+    pub stiff_steps: u64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stiff_at: Option<f64>,
+    /// Hand-overs between dopri5 and rodas4 (the composite method `auto`).
+    pub method_switches: u64,
+    /// |T - T0 - sum of the categories' work| over the energy throughput at the end, when the
+    /// sink kept the energy balance (`run --energy`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub energy_closure: Option<f64>,
+    /// Generalized-alpha's spectral radius at infinity, when it ran.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rho_inf: Option<f64>,
+    pub samples: u64,
+    pub wall_time_s: f64,
+    /// "ok", "failed" or "interrupted".
+    pub status: String,
+    /// Largest tub motion against the linearisation's bounds.
+    pub validity: Extremes,
+    /// Times the motion left the linearisation's range (one message per quantity).
+    pub warnings: Vec<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub error: Option<String>,
+    /// The error class the study in docs/accuracy.md measured for this model, scene, method
+    /// and tolerance (set by the CLI, which carries the study).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub error_class: Option<String>,
+    /// When the model was a file: it and the data files it names, by absolute path with a
+    /// content hash each (`ir::files::model_files`; set by the CLI), so `washdyn fields`
+    /// recovers with that model and refuses it if it changed. Empty for a built-in model.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub model_files: Vec<crate::ir::files::FileHash>,
+}
+
+impl Summary {
+    /// A run that has not taken a step yet: status "ok", counters zero.
+    pub fn new(labels: &Labels, integrator: &str, tol: (f64, f64), span: (f64, f64)) -> Summary {
+        Summary {
+            model: labels.model.clone(),
+            scene: labels.scene.clone(),
+            backend: labels.backend.clone(),
+            integrator: integrator.to_string(),
+            rtol: tol.0,
+            atol: tol.1,
+            t_start: span.0,
+            t_end: span.1,
+            t_reached: span.0,
+            steps: 0,
+            rejected_steps: 0,
+            rhs_evals: 0,
+            sample_evals: 0,
+            jacobian_evals: 0,
+            lu_decompositions: 0,
+            newton_iterations: 0,
+            stiff_steps: 0,
+            stiff_at: None,
+            method_switches: 0,
+            rho_inf: None,
+            energy_closure: None,
+            samples: 0,
+            wall_time_s: 0.0,
+            status: "ok".into(),
+            validity: Extremes::default(),
+            warnings: Vec::new(),
+            error: None,
+            error_class: None,
+            model_files: Vec::new(),
+        }
+    }
+
+    pub(super) fn take_stats(&mut self, s: Stats) {
+        self.steps = s.steps;
+        self.rejected_steps = s.rejected_steps;
+        self.rhs_evals = s.rhs_evals;
+        self.jacobian_evals = s.jacobian_evals;
+        self.lu_decompositions = s.lu_decompositions;
+        self.newton_iterations = s.newton_iterations;
+        self.stiff_steps = s.stiff_steps;
+        self.method_switches = s.method_switches;
+        if let Some(t) = s.stiff_at
+            && self.stiff_at.is_none()
+        {
+            self.stiff_at = Some(t);
+            // A method that switched where the test fired (the composite `auto`) answered the
+            // stiffness itself: no advice to give.
+            if s.method_switches == 0 {
+                self.warnings.push(format!(
+                    "{} ran on its stability limit from t = {t:.4} s ({} of {} steps; Hairer's \
+                     stiffness test): its step is set by stability there, not by the tolerance; \
+                     an implicit method (galpha, sdirk4, rodas4, auto; docs/accuracy.md) would \
+                     take larger steps",
+                    self.integrator, s.stiff_steps, s.steps
+                ));
+            }
+        }
+    }
+}
+
+#[derive(Debug, Error)]
+pub enum RunError {
+    #[error("integration failed: {0}")]
+    Ode(#[from] OdeError),
+    #[error("writing samples failed at t = {t} s: {source}")]
+    Io { t: f64, source: std::io::Error },
+    /// The run could not start (e.g. no static equilibrium); `t` is the start time.
+    #[error("{reason} (at t = {t} s)")]
+    Setup { t: f64, reason: String },
+    #[error(
+        "{what} {value:.4e} {unit} at t = {t} s is more than {factor} x the {bound} {unit} bound \
+         of the small-motion linearisation: the result would be meaningless (see --no-validity-stop)"
+    )]
+    Validity {
+        t: f64,
+        what: &'static str,
+        value: f64,
+        bound: f64,
+        factor: f64,
+        unit: &'static str,
+    },
+    #[error(
+        "the fixed step {h:e} s exceeds the stability limit {limit:.3e} s of rk4 for this model \
+         (spectral radius of the Jacobian {radius:.3e} 1/s at t = {t} s): use a step below it or \
+         an adaptive integrator"
+    )]
+    Unstable {
+        t: f64,
+        h: f64,
+        limit: f64,
+        radius: f64,
+    },
+    #[error("interrupted at t = {t} s")]
+    Interrupted { t: f64 },
+    #[error(
+        "no progress: at t = {t} s the last {window_s:.0} s of wall time gained {gained:.3e} s \
+         of simulated time; the remaining {remaining:.3e} s would take about {projected_s:.2e} s"
+    )]
+    Stalled {
+        t: f64,
+        window_s: f64,
+        gained: f64,
+        remaining: f64,
+        projected_s: f64,
+    },
+}
+
+impl RunError {
+    /// Time at which the run stopped (the start time for a run that could not start).
+    pub fn time(&self) -> f64 {
+        match self {
+            RunError::Ode(e) => e.time(),
+            RunError::Io { t, .. }
+            | RunError::Setup { t, .. }
+            | RunError::Validity { t, .. }
+            | RunError::Interrupted { t }
+            | RunError::Unstable { t, .. }
+            | RunError::Stalled { t, .. } => *t,
+        }
+    }
+}
+
+/// Progress as the run goes: simulated time and drum speed.
+#[derive(Clone, Copy, Debug)]
+pub struct Progress {
+    pub t: f64,
+    pub t_end: f64,
+    pub rpm: f64,
+    /// While the periodic start iterates (before t moves): one-period integrations so far and
+    /// the fixed point's residual relative to its tolerance (done at 1).
+    pub start: Option<(usize, f64)>,
+}
+
+/// Labels for the summary.
+#[derive(Clone, Debug, Default)]
+pub struct Labels {
+    pub model: String,
+    pub scene: String,
+    pub backend: String,
+}

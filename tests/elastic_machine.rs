@@ -2,7 +2,7 @@
 //! one here wrote: CalculiX's free-free frequencies of the tub (the modal file carries ccx's
 //! eigenvalues), and the reduced drum's Campbell diagram computed by an independent code path
 //! (`washdyn_fe::rotating::campbell`, itself checked against ccx's CORIOLIS analysis in
-//! fe/tests). Linearisation: M from the derivation, C = -dh/dq', K = -dh/dq by central
+//! tests/fe_drum.rs). Linearisation: M from the derivation, C = -dh/dq', K = -dh/dq by central
 //! differences about q = 0 at constant speed.
 
 use nalgebra::DMatrix;
@@ -124,7 +124,7 @@ fn drum_model(modes: usize, extra: &str, effects: &str) -> Model {
 fn clamped_spinning_drum_matches_the_reduced_campbell_diagram() {
     // The drum's rows with the tub held (its coordinates zero): the clamped drum of the FE
     // model, spinning. Reference: fe's `campbell` on the same modal data (a separate
-    // assembly of diag(omega^2) + Omega^2 (K_G - S_perp) and 2 Omega G), which fe/tests
+    // assembly of diag(omega^2) + Omega^2 (K_G - S_perp) and 2 Omega G), which tests/fe_drum.rs
     // checks against ccx's CORIOLIS.
     let model = drum_model(10, "", "\"elastic.drum\", \"centrifugal_stiffening\"");
     let eq = Equations::new(&model, &model.scene(Some("s")).unwrap());

@@ -3,6 +3,7 @@
 //! binaries one after the other, so a binary waiting on a single-threaded ccx left the other
 //! core idle). The package sets `autotests = false`: a new file is added here, and
 //! tests/tidy.rs fails when one is not.
+//! washdyn-fe's tests are here too (`fe_*.rs`): their ccx solves overlap the others'.
 //! tests/no_alloc.rs stays a binary of its own: it counts allocations through its global
 //! allocator, which other tests' threads would disturb.
 
@@ -21,6 +22,14 @@ mod elastic_cabinet;
 mod elastic_machine;
 mod energy;
 mod failed_run;
+mod fe_bodies;
+mod fe_cabinet;
+mod fe_closed_forms;
+mod fe_drum;
+mod fe_free_body;
+mod fe_modal_import;
+mod fe_rotating;
+mod fe_steady_state;
 mod fields;
 mod full_mesh;
 mod gasket;

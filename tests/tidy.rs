@@ -163,7 +163,7 @@ fn every_example_bench_and_script_a_document_runs_exists() {
 // - A *unit* of README.md or ARCHITECTURE.md is a bullet (a line starting with `- `, with the
 //   indented lines under it) or a paragraph. Code blocks, headings and table rows are no units.
 // - A *test file* is a path in a unit, written in full from the repository's root
-//   (`tests/energy.rs`, `fe/tests/drum.rs`, `ode/src/tests.rs`), of a file that holds
+//   (`tests/energy.rs`, `tests/fe_drum.rs`, `ode/src/tests.rs`), of a file that holds
 //   `#[test]`.
 // - A *claim* is a bound followed by its measured value in brackets: `BOUND [MEASURED ...]`,
 //   each a number (`1e-12`, `0.5`, `2.0075`), the bound optionally with one unit of UNITS
@@ -583,7 +583,7 @@ fn every_test_file_is_compiled() {
             }
         }
     }
-    // Measured: 41 files (33 at the root, 8 in fe).
+    // Measured: 41 files, all at the root (washdyn-fe's as tests/fe_*.rs).
     assert!(checked >= 40, "{checked} test files found");
     assert!(
         missing.is_empty(),

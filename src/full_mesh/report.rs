@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 const CCX_NOTES: &str = "
 ## What the reference relies on in CalculiX 2.20
 
-Checked on small decks (fe/tests/steady_state.rs: a chain of 40 point masses against a direct
+Checked on small decks (tests/fe_steady_state.rs: a chain of 40 point masses against a direct
 complex solve in the same modal subspace; a curved 8 x 8 S8R plate for the equations; the
 scalar dofs by a script during issue 19).
 

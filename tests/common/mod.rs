@@ -168,6 +168,15 @@ pub fn required_tool(ok: bool, what: &str, install: &str) -> bool {
     ok
 }
 
+/// Whether ccx can run (`required_tool` for CalculiX).
+pub fn have_ccx() -> bool {
+    required_tool(
+        washdyn_fe::ccx::available(),
+        "CalculiX",
+        "apt-get install calculix-ccx",
+    )
+}
+
 /// A scene linearised about q = 0 at constant drum speed: M = blockdiag(M1, E), C = -dh/dq',
 /// K = -dh/dq (central differences with step `eps`), and h at q = 0.
 pub struct Linearised {

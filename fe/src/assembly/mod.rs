@@ -15,7 +15,7 @@
 //!
 //! What this relies on in ccx 2.20 (Rayleigh damping with dashpots in steady-state dynamics,
 //! frequency tables of dashpots, equations on shell nodes, the load cases' convention, MASS
-//! elements on dependent nodes) is measured in fe/tests/steady_state.rs and listed in
+//! elements on dependent nodes) is measured in tests/fe_steady_state.rs and listed in
 //! docs/full-mesh.md.
 //!
 //! This file holds the linear machine (`linear_machine`) and what the deck and its answer are;

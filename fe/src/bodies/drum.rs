@@ -14,13 +14,13 @@
 //! without it the 11.5 mm of 35 mm shaft between the hub and the seat carries 290 MPa at
 //! 1400 rpm with the reference unbalance (beam theory 247 MPa), above the issue's 250.
 //!
-//! Measured (`fe/tests/drum.rs`, ccx 2.20): 9.52 kg, polar inertia 0.232 kg m^2; first
+//! Measured (`tests/fe_drum.rs`, ccx 2.20): 9.52 kg, polar inertia 0.232 kg m^2; first
 //! rocking pair 107.5 Hz on rigid bearings; at 1400 rpm with 0.6 kg at the front, front edge
 //! 2.39 mm, spider 58 MPa, shaft 150 MPa just outside the front seat.
 //!
 //! Numbers: reference-machine.md ("FE models"), the plan of issue 19; engineering estimates.
 //! `Drum::brick_mesh` is the same drum with its sheets as single-layer bricks (no shell knots,
-//! no MPCs) for CalculiX's Coriolis reference (`fe/tests/drum.rs`).
+//! no MPCs) for CalculiX's Coriolis reference (`tests/fe_drum.rs`).
 
 use super::geometry::{brick_grid, on_circle, piecewise, polar_bricks, shell_grid};
 use crate::mesh::{Material, Mesh, Rigid, Section};
@@ -67,7 +67,7 @@ pub struct Drum {
     pub depth_rim: f64,
     /// Shape of the arms' taper: depth = rim + (hub - rim) s^p, s = 1 at the hub, 0 at the
     /// tip. p = 1.5 thins the arms quickly outboard: at 1400 rpm their stress stays far below
-    /// the bound while the front edge deflects as a production drum does (`fe/tests/drum.rs`).
+    /// the bound while the front edge deflects as a production drum does (`tests/fe_drum.rs`).
     pub depth_exponent: f64,
     pub arm_elements: usize,
     /// Shaft: bore of the polar mesh (no degenerate bricks on the axis), diameters in front of

@@ -71,7 +71,7 @@ impl Default for Tub {
             axis_z: 0.45,
             // Counterweights from `balance::balanced` with the drum of issue 19 (rounded to
             // 0.1 mm): the suspended body's mass and CoG come out as reference-machine.md's;
-            // `fe/tests/bodies.rs` re-checks. The carrier plate is 0.44 m across (issue 9: as a
+            // `tests/fe_bodies.rs` re-checks. The carrier plate is 0.44 m across (issue 9: as a
             // 0.25 m block on the bare 1.2 mm wall it let the drum rock at 10-14 Hz, inside
             // drum order 1).
             hub_outer: 0.22,

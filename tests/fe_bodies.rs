@@ -17,7 +17,7 @@ use washdyn_runtime::ir::modal::{self, ModalData};
 
 fn committed(name: &str) -> ModalData {
     let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../models/fe")
+        .join("models/fe")
         .join(format!("{name}.modal.toml"));
     modal::read_file(&p, &p.display().to_string()).unwrap_or_else(|e| panic!("{e}"))
 }
@@ -26,7 +26,7 @@ fn committed(name: &str) -> ModalData {
 fn committed_decks_are_what_the_code_writes() {
     // models/fe/*.inp are the decks behind the committed modal data (`washdyn fe write --out
     // models/fe`); they must not drift from the parametric models.
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../models/fe");
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("models/fe");
     for (name, text) in bodies::decks() {
         let kept =
             std::fs::read_to_string(dir.join(&name)).unwrap_or_else(|e| panic!("{name}: {e}"));
@@ -74,7 +74,7 @@ fn tub_drum_and_rotor_make_the_suspended_body() {
     // 1 % each (CoG per its height, 0.45 m; products per the diagonal). Measured 1.0e-3 at
     // worst.
     let model = washdyn_runtime::ir::toml_file::load_file(
-        &PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../models/data/reference.toml"),
+        &PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("models/data/reference.toml"),
     )
     .unwrap();
     let b = bodies::builtin();
@@ -362,5 +362,5 @@ fn drum_stress_stiffened_frequencies_come_back_from_the_committed_data() {
     eprintln!("stress-stiffened frequencies against ccx: worst {worst:.1e}");
 }
 
-// The drum's Campbell diagram against CalculiX: `fe/tests/drum.rs`, on the knot-free brick
+// The drum's Campbell diagram against CalculiX: `tests/fe_drum.rs`, on the knot-free brick
 // variant (ccx's Coriolis matrix is wrong on models with MPCs, as the production drum is).

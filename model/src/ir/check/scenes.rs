@@ -1,0 +1,64 @@
+//! The sensors' and scenes' rules: unique sensor names and finite points; unique scene names,
+//! known effects (`damper_mass.<name>` with `friction_dampers`), a positive `max_order`.
+
+use super::{Ctx, Names, Path};
+use crate::ir::{Effect, Model};
+use std::collections::HashSet;
+
+/// Sensors: a unique name and a finite point (the drum's sensors: `elastic.rs`).
+pub(super) fn sensors<'a>(c: &mut Ctx, names: &mut Names<'a>, m: &'a Model) {
+    for (i, s) in m.sensors.iter().enumerate() {
+        let p = Path::of(&["sensors"]).idx(i);
+        names.add(c, p.clone(), "sensor", &s.name);
+        c.vec3(p.key("point"), &format!("sensor `{}`", s.name), &s.point);
+    }
+}
+
+/// Scenes: a unique name, known effects (`damper_mass.<name>` only with `friction_dampers`), a
+/// positive `max_order`.
+pub(super) fn scenes(c: &mut Ctx, m: &Model) {
+    let rotors: Vec<&str> = m.rotors.iter().map(|r| r.name.as_str()).collect();
+    let elastic_names: Vec<&str> = m.elastic.iter().map(|e| e.name.as_str()).collect();
+    let massive = m.massive_dampers();
+    let mut scene_names = HashSet::new();
+    for (i, s) in m.scenes.iter().enumerate() {
+        let p = Path::of(&["scenes"]).idx(i);
+        if !scene_names.insert(s.name.as_str()) {
+            c.err(
+                p.clone().key("name"),
+                format!("duplicate scene name `{}`", s.name),
+            );
+        }
+        for (j, e) in s.effects.iter().enumerate() {
+            if Effect::parse(e, &rotors, &elastic_names, &massive).is_none() {
+                c.err(
+                    p.clone().key("effects").idx(j),
+                    format!(
+                        "scene `{}`: unknown effect `{e}` (known: gyroscopic, friction_dampers, \
+                         gasket_damping, element_geometry, unbalance_inertia, unbalance.<rotor>, \
+                         elastic.<body>, centrifugal_stiffening, damper_mass.<friction damper \
+                         with a moving_part>, contact)",
+                        s.name
+                    ),
+                );
+            }
+        }
+        let massive = s.effects.iter().position(|e| e.starts_with("damper_mass."));
+        if let Some(j) = massive.filter(|_| !s.effects.iter().any(|e| e == "friction_dampers")) {
+            c.err(
+                p.clone().key("effects").idx(j),
+                format!(
+                    "scene `{}`: `{}` needs the effect `friction_dampers`",
+                    s.name, s.effects[j]
+                ),
+            );
+        }
+        if let Some(o) = s.max_order {
+            c.positive(
+                p.clone().key("max_order"),
+                &format!("scene `{}`: max_order", s.name),
+                o,
+            );
+        }
+    }
+}

@@ -1,0 +1,94 @@
+//! Reading modal data: the TOML file or text into `ModalData` with file and line in its errors,
+//! and the one resolver that reads every elastic body's file into a model.
+
+use super::{ModalData, problems};
+use crate::ir::Model;
+use crate::ir::check::{CheckError, Path};
+use crate::ir::files::DataFiles;
+use std::path::{Path as FsPath, PathBuf};
+
+/// Read a modal data file; errors carry the file (as `shown`) and line.
+pub fn read_file(path: &FsPath, shown: &str) -> Result<ModalData, String> {
+    let src = std::fs::read_to_string(path).map_err(|e| format!("{shown}: cannot read: {e}"))?;
+    read_str(&src, shown)
+}
+
+/// Parse modal data text; errors carry the file (as `shown`) and line.
+pub fn read_str(src: &str, shown: &str) -> Result<ModalData, String> {
+    from_toml(src).map_err(|(span, m)| {
+        let line = span.map_or(0, |s| src[..s.start.min(src.len())].lines().count().max(1));
+        format!("{shown}:{line}: {m}")
+    })
+}
+
+/// Deserialize TOML text; an error gives its span and a message that names the field
+/// (`points[2].position: invalid length 4, ...`), as serde_path_to_error tracks it.
+pub fn from_toml<T: serde::de::DeserializeOwned>(
+    src: &str,
+) -> Result<T, (Option<std::ops::Range<usize>>, String)> {
+    let de = toml::Deserializer::parse(src).map_err(|e| (e.span(), e.message().trim().into()))?;
+    serde_path_to_error::deserialize(de).map_err(|e| {
+        let path = e.path().to_string();
+        let e = e.into_inner();
+        let m = e.message().trim();
+        // A message of its own that starts with the field (`missing field`, `unknown field`)
+        // or an error at the top needs no path.
+        let m = if path == "." || m.contains(&format!("`{path}`")) {
+            m.to_string()
+        } else {
+            format!("{path}: {m}")
+        };
+        (e.span(), m)
+    })
+}
+
+/// Read every elastic body's modal data file (from `files`: relative to the model's directory,
+/// or compiled in) into the model: the one resolver of both front ends. Returns the files read
+/// from disk (the macro makes cargo watch them) and the problems, each at `elastic[i].file` and
+/// naming the file (an absolute path, or the embedded file's origin).
+pub fn resolve(model: &mut Model, files: DataFiles) -> (Vec<PathBuf>, Vec<CheckError>) {
+    let (mut read, mut errors) = (Vec::new(), Vec::new());
+    for (i, e) in model.elastic.iter_mut().enumerate() {
+        let data = files
+            .read(&e.file)
+            .map_err(|e| e.to_string())
+            .and_then(|f| {
+                read.extend(f.path.clone());
+                read_str(&f.text, &f.shown)
+            });
+        match data {
+            Ok(mut d) => {
+                // The file's own rules before anything computes with it (truncation's
+                // eigen-solver did not return on NaN); the checker skips a body without data.
+                let found = problems(&d);
+                if !found.is_empty() {
+                    errors.extend(found.into_iter().map(|m| CheckError {
+                        path: Path::default().key("elastic").idx(i).key("file"),
+                        message: format!("elastic `{}`: {}: {m}", e.name, files.shown(&e.file)),
+                    }));
+                    continue;
+                }
+                if let Some(n) = e.modes {
+                    if n > d.eigenmodes() {
+                        errors.push(CheckError {
+                            path: Path::default().key("elastic").idx(i).key("modes"),
+                            message: format!(
+                                "elastic `{}`: asks for {n} modes, `{}` has {}",
+                                e.name,
+                                files.shown(&e.file),
+                                d.eigenmodes()
+                            ),
+                        });
+                    }
+                    d.truncate(n, &[]);
+                }
+                e.data = Some(d);
+            }
+            Err(m) => errors.push(CheckError {
+                path: Path::default().key("elastic").idx(i).key("file"),
+                message: format!("elastic `{}`: {m}", e.name),
+            }),
+        }
+    }
+    (read, errors)
+}

@@ -1,0 +1,190 @@
+//! Truncation of modal data: keeping the first eigenmodes and folding the dropped ones' static
+//! response at the load points into correction modes, the change of basis that carries every
+//! field along, and the generalised eigenproblem both use.
+
+use super::{Correction, LoadCase, ModalData};
+
+impl ModalData {
+    /// Keep the first `n` eigenmodes. Correction modes stay; the dropped eigenmodes' static
+    /// response to the load cases (the correction's and `loads`, the scene's elements' at this
+    /// body, `Model::element_loads`), sum_k Phi_k (f_j . Phi_k) / omega_k^2, becomes new
+    /// correction modes, so that truncation never loses flexibility at the load points.
+    pub fn truncate(&mut self, n: usize, loads: &[LoadCase]) {
+        let (m, e) = (self.modes(), self.eigenmodes());
+        if n >= e {
+            return;
+        }
+        let w2: Vec<f64> = self
+            .frequencies
+            .iter()
+            .map(|f| (2.0 * std::f64::consts::PI * f).powi(2))
+            .collect();
+        // Columns over the dropped modes n..e: the static shapes of the load cases.
+        let mut cols: Vec<Vec<f64>> = Vec::new();
+        if let Some(c) = &self.correction {
+            let j = c.loads.len();
+            cols.extend((0..j).map(|col| {
+                (n..e)
+                    .map(|k| c.participation[k * j + col] / w2[k])
+                    .collect()
+            }));
+        }
+        for l in loads {
+            if let Some(p) = self.point(&l.point) {
+                cols.push((n..e).map(|k| l.participation(p, k) / w2[k]).collect());
+            }
+        }
+        let folded = if cols.is_empty() {
+            (nalgebra::DMatrix::zeros(e - n, 0), Vec::new())
+        } else {
+            let u = nalgebra::DMatrix::from_fn(e - n, cols.len(), |r, c| cols[c][r]);
+            orthonormal_static_basis(&u, &w2[n..e])
+        };
+        let (p, r) = (folded.1.len(), m - e);
+        let mut t = nalgebra::DMatrix::zeros(m, n + p + r);
+        for k in 0..n {
+            t[(k, k)] = 1.0;
+        }
+        t.view_mut((n, n), (e - n, p)).copy_from(&folded.0);
+        for k in 0..r {
+            t[(e + k, n + p + k)] = 1.0;
+        }
+        let mut frequencies = self.frequencies[..n].to_vec();
+        frequencies.extend(folded.1);
+        frequencies.extend_from_slice(&self.frequencies[e..]);
+        self.change_basis(&t, frequencies);
+        match &mut self.correction {
+            Some(c) => {
+                c.modes = p + r;
+                c.participation.truncate(n * c.loads.len());
+            }
+            // Data without correction modes (the drum): the folded shapes are correction
+            // modes all the same, so that `eigenmodes()` counts only eigenmodes.
+            None if p > 0 => {
+                self.correction = Some(Correction {
+                    loads: Vec::new(),
+                    modes: p,
+                    participation: Vec::new(),
+                })
+            }
+            None => {}
+        }
+    }
+
+    /// Cut as a scene with `cutoff` Hz cuts it: the eigenmodes up to it (at least one), the
+    /// correction modes, and the dropped modes' static response to `loads` (`truncate`).
+    pub fn cut(&mut self, cutoff: f64, loads: &[LoadCase]) {
+        let keep = self.frequencies[..self.eigenmodes()]
+            .iter()
+            .filter(|f| **f <= cutoff)
+            .count()
+            .max(1);
+        self.truncate(keep, loads);
+    }
+
+    /// The eigenmodes alone, without the correction modes (to measure what they buy).
+    pub fn without_correction(&self) -> ModalData {
+        let mut d = self.clone();
+        let e = d.eigenmodes();
+        let m = d.modes();
+        d.correction = None;
+        let t = nalgebra::DMatrix::from_fn(m, e, |r, c| if r == c { 1.0 } else { 0.0 });
+        let f = d.frequencies[..e].to_vec();
+        d.change_basis(&t, f);
+        d
+    }
+
+    /// Express the data in new coordinates q_old = T q_new (T: modes x new modes) whose
+    /// stiffness is diagonal with `frequencies`: every field is linear or bilinear in the shapes.
+    fn change_basis(&mut self, t: &nalgebra::DMatrix<f64>, frequencies: Vec<f64>) {
+        let (m, n) = t.shape();
+        if self.file_modes.is_none() {
+            self.file_modes = Some(self.own_modes());
+        }
+        let row = |v: &[f64]| -> Vec<f64> {
+            (0..n)
+                .map(|j| (0..m).map(|k| v[k] * t[(k, j)]).sum())
+                .collect()
+        };
+        let square = |v: &[f64]| -> Vec<f64> {
+            let a = nalgebra::DMatrix::from_row_slice(m, m, v);
+            let b = t.transpose() * a * t;
+            (0..n * n).map(|i| b[(i / n, i % n)]).collect()
+        };
+        let file = match &self.basis {
+            Some(b) => nalgebra::DMatrix::from_row_slice(b.len() / m, m, b) * t,
+            None => t.clone(),
+        };
+        self.basis = Some(
+            (0..file.nrows() * n)
+                .map(|i| file[(i / n, i % n)])
+                .collect(),
+        );
+        let e = &mut self.elementary;
+        for a in 0..3 {
+            e.c[a] = row(&e.c[a]);
+            for b in 0..3 {
+                e.s[a][b] = row(&e.s[a][b]);
+                e.g[a][b] = square(&e.g[a][b]);
+            }
+        }
+        for p in &mut self.points {
+            for a in 0..3 {
+                p.w[a] = row(&p.w[a]);
+                p.phi[a] = row(&p.phi[a]);
+            }
+        }
+        if let Some(k) = &mut self.geometric_stiffness {
+            k.per_omega2 = square(&k.per_omega2);
+        }
+        self.frequencies = frequencies;
+    }
+}
+
+/// Relative size below which a static shape adds nothing new (it lies in the others' span).
+pub const DEPENDENT_SHAPE: f64 = 1e-10;
+
+/// The span of the columns of `u` (coordinates in modes with unit modal mass and stiffness
+/// `w2`) as an orthonormal, stiffness-diagonal basis: (basis columns, their frequencies in Hz,
+/// ascending). Directions whose modal mass is below `DEPENDENT_SHAPE` of the largest are dropped.
+pub fn orthonormal_static_basis(
+    u: &nalgebra::DMatrix<f64>,
+    w2: &[f64],
+) -> (nalgebra::DMatrix<f64>, Vec<f64>) {
+    let k = nalgebra::DMatrix::from_diagonal(&nalgebra::DVector::from_column_slice(w2));
+    let mass = u.transpose() * u;
+    let stiff = u.transpose() * k * u;
+    let (b, lambda) = generalised_eigen(&mass, &stiff);
+    let basis = u * b;
+    let f = lambda
+        .iter()
+        .map(|l| l.max(0.0).sqrt() / (2.0 * std::f64::consts::PI))
+        .collect();
+    (basis, f)
+}
+
+/// Solve K x = lambda M x in the span where M (symmetric, semi-definite) is not negligible:
+/// (X with X^T M X = E and X^T K X = diag(lambda), lambda ascending).
+pub fn generalised_eigen(
+    mass: &nalgebra::DMatrix<f64>,
+    stiff: &nalgebra::DMatrix<f64>,
+) -> (nalgebra::DMatrix<f64>, Vec<f64>) {
+    let me = nalgebra::SymmetricEigen::new(0.5 * (mass + mass.transpose()));
+    let top = me.eigenvalues.iter().fold(0.0f64, |a, v| a.max(*v));
+    let keep: Vec<usize> = (0..me.eigenvalues.len())
+        .filter(|&i| top > 0.0 && me.eigenvalues[i] > DEPENDENT_SHAPE * top)
+        .collect();
+    let b = nalgebra::DMatrix::from_fn(mass.nrows(), keep.len(), |r, c| {
+        me.eigenvectors[(r, keep[c])] / me.eigenvalues[keep[c]].sqrt()
+    });
+    let a = b.transpose() * stiff * &b;
+    let ke = nalgebra::SymmetricEigen::new(0.5 * (&a + a.transpose()));
+    let mut order: Vec<usize> = (0..keep.len()).collect();
+    order.sort_by(|&i, &j| ke.eigenvalues[i].total_cmp(&ke.eigenvalues[j]));
+    let x = nalgebra::DMatrix::from_fn(mass.nrows(), keep.len(), |r, c| {
+        (0..keep.len())
+            .map(|l| b[(r, l)] * ke.eigenvectors[(l, order[c])])
+            .sum()
+    });
+    (x, order.iter().map(|&i| ke.eigenvalues[i]).collect())
+}

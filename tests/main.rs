@@ -49,4 +49,5 @@ mod truncation;
 mod tutorial;
 mod unbalance_response;
 mod user_deck;
+mod user_spinning;
 mod validity_watch;

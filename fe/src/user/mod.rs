@@ -176,12 +176,14 @@ pub fn load(spec_path: &Path) -> Result<BodySpec, String> {
                     "spin: needs a nonzero axis, a positive reference_rpm and modes".into(),
                 ));
             }
-            Some(Spin {
+            let spin = Spin {
                 axis_point: s.axis_point,
                 axis: s.axis.map(|v| v / n),
                 reference_speed: s.reference_rpm * std::f64::consts::PI / 30.0,
                 modes: s.modes,
-            })
+            };
+            axis_through_the_body(&mesh, &spin).map_err(|m| bad("axis_point", m))?;
+            Some(spin)
         }
         None => None,
     };
@@ -201,6 +203,42 @@ pub fn load(spec_path: &Path) -> Result<BodySpec, String> {
         correction: spec.correction,
         recovery: spec.recovery,
     })
+}
+
+/// Farthest the body's centre of gravity may lie from the spin axis, as a fraction of the
+/// body's reach from the axis (its farthest node): a drum turns about its own axis, balanced
+/// (the laundry's unbalance is the model's, not the FE body's). A gross mistake passes far
+/// off: the axis point written in the deck's mm (measured 1.0 of the reach on the drum of
+/// the unit tests, tests/user_spinning.rs's), the axis through the origin instead of the
+/// drum's centre (0.72), the wrong axis direction (0.26). Such an axis made modal data that
+/// `campbell` then refused (mm), or a Campbell diagram of the wrong body without a word
+/// (through the origin: 103.4 Hz for the lowest mode at 1400 rpm where ccx has 97.4).
+const AXIS_OFF_COG: f64 = 0.1;
+
+/// The spin axis passes through the body's centre of gravity, within `AXIS_OFF_COG` of the
+/// body's reach from it.
+fn axis_through_the_body(mesh: &crate::mesh::Mesh, spin: &Spin) -> Result<(), String> {
+    use washdyn_runtime::geom::f::{dot, norm, scale, sub};
+    let off = |p: [f64; 3]| {
+        let r = sub(p, spin.axis_point);
+        norm(sub(r, scale(spin.axis, dot(r, spin.axis))))
+    };
+    let cog = crate::lumping::consistent_mass_props(mesh).cog;
+    let reach = mesh.nodes.iter().map(|p| off(*p)).fold(0.0f64, f64::max);
+    let d = off(cog);
+    if d.is_finite() && d <= AXIS_OFF_COG * reach {
+        return Ok(());
+    }
+    Err(format!(
+        "spin: the axis through axis_point {:?} m along {:?} passes {d:.3} m from the \
+         body's centre of gravity {cog:.3?} m, {:.0} % of the body's reach from it (at most \
+         {:.0} %: a drum turns about its own axis); the spec is in SI units (m), whatever the \
+         deck's",
+        spin.axis_point,
+        spin.axis,
+        100.0 * d / reach,
+        100.0 * AXIS_OFF_COG
+    ))
 }
 
 /// The points `model` attaches to the body of kind `kind`, its modal data unread; errors name
@@ -293,8 +331,21 @@ pub fn build_checked(spec: &BodySpec, work: &Path) -> Result<(ModalData, Report,
             checked.normalisation
         ));
     }
+    wrong.extend(refused(&data));
     if !wrong.is_empty() {
         return Err(format!("{}: {}", spec.name, wrong.join("; ")));
     }
     Ok((data, report, checked))
 }
+
+/// What `check`, `run` and `campbell` would refuse in the modal data (`modal::problems`): found
+/// here, before the file is written, not when it is read.
+fn refused(data: &ModalData) -> Vec<String> {
+    washdyn_runtime::ir::modal::problems(data)
+        .into_iter()
+        .map(|p| format!("the modal data's {p}"))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests;

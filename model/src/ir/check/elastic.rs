@@ -272,6 +272,25 @@ fn elastic_drum(c: &mut Ctx, m: &Model) {
     let Some(d) = modal_of(m, BodyRef::Drum) else {
         return;
     };
+    // The stress stiffening was computed for a spin about one axis: the model's rotor must
+    // turn the drum about the same line (a unit axis; the point within the points' tolerance).
+    if let (Some(k), Some(r)) = (&d.geometric_stiffness, m.drum()) {
+        let (e, f) = (crate::geom::f::unit(r.axis), crate::geom::f::unit(k.axis));
+        let off = crate::geom::f::sub(k.axis_point, r.axis_point);
+        let dist = crate::geom::f::norm(crate::geom::f::cross(off, e));
+        let parallel = (crate::geom::f::norm(crate::geom::f::cross(e, f)) <= 1e-6)
+            && crate::geom::f::dot(e, f) > 0.0;
+        if !(parallel && dist <= crate::ir::modal::POINT_TOLERANCE) {
+            c.err(
+                Path::of(&["elastic"]).idx(i).key("file"),
+                format!(
+                    "{}: geometric_stiffness spins about {:?} through {:?}, the rotor `drum` \
+                     about {:?} through {:?} ({:.3} m apart): the data was made for another axis",
+                    m.elastic[i].file, k.axis, k.axis_point, r.axis, r.axis_point, dist
+                ),
+            );
+        }
+    }
     if d.geometric_stiffness.is_none() {
         for (j, s) in m.scenes.iter().enumerate() {
             if s.effects.iter().any(|e| e == "centrifugal_stiffening") {
@@ -283,6 +302,45 @@ fn elastic_drum(c: &mut Ctx, m: &Model) {
                     ),
                 );
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::ir::BodyRef;
+    use crate::ir::toml_file::reference_for_tests;
+
+    /// Drum modal data made for another spin axis (a user's spec with the axis point off, or
+    /// another model's drum) is refused; the reference's own passes.
+    #[test]
+    fn drum_data_for_another_axis_is_refused() {
+        let ok = reference_for_tests();
+        assert!(crate::ir::check::check(&ok).is_ok());
+        for (shift, axis) in [
+            ([0.0, 0.0, 0.05], [1.0, 0.0, 0.0]),
+            ([0.0; 3], [0.0, 1.0, 0.0]),
+        ] {
+            let mut m = ok.clone();
+            let e = m
+                .elastic
+                .iter_mut()
+                .find(|e| e.body() == Some(BodyRef::Drum))
+                .unwrap();
+            let k = e
+                .data
+                .as_mut()
+                .unwrap()
+                .geometric_stiffness
+                .as_mut()
+                .unwrap();
+            k.axis_point = crate::geom::f::add(k.axis_point, shift);
+            k.axis = axis;
+            let err = crate::ir::check::check(&m).unwrap_err();
+            assert!(
+                format!("{err:?}").contains("made for another axis"),
+                "{err:?}"
+            );
         }
     }
 }

@@ -1,7 +1,8 @@
 //! Sensors: what a point of a body reads, displacement or acceleration in global components
 //! (first order in the small quantities, like the equations). A point on the drum turns with
 //! it: the tub's motion at the drum's mount carried to the turning point, plus the elastic
-//! drum's own modes there, the same motion the field recovery gives its node (src/fields.rs).
+//! drum's own modes there, the same motion the field recovery gives its node
+//! (src/fields/recovery.rs).
 
 use super::{Bodies, BodyRef, Drive, Equations, Frame, MarkerDef, ModalRows, rotate};
 use crate::geom::{V, f};

@@ -12,19 +12,30 @@
 //! acceleration channel the RMS difference relative to A ([`crate::accuracy::relative_rms`]).
 //! A is the reference: dB = 20 log10(B / A).
 //!
+//! [`read_signals`]: crate::analysis::read_signals
+//!
 //! Writes `compare.md`, `compare.json` and per channel `<channel>_order_compare.png` (the two
 //! order plots on one colour scale) and `<channel>_tracks_compare.png` (order 1 and the largest
 //! other orders, A solid, B dashed).
+//!
+//! This file holds the comparison itself (the options, the channels analysed and compared, the
+//! plots); the runs' input (`runs.rs`: reading a run directory, its cost, whether two runs can be
+//! compared) and the report (`report.rs`: compare.md and compare.json) have a file each.
 
 use crate::accuracy::{ORDER_FLOOR, relative_rms, track_error};
 use crate::analysis::angle::{AngleGrid, Kernel};
-use crate::analysis::options::fmt_order;
 use crate::analysis::{
-    AnalysisError, AnalysisOptions, Quantity, RunUp, Signals, plot, read_signals, unique_stems,
+    AnalysisError, AnalysisOptions, Quantity, RunUp, Signals, plot, unique_stems,
 };
 use serde::{Deserialize, Serialize};
-use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
+
+mod report;
+mod runs;
+
+use report::write;
+pub use report::{cost_table, markdown};
+pub use runs::{Cost, check_comparable, load};
 
 /// Drum orders the comparison tracks (the friction dampers' odd harmonics lie among them); the
 /// motor's first order is tracked beside them.
@@ -100,65 +111,6 @@ pub enum CompareError {
     Write { path: PathBuf, message: String },
 }
 
-/// What a run cost, from its summary.json (fields a summary lacks stay empty).
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-pub struct Cost {
-    pub label: String,
-    pub dir: String,
-    pub model: Option<String>,
-    pub scene: Option<String>,
-    pub backend: Option<String>,
-    pub method: Option<String>,
-    pub rtol: Option<f64>,
-    pub status: Option<String>,
-    pub error: Option<String>,
-    pub t_reached: Option<f64>,
-    pub t_end: Option<f64>,
-    pub steps: Option<u64>,
-    pub rejected_steps: Option<u64>,
-    pub rhs_evals: Option<u64>,
-    pub wall_time_s: Option<f64>,
-    pub energy_closure: Option<f64>,
-}
-
-impl Cost {
-    /// The cost fields of a run's summary.json.
-    pub fn read(dir: &Path, label: &str) -> Result<Cost, CompareError> {
-        let path = dir.join("summary.json");
-        let err = |message: String| CompareError::Summary {
-            path: path.clone(),
-            message,
-        };
-        let text = std::fs::read_to_string(&path).map_err(|e| err(e.to_string()))?;
-        let v: serde_json::Value =
-            serde_json::from_str(&text).map_err(|e| err(format!("not JSON: {e}")))?;
-        if !v.is_object() {
-            return Err(err("not a run summary (expected a JSON object)".into()));
-        }
-        let s = |k: &str| v.get(k).and_then(|x| x.as_str()).map(str::to_string);
-        let f = |k: &str| v.get(k).and_then(serde_json::Value::as_f64);
-        let u = |k: &str| v.get(k).and_then(serde_json::Value::as_u64);
-        Ok(Cost {
-            label: label.to_string(),
-            dir: dir.display().to_string(),
-            model: s("model"),
-            scene: s("scene"),
-            backend: s("backend"),
-            method: s("integrator"),
-            rtol: f("rtol"),
-            status: s("status"),
-            error: s("error"),
-            t_reached: f("t_reached"),
-            t_end: f("t_end"),
-            steps: u("steps"),
-            rejected_steps: u("rejected_steps"),
-            rhs_evals: u("rhs_evals"),
-            wall_time_s: f("wall_time_s"),
-            energy_closure: f("energy_closure"),
-        })
-    }
-}
-
 /// One tracked order of one channel in both runs.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct OrderComparison {
@@ -226,89 +178,6 @@ pub fn options(motor_ratio: f64, svg: bool) -> AnalysisOptions {
         svg,
         ..AnalysisOptions::default()
     }
-}
-
-/// A run directory's signals (sensors.parquet, else sensors.csv) and its cost.
-pub fn load(dir: &Path, label: &str) -> Result<(Signals, Cost), CompareError> {
-    if !dir.is_dir() {
-        return Err(CompareError::NoRun {
-            dir: dir.to_path_buf(),
-        });
-    }
-    let file = ["sensors.parquet", "sensors.csv"]
-        .iter()
-        .map(|f| dir.join(f))
-        .find(|p| p.is_file())
-        .ok_or_else(|| CompareError::NoSensors {
-            dir: dir.to_path_buf(),
-        })?;
-    let cost = Cost::read(dir, label)?;
-    Ok((read_signals(file)?, cost))
-}
-
-/// Refuse runs that cannot be compared sample by sample: other channels, sample rates or drum
-/// speeds.
-pub fn check_comparable(dirs: [&Path; 2], a: &Signals, b: &Signals) -> Result<(), CompareError> {
-    let (da, db) = (dirs[0].to_path_buf(), dirs[1].to_path_buf());
-    let names = |s: &Signals| -> std::collections::BTreeSet<String> {
-        s.channels.iter().map(|c| c.name.clone()).collect()
-    };
-    let (na, nb) = (names(a), names(b));
-    if na != nb {
-        return Err(CompareError::Channels {
-            a: da,
-            b: db,
-            only_a: na.difference(&nb).cloned().collect(),
-            only_b: nb.difference(&na).cloned().collect(),
-        });
-    }
-    if (a.sample_rate - b.sample_rate).abs() > PROFILE_TOLERANCE * a.sample_rate {
-        return Err(CompareError::SampleRate {
-            a: da,
-            b: db,
-            rate_a: a.sample_rate,
-            rate_b: b.sample_rate,
-        });
-    }
-    let profile = |detail: String| CompareError::Profile {
-        a: da.clone(),
-        b: db.clone(),
-        detail,
-    };
-    let span = |s: &Signals| {
-        format!(
-            "{} samples, {} to {} s",
-            s.len(),
-            s.time[0],
-            s.time[s.len() - 1]
-        )
-    };
-    let dt = 1.0 / a.sample_rate;
-    if a.len() != b.len() || (a.time[0] - b.time[0]).abs() > PROFILE_TOLERANCE * dt {
-        return Err(profile(format!(
-            "the first has {}, the second {} (a run that stopped early cannot be compared)",
-            span(a),
-            span(b)
-        )));
-    }
-    let top = a.drum_rpm.iter().fold(0.0f64, |m, r| m.max(r.abs()));
-    let (k, d) = a
-        .drum_rpm
-        .iter()
-        .zip(&b.drum_rpm)
-        .map(|(p, q)| (p - q).abs())
-        .enumerate()
-        .fold(
-            (0, 0.0f64),
-            |best, (k, d)| if d > best.1 { (k, d) } else { best },
-        );
-    if d > PROFILE_TOLERANCE * top.max(1.0) {
-        return Err(profile(format!(
-            "drum_rpm differs by {d:.6} rpm at t = {} s ({} against {} rpm)",
-            a.time[k], a.drum_rpm[k], b.drum_rpm[k]
-        )));
-    }
-    Ok(())
 }
 
 /// 20 log10(b / a) where both are positive.
@@ -469,164 +338,4 @@ pub fn compare(args: &CompareArgs) -> Result<(Comparison, Vec<PathBuf>), Compare
     let mut files = write(&comparison, &args.out, &opts)?;
     files.extend(plots.into_iter().flatten());
     Ok((comparison, files))
-}
-
-/// compare.md and compare.json into `out`.
-fn write(c: &Comparison, out: &Path, opts: &AnalysisOptions) -> Result<Vec<PathBuf>, CompareError> {
-    let put = |name: &str, text: String| {
-        let p = out.join(name);
-        std::fs::write(&p, text)
-            .map(|_| p.clone())
-            .map_err(|e| CompareError::Write {
-                path: p,
-                message: e.to_string(),
-            })
-    };
-    let json = serde_json::to_string_pretty(c).expect("the comparison serialises");
-    Ok(vec![
-        put("compare.md", markdown(c, opts))?,
-        put("compare.json", json + "\n")?,
-    ])
-}
-
-/// A value in 4 significant digits, `-` where there is none.
-fn num(v: Option<f64>) -> String {
-    match v {
-        Some(v) if v != 0.0 && !(1e-2..1e4).contains(&v.abs()) => format!("{v:.3e}"),
-        Some(v) => format!("{v:.4}"),
-        None => "-".into(),
-    }
-}
-
-fn dbs(v: Option<f64>) -> String {
-    v.map_or("-".into(), |v| format!("{v:+.2}"))
-}
-
-fn rpm(v: Option<f64>) -> String {
-    v.map_or("-".into(), |v| format!("{v:.0}"))
-}
-
-/// The comparison as markdown: how it was made, the order table, the RMS table, the costs.
-pub fn markdown(c: &Comparison, opts: &AnalysisOptions) -> String {
-    let [a, b] = &c.runs;
-    let mut s = String::new();
-    let _ = writeln!(s, "# {} against {}\n", b.label, a.label);
-    let _ = writeln!(
-        s,
-        "A = {} (`{}`), B = {} (`{}`): {} samples at {} Hz, {:.3} to {:.3} s, drum up to {:.0} \
-         rpm.",
-        a.label,
-        a.dir,
-        b.label,
-        b.dir,
-        c.samples,
-        c.sample_rate_hz,
-        c.t_start_s,
-        c.t_end_s,
-        c.max_rpm
-    );
-    let _ = writeln!(
-        s,
-        "Order tracks as `washdyn analyse` makes them (angle domain, Hann over {} revolutions, {} \
-         samples per revolution), drum orders {} and motor order 1 (drum order {}), both runs \
-         with the same options. **peak**: the largest block value of the track over the run \
-         (SI units, amplitude), with the drum speed of that block; **dB** = 20 log10(peak B / \
-         peak A); **worst track dB**: 20 log10(B / A) where its magnitude is largest along the \
-         track, over the blocks where both runs are within {:.0} dB of their track's peak (the \
-         accuracy study's floor, `accuracy::track_error`), with its speed. `-`: not resolved.",
-        c.order_block_revs,
-        c.samples_per_rev,
-        DRUM_ORDERS
-            .iter()
-            .map(|o| fmt_order(*o))
-            .collect::<Vec<_>>()
-            .join(", "),
-        fmt_order(opts.motor_ratio),
-        -20.0 * c.floor.log10()
-    );
-    if !c.zero_in_both.is_empty() {
-        let _ = writeln!(
-            s,
-            "\nZero throughout in both runs (not compared): {}.",
-            c.zero_in_both.join(", ")
-        );
-    }
-    let _ = writeln!(s, "\n## Order peaks\n");
-    let _ = writeln!(
-        s,
-        "| channel | order | peak {} | peak {} | dB | at rpm {} / {} | worst track dB (at rpm) |",
-        a.label, b.label, a.label, b.label
-    );
-    let _ = writeln!(s, "|---|---|---|---|---|---|---|");
-    for ch in &c.channels {
-        for o in &ch.orders {
-            let _ = writeln!(
-                s,
-                "| {} [{}] | {} | {} | {} | {} | {} / {} | {} ({}) |",
-                ch.channel,
-                ch.unit,
-                fmt_order(o.order),
-                num(o.peak_a),
-                num(o.peak_b),
-                dbs(o.db),
-                rpm(o.rpm_a),
-                rpm(o.rpm_b),
-                dbs(o.worst_db),
-                rpm(o.worst_rpm)
-            );
-        }
-    }
-    let _ = writeln!(s, "\n## RMS over the run\n");
-    let _ = writeln!(
-        s,
-        "| channel | RMS {} | RMS {} | RMS(B - A) / RMS(A) |",
-        a.label, b.label
-    );
-    let _ = writeln!(s, "|---|---|---|---|");
-    for ch in &c.channels {
-        let _ = writeln!(
-            s,
-            "| {} [{}] | {} | {} | {} |",
-            ch.channel,
-            ch.unit,
-            num(Some(ch.rms_a)),
-            num(Some(ch.rms_b)),
-            ch.rms_diff.map_or("-".into(), |d| format!("{d:.3}"))
-        );
-    }
-    let _ = writeln!(s, "\n## Cost\n");
-    s.push_str(&cost_table(&c.runs));
-    s
-}
-
-/// The runs' costs as a markdown table (scene, method, tolerance, status, steps, rejected,
-/// wall time, energy closure).
-pub fn cost_table(runs: &[Cost]) -> String {
-    let mut s = String::from(
-        "| run | scene | method | tol | status | t reached / end s | steps | rejected | wall s | \
-         energy closure |\n|---|---|---|---|---|---|---|---|---|---|\n",
-    );
-    for r in runs {
-        let o = |v: &Option<String>| v.clone().unwrap_or_else(|| "-".into());
-        let status = match (&r.status, &r.error) {
-            (Some(st), Some(e)) => format!("{st}: {e}"),
-            (st, _) => o(st),
-        };
-        let _ = writeln!(
-            s,
-            "| {} | {} | {} | {} | {} | {} / {} | {} | {} | {} | {} |",
-            r.label,
-            o(&r.scene),
-            o(&r.method),
-            r.rtol.map_or("-".into(), |t| format!("{t:.0e}")),
-            status.replace('|', "/"),
-            r.t_reached.map_or("-".into(), |t| format!("{t:.3}")),
-            r.t_end.map_or("-".into(), |t| format!("{t:.3}")),
-            r.steps.map_or("-".into(), |v| v.to_string()),
-            r.rejected_steps.map_or("-".into(), |v| v.to_string()),
-            r.wall_time_s.map_or("-".into(), |v| format!("{v:.2}")),
-            r.energy_closure.map_or("-".into(), |v| format!("{v:.1e}"))
-        );
-    }
-    s
 }

@@ -662,7 +662,8 @@ fn no_source_file_is_longer_than_600_lines() {
             long.push(format!("{f}: {n}"));
         }
     }
-    // Measured: 146 files before the split of issue 23 point 8.
-    assert!(checked >= 140, "{checked} source files found");
+    // Measured: 178 files (146 before the split of issue 23 point 8), the longest src/main.rs
+    // (593 lines).
+    assert!(checked >= 150, "{checked} source files found");
     assert!(long.is_empty(), "longer than {MAX} lines: {long:?}");
 }

@@ -11,7 +11,6 @@
 use crate::common;
 
 use std::path::Path;
-use std::process::Command;
 use washdyn_runtime::ir::modal::{ModalData, read_file};
 
 const MODES: usize = 20;
@@ -103,14 +102,6 @@ fn same_body(dir: &Path) {
     }
 }
 
-fn washdyn(args: &[&str], dir: &Path) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_washdyn"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .unwrap()
-}
-
 #[test]
 fn a_users_mm_t_s_cabinet_deck_gives_the_committed_modes_and_runs_in_the_machine() {
     let dir = tempfile::tempdir().unwrap();
@@ -161,7 +152,7 @@ fn a_users_mm_t_s_cabinet_deck_gives_the_committed_modes_and_runs_in_the_machine
         "points = [\n  { name = \"spring_front\", at = [0.12, 0.01, 0.82] },\n",
     );
     std::fs::write(dir.path().join("bad.toml"), &bad).unwrap();
-    let out = washdyn(&["fe", "deck", "bad.toml"], dir.path());
+    let out = common::washdyn_in(&["fe", "deck", "bad.toml"], dir.path());
     let err = String::from_utf8_lossy(&out.stderr);
     let line = 1 + bad
         .lines()
@@ -180,7 +171,7 @@ fn a_users_mm_t_s_cabinet_deck_gives_the_committed_modes_and_runs_in_the_machine
         &points.replace("nset = \"MP_CAB2\"", "nset = \"NO_SUCH\""),
     );
     std::fs::write(dir.path().join("bad.toml"), bad).unwrap();
-    let out = washdyn(&["fe", "deck", "bad.toml"], dir.path());
+    let out = common::washdyn_in(&["fe", "deck", "bad.toml"], dir.path());
     let err = String::from_utf8_lossy(&out.stderr);
     // Refused data: exit code 5 (README, "Commands").
     assert_eq!(out.status.code(), Some(5), "{err}");
@@ -190,8 +181,10 @@ fn a_users_mm_t_s_cabinet_deck_gives_the_committed_modes_and_runs_in_the_machine
     );
     let bad = spec("missing.inp", &points);
     std::fs::write(dir.path().join("bad.toml"), bad).unwrap();
-    let err = String::from_utf8_lossy(&washdyn(&["fe", "deck", "bad.toml"], dir.path()).stderr)
-        .to_string();
+    let err = String::from_utf8_lossy(
+        &common::washdyn_in(&["fe", "deck", "bad.toml"], dir.path()).stderr,
+    )
+    .to_string();
     assert!(
         err.contains("missing.inp") && err.contains("cannot read"),
         "{err}"
@@ -204,7 +197,7 @@ fn a_users_mm_t_s_cabinet_deck_gives_the_committed_modes_and_runs_in_the_machine
     ) {
         return;
     }
-    let out = washdyn(
+    let out = common::washdyn_in(
         &[
             "fe",
             "deck",
@@ -276,7 +269,7 @@ fn a_users_mm_t_s_cabinet_deck_gives_the_committed_modes_and_runs_in_the_machine
     assert!(ours.points.iter().any(|p| p.name == "MY_SENSOR"));
 
     // The machine takes it: the reference model with this file as its cabinet passes `check`.
-    let out = washdyn(&["check", "machine.toml"], dir.path());
+    let out = common::washdyn_in(&["check", "machine.toml"], dir.path());
     assert!(
         out.status.success(),
         "{}{}",

@@ -23,7 +23,6 @@ use crate::common;
 use std::f64::consts::PI;
 use std::fmt::Write as _;
 use std::path::Path;
-use std::process::Command;
 use std::time::Instant;
 use washdyn_runtime::ir::modal::read_file;
 
@@ -195,14 +194,6 @@ reference_rpm = 1400.0
 modes = 20
 "#;
 
-fn washdyn(args: &[&str], dir: &Path) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_washdyn"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .unwrap()
-}
-
 fn ok(out: &std::process::Output) -> String {
     let text = String::from_utf8_lossy(&out.stdout).to_string();
     assert!(
@@ -238,7 +229,7 @@ fn campbell_of_a_users_mm_t_s_rotor_deck_matches_calculix_coriolis() {
     // spinning 450 m away, which `campbell` then refused).
     let bad = SPEC.replace("[0.0, 0.0, 0.45]", "[0.0, 0.0, 450.0]");
     std::fs::write(dir.join("bad.toml"), &bad).unwrap();
-    let out = washdyn(&["fe", "deck", "bad.toml"], dir);
+    let out = common::washdyn_in(&["fe", "deck", "bad.toml"], dir);
     let err = String::from_utf8_lossy(&out.stderr);
     let line = 1 + bad
         .lines()
@@ -259,7 +250,7 @@ fn campbell_of_a_users_mm_t_s_rotor_deck_matches_calculix_coriolis() {
     }
 
     let t = Instant::now();
-    let report = ok(&washdyn(
+    let report = ok(&common::washdyn_in(
         &[
             "fe",
             "deck",
@@ -274,7 +265,7 @@ fn campbell_of_a_users_mm_t_s_rotor_deck_matches_calculix_coriolis() {
     let fe_s = t.elapsed().as_secs_f64();
     println!("{report}");
     let t = Instant::now();
-    ok(&washdyn(
+    ok(&common::washdyn_in(
         &[
             "campbell",
             "data/my_drum.modal.toml",

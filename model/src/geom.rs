@@ -115,4 +115,9 @@ pub mod f {
         let n = norm(a);
         [a[0] / n, a[1] / n, a[2] / n]
     }
+    /// Distance of `p` from the line through `point` along `axis` (any nonzero length): how
+    /// far a point lies off a rotor's or a spin's axis.
+    pub fn off_line(p: [f64; 3], point: [f64; 3], axis: [f64; 3]) -> f64 {
+        norm(cross(sub(p, point), unit(axis)))
+    }
 }

@@ -168,6 +168,15 @@ pub fn required_tool(ok: bool, what: &str, install: &str) -> bool {
     ok
 }
 
+/// The built `washdyn` run with `args` in `dir`, as a user would from there.
+pub fn washdyn_in(args: &[&str], dir: &std::path::Path) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_washdyn"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .unwrap()
+}
+
 /// Whether ccx can run (`required_tool` for CalculiX).
 pub fn have_ccx() -> bool {
     required_tool(

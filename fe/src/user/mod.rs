@@ -218,11 +218,7 @@ const AXIS_OFF_COG: f64 = 0.1;
 /// The spin axis passes through the body's centre of gravity, within `AXIS_OFF_COG` of the
 /// body's reach from it.
 fn axis_through_the_body(mesh: &crate::mesh::Mesh, spin: &Spin) -> Result<(), String> {
-    use washdyn_runtime::geom::f::{dot, norm, scale, sub};
-    let off = |p: [f64; 3]| {
-        let r = sub(p, spin.axis_point);
-        norm(sub(r, scale(spin.axis, dot(r, spin.axis))))
-    };
+    let off = |p: [f64; 3]| washdyn_runtime::geom::f::off_line(p, spin.axis_point, spin.axis);
     let cog = crate::lumping::consistent_mass_props(mesh).cog;
     let reach = mesh.nodes.iter().map(|p| off(*p)).fold(0.0f64, f64::max);
     let d = off(cog);

@@ -140,10 +140,8 @@ pub fn attachments(m: &Model, body: BodyRef) -> Vec<Attachment> {
         && let Some(r) = m.drum()
     {
         // Off the axis the point turns with the drum, so the drum's modes are read there.
-        let e = crate::geom::f::unit(r.axis);
         for (i, s) in m.sensors.iter().enumerate() {
-            let off = crate::geom::f::sub(s.point, r.axis_point);
-            if s.body == body && crate::geom::f::norm(crate::geom::f::cross(off, e)) > 1e-3 {
+            if s.body == body && crate::geom::f::off_line(s.point, r.axis_point, r.axis) > 1e-3 {
                 at(
                     Path::of(&["sensors"]).idx(i).key("point"),
                     format!("sensor `{}` (off the drum's axis)", s.name),

@@ -199,9 +199,7 @@ fn rotor_mounts(c: &mut Ctx, m: &Model) {
             "axis_point"
         };
         let mp = r.mount_point();
-        let e = crate::geom::f::unit(r.axis);
-        let off = crate::geom::f::sub(mp, r.axis_point);
-        if crate::geom::f::norm(crate::geom::f::cross(off, e)) > 1e-3 {
+        if crate::geom::f::off_line(mp, r.axis_point, r.axis) > 1e-3 {
             c.err(
                 p.key(key),
                 format!(
@@ -276,8 +274,7 @@ fn elastic_drum(c: &mut Ctx, m: &Model) {
     // turn the drum about the same line (a unit axis; the point within the points' tolerance).
     if let (Some(k), Some(r)) = (&d.geometric_stiffness, m.drum()) {
         let (e, f) = (crate::geom::f::unit(r.axis), crate::geom::f::unit(k.axis));
-        let off = crate::geom::f::sub(k.axis_point, r.axis_point);
-        let dist = crate::geom::f::norm(crate::geom::f::cross(off, e));
+        let dist = crate::geom::f::off_line(k.axis_point, r.axis_point, r.axis);
         let parallel = (crate::geom::f::norm(crate::geom::f::cross(e, f)) <= 1e-6)
             && crate::geom::f::dot(e, f) > 0.0;
         if !(parallel && dist <= crate::ir::modal::POINT_TOLERANCE) {

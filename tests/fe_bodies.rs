@@ -148,96 +148,82 @@ fn committed_modal_data_passes_the_checker_and_the_drum_clears_the_unbalance() {
     assert!(drum.geometric_stiffness.is_some());
 }
 
-/// The tub's eigenmodes this test solves again (of the committed 100).
-const TUB_MODES: usize = 30;
-
 #[test]
 fn decks_solve_and_reproduce_the_committed_modal_data() {
     if !have_ccx() {
         return;
     }
     let top = tempfile::tempdir().unwrap();
-    // One ccx per body, side by side (each single-threaded, in a folder of its own).
-    let bodies = bodies::builtin();
+    // The cabinet here, beside the tub's and the drum's build (`common::builtin`, which
+    // tests/fields.rs recovers from): one ccx each.
+    let cabinet = bodies::builtin().remove(2);
     std::thread::scope(|s| {
-        let jobs: Vec<_> = bodies
-            .iter()
-            .map(|b| s.spawn(|| solve_and_compare(b, top.path())))
-            .collect();
-        for j in jobs {
-            if let Err(e) = j.join() {
-                std::panic::resume_unwind(e);
-            }
+        let job = s.spawn(|| {
+            let dir = top.path().join(&cabinet.name);
+            std::fs::create_dir_all(&dir).unwrap();
+            let (data, report) = washdyn_fe::pipeline::build(&cabinet, &dir).unwrap();
+            cabinet_preload_stresses_match_calculix(&cabinet, &data, &dir);
+            compare(&cabinet, &data, &report, &dir);
+        });
+        let built = common::builtin::tub_and_drum();
+        for (b, spec) in built.bodies.iter().zip(bodies::builtin()) {
+            compare(&spec, &b.data, &b.report, &built.dir.join(&b.name));
+        }
+        if let Err(e) = job.join() {
+            std::panic::resume_unwind(e);
         }
     });
 }
 
-/// One body of `decks_solve_and_reproduce_the_committed_modal_data`, in `top/<name>`.
-fn solve_and_compare(b: &washdyn_fe::pipeline::BodySpec, top: &std::path::Path) {
-    let dir = top.join(&b.name);
-    std::fs::create_dir_all(&dir).unwrap();
-    {
-        // ccx's own mass totals against our element integration (point masses aside: EMAS
-        // leaves MASS elements out). ccx prints 7 significant digits (5e-7 relative); its
-        // curved shells, expanded to bricks about nodal normals, add a little: measured 1.2e-6
-        // (tub), 1.4e-7 (drum), 3e-7 (cabinet); bound 5e-6.
-        let mut spec = b.clone();
-        spec.spin = None;
-        // The tub's 110-mode solve with its correction modes and recovery takes about 5 min
-        // on the CI's 2 cores: here its first 30 modes, no correction modes, no recovery
-        // (about 40 s); the correction modes are held by free_body.rs and the full-mesh test.
-        if b.name == "tub" {
-            spec.solve_modes = TUB_MODES + 6;
-            spec.keep.max_modes = TUB_MODES;
-            spec.correction.clear();
-            spec.recovery = false;
-        }
-        let (data, report) = washdyn_fe::pipeline::build(&spec, dir.as_path()).unwrap();
-        let dat = std::fs::read_to_string(dir.as_path().join(format!("{}.dat", b.name))).unwrap();
-        let e = washdyn_fe::dat::emas(&dat, "EALL").expect("EMAS totals in the .dat");
-        let c = continuum_mass_props(&b.mesh);
-        eprintln!("{report}  ccx EMAS {:.6} kg, ours {:.6} kg", e.mass, c.mass);
+/// One body of `decks_solve_and_reproduce_the_committed_modal_data`, built in `dir`: ccx's
+/// mass totals against ours, and the committed file against this solve.
+fn compare(
+    b: &washdyn_fe::pipeline::BodySpec,
+    data: &ModalData,
+    report: &washdyn_fe::pipeline::Report,
+    dir: &std::path::Path,
+) {
+    // ccx's own mass totals against our element integration (point masses aside: EMAS
+    // leaves MASS elements out). ccx prints 7 significant digits (5e-7 relative); its
+    // curved shells, expanded to bricks about nodal normals, add a little: measured 1.2e-6
+    // (tub), 1.4e-7 (drum), 3e-7 (cabinet); bound 5e-6.
+    let dat = std::fs::read_to_string(dir.join(format!("{}.dat", b.name))).unwrap();
+    let e = washdyn_fe::dat::emas(&dat, "EALL").expect("EMAS totals in the .dat");
+    let c = continuum_mass_props(&b.mesh);
+    eprintln!("{report}  ccx EMAS {:.6} kg, ours {:.6} kg", e.mass, c.mass);
+    assert!(
+        (e.mass - c.mass).abs() < 5e-6 * c.mass,
+        "{}: {e:?} vs {c:?}",
+        b.name
+    );
+    for i in 0..3 {
         assert!(
-            (e.mass - c.mass).abs() < 5e-6 * c.mass,
-            "{}: {e:?} vs {c:?}",
+            (e.cog[i] - c.cog[i]).abs() < 1e-4,
+            "{}: cog {e:?} vs {c:?}",
             b.name
         );
-        for i in 0..3 {
-            assert!(
-                (e.cog[i] - c.cog[i]).abs() < 1e-4,
-                "{}: cog {e:?} vs {c:?}",
-                b.name
-            );
-        }
-        let ie = e.inertia();
-        for i in 0..3 {
-            // Shells and beams expanded to 3-D carry their through-section inertia, which
-            // the mid-surface integral leaves out: t^2 / 12 and a^2 / 12 terms, < 0.5 %.
-            assert!(
-                (ie[i][i] - c.inertia[i][i]).abs() < 5e-3 * c.inertia[i][i],
-                "{}: inertia {ie:?} vs {:?}",
-                b.name,
-                c.inertia
-            );
-        }
-        // The committed file is what this code and ccx give now (frequencies to the .frd's
-        // precision).
-        let old = committed(&b.name);
-        if b.name == "tub" {
-            assert_eq!(data.modes(), TUB_MODES);
-        } else {
-            assert_eq!(old.modes(), data.modes(), "{}", b.name);
-        }
-        for (a, f) in old.frequencies.iter().zip(&data.frequencies) {
-            assert!((a - f).abs() < 1e-6 * f, "{}: {a} vs {f}", b.name);
-        }
-        // Rigid modes: exactly six for the free-free tub, none for the others.
-        let rigid = report.all_frequencies.iter().filter(|f| **f < 1.0).count();
-        assert_eq!(rigid, if b.name == "tub" { 6 } else { 0 }, "{}", b.name);
-        if b.name == "cabinet" {
-            cabinet_preload_stresses_match_calculix(&spec, &data, dir.as_path());
-        }
     }
+    let ie = e.inertia();
+    for i in 0..3 {
+        // Shells and beams expanded to 3-D carry their through-section inertia, which
+        // the mid-surface integral leaves out: t^2 / 12 and a^2 / 12 terms, < 0.5 %.
+        assert!(
+            (ie[i][i] - c.inertia[i][i]).abs() < 5e-3 * c.inertia[i][i],
+            "{}: inertia {ie:?} vs {:?}",
+            b.name,
+            c.inertia
+        );
+    }
+    // The committed file is what this code and ccx give now (frequencies to the .frd's
+    // precision), every mode, the correction modes too.
+    let old = committed(&b.name);
+    assert_eq!(old.modes(), data.modes(), "{}", b.name);
+    for (a, f) in old.frequencies.iter().zip(&data.frequencies) {
+        assert!((a - f).abs() < 1e-6 * f, "{}: {a} vs {f}", b.name);
+    }
+    // Rigid modes: exactly six for the free-free tub, none for the others.
+    let rigid = report.all_frequencies.iter().filter(|f| **f < 1.0).count();
+    assert_eq!(rigid, if b.name == "tub" { 6 } else { 0 }, "{}", b.name);
 }
 
 /// The stresses the cabinet's field carries, superposed for the springs' preloads (147.15,

@@ -189,7 +189,7 @@ fn consistent_mass_keeps_many_modes_normalised() {
         }
     }
     let dir = tempfile::tempdir().unwrap();
-    let solved = modal::solve(&mesh, dir.path(), "body", 126).unwrap();
+    let solved = modal::solve(&mesh, dir.path(), "body", 126, false).unwrap();
     // ccx's own mass (EMAS, no point masses; 7 digits) against ours without the point masses.
     let e = washdyn_fe::dat::emas(&solved.dat, "EALL").unwrap();
     let c = continuum_mass_props(&mesh);

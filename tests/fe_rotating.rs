@@ -59,7 +59,7 @@ fn stress_stiffened_frequencies_come_back_from_the_stored_data() {
         max_hz: 1e9,
         max_modes: 4,
     };
-    let rest = modal::solve(&mesh, &dir, "rest", 4).unwrap();
+    let rest = modal::solve(&mesh, &dir, "rest", 4, false).unwrap();
     let base = modal::select(&mesh, &rest.frd, &rest.prints, keep).unwrap();
     let el = mass.elementary(&mesh, &base).unwrap();
     let reference = 200.0;
@@ -197,7 +197,7 @@ fn campbell_of_a_disk_rotor_matches_calculix_coriolis() {
             max_hz: 1e9,
             max_modes: 8,
         };
-        let rest = modal::solve(&mesh, dir, "rest", 8).unwrap();
+        let rest = modal::solve(&mesh, dir, "rest", 8, false).unwrap();
         let base = modal::select(&mesh, &rest.frd, &rest.prints, keep).unwrap();
         let mass = consistent(&mesh);
         let el = mass.elementary(&mesh, &base).unwrap();

@@ -9,11 +9,9 @@
 
 use crate::common;
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::Command;
-use std::sync::OnceLock;
 use washdyn::fields::{Recovery, States, write_fields};
-use washdyn_fe::pipeline::build;
 use washdyn_runtime::equations::Equations;
 use washdyn_runtime::ir::BodyRef;
 use washdyn_runtime::ir::Model;
@@ -32,35 +30,15 @@ fn tools() -> bool {
     ) && common::required_tool(meshio, "meshio", "python3 -m pip install meshio")
 }
 
-/// The tub's and the drum's modal data and field files, built with ccx once for both tests
-/// (the two bodies in parallel, one ccx each) in the target's scratch folder: the folder with
-/// `<body>.field.bin`, and each body's modal data from the same solve.
-fn built() -> &'static (PathBuf, Vec<(String, ModalData)>) {
-    static DIR: OnceLock<(PathBuf, Vec<(String, ModalData)>)> = OnceLock::new();
-    DIR.get_or_init(|| {
-        let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("fields");
-        std::fs::remove_dir_all(&dir).ok();
-        std::fs::create_dir_all(&dir).unwrap();
-        let specs = washdyn_fe::bodies::builtin();
-        // Each ccx in a folder of its own (its scratch files), the fields side by side.
-        let data = std::thread::scope(|s| {
-            let jobs: Vec<_> = specs[..2]
-                .iter()
-                .map(|spec| {
-                    let (d, name) = (dir.join(&spec.name), format!("{}.field.bin", spec.name));
-                    let top = &dir;
-                    s.spawn(move || {
-                        std::fs::create_dir_all(&d).unwrap();
-                        let (data, _) = build(spec, &d).unwrap_or_else(|e| panic!("{e}"));
-                        std::fs::copy(d.join(&name), top.join(&name)).unwrap();
-                        (spec.name.clone(), data)
-                    })
-                })
-                .collect();
-            jobs.into_iter().map(|j| j.join().unwrap()).collect()
-        });
-        (dir, data)
-    })
+/// The tub's and the drum's modal data and field files from this machine's ccx
+/// (`common::builtin`, shared with tests/fe_bodies.rs): the folder with `<body>.field.bin`, and
+/// each body's modal data from the same solve.
+fn built() -> (&'static PathBuf, Vec<(&'static String, &'static ModalData)>) {
+    let b = common::builtin::tub_and_drum();
+    (
+        &b.dir,
+        b.bodies.iter().map(|x| (&x.name, &x.data)).collect(),
+    )
 }
 
 /// The reference machine on this solve's modal data for the bodies `built` made: the
@@ -69,8 +47,8 @@ fn built() -> &'static (PathBuf, Vec<(String, ModalData)>) {
 fn on_this_solve(model: &Model) -> Model {
     let mut m = model.clone();
     for e in &mut m.elastic {
-        if let Some((_, d)) = built().1.iter().find(|(n, _)| *n == e.name) {
-            e.data = Some(d.clone());
+        if let Some((_, d)) = built().1.iter().find(|(n, _)| **n == e.name) {
+            e.data = Some((*d).clone());
         }
     }
     washdyn_runtime::ir::check::check(&m).unwrap_or_else(|e| panic!("{e:?}"));
@@ -89,7 +67,7 @@ fn fields_of_this_solve_align_with_the_committed_data() {
     for (name, _) in &built().1 {
         let path = built().0.join(format!("{name}.field.bin"));
         let field = washdyn_fe::field::Field::read(&path).unwrap();
-        let e = committed.elastic.iter().find(|e| &e.name == name).unwrap();
+        let e = committed.elastic.iter().find(|e| &e.name == *name).unwrap();
         let al = field
             .align(e.data.as_ref().unwrap())
             .unwrap_or_else(|e| panic!("{e}"));
@@ -104,7 +82,7 @@ fn fields_of_this_solve_align_with_the_committed_data() {
     }
     let scene = committed.scene(Some("elastic")).unwrap();
     let eq = Equations::new(&committed, &scene);
-    let rec = Recovery::new(&eq, &built().0).unwrap_or_else(|e| panic!("{e}"));
+    let rec = Recovery::new(&eq, built().0).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(rec.bodies.len(), 2);
 }
 

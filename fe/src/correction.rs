@@ -47,6 +47,8 @@ pub struct Corrected {
     /// Free body: the largest support reaction over the largest nodal load of a load case
     /// (zero for a self-equilibrated load, up to ccx's solver).
     pub reaction: Option<f64>,
+    /// With `stresses`: each load case's stresses at the expanded nodes (the same solve).
+    pub static_stresses: Vec<Vec<(usize, [f64; 6])>>,
 }
 
 /// Node set of a free body's 3-2-1 support (for its reaction prints).
@@ -85,13 +87,13 @@ pub fn static_deck(
             d.line("*NODE FILE").line("U").line("*EL FILE").line("S");
         } else {
             d.line("*NODE FILE, OUTPUT=2D").line("U");
-            if !mesh.rigid.is_empty() {
-                d.line("*NODE PRINT, NSET=WD_PRINT").line("U");
-            }
-            if !support.is_empty() {
-                d.line(&format!("*NODE PRINT, NSET={SUPPORT_SET}"))
-                    .line("RF");
-            }
+        }
+        if !mesh.rigid.is_empty() {
+            d.line("*NODE PRINT, NSET=WD_PRINT").line("U");
+        }
+        if !support.is_empty() {
+            d.line(&format!("*NODE PRINT, NSET={SUPPORT_SET}"))
+                .line("RF");
         }
         d.line("*END STEP");
     }
@@ -278,7 +280,7 @@ pub fn determinate_support(mesh: &Mesh) -> Result<Vec<(usize, usize)>, String> {
 
 /// The correction modes for `loads` (points named in `points`) of `mesh` with eigenmodes
 /// `modes`; a `free` body gets inertia relief and a 3-2-1 support. The static deck is
-/// `<dir>/<job>.inp`.
+/// `<dir>/<job>.inp`; with `stresses` its 3-D output also gives the load cases' stresses.
 #[allow(clippy::too_many_arguments)]
 pub fn correction_modes(
     mesh: &Mesh,
@@ -287,6 +289,7 @@ pub fn correction_modes(
     points: &[(&str, [f64; 3])],
     loads: &[LoadCase],
     free: bool,
+    stresses: bool,
     dir: &std::path::Path,
     job: &str,
 ) -> Result<Corrected, String> {
@@ -306,8 +309,11 @@ pub fn correction_modes(
     } else {
         (unit.clone(), Vec::new())
     };
-    let d = static_deck(mesh, &forces, &support, false);
-    let solved = crate::modal::solve_deck(mesh, &d, dir, job)?;
+    let d = static_deck(mesh, &forces, &support, stresses);
+    let mut solved = crate::modal::solve_deck(mesh, &d, dir, job)?;
+    if stresses {
+        crate::stress::mid_surface(mesh, &mut solved.frd)?;
+    }
     if solved.frd.statics.len() != loads.len() {
         return Err(format!(
             "{job}: ccx wrote {} static results for {} load cases",
@@ -428,6 +434,7 @@ pub fn correction_modes(
         share,
         combination: x,
         reaction,
+        static_stresses: solved.frd.static_stresses,
     })
 }
 

@@ -226,9 +226,16 @@ impl Mesh {
     /// `*FREQUENCY` step for `modes` eigenmodes that also prints the ROT NODEs and the model's
     /// mass properties (`EMAS`) into the `.dat`.
     pub fn deck(&self, modes: usize) -> Deck {
+        self.frequency_deck(modes, false)
+    }
+
+    /// `deck`, or with `stresses` the same step writing ccx's 3-D output (expanded shells and
+    /// beams) and the stresses: one solve then gives the shapes (`stress::mid_surface`) and the
+    /// surface stresses for recovery.
+    pub fn frequency_deck(&self, modes: usize, stresses: bool) -> Deck {
         let mut d = self.model_deck();
         d.line("*STEP").line("*FREQUENCY").line(&modes.to_string());
-        self.output_requests(&mut d);
+        self.output_requests(&mut d, stresses);
         d.line("*END STEP");
         d
     }
@@ -353,10 +360,14 @@ impl Mesh {
         v
     }
 
-    /// Mode shapes at the original nodes (`.frd`), the rigid parts' nodes and rotations and the
-    /// mass properties (`.dat`).
-    pub fn output_requests(&self, d: &mut Deck) {
-        d.line("*NODE FILE, OUTPUT=2D").line("U");
+    /// Mode shapes at the original nodes (`.frd`; with `stresses` at the expanded nodes, with
+    /// the stresses), the rigid parts' nodes and rotations and the mass properties (`.dat`).
+    pub fn output_requests(&self, d: &mut Deck, stresses: bool) {
+        if stresses {
+            d.line("*NODE FILE").line("U").line("*EL FILE").line("S");
+        } else {
+            d.line("*NODE FILE, OUTPUT=2D").line("U");
+        }
         if !self.rigid.is_empty() {
             d.line("*NODE PRINT, NSET=WD_PRINT").line("U");
         }

@@ -251,16 +251,26 @@ pub struct Solved {
     /// The `.dat`'s node prints per mode (`Mesh::printed_nodes`).
     pub prints: Vec<Vec<(usize, [f64; 3])>>,
     pub dat: String,
+    /// A 3-D solve's expanded nodes of each original node (`stress::mid_surface`).
+    pub expanded: Option<HashMap<usize, Vec<usize>>>,
 }
 
 /// Write `mesh`'s frequency deck for `modes` eigenmodes as `<dir>/<job>.inp`, run ccx, read back.
+/// With `stresses` the solve writes 3-D output with the stresses (`Mesh::frequency_deck`), its
+/// shapes are put at the original nodes (`stress::mid_surface`) and `expanded` says where the
+/// stresses are.
 pub fn solve(
     mesh: &Mesh,
     dir: &std::path::Path,
     job: &str,
     modes: usize,
+    stresses: bool,
 ) -> Result<Solved, String> {
-    solve_deck(mesh, &mesh.deck(modes), dir, job)
+    let mut s = solve_deck(mesh, &mesh.frequency_deck(modes, stresses), dir, job)?;
+    if stresses {
+        s.expanded = Some(crate::stress::mid_surface(mesh, &mut s.frd)?);
+    }
+    Ok(s)
 }
 
 /// Write `deck` (of `mesh`, with its output requests) as `<dir>/<job>.inp`, run ccx, and read
@@ -290,6 +300,7 @@ pub fn solve_deck(
         frd,
         prints,
         dat,
+        expanded: None,
     })
 }
 

@@ -8,6 +8,7 @@ use crate::lumping::{MassProps, lump};
 use crate::mesh::Mesh;
 use crate::modal::{self, Keep};
 use crate::rotating;
+use std::collections::HashMap;
 use std::path::Path;
 use washdyn_runtime::ir::modal::{
     Correction, ElasticBodyKind, LoadCase, ModalData, Support, SupportSpring,
@@ -39,8 +40,8 @@ pub struct BodySpec {
     pub spin: Option<Spin>,
     /// Unit loads at points whose static response static correction modes carry (empty: none).
     pub correction: Vec<LoadCase>,
-    /// Also write `<name>.field.bin` for recovery on the mesh (a second, 3-D ccx solve for the
-    /// modal stresses, and for correction modes a third); a study of the modes alone skips it.
+    /// Also write `<name>.field.bin` for recovery on the mesh: the solves then write 3-D output,
+    /// which gives the shapes and the modal stresses at once; a study of the modes alone skips it.
     pub recovery: bool,
 }
 
@@ -85,7 +86,8 @@ pub struct CorrectionReport {
 
 /// Build `spec` in `dir` (the deck and ccx's files land there).
 pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), String> {
-    let solved = modal::solve(&spec.mesh, dir, &spec.name, spec.solve_modes)?;
+    // One solve gives the shapes and, for recovery, the stresses (`stress.rs`).
+    let mut solved = modal::solve(&spec.mesh, dir, &spec.name, spec.solve_modes, spec.recovery)?;
     let mass = consistent::consistent(&spec.mesh);
     let mut modes = modal::select(&spec.mesh, &solved.frd, &solved.prints, spec.keep)?;
     if modes.is_empty() {
@@ -111,6 +113,7 @@ pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), String>
             &points,
             &spec.correction,
             spec.support == Support::FreeFree,
+            spec.recovery,
             dir,
             &format!("{}_correction", spec.name),
         )?;
@@ -178,8 +181,9 @@ pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), String>
         prestress_fit_residual = Some(x.residual.iter().copied().fold(0.0, f64::max));
         data.geometric_stiffness = Some(x.stiffness);
     }
-    if spec.recovery {
-        write_field(spec, dir, &modes, &data, correction_solved.as_ref())?;
+    if let Some(points) = solved.expanded.take() {
+        let stress = (&solved.frd, points, solved.run.wall_s);
+        write_field(spec, dir, &modes, &data, stress, correction_solved.as_ref())?;
     }
     let translation_coupling = data
         .elementary
@@ -266,25 +270,15 @@ fn write_field(
     dir: &Path,
     modes: &[crate::modal::Shapes],
     data: &ModalData,
+    (frd, points, solve_s): (&crate::frd::Frd, HashMap<usize, Vec<usize>>, f64),
     correction: Option<&crate::correction::Corrected>,
 ) -> Result<(), String> {
     let eigen = data.eigenmodes();
-    let mut stress = crate::stress::modal_stresses(
-        &spec.mesh,
-        dir,
-        &format!("{}_stress", spec.name),
-        spec.solve_modes,
-        &modes[..eigen],
-    )?;
+    let mut stress = crate::stress::modal_stresses(frd, points, &modes[..eigen], solve_s)
+        .map_err(|e| format!("{}: {e}", spec.name))?;
     if let Some(c) = correction {
-        let more = crate::stress::correction_stresses(
-            &spec.mesh,
-            dir,
-            &format!("{}_correction_stress", spec.name),
-            &modes[..eigen],
-            &stress,
-            c,
-        )?;
+        let more = crate::stress::correction_stresses(&modes[..eigen], &stress, c)
+            .map_err(|e| format!("{}: {e}", spec.name))?;
         stress.per_mode.extend(more);
     }
     crate::field::Field::new(&spec.mesh, modes, data, Some(&stress))?

@@ -94,7 +94,7 @@ pub fn prestressed_deck(
         .line(&modes.to_string())
         .line("*DLOAD")
         .line(&load);
-    mesh.output_requests(&mut d);
+    mesh.output_requests(&mut d, false);
     d.line("*END STEP");
     d
 }

@@ -2,6 +2,8 @@
 //! alone, independent of the derivation under test.
 #![allow(dead_code)]
 
+pub mod builtin;
+
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 use washdyn_runtime::ir::{BodyRef, Model};
 use washdyn_runtime::system::{Interpreter, Mechanical};

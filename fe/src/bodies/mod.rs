@@ -51,7 +51,10 @@ pub fn decks() -> Vec<(String, String)> {
     for b in builtin() {
         out.push((
             format!("{}.inp", b.name),
-            b.mesh.deck(b.solve_modes).text().to_string(),
+            b.mesh
+                .frequency_deck(b.solve_modes, b.recovery)
+                .text()
+                .to_string(),
         ));
         if let Some(s) = &b.spin {
             let d = crate::rotating::prestressed_deck(

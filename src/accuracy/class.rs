@@ -59,6 +59,25 @@ pub fn content_hash(model: &Model, scene: &EffectSet) -> String {
     }
     for e in &mut m.elastic {
         e.file.clear();
+        // A body the scene keeps rigid takes its FE model's mass, centre of gravity and
+        // inertia (and feet), not its modes: a new solve of the modes does not void a study of
+        // the rigid machine.
+        if let Some(d) = &mut e.data
+            && !scene.has(&Effect::Elastic(e.name.clone()))
+        {
+            d.source.clear();
+            d.frequencies.clear();
+            d.elementary = washdyn_runtime::ir::modal::Elementary {
+                c: Default::default(),
+                s: Default::default(),
+                g: Default::default(),
+            };
+            d.points.clear();
+            d.geometric_stiffness = None;
+            d.correction = None;
+            d.basis = None;
+            d.file_modes = None;
+        }
     }
     m.speed.csv = None;
     let effects: Vec<String> = scene.effects.iter().map(|e| e.name()).collect();
@@ -221,8 +240,9 @@ mod tests {
     }
 
     /// The hash is of what the scene runs: the model's name, the other scenes and the parts
-    /// only other scenes use (contacts, damper moving parts) leave it; a number the scene
-    /// uses (a spring's stiffness, the drum's FE mass in a rigid scene) changes it.
+    /// only other scenes use (contacts, damper moving parts, the modes of a body it keeps
+    /// rigid) leave it; a number the scene uses (a spring's stiffness, the drum's FE mass in a
+    /// rigid scene, the tub's modes in an elastic one) changes it.
     #[test]
     fn content_hash_is_the_scenes_content() {
         let m = washdyn_models::reference();
@@ -243,6 +263,13 @@ mod tests {
         let e = drum.elastic.iter_mut().find(|e| e.name == "drum").unwrap();
         e.data.as_mut().unwrap().mass += 1e-9;
         assert_ne!(content_hash(&drum, &full), h);
+        // A body's modes (a new solve) count only where the scene keeps it elastic.
+        let mut modes = m.clone();
+        let e = modes.elastic.iter_mut().find(|e| e.name == "tub").unwrap();
+        e.data.as_mut().unwrap().frequencies[0] *= 1.0 + 1e-9;
+        assert_eq!(content_hash(&modes, &full), h);
+        let elastic = m.scene(Some("elastic")).unwrap();
+        assert_ne!(content_hash(&modes, &elastic), content_hash(&m, &elastic));
         // The contacts count where the scene has them.
         let contact = m.scene(Some("contact")).unwrap();
         let mut moved = m.clone();

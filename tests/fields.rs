@@ -37,7 +37,7 @@ fn built() -> (&'static PathBuf, Vec<(&'static String, &'static ModalData)>) {
     let b = common::builtin::tub_and_drum();
     (
         &b.dir,
-        b.bodies.iter().map(|x| (&x.name, &x.data)).collect(),
+        b.bodies.iter().map(|x| (&x.spec.name, &x.data)).collect(),
     )
 }
 

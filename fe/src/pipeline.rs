@@ -8,7 +8,6 @@ use crate::lumping::{MassProps, lump};
 use crate::mesh::Mesh;
 use crate::modal::{self, Keep};
 use crate::rotating;
-use std::collections::HashMap;
 use std::path::Path;
 use washdyn_runtime::ir::modal::{
     Correction, ElasticBodyKind, LoadCase, ModalData, Support, SupportSpring,
@@ -181,9 +180,15 @@ pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), String>
         prestress_fit_residual = Some(x.residual.iter().copied().fold(0.0, f64::max));
         data.geometric_stiffness = Some(x.stiffness);
     }
-    if let Some(points) = solved.expanded.take() {
-        let stress = (&solved.frd, points, solved.run.wall_s);
-        write_field(spec, dir, &modes, &data, stress, correction_solved.as_ref())?;
+    if spec.recovery {
+        write_field(
+            spec,
+            dir,
+            &modes,
+            &data,
+            &mut solved,
+            correction_solved.as_ref(),
+        )?;
     }
     let translation_coupling = data
         .elementary
@@ -270,12 +275,17 @@ fn write_field(
     dir: &Path,
     modes: &[crate::modal::Shapes],
     data: &ModalData,
-    (frd, points, solve_s): (&crate::frd::Frd, HashMap<usize, Vec<usize>>, f64),
+    solved: &mut modal::Solved,
     correction: Option<&crate::correction::Corrected>,
 ) -> Result<(), String> {
     let eigen = data.eigenmodes();
-    let mut stress = crate::stress::modal_stresses(frd, points, &modes[..eigen], solve_s)
-        .map_err(|e| format!("{}: {e}", spec.name))?;
+    let points = solved
+        .expanded
+        .take()
+        .ok_or_else(|| format!("{}: the solve wrote no 3-D output", spec.name))?;
+    let mut stress =
+        crate::stress::modal_stresses(&solved.frd, points, &modes[..eigen], solved.run.wall_s)
+            .map_err(|e| format!("{}: {e}", spec.name))?;
     if let Some(c) = correction {
         let more = crate::stress::correction_stresses(&modes[..eigen], &stress, c)
             .map_err(|e| format!("{}: {e}", spec.name))?;

@@ -78,29 +78,34 @@ pub fn mid_surface(mesh: &Mesh, frd: &mut Frd) -> Result<HashMap<usize, Vec<usiz
         .iter()
         .map(|(&orig, exp)| {
             let x0 = mesh.nodes[orig - 1];
-            let d = |e: &usize| {
-                coords.get(e).map_or(f64::INFINITY, |p| {
-                    (0..3).map(|i| (p[i] - x0[i]).powi(2)).sum()
-                })
-            };
-            let far = exp
-                .iter()
-                .map(d)
-                .filter(|v| v.is_finite())
-                .fold(0.0, f64::max);
-            let middle = exp.len() > 1 && exp.iter().any(|e| d(e) < 1e-4 * far);
-            let mut by_distance: Vec<f64> = exp.iter().map(d).collect();
-            by_distance.sort_by(f64::total_cmp);
-            let w = exp
+            let dist: Vec<f64> = exp
                 .iter()
                 .map(|e| {
+                    coords.get(e).map_or(f64::INFINITY, |p| {
+                        (0..3).map(|i| (p[i] - x0[i]).powi(2)).sum()
+                    })
+                })
+                .collect();
+            let far = dist
+                .iter()
+                .copied()
+                .filter(|v| v.is_finite())
+                .fold(0.0, f64::max);
+            let at_node = |d: f64| d < 1e-4 * far;
+            let middle = exp.len() > 1 && dist.iter().any(|d| at_node(*d));
+            let mut sorted = dist.clone();
+            sorted.sort_by(f64::total_cmp);
+            let w = exp
+                .iter()
+                .zip(&dist)
+                .map(|(e, &d)| {
                     let a = if middle {
                         // A shell corner: faces 1, middle 4.
-                        if d(e) < 1e-4 * far { 4.0 } else { 1.0 }
+                        if at_node(d) { 4.0 } else { 1.0 }
                     } else if exp.len() == 8 {
                         // A beam's end node: the section's four corners (the farthest), not
                         // its mid-edge nodes.
-                        if d(e) >= by_distance[4] { 1.0 } else { 0.0 }
+                        if d >= sorted[4] { 1.0 } else { 0.0 }
                     } else {
                         1.0
                     };

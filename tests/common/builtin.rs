@@ -6,12 +6,13 @@
 
 use std::path::PathBuf;
 use std::sync::OnceLock;
-use washdyn_fe::pipeline::{Report, build};
+use washdyn_fe::pipeline::{BodySpec, Report, build};
 use washdyn_runtime::ir::modal::ModalData;
 
-/// One built body: its modal data and report; ccx's files are in `Built::dir/<name>`.
+/// One built body: its spec, modal data and report; ccx's files are in
+/// `Built::dir/<spec.name>`.
 pub struct Body {
-    pub name: String,
+    pub spec: BodySpec,
     pub data: ModalData,
     pub report: Report,
 }
@@ -32,20 +33,17 @@ pub fn tub_and_drum() -> &'static Built {
         std::fs::create_dir_all(&dir).unwrap();
         let specs = washdyn_fe::bodies::builtin();
         let bodies = std::thread::scope(|s| {
-            let jobs: Vec<_> = specs[..2]
-                .iter()
+            let jobs: Vec<_> = specs
+                .into_iter()
+                .take(2)
                 .map(|spec| {
                     let (d, name) = (dir.join(&spec.name), format!("{}.field.bin", spec.name));
                     let top = &dir;
                     s.spawn(move || {
                         std::fs::create_dir_all(&d).unwrap();
-                        let (data, report) = build(spec, &d).unwrap_or_else(|e| panic!("{e}"));
+                        let (data, report) = build(&spec, &d).unwrap_or_else(|e| panic!("{e}"));
                         std::fs::copy(d.join(&name), top.join(&name)).unwrap();
-                        Body {
-                            name: spec.name.clone(),
-                            data,
-                            report,
-                        }
+                        Body { spec, data, report }
                     })
                 })
                 .collect();

@@ -17,6 +17,7 @@ pub mod files;
 mod force_elements;
 pub mod loads;
 pub mod modal;
+pub mod param;
 mod scenes;
 mod sensors;
 pub mod toml_file;
@@ -78,6 +79,12 @@ pub struct Model {
     /// Named selections of effects; an empty list means the one scene `full`.
     #[serde(default)]
     pub scenes: Vec<Scene>,
+    /// Parameters (paths, `param.rs`) the generated code takes as inputs instead of folding
+    /// them in as literals (Modelica's `parameter` against `constant`): a study varies them on
+    /// one build. Only numbers that enter the force vector directly can be free; the code
+    /// generator proves it or refuses.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub free: Vec<String>,
 }
 
 pub fn default_gravity() -> V3 {

@@ -136,11 +136,27 @@ pub fn check(m: &Model) -> Result<(), Vec<CheckError>> {
     force_elements::contacts(&mut c, &mut names, m);
     scenes::sensors(&mut c, &mut names, m);
     scenes::scenes(&mut c, m);
+    free(&mut c, m);
 
     if c.errors.is_empty() {
         Ok(())
     } else {
         Err(c.errors)
+    }
+}
+
+/// Each free parameter names a number of the model, once.
+fn free(c: &mut Ctx, m: &Model) {
+    let mut seen = HashSet::new();
+    for (i, text) in m.free.iter().enumerate() {
+        match super::param::resolve(m, text) {
+            Ok(p) if !seen.insert(p.path.clone()) => c.err(
+                Path::of(&["free"]).idx(i),
+                format!("free parameter `{text}` is given twice (as `{}`)", p.path),
+            ),
+            Ok(_) => {}
+            Err(e) => c.err(Path::of(&["free"]).idx(i), e.to_string()),
+        }
     }
 }
 

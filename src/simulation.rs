@@ -87,6 +87,9 @@ pub struct Source {
     /// The built-in model's name when the model is compiled in unchanged: generated code
     /// exists for its scenes.
     pub built_in: Option<String>,
+    /// For a variant of a built-in model (`Source::variant`): that model's name. Its generated
+    /// code runs the variant when the two differ in free parameters only (`Model::free`).
+    pub generated_base: Option<String>,
     /// A model file and the data files it names, hashed (`summary.json`'s `model_files`);
     /// empty for a built-in model.
     pub files: Vec<FileHash>,
@@ -105,6 +108,7 @@ impl Source {
             spec: spec.into(),
             model,
             built_in: built_in.then(|| spec.to_string()),
+            generated_base: None,
             files,
         })
     }
@@ -115,17 +119,20 @@ impl Source {
             spec: model.name.clone(),
             model,
             built_in: None,
+            generated_base: None,
             files: Vec::new(),
         }
     }
 
-    /// This model changed in memory (a sweep's variant): the interpreter runs it (generated
-    /// code holds the built-in's numbers); it keeps the files it was loaded from.
+    /// This model changed in memory (a sweep's or study's variant); it keeps the files it was
+    /// loaded from. The interpreter runs it, or a built-in's generated code where the variant
+    /// differs from the built-in in free parameters only.
     pub fn variant(&self, model: Model) -> Source {
         Source {
             spec: self.spec.clone(),
             model,
             built_in: None,
+            generated_base: self.built_in.clone().or(self.generated_base.clone()),
             files: self.files.clone(),
         }
     }
@@ -414,6 +421,25 @@ fn mechanical(
                     format!("no generated code for scene `{}`", scene.name),
                 )
             })
+        }
+        (Backend::Generated, None) if source.generated_base.is_some() => {
+            let name = source.generated_base.as_deref().unwrap_or_default();
+            match washdyn_models::generated_for(name, &scene.name, model) {
+                Some(Ok(m)) if model.scene(Some(&scene.name)).ok().as_ref() == Some(scene) => Ok(m),
+                Some(Ok(_)) => Err(Error::setting(
+                    "--backend",
+                    format!(
+                        "scene `{}` was changed in memory: generated code exists for the \
+                         scenes as declared; use --backend interpreted",
+                        scene.name
+                    ),
+                )),
+                Some(Err(why)) => Err(Error::setting("--backend", why)),
+                None => Err(Error::setting(
+                    "--backend",
+                    format!("no generated code for scene `{}`", scene.name),
+                )),
+            }
         }
         (Backend::Generated, None) if source.files.is_empty() => Err(Error::setting(
             "--backend",

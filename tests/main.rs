@@ -31,6 +31,7 @@ mod fe_modal_import;
 mod fe_rotating;
 mod fe_steady_state;
 mod fields;
+mod free_parameters;
 mod full_mesh;
 mod gasket;
 mod half_wave;

@@ -74,9 +74,14 @@ fn emit(machine: &Machine, model: &Model, built: &Built) -> TokenStream {
     let name = &machine.name;
     let body: TokenStream = match generate(model).and_then(|src| {
         src.parse::<TokenStream>()
-            .map_err(|e| format!("the generated code does not parse: {e}"))
+            .map_err(|e| format!("the generated code does not parse: {e}").into())
     }) {
         Ok(ts) => ts,
+        // A refused free parameter: at its entry of `free`.
+        Err(e) if !e.path.0.is_empty() => {
+            let loc = built.spans.locate(&e.path);
+            return loc.error(e.message).to_compile_error();
+        }
         Err(e) => {
             return Loc::new(name.span())
                 .error(format!("machine `{name}`: code generation failed: {e}"))

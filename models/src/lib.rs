@@ -75,6 +75,22 @@ pub fn generated(
     }
 }
 
+/// The generated system of a built-in model's scene for `variant`, a model that differs from
+/// the built-in one in its free parameters only (`None`: unknown model or scene; `Err`: the
+/// variant changes something else, which only the interpreter can run).
+pub fn generated_for(
+    name: &str,
+    scene: &str,
+    variant: &Model,
+) -> Option<Result<Box<dyn washdyn_runtime::system::Mechanical + Send>, String>> {
+    match name {
+        "reference" => reference::system_for(scene, variant),
+        "compact" => compact::system_for(scene, variant),
+        "elastic_cabinet" => elastic_cabinet::system_for(scene, variant),
+        _ => None,
+    }
+}
+
 /// The reference machine (panics only if the shipped file is broken, which a test guards).
 pub fn reference() -> Model {
     built_in("reference")

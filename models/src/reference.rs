@@ -9,6 +9,17 @@ washdyn_macros::machine! {
     /// cabinet is rigid and fixed until elastic bodies arrive.
     reference {
         gravity: [0.0, 0.0, -9.81],
+        // The suspension's spring rates and damper friction are free parameters: the generated
+        // code takes them as inputs, so a study of them runs on this build.
+        free: [
+            "springs.spring_rear_left.stiffness",
+            "springs.spring_rear_right.stiffness",
+            "springs.spring_front.stiffness",
+            "friction_dampers.damper_front_left.f_max",
+            "friction_dampers.damper_front_right.f_max",
+            "friction_dampers.damper_rear_left.f_max",
+            "friction_dampers.damper_rear_right.f_max",
+        ],
 
         // Suspended body: tub assembly with counterweight, bearing unit, motor stator, plus the
         // (non-spinning) mass of drum and motor rotor. ~60 kg in a comparable machine (Tuerkay

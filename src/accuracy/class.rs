@@ -48,6 +48,8 @@ pub fn content_hash(model: &Model, scene: &EffectSet) -> String {
     let mut m = model.clone();
     m.name.clear();
     m.scenes.clear();
+    // Which numbers the generated code takes as inputs is not the physics.
+    m.free.clear();
     if !scene.has(&Effect::Contact) {
         m.contacts.clear();
     }
@@ -250,6 +252,7 @@ mod tests {
         let h = content_hash(&m, &full);
         let mut renamed = m.clone();
         renamed.name = "other".into();
+        renamed.free.clear();
         renamed.scenes.retain(|s| s.name == "full");
         renamed.contacts.clear();
         for d in &mut renamed.friction_dampers {

@@ -15,11 +15,48 @@ use crate::equations::{Drive, Equations};
 use crate::ir::Model;
 use crate::linalg::{cholesky_factor, cholesky_solve};
 use crate::scalar::Scalar;
-use crate::symbolic::{Emitter, Graph, Sym, derivative, fmt_f64, trace};
+use crate::symbolic::{Emitter, Graph, Sym, derivative, fmt_f64, trace_params};
 use std::fmt::Write;
 
+mod free;
 mod mass;
+pub use free::Free;
 pub use mass::MassHarmonics;
+
+/// Why code generation refused a model, and where in it (a free parameter: `free[k]`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct GenError {
+    pub path: crate::ir::check::Path,
+    pub message: String,
+}
+
+impl GenError {
+    fn at(path: crate::ir::check::Path, message: impl ToString) -> Self {
+        GenError {
+            path,
+            message: message.to_string(),
+        }
+    }
+
+    fn free(k: usize, message: String) -> Self {
+        Self::at(
+            crate::ir::check::Path::default().key("free").idx(k),
+            message,
+        )
+    }
+}
+
+impl std::fmt::Display for GenError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+impl From<String> for GenError {
+    fn from(message: String) -> Self {
+        Self::at(crate::ir::check::Path::default(), message)
+    }
+}
 
 /// Size and cost of one scene's generated code.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -98,8 +135,14 @@ fn jacobians(out: &[Sym], n: usize) -> (Vec<Sym>, Vec<Sym>) {
 
 /// Trace a scene's equations.
 pub fn trace_equations(eq: &Equations) -> Traced {
+    trace_free(eq, &[])
+}
+
+/// As [`trace_equations`], for equations of a model whose free numbers are `stand_ins`
+/// (`Free::stand_in_model`): those become the graph's parameters.
+pub fn trace_free(eq: &Equations, stand_ins: &[f64]) -> Traced {
     let (n1, n) = (eq.layout.n1, eq.layout.n());
-    let ((m1, h), g_mh) = trace(|| {
+    let ((m1, h), g_mh) = trace_params(stand_ins, || {
         let (q, qd, d) = inputs(n);
         let mut m1 = vec![Sym::c(0.0); n1 * n1];
         let mut h = vec![Sym::c(0.0); n];
@@ -107,7 +150,7 @@ pub fn trace_equations(eq: &Equations) -> Traced {
         (m1, h)
     });
     let acc = if n <= TRACED_FACTOR_MAX_N {
-        let ((qdd, jq, jqd), g_acc) = trace(|| {
+        let ((qdd, jq, jqd), g_acc) = trace_params(stand_ins, || {
             let (q, qd, d) = inputs(n);
             let mut m1 = vec![Sym::c(0.0); n1 * n1];
             let mut h = vec![Sym::c(0.0); n];
@@ -142,7 +185,7 @@ pub fn trace_equations(eq: &Equations) -> Traced {
         }
         Solve::Traced(..) => None,
     };
-    let (ch, g_s) = trace(|| {
+    let (ch, g_s) = trace_params(stand_ins, || {
         let q: Vec<Sym> = (0..n).map(|_| Sym::input()).collect();
         let qd: Vec<Sym> = (0..n).map(|_| Sym::input()).collect();
         let qdd: Vec<Sym> = (0..n).map(|_| Sym::input()).collect();
@@ -191,7 +234,14 @@ fn state_inputs(n: usize, extra: &[&str]) -> Vec<String> {
 
 /// Rust source of one scene's type, and its statistics.
 pub fn scene_source(eq: &Equations, name: &str) -> (String, SceneStats) {
-    let t = trace_equations(eq);
+    scene_source_free(eq, name, &Free::default(), &trace_equations(eq))
+}
+
+/// As [`scene_source`] for the traced equations `t` of a model with free parameters `free`:
+/// the functions take the parameter array `p` (`PARAMS` by default, a variant's values through
+/// `for_variant`).
+fn scene_source_free(eq: &Equations, name: &str, free: &Free, t: &Traced) -> (String, SceneStats) {
+    let np = free.params.len();
     let (n1, n) = (t.n1, t.n);
     let n2 = n - n1;
     let nc = eq.n_channels();
@@ -236,7 +286,7 @@ pub fn scene_source(eq: &Equations, name: &str) -> (String, SceneStats) {
         Solve::Numeric => {
             let body_acc = format!(
                 "let mut m1 = [0.0f64; {n1sq}];\n\
-                 Self::mass_and_forces(d, q, qd, &mut m1, qdd);\n\
+                 Self::mass_and_forces(p, d, q, qd, &mut m1, qdd);\n\
                  {rt}::linalg::cholesky_factor(&mut m1[..], {n1});\n\
                  {rt}::linalg::cholesky_solve(&m1[..], {n1}, &mut qdd[..{n1}]);\n",
                 n1sq = n1 * n1
@@ -281,11 +331,11 @@ pub fn scene_source(eq: &Equations, name: &str) -> (String, SceneStats) {
     } else {
         (
             format!(
-                "    /// d q''/d q and d q''/d q' (row-major).\n    #[inline]\n    pub fn jacobians(d: &{rt}::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], jq: &mut [f64; {nsq}], jqd: &mut [f64; {nsq}]) {{\n{body_jac}    }}\n",
+                "    /// d q''/d q and d q''/d q' (row-major).\n    #[inline]\n    pub fn jacobians(p: &[f64; {np}], d: &{rt}::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], jq: &mut [f64; {nsq}], jqd: &mut [f64; {nsq}]) {{\n{body_jac}    }}\n",
                 nsq = n * n
             ),
             format!(
-                "    fn acceleration_jacobians(&mut self, t: f64, q: &[f64], qd: &[f64], jq: &mut [f64], jqd: &mut [f64]) -> bool {{\n        let d = self.speed.drive(t);\n        Self::jacobians(&d, q.try_into().expect(\"q\"), qd.try_into().expect(\"qd\"), jq.try_into().expect(\"jq\"), jqd.try_into().expect(\"jqd\"));\n        true\n    }}\n    fn has_acceleration_jacobians(&self) -> bool {{\n        true\n    }}\n{force_impl}"
+                "    fn acceleration_jacobians(&mut self, t: f64, q: &[f64], qd: &[f64], jq: &mut [f64], jqd: &mut [f64]) -> bool {{\n        let d = self.speed.drive(t);\n        Self::jacobians(&self.p, &d, q.try_into().expect(\"q\"), qd.try_into().expect(\"qd\"), jq.try_into().expect(\"jq\"), jqd.try_into().expect(\"jqd\"));\n        true\n    }}\n    fn has_acceleration_jacobians(&self) -> bool {{\n        true\n    }}\n{force_impl}"
             ),
         )
     };
@@ -300,6 +350,7 @@ pub fn scene_source(eq: &Equations, name: &str) -> (String, SceneStats) {
 #[derive(Clone, Debug)]
 pub struct {name} {{
     speed: {rt}::speed::Speed,{jac_field}
+    p: [f64; {np}],
 }}
 
 impl Default for {name} {{
@@ -320,23 +371,35 @@ impl {name} {{
     pub fn new() -> Self {{
         {name} {{
             speed: {rt}::speed::Speed::new(&SPEED_TABLE),{jac_init}
+            p: PARAMS,
         }}
+    }}
+
+    /// The scene of `variant`, a model that differs from this one in free parameters only
+    /// (`FREE`); anything else is refused, naming the first difference.
+    pub fn for_variant(variant: &{rt}::ir::Model) -> Result<Self, String> {{
+        let p = {rt}::ir::param::free_values(&model(), variant)?;
+        Ok({name} {{
+            speed: {rt}::speed::Speed::new(&SPEED_TABLE),
+            jac: {rt}::equations::ForceJacobians::for_scene(variant, Self::SCENE),
+            p: p.try_into().map_err(|_| "free parameter count".to_string())?,
+        }})
     }}
 
     /// M1 (row-major) and h.
     #[inline]
-    pub fn mass_and_forces(d: &{rt}::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], m1: &mut [f64; {n1sq}], h: &mut [f64; {n}]) {{
+    pub fn mass_and_forces(p: &[f64; {np}], d: &{rt}::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], m1: &mut [f64; {n1sq}], h: &mut [f64; {n}]) {{
 {body_mh}    }}
 
     /// q'' = M^-1 h, with M1 factorised in straight-line code.
     #[inline]
-    pub fn accelerations(d: &{rt}::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], qdd: &mut [f64; {n}]) {{
+    pub fn accelerations(p: &[f64; {np}], d: &{rt}::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], qdd: &mut [f64; {n}]) {{
 {body_acc}    }}
 
 {jac_fn}
     /// Sensor channels from q, q', q''.
     #[inline]
-    pub fn sensor_values(d: &{rt}::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], qdd: &[f64; {n}], out: &mut [f64; {nc}]) {{
+    pub fn sensor_values(p: &[f64; {np}], d: &{rt}::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], qdd: &[f64; {n}], out: &mut [f64; {nc}]) {{
 {body_sensors}    }}
 }}
 
@@ -346,14 +409,14 @@ impl {rt}::system::Mechanical for {name} {{
     }}
     fn eval(&mut self, t: f64, q: &[f64], qd: &[f64], m1: &mut [f64], h: &mut [f64]) {{
         let d = self.speed.drive(t);
-        Self::mass_and_forces(&d, q.try_into().expect("q has N entries"), qd.try_into().expect("qd has N entries"), m1.try_into().expect("m1 has N1^2 entries"), h.try_into().expect("h has N entries"));
+        Self::mass_and_forces(&self.p, &d, q.try_into().expect("q has N entries"), qd.try_into().expect("qd has N entries"), m1.try_into().expect("m1 has N1^2 entries"), h.try_into().expect("h has N entries"));
     }}
     fn m2(&self) -> &[f64] {{
         &Self::M2
     }}
     fn sensors(&self, t: f64, q: &[f64], qd: &[f64], qdd: &[f64], out: &mut [f64]) {{
         let d = self.speed.drive(t);
-        Self::sensor_values(&d, q.try_into().expect("q"), qd.try_into().expect("qd"), qdd.try_into().expect("qdd"), out.try_into().expect("3 channels per sensor"));
+        Self::sensor_values(&self.p, &d, q.try_into().expect("q"), qd.try_into().expect("qd"), qdd.try_into().expect("qdd"), out.try_into().expect("3 channels per sensor"));
     }}
     fn channel_names(&self) -> Vec<String> {{
         Self::CHANNELS.iter().map(|c| c.to_string()).collect()
@@ -363,7 +426,7 @@ impl {rt}::system::Mechanical for {name} {{
     }}
     fn accelerations(&mut self, t: f64, q: &[f64], qd: &[f64], qdd: &mut [f64]) -> bool {{
         let d = self.speed.drive(t);
-        Self::accelerations(&d, q.try_into().expect("q"), qd.try_into().expect("qd"), qdd.try_into().expect("qdd"));
+        Self::accelerations(&self.p, &d, q.try_into().expect("q"), qd.try_into().expect("qd"), qdd.try_into().expect("qdd"));
         true
     }}
 {jac_impl}}}
@@ -389,12 +452,12 @@ impl {rt}::system::Mechanical for {name} {{
 /// Rust source (items) of a module for a checked model: `MODEL_JSON`, `model()`, the speed
 /// table, one type per scene implementing `system::Mechanical`, and `system(scene)` to pick one
 /// by name at run time.
-pub fn generate(model: &Model) -> Result<String, String> {
+pub fn generate(model: &Model) -> Result<String, GenError> {
     generate_with_stats(model).map(|(s, _)| s)
 }
 
 /// As `generate`, with the statistics of each scene.
-pub fn generate_with_stats(model: &Model) -> Result<(String, Vec<SceneStats>), String> {
+pub fn generate_with_stats(model: &Model) -> Result<(String, Vec<SceneStats>), GenError> {
     let json = serde_json::to_string(model).map_err(|e| e.to_string())?;
     let table: Vec<String> = model
         .speed
@@ -416,18 +479,54 @@ pub fn generate_with_stats(model: &Model) -> Result<(String, Vec<SceneStats>), S
         table.len(),
         table.join(", ")
     );
+    let free = Free::of(model)?;
+    let traced_model = free.stand_in_model(model)?;
+    let _ = write!(
+        s,
+        "/// The free parameters (paths into the model), which the scenes take as inputs.\n\
+         pub const FREE: &[&str] = &[{}];\n\
+         /// Their values in this model.\n\
+         pub const PARAMS: [f64; {}] = [{}];\n",
+        free.params
+            .iter()
+            .map(|p| format!("{:?}", p.text))
+            .collect::<Vec<_>>()
+            .join(", "),
+        free.values.len(),
+        free.values
+            .iter()
+            .map(|v| fmt_f64(*v))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
     let mut stats = Vec::new();
     let mut arms = String::new();
+    let mut variant_arms = String::new();
     let names = model.scene_names();
     for scene in &names {
         let eff = model.scene(Some(scene))?;
-        let eq = Equations::new(model, &eff);
+        let eq = Equations::new(&traced_model, &eff);
+        let t = trace_free(&eq, &free.stand_ins);
+        let (g, m1, h) = &t.mh;
+        let (gs, ch) = &t.sensors;
+        free.verify(model, &eff, (g, m1, h), (gs, ch))?;
         let tn = type_name(scene);
-        let (src, st) = scene_source(&eq, &tn);
+        let (src, st) = scene_source_free(&eq, &tn, &free, &t);
         s.push_str(&src);
         let _ = writeln!(arms, "        {scene:?} => Some(Box::new({tn}::new())),");
+        let _ = writeln!(
+            variant_arms,
+            "        {scene:?} => Some({tn}::for_variant(variant).map(|s| Box::new(s) as Box<dyn ::washdyn_runtime::system::Mechanical + Send>)),"
+        );
         stats.push(st);
     }
+    let _ = write!(
+        s,
+        "\n/// The generated system of a scene for `variant`, a model that differs from this one \
+         in free parameters only (`None`: no such scene; `Err`: another difference).\n\
+         pub fn system_for(scene: &str, variant: &::washdyn_runtime::ir::Model) -> Option<Result<Box<dyn ::washdyn_runtime::system::Mechanical + Send>, String>> {{\n\
+             match scene {{\n{variant_arms}        _ => None,\n    }}\n}}\n"
+    );
     let _ = write!(
         s,
         "\n/// The scenes, in declaration order.\n\
@@ -507,6 +606,46 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Which numbers of the reference can be free: the generator proves each (`free.rs`) or
+    /// refuses it with its name. Printed with `--nocapture`.
+    #[test]
+    fn free_parameters_are_proven_or_refused() {
+        let base = reference();
+        let candidates = [
+            "springs.spring_front.stiffness",
+            "springs.spring_front.free_length",
+            "friction_dampers.damper_front_left.f_max",
+            "friction_dampers.damper_front_left.slope",
+            "friction_dampers.damper_front_left.bearing_stiffness",
+            "gaskets.door_gasket.stiffness[0][0]",
+            "unbalances.test_mass.mass",
+            "tub.mass",
+        ];
+        let mut ok = Vec::new();
+        for c in candidates {
+            let mut m = base.clone();
+            m.free = vec![c.to_string()];
+            match generate(&m) {
+                Ok(src) => {
+                    assert!(src.contains("p[0]"), "{c}: free but never read");
+                    ok.push(c);
+                }
+                Err(e) => {
+                    println!("{c}: {e}");
+                    assert!(e.message.contains(c), "{e}");
+                    assert_eq!(e.path.to_string(), "free[0]");
+                }
+            }
+        }
+        println!("free: {ok:?}");
+        // The force elements' own numbers enter the forces as they are.
+        for c in &candidates[..3] {
+            assert!(ok.contains(c), "{c}: {ok:?}");
+        }
+        // The tub's mass is in M1.
+        assert!(!ok.contains(&"tub.mass"));
     }
 
     #[test]

@@ -28,7 +28,9 @@ pub struct FrictionDamper {
 
 /// The friction law alone: force opposing a relative velocity v (positive: extension).
 pub fn friction_force<T: Scalar>(f_max: f64, slope: f64, v: T) -> T {
-    (v * slope).atan() * (2.0 * f_max / PI)
+    // f_max as a scalar of its own, so that it can be a free parameter of generated code
+    // (folded, the two constants are one literal).
+    (v * slope).atan() * (T::c(f_max) * (2.0 / PI))
 }
 
 impl FrictionDamper {

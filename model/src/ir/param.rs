@@ -172,6 +172,92 @@ pub fn get(model: &Model, p: &Param) -> f64 {
         .expect("a resolved parameter names a number")
 }
 
+/// The numbers at resolved parameters, or which one `model` lacks.
+pub fn get_all(model: &Model, params: &[Param]) -> Result<Vec<f64>, ParamError> {
+    let mut root = value(model);
+    params
+        .iter()
+        .map(|p| {
+            at(&mut root, &p.path)
+                .and_then(|v| v.as_f64())
+                .ok_or_else(|| err(&p.text, "does not name a number of this model"))
+        })
+        .collect()
+}
+
+/// The first place where two JSON values differ, as a path.
+fn first_difference(a: &Value, b: &Value, path: Path) -> Option<Path> {
+    match (a, b) {
+        (Value::Object(x), Value::Object(y)) => {
+            for (k, va) in x {
+                match y.get(k) {
+                    Some(vb) => {
+                        if let Some(p) = first_difference(va, vb, path.clone().key(k)) {
+                            return Some(p);
+                        }
+                    }
+                    None => return Some(path.key(k)),
+                }
+            }
+            y.keys()
+                .find(|k| !x.contains_key(*k))
+                .map(|k| path.clone().key(k))
+        }
+        (Value::Array(x), Value::Array(y)) if x.len() == y.len() => x
+            .iter()
+            .zip(y)
+            .enumerate()
+            .find_map(|(i, (va, vb))| first_difference(va, vb, path.clone().idx(i))),
+        _ if a == b => None,
+        _ => Some(path),
+    }
+}
+
+/// The values of `base`'s free parameters in `variant`, provided the two models differ in
+/// nothing else: what lets code generated for `base` run `variant`. The error names the first
+/// number or field that differs and is not free.
+pub fn free_values(base: &Model, variant: &Model) -> Result<Vec<f64>, String> {
+    let params = base
+        .free
+        .iter()
+        .map(|t| resolve(base, t))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| e.to_string())?;
+    let values = get_all(variant, &params).map_err(|e| e.to_string())?;
+    let reset = set(
+        variant,
+        &params,
+        &get_all(base, &params).map_err(|e| e.to_string())?,
+    )
+    .map_err(|e| e.to_string())?;
+    let (mut a, mut b) = (value(base), value(&reset));
+    // Neither the free list nor where a modal file was read from is the model's content (the
+    // file's data is, and is compared).
+    for v in [&mut a, &mut b] {
+        if let Value::Object(m) = v {
+            m.remove("free");
+            if let Some(Value::Array(bodies)) = m.get_mut("elastic") {
+                for e in bodies.iter_mut().filter_map(Value::as_object_mut) {
+                    e.remove("file");
+                }
+            }
+        }
+    }
+    match first_difference(&a, &b, Path::default()) {
+        None => Ok(values),
+        Some(p) => Err(format!(
+            "the variant differs from the generated model `{}` at `{p}`, which is not one of \
+             its free parameters ({}): run it with the interpreter",
+            base.name,
+            if base.free.is_empty() {
+                "it has none".to_string()
+            } else {
+                base.free.join(", ")
+            }
+        )),
+    }
+}
+
 /// The model with `values[k]` at `params[k]`. Values must be finite (JSON has no NaN); the
 /// checker then judges the new model as any other.
 pub fn set(model: &Model, params: &[Param], values: &[f64]) -> Result<Model, ParamError> {
@@ -231,6 +317,23 @@ mod tests {
         let mut back = v.clone();
         back.springs[1].stiffness = m.springs[1].stiffness;
         assert_eq!(back, m);
+    }
+
+    #[test]
+    fn free_values_accept_free_changes_only() {
+        let mut m = model();
+        m.free = vec!["springs.spring_front.stiffness".into()];
+        let p = resolve(&m, &m.free[0]).unwrap();
+        let v = set(&m, std::slice::from_ref(&p), &[3000.0]).unwrap();
+        assert_eq!(free_values(&m, &v), Ok(vec![3000.0]));
+        let mut w = v.clone();
+        w.springs[1].stiffness = 1.0;
+        let e = free_values(&m, &w).unwrap_err();
+        assert!(e.contains("at `springs[1].stiffness`"), "{e}");
+        w = v.clone();
+        w.sensors.pop();
+        let e = free_values(&m, &w).unwrap_err();
+        assert!(e.contains("at `sensors`"), "{e}");
     }
 
     #[test]

@@ -16,7 +16,7 @@ pub fn derivative(outputs: &[Sym], var: u32) -> Vec<Sym> {
         let s = |k: u32| Sym(k);
         let me = Sym(i as u32);
         d[i] = match node {
-            Node::Const(_) => None,
+            Node::Const(_) | Node::Param(_) => None,
             Node::Input(k) => (k == var).then(|| Sym::c(1.0)),
             Node::Add(a, b) => match (get(a), get(b)) {
                 (None, None) => None,

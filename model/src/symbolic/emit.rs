@@ -48,7 +48,7 @@ impl<'g> Emitter<'g> {
         let mut level = vec![0u32; g.nodes.len()];
         for (i, n) in g.nodes.iter().enumerate() {
             level[i] = match n {
-                Node::Const(_) | Node::Input(_) => 0,
+                Node::Const(_) | Node::Input(_) | Node::Param(_) => 0,
                 // A pick is a name for an entry of its MatVec's array, not a statement.
                 Node::Pick(m, _) => level[*m as usize],
                 n => {
@@ -85,6 +85,7 @@ impl<'g> Emitter<'g> {
         match self.g.nodes[s.0 as usize] {
             Node::Const(b) => fmt_f64(f64::from_bits(b)),
             Node::Input(k) => self.inputs[k as usize].clone(),
+            Node::Param(k) => format!("p[{k}]"),
             Node::Pick(m, k) => format!("{}mv{m}[{k}]", self.prefix),
             _ => {
                 let (g, i) = self.loc[s.0 as usize].expect("operand emitted before use");
@@ -96,7 +97,7 @@ impl<'g> Emitter<'g> {
     fn expr(&self, i: usize) -> String {
         let n = |k: u32| self.name(Sym(k));
         match self.g.nodes[i] {
-            Node::Const(_) | Node::Input(_) => self.name(Sym(i as u32)),
+            Node::Const(_) | Node::Input(_) | Node::Param(_) => self.name(Sym(i as u32)),
             Node::Add(a, b) => format!("{} + {}", n(a), n(b)),
             Node::Sub(a, b) => format!("{} - {}", n(a), n(b)),
             Node::Mul(a, b) => format!("{} * {}", n(a), n(b)),
@@ -170,7 +171,7 @@ impl<'g> Emitter<'g> {
         for (i, &l) in live.iter().enumerate() {
             let op = !matches!(
                 self.g.nodes[i],
-                Node::Const(_) | Node::Input(_) | Node::Pick(..)
+                Node::Const(_) | Node::Input(_) | Node::Param(_) | Node::Pick(..)
             );
             if l && op && self.loc[i].is_none() {
                 let lv = self.level[i] as usize;

@@ -25,6 +25,10 @@ pub enum Node {
     Const(u64),
     /// The i-th input.
     Input(u32),
+    /// The i-th free parameter (`Model::free`): a number the generated code reads from its
+    /// parameter array `p` instead of a literal. Structurally it is a constant (its derivative
+    /// is 0), but it is never folded.
+    Param(u32),
     Add(u32, u32),
     Sub(u32, u32),
     Mul(u32, u32),
@@ -63,6 +67,9 @@ pub struct Graph {
     /// Operand lists of `MatVec` nodes, interned.
     pub lists: Vec<Vec<u32>>,
     list_map: HashMap<Vec<u32>, u32>,
+    /// Bits of the stand-in values of the free parameters -> parameter index: a constant with
+    /// these bits becomes that `Param` as the derivation hands it over.
+    sentinels: HashMap<u64, u32>,
 }
 
 thread_local! {
@@ -71,8 +78,25 @@ thread_local! {
 
 /// Run `f` with a fresh graph and return its result together with the graph.
 pub fn trace<R>(f: impl FnOnce() -> R) -> (R, Graph) {
+    trace_params(&[], f)
+}
+
+/// As [`trace`], where a constant with the bits of `sentinels[i]` is free parameter i: the
+/// model's free numbers are replaced by these stand-ins before the derivation runs, and each
+/// reaches the graph as a `Param` when the derivation uses it unchanged. One it changed first
+/// (a precomputed product, say) arrives as some other constant; the code generator's check
+/// against the derivation at other parameter values catches that.
+pub fn trace_params<R>(sentinels: &[f64], f: impl FnOnce() -> R) -> (R, Graph) {
+    let fresh = Graph {
+        sentinels: sentinels
+            .iter()
+            .enumerate()
+            .map(|(i, v)| (v.to_bits(), i as u32))
+            .collect(),
+        ..Graph::default()
+    };
     GRAPH.with(|g| {
-        let prev = g.borrow_mut().replace(Graph::default());
+        let prev = g.borrow_mut().replace(fresh);
         assert!(prev.is_none(), "nested symbolic traces are not supported");
     });
     let r = f();
@@ -131,8 +155,40 @@ impl Graph {
     }
 
     fn konst(&mut self, v: f64) -> u32 {
+        if let Some(&i) = self.sentinels.get(&v.to_bits()) {
+            return self.intern(Node::Param(i));
+        }
         let v = if v == 0.0 { 0.0 } else { v };
         self.intern(Node::Const(v.to_bits()))
+    }
+
+    /// The free parameters the outputs depend on.
+    pub fn params_used(&self, outputs: &[Sym]) -> Vec<u32> {
+        let live = self.live(outputs);
+        let mut out: Vec<u32> = (0..self.nodes.len())
+            .filter(|&i| live[i])
+            .filter_map(|i| match self.nodes[i] {
+                Node::Param(k) => Some(k),
+                _ => None,
+            })
+            .collect();
+        out.sort_unstable();
+        out.dedup();
+        out
+    }
+
+    /// The free parameters whose stand-in sits in a constant table (a modal map): folded into
+    /// the table, the generated code could not take them.
+    pub fn params_in_tables(&self) -> Vec<u32> {
+        let mut out: Vec<u32> = self
+            .tables
+            .iter()
+            .flatten()
+            .filter_map(|v| self.sentinels.get(&v.to_bits()).copied())
+            .collect();
+        out.sort_unstable();
+        out.dedup();
+        out
     }
 
     // Guards on float values read as the algebra they implement.
@@ -144,7 +200,7 @@ impl Graph {
         let c = |g: &Self, i: u32| g.constant(i);
         match n {
             Const(b) => self.konst(f64::from_bits(b)),
-            Input(_) => self.intern(n),
+            Input(_) | Param(_) => self.intern(n),
             Add(a, b) => match (c(self, a), c(self, b)) {
                 (Some(x), Some(y)) => self.konst(x + y),
                 (Some(x), _) if x == 0.0 => b,
@@ -306,6 +362,11 @@ impl Graph {
     /// Evaluate the nodes needed for `outputs` at numeric inputs (tests the graph without
     /// compiling generated code).
     pub fn eval(&self, inputs: &[f64], outputs: &[Sym]) -> Vec<f64> {
+        self.eval_params(inputs, &[], outputs)
+    }
+
+    /// [`Graph::eval`] with the free parameters' values.
+    pub fn eval_params(&self, inputs: &[f64], params: &[f64], outputs: &[Sym]) -> Vec<f64> {
         let mut v = vec![0.0; self.nodes.len()];
         let mut vectors: HashMap<u32, Vec<f64>> = HashMap::new();
         let hi = outputs.iter().map(|s| s.0 as usize + 1).max().unwrap_or(0);
@@ -326,6 +387,7 @@ impl Graph {
                 Node::Pick(m, k) => vectors[&m][k as usize],
                 Node::Const(b) => f64::from_bits(b),
                 Node::Input(k) => inputs[k as usize],
+                Node::Param(k) => params[k as usize],
                 Node::Add(a, b) => v[a as usize] + v[b as usize],
                 Node::Sub(a, b) => v[a as usize] - v[b as usize],
                 Node::Mul(a, b) => v[a as usize] * v[b as usize],
@@ -351,7 +413,7 @@ impl Graph {
             .enumerate()
             .filter(|&(_, &l)| l)
             .map(|(i, _)| match self.nodes[i] {
-                Node::Const(_) | Node::Input(_) | Node::Pick(..) => 0,
+                Node::Const(_) | Node::Input(_) | Node::Param(_) | Node::Pick(..) => 0,
                 Node::MatVec { table, .. } => 2 * self.tables[table as usize].len(),
                 _ => 1,
             })
@@ -380,7 +442,7 @@ impl Graph {
 fn operands(n: Node) -> impl Iterator<Item = u32> {
     use Node::*;
     let (a, b) = match n {
-        Const(_) | Input(_) | MatVec { .. } => (None, None),
+        Const(_) | Input(_) | Param(_) | MatVec { .. } => (None, None),
         Pick(m, _) => (Some(m), None),
         Add(a, b) | Sub(a, b) | Mul(a, b) | Div(a, b) | Max(a, b) | Ge(a, b) | Powf(a, b) => {
             (Some(a), Some(b))

@@ -1,0 +1,15 @@
+// A free parameter that names no number of the model.
+washdyn_macros::machine! {
+    m {
+        free: ["springs.s.stifness"],
+        tub {
+            mass: 1.0,
+            cog: [0.0, 0.0, 0.5],
+            inertia: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+        }
+        speed { table: [[0.0, 0.0], [1.0, 100.0]] }
+        spring s { a: { body: tub, point: [0.0, 0.0, 0.6] }, b: { body: cabinet, point: [0.0, 0.0, 1.0] }, stiffness: 100.0, free_length: 0.3 }
+    }
+}
+
+fn main() {}

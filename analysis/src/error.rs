@@ -86,6 +86,10 @@ pub enum AnalysisError {
     #[error("invalid analysis option: {0}")]
     InvalidOptions(String),
 
+    /// A variant study's input is inconsistent (bounds, design size, outputs against the layout).
+    #[error("invalid study: {0}")]
+    InvalidStudy(String),
+
     /// Writing an output file failed.
     #[error("cannot write {path}: {source}")]
     Write {

@@ -12,7 +12,8 @@
 //! and order tracks of all channels go to one table each (`spectra`, `orders`: see
 //! [`export`]). The result files themselves (`results`: Parquet/CSV writers and readers, the
 //! sensor, state and energy recorders) are here too: the analysis reads and writes them, and the
-//! energy table draws with the plots.
+//! energy table draws with the plots. [`study`] analyses many runs at once: designs of variant
+//! studies, Sobol indices, Pareto fronts and their plots.
 
 pub mod angle;
 pub mod error;
@@ -23,6 +24,7 @@ pub mod plot;
 pub mod results;
 pub mod signals;
 pub mod spectrum;
+pub mod study;
 
 use std::fmt;
 use std::path::{Path, PathBuf};

@@ -198,7 +198,7 @@ fn nice_ticks(lo: f64, hi: f64, n: usize) -> Vec<f64> {
 }
 
 /// Short number for tick labels: plain decimals where readable, else scientific.
-pub(super) fn fmt_number(v: f64) -> String {
+pub(crate) fn fmt_number(v: f64) -> String {
     if v == 0.0 {
         return "0".into();
     }

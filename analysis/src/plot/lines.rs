@@ -16,7 +16,7 @@ use crate::orders::{Block, OrderTrack};
 use crate::signals::Channel;
 
 /// Line colours for order tracks: distinct and print-safe.
-pub(super) const TRACK_COLOURS: [RGBColor; 8] = [
+pub(crate) const TRACK_COLOURS: [RGBColor; 8] = [
     RGBColor(31, 119, 180),
     RGBColor(255, 127, 14),
     RGBColor(44, 160, 44),

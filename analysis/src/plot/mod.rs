@@ -16,6 +16,8 @@
 //! - `speed.rs`: the speed plot and the displacement overview;
 //! - `pair.rs`: two runs in one picture (`washdyn compare`);
 //! - `energy.rs`: the energy balance (`run --energy`).
+//!
+//! The variant studies' plots (`crate::study::plot`) use the same frame, font and output.
 
 use std::error::Error;
 use std::path::Path;
@@ -56,6 +58,7 @@ macro_rules! render_both {
         }
     }};
 }
+pub(crate) use render_both;
 
 mod axis;
 mod energy;
@@ -65,8 +68,10 @@ mod order;
 mod pair;
 mod speed;
 
+pub(crate) use axis::fmt_number;
 pub use axis::{AmplitudeAxis, colour_map};
 pub use energy::{EnergyLine, energy_plot};
+pub(crate) use lines::TRACK_COLOURS;
 pub use order::{cascade_plot, order_plot};
 pub use pair::{order_plot_pair, track_overlay_plot};
 pub use speed::{displacement_plot, speed_plot};
@@ -86,25 +91,25 @@ pub fn init_fonts() {
     });
 }
 
-type DynErr = Box<dyn Error + Send + Sync>;
-type PResult<T = ()> = Result<T, DynErr>;
+pub(crate) type DynErr = Box<dyn Error + Send + Sync>;
+pub(crate) type PResult<T = ()> = Result<T, DynErr>;
 
-const TITLE_SIZE: u32 = 28;
-const SUBTITLE_SIZE: u32 = 17;
-const DESC_SIZE: u32 = 22;
-const TICK_SIZE: u32 = 18;
-const NOTE_SIZE: u32 = 17;
+pub(crate) const TITLE_SIZE: u32 = 28;
+pub(crate) const SUBTITLE_SIZE: u32 = 17;
+pub(crate) const DESC_SIZE: u32 = 22;
+pub(crate) const TICK_SIZE: u32 = 18;
+pub(crate) const NOTE_SIZE: u32 = 17;
 /// Width reserved right of a heat map for the colour bar, its ticks and caption.
 const COLOUR_BAR_AREA: u32 = 200;
 /// Colour of plot regions without data (above Nyquist, speed gaps).
 const NO_DATA: RGBColor = RGBColor(225, 225, 225);
 
-fn font(size: u32) -> TextStyle<'static> {
+pub(crate) fn font(size: u32) -> TextStyle<'static> {
     (FAMILY, size).into_font().color(&BLACK)
 }
 
 /// A white plot with its title and grey subtitle: the area below them.
-fn framed<DB: DrawingBackend>(
+pub(crate) fn framed<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     title: &str,
     subtitle: &str,
@@ -120,7 +125,7 @@ where
 
 /// Encode an RGB buffer as PNG with the fast deflate level: 2-3x quicker than the default
 /// level for plots, for files about a third larger.
-fn write_png(path: &Path, size: (u32, u32), rgb: &[u8]) -> Result<(), AnalysisError> {
+pub(crate) fn write_png(path: &Path, size: (u32, u32), rgb: &[u8]) -> Result<(), AnalysisError> {
     let err = |e: String| AnalysisError::Plot {
         path: path.to_path_buf(),
         message: e,

@@ -1,6 +1,7 @@
 //! Generated vs interpreted back end, per scene of the reference machine: one M1+h evaluation,
-//! one q'' evaluation (M1 factorised), and a whole run-up. Ratios for the README come from one
-//! run of this bench (`cargo bench --bench backends`).
+//! one q'' evaluation (M1 factorised), and a whole run-up; and what free parameters cost: the
+//! reference (its suspension free) against the same machine with every number folded. Ratios
+//! for the README come from one run of this bench (`cargo bench --bench backends`).
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
@@ -11,6 +12,17 @@ use washdyn_runtime::ode::{Dopri5, Method};
 use washdyn_runtime::output::SampleSink;
 use washdyn_runtime::run::{Labels, RunOptions, run};
 use washdyn_runtime::system::{FirstOrder, Interpreter, Mechanical};
+
+/// The reference machine with nothing free: every number a literal of its generated code.
+mod folded {
+    washdyn_macros::machine! {
+        /// The reference, folded.
+        reference_folded {
+            base: "models/data/reference.toml",
+            free: [],
+        }
+    }
+}
 
 /// A state in the middle of the run-up (0.5 mm, 1 mrad, 0.1 m/s).
 fn state(n: usize) -> (Vec<f64>, Vec<f64>) {
@@ -44,6 +56,16 @@ fn evaluations(c: &mut Criterion) {
         });
         g.bench_function("generated", |b| {
             b.iter(|| gen_.eval(black_box(t), black_box(&q), black_box(&qd), &mut m1, &mut h))
+        });
+        g.finish();
+        // The same evaluation with the suspension's numbers folded in.
+        let mut fold = folded::reference_folded::system(&scene).unwrap();
+        let mut g = c.benchmark_group(format!("free_parameters/mass_and_forces/{scene}"));
+        g.bench_function("free", |b| {
+            b.iter(|| gen_.eval(black_box(t), black_box(&q), black_box(&qd), &mut m1, &mut h))
+        });
+        g.bench_function("folded", |b| {
+            b.iter(|| fold.eval(black_box(t), black_box(&q), black_box(&qd), &mut m1, &mut h))
         });
         g.finish();
         let mut fa = FirstOrder::new(Interpreter::new(&m, &eff));
@@ -141,6 +163,9 @@ fn run_ups(c: &mut Criterion) {
         });
         g.bench_with_input(BenchmarkId::new("generated", &scene), &scene, |b, s| {
             b.iter(|| run_up(washdyn_models::generated("reference", s).unwrap()))
+        });
+        g.bench_with_input(BenchmarkId::new("generated_folded", &scene), &scene, |b, s| {
+            b.iter(|| run_up(folded::reference_folded::system(s).unwrap()))
         });
     }
     g.finish();

@@ -42,6 +42,7 @@ mod parquet_roundtrip;
 mod rigid_physics;
 mod simulation;
 mod starts_and_sensors;
+mod study;
 mod suspension_modes;
 mod sweep;
 mod tidy;

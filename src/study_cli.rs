@@ -10,6 +10,9 @@ use washdyn::Error;
 use washdyn::study;
 use washdyn_runtime::run::RunError;
 
+/// Variants whose warnings or errors are printed at most; the rest are counted.
+const SHOWN: usize = 10;
+
 /// `washdyn study run | status | collect`.
 pub fn study(cmd: StudyCmd) -> Result<ExitCode, Failure> {
     match cmd {
@@ -57,14 +60,25 @@ pub fn study(cmd: StudyCmd) -> Result<ExitCode, Failure> {
             if let Some(w) = &common {
                 eprintln!("warning: {w}");
             }
-            for o in &res {
+            // A study's variants often warn alike: the first few here, all in the summaries.
+            let warned: Vec<&study::Outcome> = res
+                .iter()
+                .filter(|o| o.warnings.iter().any(|w| Some(w) != common.as_ref()))
+                .collect();
+            for o in warned.iter().take(SHOWN) {
                 for w in o.warnings.iter().filter(|w| Some(*w) != common.as_ref()) {
                     eprintln!("warning: variant {}: {w}", o.id);
                 }
             }
+            if warned.len() > SHOWN {
+                eprintln!(
+                    "warning: {} more variants warned (the summaries' `warnings` column)",
+                    warned.len() - SHOWN
+                );
+            }
             let failed: Vec<&study::Outcome> =
                 res.iter().filter(|o| o.status == "failed").collect();
-            for o in &failed {
+            for o in failed.iter().take(SHOWN) {
                 eprintln!(
                     "variant {} failed: {}",
                     o.id,

@@ -292,6 +292,49 @@ fn a_rerun_completes_the_study_to_the_same_bytes() {
     );
 }
 
+/// A variant whose run fails keeps its row (status, error, null outputs), and a re-run runs
+/// it again, and only it: here gravity twelve times the earth's sags the tub beyond the
+/// validity stop (5 x the 6 mm small-motion bound) as the run starts.
+#[test]
+fn a_failed_variant_has_its_row_and_runs_again() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = study_file(
+        dir.path(),
+        "heavy.toml",
+        "[run]\nt_end = 0.2\ntol = 1e-5\nsample_rate = 200.0\n\
+         [[parameter]]\npath = \"gravity.2\"\nlevels = [-9.81, -120.0]\n\
+         [design]\nkind = \"grid\"\n",
+    );
+    let out = dir.path().join("out");
+    let s = Study::load(&file).unwrap();
+    let plan = study::plan(&s, &out).unwrap();
+    let res = study::execute(&s, &plan, 2, &|_| {}).unwrap();
+    let status: Vec<(&str, &str)> = res
+        .iter()
+        .map(|o| (o.id.as_str(), o.status.as_str()))
+        .collect();
+    assert!(
+        status.contains(&("0000", "ok")) && status.contains(&("0001", "failed")),
+        "{res:?}"
+    );
+    let st = study::status(&out).unwrap();
+    assert_eq!((st.done, st.failed.len()), (1, 1));
+    assert!(
+        st.failed[0].1.contains("tub translation"),
+        "{:?}",
+        st.failed
+    );
+    assert!(number(&out, "0001", "peak_door_ring_m").is_nan());
+    let t = read_table(&out.join("summary/variant=0001/summary.parquet")).unwrap();
+    assert_eq!(
+        t.column("status"),
+        Some(&Column::Text(vec!["failed".into()]))
+    );
+    let plan = study::plan(&s, &out).unwrap();
+    let todo: Vec<&str> = plan.todo.iter().map(|v| v.id.as_str()).collect();
+    assert_eq!(todo, ["0001"]);
+}
+
 /// The study file's problems at their lines: an unknown field, a path that names no number, a
 /// design not yet available, an unknown Pareto output.
 #[test]

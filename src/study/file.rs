@@ -127,13 +127,13 @@ impl Problems<'_> {
             message: format!("{path}: {}", message.into()),
         });
     }
-    /// The problems so far as the error, if any.
+    /// The problems so far as the error, if any, in the file's order.
     fn check(&mut self) -> Result<(), Error> {
         if self.found.is_empty() {
-            Ok(())
-        } else {
-            Err(StudyError::File(std::mem::take(&mut self.found)).into())
+            return Ok(());
         }
+        self.found.sort_by_key(|e| (e.line, e.column));
+        Err(StudyError::File(std::mem::take(&mut self.found)).into())
     }
 }
 
@@ -167,72 +167,54 @@ impl Study {
             found: Vec::new(),
         };
         let source = load_model(path, &parsed.model, &mut p)?;
+        // Every problem at once: the settings, the parameters, the design; then the outputs,
+        // which need the scene's channels.
         let settings = settings(&parsed, &mut p);
-        p.check()?;
-        let base = Simulation::new(source.variant(source.model.clone()), &settings).map_err(
-            |e| match e {
-                Error::Settings(refusals) => {
-                    for r in refusals {
-                        p.at(&setting_path(r.option), r.message);
-                    }
-                    StudyError::File(std::mem::take(&mut p.found)).into()
+        let parameters = parameters(&source, &parsed.parameters, &mut p);
+        let base = match Simulation::new(source.variant(source.model.clone()), &settings) {
+            Ok(b) => Some(b),
+            Err(Error::Settings(refusals)) => {
+                for r in refusals {
+                    p.at(&setting_path(r.option), r.message);
                 }
-                e => e,
-            },
-        )?;
-        if let Some(t0) = parsed.run.t_start
-            && !(t0.is_finite() && t0 >= 0.0 && t0 < base.run.t_end)
+                None
+            }
+            Err(e) => return Err(e),
+        };
+        if let (Some(t0), Some(b)) = (parsed.run.t_start, &base)
+            && !(t0.is_finite() && t0 >= 0.0 && t0 < b.run.t_end)
         {
             p.at(
                 &run_at("t_start"),
                 format!(
                     "t_start must be at least 0 and before the end of the run ({} s), got {t0}",
-                    base.run.t_end
+                    b.run.t_end
                 ),
             );
         }
-        let parameters = parameters(&source, &parsed.parameters, &mut p);
-        p.check()?;
         let design = Design {
             kind: parsed.design.kind,
             samples: parsed.design.samples,
             seed: parsed.design.seed,
         };
         let axes: Vec<Axis> = parameters.iter().map(|q| q.axis.clone()).collect();
-        let points = design::points(&design, &axes).map_err(|e| {
-            p.at(&e.at, e.message);
-            Error::from(StudyError::File(std::mem::take(&mut p.found)))
-        })?;
-        let outputs = Outputs::new(&base);
-        let pareto = parsed.outputs.as_ref().and_then(|o| {
-            let at = Path::default().key("outputs").key("pareto");
-            let known = outputs.plottable();
-            match &o.pareto[..] {
-                [a, b] if a != b => {
-                    let mut ok = true;
-                    for (i, n) in [a, b].into_iter().enumerate() {
-                        if !known.contains(n) {
-                            ok = false;
-                            p.at(
-                                &at.clone().idx(i),
-                                format!(
-                                    "`{n}` is not an output of this study (outputs: {})",
-                                    known.join(", ")
-                                ),
-                            );
-                        }
-                    }
-                    ok.then(|| [a.clone(), b.clone()])
+        let points = match design::points(&design, &axes) {
+            Ok(points) => points,
+            Err(e) => {
+                // A parameter refused above has no axis: the design's view of it would mislead.
+                if parameters.len() == parsed.parameters.len() {
+                    p.at(&e.at, e.message);
                 }
-                _ => {
-                    p.at(
-                        &at,
-                        "name two different outputs, e.g. [\"peak_door_ring_m\", \"wall_time_s\"]",
-                    );
-                    None
-                }
+                Vec::new()
             }
-        });
+        };
+        p.check()?;
+        let base = base.expect("no problems: the base simulation was set up");
+        let outputs = Outputs::new(&base);
+        let pareto = parsed
+            .outputs
+            .as_ref()
+            .and_then(|o| pareto(&o.pareto, &outputs, &mut p));
         p.check()?;
         Ok(Study {
             file: path.to_path_buf(),
@@ -261,6 +243,37 @@ impl Study {
     }
 }
 
+/// The two outputs `[outputs] pareto` names, each one of the study's.
+fn pareto(names: &[String], outputs: &Outputs, p: &mut Problems) -> Option<[String; 2]> {
+    let at = Path::default().key("outputs").key("pareto");
+    let [a, b] = names else {
+        p.at(
+            &at,
+            "name two outputs, e.g. [\"peak_door_ring_m\", \"wall_time_s\"]",
+        );
+        return None;
+    };
+    if a == b {
+        p.at(&at, format!("name two different outputs, not `{a}` twice"));
+        return None;
+    }
+    let known = outputs.plottable();
+    let mut ok = true;
+    for (i, n) in [a, b].into_iter().enumerate() {
+        if !known.contains(n) {
+            ok = false;
+            p.at(
+                &at.clone().idx(i),
+                format!(
+                    "`{n}` is not an output of this study ({})",
+                    outputs.describe()
+                ),
+            );
+        }
+    }
+    ok.then(|| [a.clone(), b.clone()])
+}
+
 /// The base model: a built-in name, else a model file relative to the study file (its own
 /// errors at its own lines).
 fn load_model(study: &FsPath, spec: &str, p: &mut Problems) -> Result<Source, Error> {
@@ -269,12 +282,13 @@ fn load_model(study: &FsPath, spec: &str, p: &mut Problems) -> Result<Source, Er
     }
     let path = study.parent().unwrap_or(FsPath::new("")).join(spec);
     if !path.is_file() {
+        let shown = std::path::absolute(&path).unwrap_or_else(|_| path.clone());
         p.at(
             &Path::default().key("model"),
             format!(
-                "`{spec}` is neither a built-in model ({}) nor a file ({} is none)",
+                "`{spec}` is neither a built-in model ({}) nor a file (no file {})",
                 washdyn_models::BUILT_IN.join(", "),
-                path.display()
+                shown.display()
             ),
         );
         p.check()?;

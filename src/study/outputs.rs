@@ -93,6 +93,18 @@ impl Outputs {
         v
     }
 
+    /// The outputs in a sentence, for an error that names an unknown one.
+    pub fn describe(&self) -> String {
+        let mut s = "outputs: peak_tub_rotation_rad, peak_tub_translation_m, peak_door_ring_m, \
+                     top_speed_rpm, steps, rhs_evals, wall_time_s, and per channel \
+                     <channel>_order1_peak, _order2_peak with their _rpm"
+            .to_string();
+        if !self.cabinet.is_empty() {
+            s += ", per cabinet channel <channel>_top_rms, <channel>_top_order1";
+        }
+        s + &format!("; channels: {}", self.channels.join(", "))
+    }
+
     /// Nulls in every column: a variant that failed.
     pub fn none(&self) -> Vec<f64> {
         vec![f64::NAN; self.columns().len()]

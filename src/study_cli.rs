@@ -63,6 +63,7 @@ pub fn study(cmd: StudyCmd) -> Result<ExitCode, Failure> {
             // A study's variants often warn alike: the first few here, all in the summaries.
             let warned: Vec<&study::Outcome> = res
                 .iter()
+                .filter(|o| o.status != "interrupted")
                 .filter(|o| o.warnings.iter().any(|w| Some(w) != common.as_ref()))
                 .collect();
             for o in warned.iter().take(SHOWN) {

@@ -292,6 +292,58 @@ fn a_rerun_completes_the_study_to_the_same_bytes() {
     );
 }
 
+/// A variant at the base model's values is `washdyn run`'s run to the bit: setting a value
+/// through the model's serde form (`param::set`) changes nothing else, and the study file's
+/// `[run]` is `run`'s settings.
+#[test]
+fn a_variant_at_the_base_values_is_the_base_run_to_the_bit() {
+    use washdyn::commands::{Backend, RunArgs, run_command};
+    let dir = tempfile::tempdir().unwrap();
+    let file = study_file(
+        dir.path(),
+        "base.toml",
+        "[run]\nt_end = 0.5\ntol = 1e-6\nsample_rate = 200.0\n\
+         [[parameter]]\npath = \"springs.spring_front.stiffness\"\nlevels = [4000]\n\
+         [design]\nkind = \"grid\"\n",
+    );
+    let out = dir.path().join("out");
+    run(&file, &out);
+    let args = RunArgs {
+        model: "reference".into(),
+        t_end: Some(0.5),
+        out: Some(dir.path().join("run")),
+        integrator: washdyn_runtime::ode::Method::Dopri5,
+        tol: 1e-6,
+        step: None,
+        rho_inf: None,
+        backend: Some(Backend::Interpreted),
+        scene: Some("full".into()),
+        sample_rate: 200.0,
+        max_steps: None,
+        format: washdyn::results::Format::Parquet,
+        keep_samples: false,
+        states: false,
+        energy: false,
+        start: washdyn_runtime::run::Start::Static,
+    };
+    let o = run_command(&args, &mut |_| {}).unwrap();
+    let read = washdyn::results::read_parquet_f64;
+    let (names, base) = read(&o.sensors).unwrap();
+    let (names_v, variant) = read(&out.join("variants/variant=0000/sensors.parquet")).unwrap();
+    assert_eq!(names, names_v);
+    assert_eq!(base[0].len(), 101);
+    let bits = |c: &[Vec<f64>]| -> Vec<Vec<u64>> {
+        c.iter()
+            .map(|v| v.iter().map(|x| x.to_bits()).collect())
+            .collect()
+    };
+    assert!(
+        bits(&base) == bits(&variant),
+        "the variant's signals differ"
+    );
+    assert_eq!(number(&out, "0000", "steps"), o.summary.steps as f64);
+}
+
 /// A variant whose run fails keeps its row (status, error, null outputs), and a re-run runs
 /// it again, and only it: here gravity twelve times the earth's sags the tub beyond the
 /// validity stop (5 x the 6 mm small-motion bound) as the run starts.

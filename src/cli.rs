@@ -1,19 +1,24 @@
-//! `washdyn`'s command line (clap): the commands and their options.
+//! `washdyn`'s command line (clap): the commands and their options, and the guard (validity
+//! stop, Ctrl-C) the simulation options give.
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use washdyn::commands::Backend;
 use washdyn::results::Format;
 use washdyn_runtime::ode::Method;
-use washdyn_runtime::run::Start;
+use washdyn_runtime::run::{Guard, Start};
 
 /// The exit codes (README, "Commands"), shown by `washdyn --help`.
 const EXIT_CODES: &str = "Exit codes:
   0    success
-  1    a run stopped early (its output up to then is kept), or a sweep's variant failed
-  2    a setting refused before anything was written (an option or its value)
-  3    a model refused: it does not load, fails the checker, a scene cannot run, or it is
-       neither built in nor a file
+  1    a run stopped early (its output up to then is kept), or a sweep's or study's variant
+       failed
+  2    a setting refused before anything was written (an option or its value, a study file
+       at its line, a study directory that is another study's)
+  3    a model refused: it does not load, fails the checker (also a study's variant), a scene
+       cannot run, or it is neither built in nor a file
   4    a file or directory that cannot be read or written
   5    other refused data: a signal file the analysis cannot take (also after a run), runs
        that cannot be compared, FE or field input
@@ -78,6 +83,31 @@ pub struct Sim {
     /// Write sensor output beyond the 2 GB limit.
     #[arg(long)]
     pub allow_large_output: bool,
+}
+
+impl Sim {
+    /// The guard of `run` and `sweep`: the validity stop unless `--no-validity-stop`, and Ctrl-C.
+    pub fn guard(&self) -> Guard {
+        Guard {
+            stop_factor: if self.no_validity_stop {
+                None
+            } else {
+                Guard::default().stop_factor
+            },
+            interrupt: Some(interrupt_flag()),
+            ..Guard::default()
+        }
+    }
+}
+
+/// The Ctrl-C flag: a run stops between steps, its summary's status `interrupted`.
+pub fn interrupt_flag() -> Arc<AtomicBool> {
+    let interrupt = Arc::new(AtomicBool::new(false));
+    let flag = interrupt.clone();
+    if let Err(e) = ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed)) {
+        eprintln!("warning: Ctrl-C will not write a summary: {e}");
+    }
+    interrupt
 }
 
 #[derive(Subcommand)]
@@ -275,6 +305,41 @@ pub enum Cmd {
         /// Parallel runs (default: all cores).
         #[arg(long)]
         jobs: Option<usize>,
+    },
+    /// Variant studies: a design over a model's parameters (a study file, TOML; README,
+    /// "Variant studies"), every variant checked before any runs, run on all cores with the
+    /// interpreter into one hive-partitioned Parquet dataset; a re-run completes it.
+    Study {
+        #[command(subcommand)]
+        cmd: StudyCmd,
+    },
+}
+
+#[derive(Subcommand)]
+pub enum StudyCmd {
+    /// Check every variant, then run those not finished in DIR (missing or failed):
+    /// DIR/variants/variant=<id>/sensors.parquet, DIR/summary/variant=<id>/summary.parquet,
+    /// DIR/timing/variant=<id>/timing.parquet, with the study and its design beside them.
+    Run {
+        /// The study file.
+        study: PathBuf,
+        /// The study's directory (default: out/<study file's stem>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Parallel runs (default: all cores).
+        #[arg(long)]
+        jobs: Option<usize>,
+    },
+    /// How many variants are done, failed (and why) and missing.
+    Status {
+        /// The study's directory.
+        dir: PathBuf,
+    },
+    /// Every summary row in variant order with its wall time: DIR/summary.parquet and
+    /// DIR/summary.csv.
+    Collect {
+        /// The study's directory.
+        dir: PathBuf,
     },
 }
 

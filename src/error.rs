@@ -74,6 +74,9 @@ pub enum Error {
     /// Two runs that cannot be compared.
     #[error(transparent)]
     Compare(#[from] crate::compare::CompareError),
+    /// A study refused: its file (at its lines), variants the checker refuses, its directory.
+    #[error(transparent)]
+    Study(#[from] crate::study::StudyError),
     /// Another command refused its input or could not finish (`fields`, `campbell`, `modes`,
     /// `fe`, the full-mesh study, the accuracy study's runs): its message.
     #[error("{message}")]

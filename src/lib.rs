@@ -1,5 +1,5 @@
 //! washdyn: the command-line tool's library: model resolution, one simulation set-up
-//! (`simulation`) for `run`, `sweep` and `accuracy`, their typed errors (`Error`), and
+//! (`simulation`) for `run`, `sweep`, `study` and `accuracy`, their typed errors (`Error`), and
 //! post-processing.
 pub mod accuracy;
 pub mod basis;
@@ -11,6 +11,7 @@ pub mod fields;
 pub mod full_mesh;
 pub mod modes;
 pub mod simulation;
+pub mod study;
 pub mod sweep;
 pub mod validate;
 pub mod vtk;

@@ -2,6 +2,7 @@
 //! error is a `washdyn::Error`; [`exit_code`] maps it to the process's exit code.
 
 mod cli;
+mod study_cli;
 
 use clap::Parser;
 use cli::{Cli, Cmd, FeCmd, Sim};
@@ -9,13 +10,12 @@ use indicatif::{ProgressBar, ProgressStyle};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
 use washdyn::Error;
 use washdyn::analysis::{AnalysisError, AnalysisOptions, analyse_file};
 use washdyn::commands::{RunArgs, RunControl, check_model, resolve_model, run_command_with};
 use washdyn::simulation::Settings;
-use washdyn_runtime::run::{Guard, RunError};
+use washdyn::study::StudyError;
+use washdyn_runtime::run::RunError;
 
 /// The exit code of an error: the one mapping (the table is `cli::EXIT_CODES`, shown by
 /// `washdyn --help`, and README's "Commands").
@@ -26,11 +26,14 @@ fn exit_code(e: &Error) -> ExitCode {
             ..
         } => 130,
         Error::Integration { .. } => 1,
-        Error::Settings(_) | Error::Analysis(AnalysisError::InvalidOptions(_)) => 2,
+        Error::Settings(_)
+        | Error::Analysis(AnalysisError::InvalidOptions(_))
+        | Error::Study(StudyError::File(_) | StudyError::Directory { .. }) => 2,
         Error::Model(_)
         | Error::Check { .. }
         | Error::Scene { .. }
-        | Error::UnknownModel { .. } => 3,
+        | Error::UnknownModel { .. }
+        | Error::Study(StudyError::Variants(_)) => 3,
         Error::Io { .. } | Error::File { .. } | Error::Analysis(AnalysisError::Io { .. }) => 4,
         Error::Analysis(_) | Error::Compare(_) | Error::Refused { .. } => 5,
     })
@@ -96,25 +99,6 @@ impl From<Error> for Failure {
     }
 }
 
-/// The guard of `run` and `sweep`: the validity stop unless `--no-validity-stop`, and the
-/// Ctrl-C flag (a run stops between steps and writes its summary with status `interrupted`).
-fn guard(sim: &Sim) -> Guard {
-    let interrupt = Arc::new(AtomicBool::new(false));
-    let flag = interrupt.clone();
-    if let Err(e) = ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed)) {
-        eprintln!("warning: Ctrl-C will not write a summary: {e}");
-    }
-    Guard {
-        stop_factor: if sim.no_validity_stop {
-            None
-        } else {
-            Guard::default().stop_factor
-        },
-        interrupt: Some(interrupt),
-        ..Guard::default()
-    }
-}
-
 /// Prints the files a command wrote.
 fn wrote(files: Vec<PathBuf>) -> ExitCode {
     for f in files {
@@ -171,7 +155,7 @@ fn command(cmd: Cmd) -> Result<ExitCode, Failure> {
                 t_end: sim.t_end,
                 sample_rate: sim.sample_rate,
                 start: sim.start,
-                guard: guard(&sim),
+                guard: sim.guard(),
                 allow_large_output: sim.allow_large_output,
                 ..Settings::default()
             };
@@ -233,6 +217,7 @@ fn command(cmd: Cmd) -> Result<ExitCode, Failure> {
                 ExitCode::FAILURE
             })
         }
+        Cmd::Study { cmd } => study_cli::study(cmd),
         Cmd::Analyse {
             file,
             out,
@@ -530,7 +515,7 @@ fn run(c: RunCli) -> Result<ExitCode, Failure> {
         });
     };
     let ctl = RunControl {
-        guard: guard(&c.sim),
+        guard: c.sim.guard(),
         allow_large_output: sim.allow_large_output,
         analysis_band_hz: (!c.no_plots).then_some(ANALYSIS_BAND_HZ),
     };

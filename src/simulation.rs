@@ -309,6 +309,14 @@ impl Simulation {
         &self.source.model
     }
 
+    /// The sensor channels the run records, in the sensor file's order (after `time_s` and
+    /// `drum_rpm`): known before the run, so a study's columns are the same for every variant.
+    pub fn channel_names(&self) -> Vec<String> {
+        self.mech
+            .as_ref()
+            .map_or_else(Vec::new, |m| m.channel_names())
+    }
+
     /// What the error class is looked up at: the relative tolerance, rk4's step.
     pub fn class_tolerance(&self) -> f64 {
         match self.method {

@@ -43,6 +43,7 @@ mod parquet_roundtrip;
 mod rigid_physics;
 mod simulation;
 mod starts_and_sensors;
+mod study;
 mod study_sobol;
 mod suspension_modes;
 mod sweep;

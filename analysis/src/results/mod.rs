@@ -28,7 +28,7 @@ mod states;
 mod table;
 
 pub use energy::EnergyRecorder;
-pub use read::read_parquet_f64;
+pub use read::{Table, read_parquet_f64, read_table};
 pub use sensors::{SensorRecorder, unit_of_column};
 pub use states::StateRecorder;
 pub use table::{Batched, Column, Schema, TableWriter};

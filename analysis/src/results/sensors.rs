@@ -35,6 +35,8 @@ pub struct SensorRecorder {
     keep: bool,
     /// Rows of `memory` already written.
     written: usize,
+    /// Write row groups as the run goes; without, all at `finish` ([`SensorRecorder::deferred`]).
+    stream: bool,
     last_write: Instant,
     pub names: Vec<String>,
     /// The states, when the run keeps them.
@@ -53,24 +55,37 @@ impl SensorRecorder {
             memory: Vec::new(),
             keep,
             written: 0,
+            stream: true,
             last_write: Instant::now(),
             names: Vec::new(),
             states: None,
             energy: None,
         }
     }
+    /// The samples kept in memory, written only at [`SensorRecorder::finish`], in row groups
+    /// of a fixed size: the same samples give the same file, byte for byte (a study's dataset),
+    /// where streaming cuts its row groups by wall time. A killed process leaves an empty file.
+    pub fn deferred(dir: &Path, format: Format) -> SensorRecorder {
+        SensorRecorder {
+            stream: false,
+            ..SensorRecorder::new(dir, format, true)
+        }
+    }
     pub fn path(&self) -> &Path {
         &self.path
     }
-    /// Write the rows of `memory` not yet written.
+    /// Write the rows of `memory` not yet written, at most a row group's worth per group.
     fn write_kept(&mut self) -> io::Result<()> {
         let Some(t) = &mut self.table else {
             return Ok(());
         };
-        let from = self.written;
-        let cols: Vec<&[f64]> = self.memory.iter().map(|c| &c[from..]).collect();
-        t.writer.append_slices(&cols)?;
-        self.written = self.memory.first().map_or(0, Vec::len);
+        let end = self.memory.first().map_or(0, Vec::len);
+        while self.written < end {
+            let (from, to) = (self.written, end.min(self.written + GROUP_ROWS));
+            let cols: Vec<&[f64]> = self.memory.iter().map(|c| &c[from..to]).collect();
+            t.writer.append_slices(&cols)?;
+            self.written = to;
+        }
         self.last_write = Instant::now();
         Ok(())
     }
@@ -127,7 +142,7 @@ impl washdyn_runtime::output::SampleSink for SensorRecorder {
                 c.push(v);
             }
             let rows = self.memory[0].len() - self.written;
-            if write_due(rows, self.last_write, GROUP_ROWS, GROUP_WAIT) {
+            if self.stream && write_due(rows, self.last_write, GROUP_ROWS, GROUP_WAIT) {
                 self.write_kept()?;
             }
             return Ok(());
@@ -170,7 +185,11 @@ impl washdyn_runtime::output::SampleSink for SensorRecorder {
             s.send()?;
         }
         if self.keep {
-            return self.write_kept();
+            return if self.stream {
+                self.write_kept()
+            } else {
+                Ok(())
+            };
         }
         match &mut self.table {
             Some(t) => t.flush(),

@@ -27,11 +27,14 @@ pub enum Column {
 }
 
 impl Column {
-    fn len(&self) -> usize {
+    pub fn len(&self) -> usize {
         match self {
             Column::Text(v) => v.len(),
             Column::F64(v) => v.len(),
         }
+    }
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
     }
     fn clear(&mut self) {
         match self {

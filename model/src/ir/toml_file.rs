@@ -224,7 +224,15 @@ pub fn parse_speed_csv(text: &str, file: &str) -> Result<Vec<[f64; 2]>, Located>
     Ok(rows)
 }
 
-fn line_col(src: &str, offset: usize) -> (usize, usize) {
+/// Where `path` sits in TOML text `src`: the 1-based line and column of the deepest part of it
+/// present, (0, 0) when the text does not parse. For other TOML files' errors (a study file's),
+/// located as a model file's are.
+pub fn locate(src: &str, path: &Path) -> (usize, usize) {
+    span_of(src, path).map_or((0, 0), |s| line_col(src, s.start))
+}
+
+/// The 1-based line and column of byte `offset` in `src`.
+pub fn line_col(src: &str, offset: usize) -> (usize, usize) {
     let before = &src[..offset.min(src.len())];
     let line = before.matches('\n').count() + 1;
     let column = before.len() - before.rfind('\n').map_or(0, |p| p + 1) + 1;

@@ -1,0 +1,435 @@
+//! The study file (TOML): the model, its scene, the run settings, the parameters (paths in
+//! `ir::param`'s syntax, each with levels or a range), the design and the outputs to plot
+//! against each other. Read with serde (unknown fields refused), then checked against the base
+//! model: every problem is reported at its file, line and column, located as a model file's
+//! are (`toml_file::locate`). Nothing is written before the whole study is checked.
+
+use super::design::{self, Axis, Design, Kind, Scale};
+use super::error::StudyError;
+use super::outputs::Outputs;
+use crate::error::Error;
+use crate::simulation::{Settings, Simulation, Source};
+use serde::Deserialize;
+use std::path::{Path as FsPath, PathBuf};
+use washdyn_runtime::ir::check::{Path, Seg};
+use washdyn_runtime::ir::modal::from_toml;
+use washdyn_runtime::ir::param::{self, Param};
+use washdyn_runtime::ir::toml_file::{Located, line_col, locate};
+use washdyn_runtime::ode::Method;
+use washdyn_runtime::run::{Guard, Start};
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct StudyFile {
+    /// A built-in model's name, or a model file relative to the study file.
+    model: String,
+    scene: Option<String>,
+    #[serde(default)]
+    run: RunTable,
+    #[serde(default, rename = "parameter")]
+    parameters: Vec<ParameterTable>,
+    design: DesignTable,
+    outputs: Option<OutputsTable>,
+}
+
+/// `washdyn run`'s options, by the names of `Settings`.
+#[derive(Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RunTable {
+    method: Option<String>,
+    tol: Option<f64>,
+    step: Option<f64>,
+    rho_inf: Option<f64>,
+    max_steps: Option<u64>,
+    t_start: Option<f64>,
+    t_end: Option<f64>,
+    sample_rate: Option<f64>,
+    start: Option<String>,
+    /// Stop a variant whose tub motion passes 5 x the small-motion bounds (default true).
+    validity_stop: Option<bool>,
+    allow_large_output: Option<bool>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ParameterTable {
+    path: String,
+    range: Option<Vec<f64>>,
+    levels: Option<Vec<f64>>,
+    scale: Option<Scale>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct DesignTable {
+    kind: Kind,
+    samples: Option<usize>,
+    seed: Option<u64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct OutputsTable {
+    /// Two output columns to plot against each other (stored in study.json).
+    pareto: Vec<String>,
+}
+
+/// A parameter of the study, resolved on the base model.
+#[derive(Clone, Debug)]
+pub struct Parameter {
+    /// The path as the study file writes it: the summary's and the design's column name.
+    pub text: String,
+    pub param: Param,
+    /// The base model's value there.
+    pub base: f64,
+    pub axis: Axis,
+}
+
+/// A checked study: the base model, the settings every variant runs with, the parameters, the
+/// design and its points, and the columns each variant reports.
+#[derive(Debug)]
+pub struct Study {
+    /// The study file, and its text (copied into the study's directory).
+    pub file: PathBuf,
+    pub text: String,
+    pub source: Source,
+    /// The model as the study file names it, and its content as the scene runs it
+    /// (`accuracy::class::content_hash`: what a re-run must find unchanged).
+    pub model_spec: String,
+    pub model_content: String,
+    /// The scene's name and the end of the run, s (the profile's end unless `t_end`).
+    pub scene: String,
+    pub t_end: f64,
+    pub settings: Settings,
+    pub parameters: Vec<Parameter>,
+    pub design: Design,
+    /// Design order: one row per variant, one value per parameter.
+    pub points: Vec<Vec<f64>>,
+    pub outputs: Outputs,
+    /// Two output columns for a Pareto plot.
+    pub pareto: Option<[String; 2]>,
+}
+
+/// Collects the study file's problems, each located.
+struct Problems<'a> {
+    file: &'a str,
+    src: &'a str,
+    found: Vec<Located>,
+}
+
+impl Problems<'_> {
+    fn at(&mut self, path: &Path, message: impl Into<String>) {
+        let (line, column) = locate(self.src, path);
+        self.found.push(Located {
+            file: self.file.to_string(),
+            line,
+            column,
+            message: format!("{path}: {}", message.into()),
+        });
+    }
+    /// The problems so far as the error, if any, in the file's order.
+    fn check(&mut self) -> Result<(), Error> {
+        if self.found.is_empty() {
+            return Ok(());
+        }
+        self.found.sort_by_key(|e| (e.line, e.column));
+        Err(StudyError::File(std::mem::take(&mut self.found)).into())
+    }
+}
+
+fn run_at(k: &str) -> Path {
+    Path::default().key("run").key(k)
+}
+
+/// Where a setting `Simulation::new` refuses sits in the study file.
+fn setting_path(option: &str) -> Path {
+    match option {
+        "--scene" => Path::default().key("scene"),
+        "--integrator" => run_at("method"),
+        o => run_at(&o.trim_start_matches("--").replace('-', "_")),
+    }
+}
+
+impl Study {
+    /// Read and check a study file: the model (built in, or a file relative to the study file),
+    /// the scene and settings (`Simulation::new` on the base model), every parameter path on
+    /// the base model, the design, and the outputs named for the Pareto plot.
+    pub fn load(path: &FsPath) -> Result<Study, Error> {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::io("read", path, e))?;
+        let shown = path.display().to_string();
+        let parsed: StudyFile = from_toml(&text).map_err(|(span, message)| {
+            let at = span.map_or((0, 0), |s| line_col(&text, s.start));
+            Error::from(StudyError::at(&shown, at, message))
+        })?;
+        let mut p = Problems {
+            file: &shown,
+            src: &text,
+            found: Vec::new(),
+        };
+        let source = load_model(path, &parsed.model, &mut p)?;
+        // Every problem at once: the settings, the parameters, the design; then the outputs,
+        // which need the scene's channels.
+        let settings = settings(&parsed, &mut p);
+        let parameters = parameters(&source, &parsed.parameters, &mut p);
+        let base = match Simulation::new(source.variant(source.model.clone()), &settings) {
+            Ok(b) => Some(b),
+            Err(Error::Settings(refusals)) => {
+                for r in refusals {
+                    p.at(&setting_path(r.option), r.message);
+                }
+                None
+            }
+            Err(e) => return Err(e),
+        };
+        if let (Some(t0), Some(b)) = (parsed.run.t_start, &base)
+            && !(t0.is_finite() && t0 >= 0.0 && t0 < b.run.t_end)
+        {
+            p.at(
+                &run_at("t_start"),
+                format!(
+                    "t_start must be at least 0 and before the end of the run ({} s), got {t0}",
+                    b.run.t_end
+                ),
+            );
+        }
+        let design = Design {
+            kind: parsed.design.kind,
+            samples: parsed.design.samples,
+            seed: parsed.design.seed,
+        };
+        let axes: Vec<Axis> = parameters.iter().map(|q| q.axis.clone()).collect();
+        let points = match design::points(&design, &axes) {
+            Ok(points) => points,
+            Err(e) => {
+                // A parameter refused above has no axis: the design's view of it would mislead.
+                if parameters.len() == parsed.parameters.len() {
+                    p.at(&e.at, e.message);
+                }
+                Vec::new()
+            }
+        };
+        p.check()?;
+        let base = base.expect("no problems: the base simulation was set up");
+        let outputs = Outputs::new(&base);
+        let pareto = parsed
+            .outputs
+            .as_ref()
+            .and_then(|o| pareto(&o.pareto, &outputs, &mut p));
+        p.check()?;
+        Ok(Study {
+            file: path.to_path_buf(),
+            text: text.clone(),
+            model_spec: parsed.model.clone(),
+            model_content: crate::accuracy::class::content_hash(&source.model, &base.scene),
+            scene: base.scene.name.clone(),
+            t_end: base.run.t_end,
+            source,
+            settings,
+            parameters,
+            design,
+            points,
+            outputs,
+            pareto,
+        })
+    }
+
+    /// Where the study's files go by default: `out/<study file's stem>`.
+    pub fn default_out(&self) -> PathBuf {
+        let stem = self
+            .file
+            .file_stem()
+            .map_or("study".into(), |s| s.to_string_lossy().to_string());
+        PathBuf::from("out").join(stem)
+    }
+}
+
+/// The two outputs `[outputs] pareto` names, each one of the study's.
+fn pareto(names: &[String], outputs: &Outputs, p: &mut Problems) -> Option<[String; 2]> {
+    let at = Path::default().key("outputs").key("pareto");
+    let [a, b] = names else {
+        p.at(
+            &at,
+            "name two outputs, e.g. [\"peak_door_ring_m\", \"wall_time_s\"]",
+        );
+        return None;
+    };
+    if a == b {
+        p.at(&at, format!("name two different outputs, not `{a}` twice"));
+        return None;
+    }
+    let known = outputs.plottable();
+    let mut ok = true;
+    for (i, n) in [a, b].into_iter().enumerate() {
+        if !known.contains(n) {
+            ok = false;
+            p.at(
+                &at.clone().idx(i),
+                format!(
+                    "`{n}` is not an output of this study ({})",
+                    outputs.describe()
+                ),
+            );
+        }
+    }
+    ok.then(|| [a.clone(), b.clone()])
+}
+
+/// The base model: a built-in name, else a model file relative to the study file (its own
+/// errors at its own lines).
+fn load_model(study: &FsPath, spec: &str, p: &mut Problems) -> Result<Source, Error> {
+    if washdyn_models::built_in(spec).is_some() {
+        return Source::load(spec);
+    }
+    let path = study.parent().unwrap_or(FsPath::new("")).join(spec);
+    if !path.is_file() {
+        let shown = std::path::absolute(&path).unwrap_or_else(|_| path.clone());
+        p.at(
+            &Path::default().key("model"),
+            format!(
+                "`{spec}` is neither a built-in model ({}) nor a file (no file {})",
+                washdyn_models::BUILT_IN.join(", "),
+                shown.display()
+            ),
+        );
+        p.check()?;
+    }
+    Source::load(&path.display().to_string())
+}
+
+/// The `[run]` table as `Settings` (unset fields take `washdyn run`'s defaults).
+fn settings(f: &StudyFile, p: &mut Problems) -> Settings {
+    let r = &f.run;
+    let d = Settings::default();
+    let method = r.method.as_deref().map_or(d.method, |m| {
+        m.parse::<Method>().unwrap_or_else(|e| {
+            p.at(&run_at("method"), e.to_string());
+            d.method
+        })
+    });
+    let start = r.start.as_deref().map_or(d.start, |s| {
+        s.parse::<Start>().unwrap_or_else(|e| {
+            p.at(&run_at("start"), e);
+            d.start
+        })
+    });
+    let guard = Guard {
+        stop_factor: if r.validity_stop.unwrap_or(true) {
+            Guard::default().stop_factor
+        } else {
+            None
+        },
+        ..Guard::default()
+    };
+    Settings {
+        scene: f.scene.clone(),
+        method,
+        tol: r.tol.unwrap_or(d.tol),
+        step: r.step,
+        rho_inf: r.rho_inf,
+        max_steps: r.max_steps,
+        t_start: r.t_start.unwrap_or(d.t_start),
+        t_end: r.t_end,
+        sample_rate: r.sample_rate.unwrap_or(d.sample_rate),
+        start,
+        guard,
+        allow_large_output: r.allow_large_output.unwrap_or(false),
+        ..d
+    }
+}
+
+/// Every `[[parameter]]` resolved on the base model, with its levels or range checked.
+fn parameters(source: &Source, tables: &[ParameterTable], p: &mut Problems) -> Vec<Parameter> {
+    let mut out: Vec<Parameter> = Vec::new();
+    for (i, t) in tables.iter().enumerate() {
+        let at = |k: &str| Path::default().key("parameter").idx(i).key(k);
+        let param = match param::resolve(&source.model, &t.path) {
+            Ok(q) => q,
+            Err(e) => {
+                p.at(&at("path"), e.message);
+                continue;
+            }
+        };
+        if let Some(other) = out.iter().find(|o| o.param.path == param.path) {
+            p.at(
+                &at("path"),
+                format!(
+                    "`{}` names the same number as `{}` ({})",
+                    t.path, other.text, param.path
+                ),
+            );
+            continue;
+        }
+        let axis = match (&t.levels, &t.range) {
+            (Some(_), Some(_)) | (None, None) => {
+                p.at(
+                    &at("path"),
+                    format!(
+                        "`{}`: give either `levels = [..]` or `range = [lo, hi]`",
+                        t.path
+                    ),
+                );
+                continue;
+            }
+            (Some(levels), None) => {
+                if t.scale.is_some() {
+                    p.at(
+                        &at("scale"),
+                        "`scale` maps a range; levels are taken as given",
+                    );
+                }
+                if levels.is_empty() {
+                    p.at(&at("levels"), "no levels");
+                } else if let Some(x) = levels.iter().find(|x| !x.is_finite()) {
+                    p.at(&at("levels"), format!("level {x} is not a finite number"));
+                } else if let Some((k, x)) = levels
+                    .iter()
+                    .enumerate()
+                    .find(|(k, x)| levels[..*k].contains(x))
+                {
+                    p.at(
+                        &at("levels").idx(k),
+                        format!("level {x} given twice: two variants would be the same"),
+                    );
+                }
+                Axis::Levels(levels.clone())
+            }
+            (None, Some(range)) => {
+                let scale = t.scale.unwrap_or_default();
+                match range[..] {
+                    [lo, hi] if lo.is_finite() && hi.is_finite() && lo < hi => {
+                        if scale == Scale::Log && lo <= 0.0 {
+                            p.at(
+                                &at("range"),
+                                format!("a log scale needs a positive range, got [{lo}, {hi}]"),
+                            );
+                        }
+                        Axis::Range { lo, hi, scale }
+                    }
+                    _ => {
+                        p.at(
+                            &at("range"),
+                            format!(
+                                "range must be [lo, hi] with finite lo < hi, got {:?}",
+                                range
+                            ),
+                        );
+                        continue;
+                    }
+                }
+            }
+        };
+        out.push(Parameter {
+            text: t.path.trim().to_string(),
+            base: param::get(&source.model, &param),
+            param,
+            axis,
+        });
+    }
+    out
+}
+
+/// Whether a parameter changes the speed profile: the settings' rules read it (the window's
+/// end, a periodic start's constant speed), so such variants are set up before anything runs.
+pub fn touches_speed(p: &Parameter) -> bool {
+    matches!(p.param.path.0.first(), Some(Seg::Key(k)) if k == "speed")
+}

@@ -1,0 +1,238 @@
+//! A study run on this machine: [`plan`] checks every variant and prepares the directory
+//! (nothing is written before every variant passed), [`execute`] runs the variants not yet
+//! finished (missing, or failed before) on `jobs` threads (rayon), each into tmp partitions
+//! that are renamed into place when it is done.
+
+use super::dataset::{self, Layout, Record, Row, SUMMARY, State, TIMING, VARIANTS};
+use super::file::Study;
+use super::variants::{Variant, check_all, variants};
+use crate::error::Error;
+use crate::results::{Format, SensorRecorder};
+use crate::simulation::{Backend, Simulation};
+use rayon::prelude::*;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::Ordering;
+
+/// The back end that runs `variant` of `study`: the interpreter, which takes every variant's
+/// numbers as data. The generated back end with free parameters (a model's `free` list
+/// compiled as inputs, so one build serves every variant) will be chosen here for studies
+/// whose parameters it covers.
+pub fn backend_for(study: &Study, variant: &Variant) -> Backend {
+    let _ = (study, variant);
+    Backend::Interpreted
+}
+
+/// What is to run: every variant, and those not finished in the directory.
+#[derive(Debug)]
+pub struct Plan {
+    pub layout: Layout,
+    pub variants: Vec<Variant>,
+    pub todo: Vec<Variant>,
+    /// Tmp directories a killed run left, removed.
+    pub removed_tmp: usize,
+}
+
+/// Check every variant (refusing the study before anything is written), then prepare `out`
+/// (new, or this study's from before), remove a killed run's tmp directories and list the
+/// variants to run.
+pub fn plan(study: &Study, out: &Path) -> Result<Plan, Error> {
+    let vars = variants(study);
+    check_all(study, &vars)?;
+    let layout = Layout::new(out);
+    dataset::prepare(&layout, &Record::new(study, &vars), study)?;
+    let removed_tmp = layout.clean_tmp()?;
+    let todo = vars
+        .iter()
+        .filter(|v| layout.state(&v.id) != State::Done)
+        .cloned()
+        .collect();
+    Ok(Plan {
+        layout,
+        variants: vars,
+        todo,
+        removed_tmp,
+    })
+}
+
+/// A variant that ran.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Outcome {
+    pub id: String,
+    /// `ok`, `failed`, or `interrupted` (then nothing of it was kept).
+    pub status: String,
+    pub error: Option<String>,
+    pub warnings: Vec<String>,
+    pub wall_time_s: f64,
+    pub steps: u64,
+}
+
+/// Most parallel runs (as `washdyn sweep`).
+pub use crate::sweep::MAX_JOBS;
+
+/// `--jobs` in [1, MAX_JOBS]: checked before [`plan`] writes anything.
+pub fn check_jobs(jobs: usize) -> Result<(), Error> {
+    if (1..=MAX_JOBS).contains(&jobs) {
+        Ok(())
+    } else {
+        Err(Error::setting(
+            "--jobs",
+            format!("--jobs must be in [1, {MAX_JOBS}], got {jobs}"),
+        ))
+    }
+}
+
+/// Run the plan's variants on `jobs` threads; `done` is called as each finishes. A variant
+/// whose run fails gets its row with the error (the others go on); after an interrupt (the
+/// settings' guard flag, Ctrl-C) no variant starts, and the ones stopped keep nothing.
+pub fn execute(
+    study: &Study,
+    plan: &Plan,
+    jobs: usize,
+    done: &(dyn Fn(&Outcome) + Sync),
+) -> Result<Vec<Outcome>, Error> {
+    check_jobs(jobs)?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(jobs)
+        .build()
+        .map_err(|e| Error::refused("study", e.to_string()))?;
+    let stop = study.settings.guard.interrupt.clone();
+    let stopped = || stop.as_ref().is_some_and(|f| f.load(Ordering::Relaxed));
+    pool.install(|| {
+        plan.todo
+            .par_iter()
+            .filter(|_| !stopped())
+            .map(|v| {
+                let o = run_variant(study, &plan.layout, v)?;
+                done(&o);
+                Ok(o)
+            })
+            .collect()
+    })
+}
+
+/// Tmp partitions of one variant, removed unless published.
+struct Tmp<'a> {
+    layout: &'a Layout,
+    id: &'a str,
+    dirs: Vec<(&'static str, PathBuf)>,
+}
+
+impl Tmp<'_> {
+    fn dir(&mut self, dataset: &'static str) -> Result<PathBuf, Error> {
+        let p = self.layout.tmp(dataset, self.id)?;
+        self.dirs.push((dataset, p.clone()));
+        Ok(p)
+    }
+    /// Into place in the order made, the summary last (it marks the variant finished); a
+    /// sensors partition without its file (a run that never started) replaces an older one by
+    /// nothing.
+    fn publish(mut self) -> Result<(), Error> {
+        self.dirs.sort_by_key(|(d, _)| *d == SUMMARY);
+        for (d, p) in std::mem::take(&mut self.dirs) {
+            if d == VARIANTS && !p.join("sensors.parquet").is_file() {
+                let old = self.layout.partition(VARIANTS, self.id);
+                for q in [&p, &old] {
+                    if q.exists() {
+                        std::fs::remove_dir_all(q).map_err(|e| Error::io("remove", q, e))?;
+                    }
+                }
+                continue;
+            }
+            self.layout.publish(&p, d, self.id)?;
+        }
+        Ok(())
+    }
+}
+
+impl Drop for Tmp<'_> {
+    fn drop(&mut self) {
+        for (_, p) in &self.dirs {
+            let _ = std::fs::remove_dir_all(p);
+        }
+    }
+}
+
+/// One variant: its model and simulation, the run into its tmp partitions, its outputs, then
+/// its partitions into place. A variant refused at its set-up gets a failed row.
+fn run_variant(study: &Study, layout: &Layout, v: &Variant) -> Result<Outcome, Error> {
+    let mut tmp = Tmp {
+        layout,
+        id: &v.id,
+        dirs: Vec::new(),
+    };
+    let settings = crate::simulation::Settings {
+        backend: Some(backend_for(study, v)),
+        ..v.settings(study)
+    };
+    let sim = v.model(study).map_err(|b| b.to_string()).and_then(|m| {
+        Simulation::new(study.source.variant(m), &settings).map_err(|e| e.to_string())
+    });
+    let (row, wall, warnings) = match sim {
+        Err(e) => {
+            tmp.dir(VARIANTS)?;
+            (failed_row(study, e), 0.0, Vec::new())
+        }
+        Ok(sim) => {
+            let rate = sim.run.sample_rate;
+            let mut sink = SensorRecorder::deferred(&tmp.dir(VARIANTS)?, Format::Parquet);
+            let (summary, error) = sim.integrate(&mut sink, &mut |_| {});
+            sink.finish()
+                .map_err(|e| Error::io("write", sink.path(), e))?;
+            if summary.status == "interrupted" {
+                return Ok(Outcome {
+                    id: v.id.clone(),
+                    status: summary.status,
+                    error: summary.error,
+                    warnings: summary.warnings,
+                    wall_time_s: summary.wall_time_s,
+                    steps: summary.steps,
+                });
+            }
+            let outputs = match error {
+                None => study
+                    .outputs
+                    .values(&summary, &sink.names, &sink.memory, rate),
+                Some(_) => study.outputs.none(),
+            };
+            let row = Row {
+                outputs,
+                status: summary.status.clone(),
+                error: summary.error.clone().unwrap_or_default(),
+                error_class: summary.error_class.clone().unwrap_or_default(),
+                warnings: summary.warnings.join("\n"),
+                t_reached_s: summary.t_reached,
+                steps: summary.steps as f64,
+                rejected_steps: summary.rejected_steps as f64,
+                rhs_evals: summary.rhs_evals as f64,
+            };
+            (row, summary.wall_time_s, summary.warnings)
+        }
+    };
+    dataset::write_summary(&tmp.dir(SUMMARY)?, study, v, &row)?;
+    dataset::write_timing(&tmp.dir(TIMING)?, &v.id, wall)?;
+    let outcome = Outcome {
+        id: v.id.clone(),
+        status: row.status.clone(),
+        error: (!row.error.is_empty()).then(|| row.error.clone()),
+        warnings,
+        wall_time_s: wall,
+        steps: row.steps as u64,
+    };
+    tmp.publish()?;
+    Ok(outcome)
+}
+
+/// The row of a variant refused at its set-up.
+fn failed_row(study: &Study, error: String) -> Row {
+    Row {
+        outputs: study.outputs.none(),
+        status: "failed".into(),
+        error,
+        error_class: String::new(),
+        warnings: String::new(),
+        t_reached_s: study.settings.t_start,
+        steps: 0.0,
+        rejected_steps: 0.0,
+        rhs_evals: 0.0,
+    }
+}

@@ -164,9 +164,11 @@ fn run_ups(c: &mut Criterion) {
         g.bench_with_input(BenchmarkId::new("generated", &scene), &scene, |b, s| {
             b.iter(|| run_up(washdyn_models::generated("reference", s).unwrap()))
         });
-        g.bench_with_input(BenchmarkId::new("generated_folded", &scene), &scene, |b, s| {
-            b.iter(|| run_up(folded::reference_folded::system(s).unwrap()))
-        });
+        g.bench_with_input(
+            BenchmarkId::new("generated_folded", &scene),
+            &scene,
+            |b, s| b.iter(|| run_up(folded::reference_folded::system(s).unwrap())),
+        );
     }
     g.finish();
 }

@@ -97,6 +97,12 @@ fn grid_of_two_spring_stiffnesses_is_one_dataset() {
         assert!((top - 781.0).abs() < 0.1, "{id}: {top}");
         // The reference's cabinet is rigid and fixed: its channels read zero.
         assert_eq!(number(&out, &id, "cabinet1_az_top_rms"), 0.0);
+        // Spring rates are free parameters of the reference: its generated code ran them.
+        let t = read_table(&out.join(format!("summary/variant={id}/summary.parquet"))).unwrap();
+        assert_eq!(
+            t.column("backend"),
+            Some(&Column::Text(vec!["generated".into()]))
+        );
     }
     let rec: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("study.json")).unwrap()).unwrap();
@@ -382,13 +388,18 @@ fn a_failed_variant_has_its_row_and_runs_again() {
         t.column("status"),
         Some(&Column::Text(vec!["failed".into()]))
     );
+    // Gravity is no free parameter of the reference: the interpreter ran the variant.
+    assert_eq!(
+        t.column("backend"),
+        Some(&Column::Text(vec!["interpreted".into()]))
+    );
     let plan = study::plan(&s, &out).unwrap();
     let todo: Vec<&str> = plan.todo.iter().map(|v| v.id.as_str()).collect();
     assert_eq!(todo, ["0001"]);
 }
 
 /// The study file's problems at their lines: an unknown field, a path that names no number, a
-/// design not yet available, an unknown Pareto output.
+/// sampled design given levels, an unknown Pareto output.
 #[test]
 fn study_file_errors_name_file_and_line() {
     let dir = tempfile::tempdir().unwrap();
@@ -404,9 +415,9 @@ fn study_file_errors_name_file_and_line() {
             "no entry named `nosuch`",
         ),
         (
-            "[[parameter]]\npath = \"springs[0].stiffness\"\nrange = [3000, 5000]\n[design]\nkind = \"sobol\"\nsamples = 8\n",
-            7,
-            "not yet available",
+            "[[parameter]]\npath = \"springs[0].stiffness\"\nlevels = [3000, 5000]\n[design]\nkind = \"sobol\"\nsamples = 8\n",
+            5,
+            "give `range = [lo, hi]`",
         ),
         (
             "[[parameter]]\npath = \"springs[0].stiffness\"\nlevels = [3000]\n[design]\nkind = \"grid\"\n[outputs]\npareto = [\"peak_door_ring_m\", \"nosuch\"]\n",

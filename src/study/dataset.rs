@@ -381,6 +381,7 @@ pub fn summary_columns(outputs: &Outputs) -> Vec<(String, &'static str, bool)> {
         ("error", "", true),
         ("error_class", "", true),
         ("warnings", "", true),
+        ("backend", "", true),
         ("t_reached_s", "s", false),
         ("steps", "", false),
         ("rejected_steps", "", false),
@@ -401,6 +402,9 @@ pub struct Row {
     pub error: String,
     pub error_class: String,
     pub warnings: String,
+    /// Which back end ran the variant: `generated` (the built model's code, its free
+    /// parameters set) or `interpreted`.
+    pub backend: String,
     pub t_reached_s: f64,
     pub steps: f64,
     pub rejected_steps: f64,
@@ -436,7 +440,13 @@ pub fn write_summary(dir: &Path, study: &Study, v: &Variant, row: &Row) -> Resul
     let mut cols = vec![Column::Text(vec![v.id.clone()])];
     cols.extend(v.values.iter().map(|x| Column::F64(vec![*x])));
     cols.extend(row.outputs.iter().map(|x| Column::F64(vec![*x])));
-    for t in [&row.status, &row.error, &row.error_class, &row.warnings] {
+    for t in [
+        &row.status,
+        &row.error,
+        &row.error_class,
+        &row.warnings,
+        &row.backend,
+    ] {
         cols.push(Column::Text(vec![t.clone()]));
     }
     for x in [

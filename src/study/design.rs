@@ -1,10 +1,12 @@
 //! A study's design points: one row per variant, one value per parameter, in design order (the
-//! variants' ids follow it). Behind the one function [`points`], so the designs of
-//! `washdyn-analysis` can replace the ones here: `grid` (the product of the levels) and `lhs`
-//! (Latin hypercube, seeded) are here; `sobol` and `saltelli` are refused as not yet available.
-//! Unit points map to each parameter's range linearly, or geometrically with `scale = "log"`.
+//! variants' ids follow it). `grid` is the product of the given levels; `lhs`, `sobol` and
+//! `saltelli` are `washdyn_analysis::study::designs` on the unit cube (one implementation of
+//! each), whose points map to each parameter's range linearly, or geometrically with
+//! `scale = "log"`. A saltelli design's rows are in `SaltelliLayout`'s order with `samples`
+//! base rows, so `samples (D + 2)` variants.
 
 use serde::{Deserialize, Serialize};
+use washdyn_analysis::study::designs;
 use washdyn_runtime::ir::check::Path;
 
 /// Design kinds of the study file's `[design] kind`.
@@ -90,10 +92,28 @@ pub fn points(design: &Design, axes: &[Axis]) -> Result<Vec<Vec<f64>>, DesignErr
     }
     match design.kind {
         Kind::Grid => grid(design, axes),
-        Kind::Lhs => {
+        Kind::Lhs | Kind::Sobol | Kind::Saltelli => {
             let n = sampled(design)?;
-            let ranges = ranges(axes, "lhs")?;
-            let unit = lhs(n, ranges.len(), design.seed.unwrap_or(0));
+            let name = match design.kind {
+                Kind::Lhs => "lhs",
+                Kind::Sobol => "sobol",
+                _ => "saltelli",
+            };
+            let ranges = ranges(axes, name)?;
+            let unit_box = vec![(0.0, 1.0); ranges.len()];
+            let seed = design.seed.unwrap_or(0);
+            let unit = match design.kind {
+                Kind::Lhs => designs::lhs(&unit_box, n, seed),
+                Kind::Sobol => designs::sobol(&unit_box, n, seed),
+                _ => designs::saltelli(&unit_box, n, seed).map(|s| s.points),
+            }
+            .map_err(|e| refuse(design_at("samples"), e.to_string()))?;
+            if unit.len() > MAX_VARIANTS {
+                return Err(refuse(
+                    design_at("samples"),
+                    format!("{} variants, more than {MAX_VARIANTS}", unit.len()),
+                ));
+            }
             Ok(unit
                 .iter()
                 .map(|u| {
@@ -104,17 +124,6 @@ pub fn points(design: &Design, axes: &[Axis]) -> Result<Vec<Vec<f64>>, DesignErr
                 })
                 .collect())
         }
-        Kind::Sobol | Kind::Saltelli => Err(refuse(
-            design_at("kind"),
-            format!(
-                "`{}` designs are not yet available in this build (grid, lhs are)",
-                if design.kind == Kind::Sobol {
-                    "sobol"
-                } else {
-                    "saltelli"
-                }
-            ),
-        )),
     }
 }
 
@@ -203,42 +212,6 @@ fn ranges(axes: &[Axis], kind: &str) -> Result<Vec<(f64, f64, Scale)>, DesignErr
         .collect()
 }
 
-/// Latin hypercube: in every dimension each of the `n` equal strata holds exactly one point,
-/// at a uniform position within it; strata paired across dimensions by seeded permutations.
-fn lhs(n: usize, dims: usize, seed: u64) -> Vec<Vec<f64>> {
-    let mut rng = SplitMix64(seed);
-    let mut out = vec![vec![0.0; dims]; n];
-    for d in 0..dims {
-        let mut perm: Vec<usize> = (0..n).collect();
-        for i in (1..n).rev() {
-            let j = (rng.next() % (i as u64 + 1)) as usize;
-            perm.swap(i, j);
-        }
-        for (i, row) in out.iter_mut().enumerate() {
-            row[d] = (perm[i] as f64 + rng.unit()) / n as f64;
-        }
-    }
-    out
-}
-
-/// SplitMix64 (Steele, Lea & Flood 2014): a seeded stream that is the same on every platform
-/// and release, so a study's design, and with it its variants, never changes under it.
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    /// Uniform in [0, 1): the top 53 bits.
-    fn unit(&mut self) -> f64 {
-        (self.next() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -315,6 +288,32 @@ mod tests {
         assert_ne!(points(&other, &axes).unwrap(), p);
     }
 
+    /// Saltelli's rows in SALib's layout (per base row: A, AB_1..AB_D, B): AB_j is A with
+    /// parameter j from B, mapped through each parameter's scale.
+    #[test]
+    fn saltelli_rows_follow_the_layout() {
+        let axes = [
+            Axis::Range {
+                lo: 2.0,
+                hi: 4.0,
+                scale: Scale::Linear,
+            },
+            Axis::Range {
+                lo: 1.0,
+                hi: 1e3,
+                scale: Scale::Log,
+            },
+        ];
+        let p = points(&design(Kind::Saltelli, Some(8)), &axes).unwrap();
+        assert_eq!(p.len(), 8 * 4);
+        for r in p.chunks(4) {
+            let (a, b) = (&r[0], &r[3]);
+            assert_eq!(r[1], vec![b[0], a[1]]);
+            assert_eq!(r[2], vec![a[0], b[1]]);
+            assert!((1.0..=1e3).contains(&a[1]) && (2.0..=4.0).contains(&a[0]));
+        }
+    }
+
     #[test]
     fn refusals_name_the_field() {
         let lv = [Axis::Levels(vec![1.0])];
@@ -344,16 +343,10 @@ mod tests {
             ),
             (design(Kind::Lhs, None), &rg[..], "design.kind", "samples"),
             (
-                design(Kind::Sobol, Some(8)),
-                &rg[..],
-                "design.kind",
-                "not yet available",
-            ),
-            (
                 design(Kind::Saltelli, Some(8)),
-                &rg[..],
-                "design.kind",
-                "not yet available",
+                &lv[..],
+                "parameter[0].levels",
+                "range",
             ),
             (
                 design(Kind::Grid, None),

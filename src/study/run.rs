@@ -13,13 +13,21 @@ use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
 
-/// The back end that runs `variant` of `study`: the interpreter, which takes every variant's
-/// numbers as data. The generated back end with free parameters (a model's `free` list
-/// compiled as inputs, so one build serves every variant) will be chosen here for studies
-/// whose parameters it covers.
+/// The back end that runs `variant` of `study`: a built-in model's generated code where the
+/// variant differs from it in free parameters only (`Model::free`: one build serves every such
+/// variant), else the interpreter, which takes any variant's numbers as data.
 pub fn backend_for(study: &Study, variant: &Variant) -> Backend {
-    let _ = (study, variant);
-    Backend::Interpreted
+    let Some(name) = study.source.built_in.as_deref() else {
+        return Backend::Interpreted;
+    };
+    match variant.model(study) {
+        Ok(m)
+            if washdyn_models::generated_for(name, &study.scene, &m).is_some_and(|r| r.is_ok()) =>
+        {
+            Backend::Generated
+        }
+        _ => Backend::Interpreted,
+    }
 }
 
 /// What is to run: every variant, and those not finished in the directory.
@@ -160,8 +168,9 @@ fn run_variant(study: &Study, layout: &Layout, v: &Variant) -> Result<Outcome, E
         id: &v.id,
         dirs: Vec::new(),
     };
+    let backend = backend_for(study, v);
     let settings = crate::simulation::Settings {
-        backend: Some(backend_for(study, v)),
+        backend: Some(backend),
         ..v.settings(study)
     };
     let sim = v.model(study).map_err(|b| b.to_string()).and_then(|m| {
@@ -170,7 +179,7 @@ fn run_variant(study: &Study, layout: &Layout, v: &Variant) -> Result<Outcome, E
     let (row, wall, warnings) = match sim {
         Err(e) => {
             tmp.dir(VARIANTS)?;
-            (failed_row(study, e), 0.0, Vec::new())
+            (failed_row(study, e, backend), 0.0, Vec::new())
         }
         Ok(sim) => {
             let rate = sim.run.sample_rate;
@@ -200,6 +209,7 @@ fn run_variant(study: &Study, layout: &Layout, v: &Variant) -> Result<Outcome, E
                 error: summary.error.clone().unwrap_or_default(),
                 error_class: summary.error_class.clone().unwrap_or_default(),
                 warnings: summary.warnings.join("\n"),
+                backend: backend.name().into(),
                 t_reached_s: summary.t_reached,
                 steps: summary.steps as f64,
                 rejected_steps: summary.rejected_steps as f64,
@@ -223,13 +233,14 @@ fn run_variant(study: &Study, layout: &Layout, v: &Variant) -> Result<Outcome, E
 }
 
 /// The row of a variant refused at its set-up.
-fn failed_row(study: &Study, error: String) -> Row {
+fn failed_row(study: &Study, error: String, backend: Backend) -> Row {
     Row {
         outputs: study.outputs.none(),
         status: "failed".into(),
         error,
         error_class: String::new(),
         warnings: String::new(),
+        backend: backend.name().into(),
         t_reached_s: study.settings.t_start,
         steps: 0.0,
         rejected_steps: 0.0,

@@ -1,6 +1,6 @@
 //! `washdyn study status` (where each variant stands) and `washdyn study collect` (every
 //! summary row in variant order, with its wall time, as one `summary.parquet` and `summary.csv`
-//! beside the datasets).
+//! beside the datasets, then the Pareto plot and Sobol indices: `report.rs`).
 
 use super::dataset::{Layout, Record, State, write_table};
 use crate::error::Error;
@@ -132,6 +132,7 @@ pub fn collect(dir: &Path) -> Result<Collected, Error> {
         std::fs::rename(&tmp, &to).map_err(|e| Error::io("rename into place", &to, e))?;
         files.push(to);
     }
+    files.extend(super::report::write(dir, &record, &t)?);
     Ok(Collected {
         rows: t.rows(),
         missing,

@@ -331,7 +331,6 @@ fn campbell_whirl_split_matches_calculix_coriolis_on_the_knot_free_drum() {
             axis_point: bodies::DRUM_AXIS_POINT,
             axis,
             reference_speed: bodies::DRUM_REFERENCE_SPEED,
-            modes: 2 * n,
         }),
         correction: Vec::new(),
         recovery: false,
@@ -360,9 +359,7 @@ fn campbell_whirl_split_matches_calculix_coriolis_on_the_knot_free_drum() {
             &mesh,
             dir.path(),
             &format!("coriolis_{rpm}"),
-            omega,
-            bodies::DRUM_AXIS_POINT,
-            axis,
+            &washdyn_fe::prestress::Centrifugal::new(omega, bodies::DRUM_AXIS_POINT, axis),
             n,
         )
         .unwrap();

@@ -191,7 +191,6 @@ points = [
 axis_point = [0.0, 0.0, 0.45]
 axis = [1.0, 0.0, 0.0]
 reference_rpm = 1400.0
-modes = 20
 "#;
 
 fn ok(out: &std::process::Output) -> String {

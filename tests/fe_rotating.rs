@@ -103,8 +103,8 @@ fn stress_stiffened_frequencies_come_back_from_the_stored_data() {
         eprintln!("{omega} rad/s: ccx {ccx_f:?}, stored data {ours:?}, at rest {f0:?}");
         for (k, (o, c)) in ours.iter().zip(&ccx_f).enumerate() {
             // The reduced model is a Rayleigh-Ritz projection onto the 4 kept modes: its
-            // frequencies lie above ccx's by the truncation error (measured 4e-5 at the
-            // extraction speed, 1.6e-4 at 300 rad/s; bound 5e-4).
+            // frequencies lie above ccx's by the truncation error (measured 4.0e-5 at the
+            // prestress's speed, 200 rad/s, 1.6e-4 at 300 rad/s; bound 5e-4).
             let rel = (o - c) / c;
             assert!(
                 rel > -1e-6 && rel < 5e-4,
@@ -195,9 +195,9 @@ fn campbell_of_a_disk_rotor_matches_calculix_coriolis() {
     // The reduced rotating-frame problem (Coriolis, spin softening, stress stiffening from the
     // modal sums) against ccx's *COMPLEX FREQUENCY, CORIOLIS on the same model: the whirl
     // pair, the axial mode and the next, at 400 and 1400 rpm. Measured with the consistent
-    // mass: within 7e-6 at both speeds without the rim (bound 1e-4; 2.6e-3 with HRZ masses),
-    // 6.5e-3 with the shell rim, whose knots (MPCs) ccx's Coriolis matrix gets wrong
-    // (design-notes.md; bound 1e-2).
+    // mass: within 1.5e-5 at both speeds without the rim (bound 1e-4; 7e-6 with the K_G fitted
+    // to ccx's prestressed modes; 2.6e-3 with HRZ masses), 6.5e-3 with the shell rim, whose
+    // knots (MPCs) ccx's Coriolis matrix gets wrong (design-notes.md; bound 1e-2).
     if !have_ccx() {
         return;
     }

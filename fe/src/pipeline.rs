@@ -96,24 +96,23 @@ pub struct PrestressReport {
     /// Of the modal data's K_G per Omega^2 (n x n, row-major), the rigid parts' share
     /// (`prestress::rigid_parts`); ccx's perturbation step has none.
     pub rigid_parts: Vec<f64>,
+    /// Not in it: the initial-displacement stiffness of the static state per Omega^2
+    /// (`Prestress::stiffness`), which ccx's perturbation step has.
+    pub initial_displacement: Vec<f64>,
     /// The point masses' share of the spin softening S_perp per Omega^2 (n x n, row-major;
     /// `prestress::point_mass_softening`); ccx's perturbation step has none.
     pub point_mass_softening: Vec<f64>,
 }
 
 impl PrestressReport {
-    /// `kg` as ccx's own prestressed `*FREQUENCY` step has it: K_G without the rigid parts'
-    /// share and with the point masses' spin softening added back (so that
-    /// `rotating::reduced_frequencies`, which subtracts all of S_perp, leaves it out).
+    /// `kg` as ccx's own prestressed `*FREQUENCY` step has it: with the initial-displacement
+    /// stiffness, without the rigid parts' share, and with the point masses' spin softening
+    /// added back (so that `rotating::reduced_frequencies`, which subtracts all of S_perp,
+    /// leaves it out).
     pub fn as_ccx(&self, kg: &GeometricStiffness) -> GeometricStiffness {
         let mut k = kg.clone();
-        for ((v, r), s) in k
-            .per_omega2
-            .iter_mut()
-            .zip(&self.rigid_parts)
-            .zip(&self.point_mass_softening)
-        {
-            *v += s - r;
+        for (i, v) in k.per_omega2.iter_mut().enumerate() {
+            *v += self.initial_displacement[i] + self.point_mass_softening[i] - self.rigid_parts[i];
         }
         k
     }
@@ -254,8 +253,8 @@ pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), String>
 
 /// A spinning body's K_G per Omega^2 on `modes` (the first `eigen` of them the eigenmodes of
 /// `solved`, the rest the correction modes of `correction`): ccx's static centrifugal stresses
-/// integrated over its bricks with the shapes at its 3-D nodes (`prestress.rs`), plus the rigid
-/// parts' share.
+/// and displacements integrated over its bricks with the shapes at its 3-D nodes
+/// (`prestress.rs`), plus the rigid parts' share.
 fn geometric_stiffness(
     spec: &BodySpec,
     dir: &Path,
@@ -312,12 +311,13 @@ fn geometric_stiffness(
             "{name}: the shapes and their 3-D basis differ in number"
         ));
     }
-    let kb = pre.stiffness(&basis).map_err(|e| format!("{name}: {e}"))?;
-    let k_el = match &t {
-        Some(t) => t.transpose() * kb * t,
-        None => kb,
+    let (ks, ku) = pre.stiffness(&basis).map_err(|e| format!("{name}: {e}"))?;
+    let (ks, ku) = match &t {
+        Some(t) => (t.transpose() * ks * t, t.transpose() * ku * t),
+        None => (ks, ku),
     };
     let w2 = spin.reference_speed * spin.reference_speed;
+    let (ks, ku) = (ks / w2, ku / w2);
     let k_rig = prestress::rigid_parts(&spec.mesh, &pre.loads, modes)? / w2;
     let soft = prestress::point_mass_softening(&spec.mesh, modes, c.axis)?;
     let n = modes.len();
@@ -326,7 +326,10 @@ fn geometric_stiffness(
             .map(|i| 0.5 * (m[(i / n, i % n)] + m[(i % n, i / n)]))
             .collect()
     };
-    let total = k_el / w2 + &k_rig;
+    // ccx's perturbation step also holds K_u; the model leaves it out: its thin sheets'
+    // through-thickness gradient of u0 from the .frd's 6 digits splits the drum's degenerate
+    // pairs by up to 1.4e-4 (K_G from the stresses alone keeps them to 1e-9).
+    let total = &ks + &k_rig;
     Ok((
         GeometricStiffness {
             axis_point: spin.axis_point,
@@ -338,6 +341,7 @@ fn geometric_stiffness(
             solve_s: pre.solve_s,
             bricks: pre.bricks.len(),
             rigid_parts: row_major(&k_rig),
+            initial_displacement: row_major(&ku),
             point_mass_softening: row_major(&soft),
         },
     ))
@@ -450,10 +454,12 @@ impl std::fmt::Display for Report {
             let largest = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
             writeln!(
                 f,
-                "  geometric stiffness over {} bricks; rigid parts' share up to {:.2e}, point \
-                 masses' spin softening up to {:.2e} per (rad/s)^2",
+                "  geometric stiffness over {} bricks, rigid parts' share up to {:.2e}; ccx's \
+                 perturbation step adds the static displacement's stiffness (up to {:.2e}) and \
+                 lacks the point masses' spin softening (up to {:.2e}) per (rad/s)^2",
                 p.bricks,
                 largest(&p.rigid_parts),
+                largest(&p.initial_displacement),
                 largest(&p.point_mass_softening)
             )?;
         }

@@ -17,6 +17,16 @@
 //! what ccx adds in a `*FREQUENCY` perturbation step after the same static step (its K_sigma),
 //! up to the truncation to the kept modes.
 //!
+//! ccx's perturbation stiffness also changes the material stiffness about the deformed state
+//! (sym(F0^T grad u) : C : sym(F0^T grad u), F0 = E + grad u0: e_c3d.f, wcoef.f). Its part
+//! linear in the static displacement u0 (so in Omega^2), K_u, is assembled beside K_G
+//! (`Prestress::stiffness`) and reported, not put in the modal data: on the thin drum sheets
+//! grad u0 through the thickness comes from differences of the .frd's 6-digit displacements,
+//! which split the drum's degenerate pairs by up to 1.4e-4; with it the reduced drum matches
+//! ccx's prestressed frequencies as the old fit to its prestressed modes did (1.85e-3 worst of
+//! the 10 kept modes at 1400 rpm; 3.2e-3 without). Its part quadratic in grad u0 is not in
+//! ccx's answer as measured (it would move the brick drum's frequencies by 1.3e-2).
+//!
 //! A rigid part (`*RIGID BODY`) has no stress: the loads its point masses put on it make a
 //! stiffness of their own, that of the part's second-order motion 0.5 theta x (theta x rho)
 //! under them: theta^T [sum (F . rho) E - sym(F rho^T)] theta (rho from the REF node). It is the
@@ -160,6 +170,8 @@ pub struct Brick {
     pub nodes: [usize; 20],
     /// Stress (xx, yy, zz, xy, yz, zx) at each Gauss point, in ccx's order, Pa.
     pub stress: Vec<[f64; 6]>,
+    /// Lame's constants (lambda, mu) of its material, Pa.
+    pub lame: (f64, f64),
 }
 
 /// The prestressed body at the reference speed.
@@ -169,6 +181,8 @@ pub struct Prestress {
     pub bricks: Vec<Brick>,
     /// Coordinates of the bricks' nodes.
     pub coords: HashMap<usize, [f64; 3]>,
+    /// The static displacement at the bricks' nodes, m.
+    pub u0: HashMap<usize, [f64; 3]>,
     /// The point masses' loads (`point_mass_loads`).
     pub loads: Vec<(usize, [f64; 3])>,
     /// ccx's wall time, s.
@@ -195,6 +209,18 @@ impl Prestress {
         solve_s: f64,
     ) -> Result<Prestress, String> {
         let all = bricks_of(&frd.elements);
+        // Our element k (numbered as `Mesh::model_deck` numbers them) is ccx's k.
+        let lame: Vec<Option<(f64, f64)>> = mesh
+            .parts
+            .iter()
+            .flat_map(|p| {
+                let l = p.section.material().map(|m| {
+                    let mu = m.e / (2.0 * (1.0 + m.nu));
+                    (2.0 * mu * m.nu / (1.0 - 2.0 * m.nu), mu)
+                });
+                std::iter::repeat_n(l, p.elements.len())
+            })
+            .collect();
         let stresses = crate::dat::element_stresses(dat, LOADED)?;
         if stresses.is_empty() {
             return Err(format!("no stresses of set {LOADED} in the .dat"));
@@ -213,10 +239,16 @@ impl Prestress {
                     stress.len()
                 ));
             }
+            let lame = lame
+                .get(number - 1)
+                .copied()
+                .flatten()
+                .ok_or_else(|| format!("element {number}: no material in the mesh"))?;
             bricks.push(Brick {
                 number,
                 nodes,
                 stress,
+                lame,
             });
         }
         let used: std::collections::HashSet<usize> = bricks.iter().flat_map(|b| b.nodes).collect();
@@ -229,10 +261,22 @@ impl Prestress {
         if coords.len() != used.len() {
             return Err("the .frd lacks coordinates of some bricks' nodes".into());
         }
+        let u0: HashMap<usize, [f64; 3]> = frd
+            .statics
+            .first()
+            .ok_or("the .frd has no static displacements")?
+            .iter()
+            .filter(|(id, _)| used.contains(id))
+            .copied()
+            .collect();
+        if u0.len() != used.len() {
+            return Err("the .frd lacks static displacements of some bricks' nodes".into());
+        }
         Ok(Prestress {
             centrifugal: *c,
             bricks,
             coords,
+            u0,
             loads: point_mass_loads(mesh, c),
             solve_s,
         })
@@ -254,10 +298,19 @@ impl Prestress {
         Ok(())
     }
 
-    /// K_G projected on `shapes` (n x n, symmetric): each shape its displacements at ccx's 3-D
-    /// nodes (every node of every brick). At the reference speed: divide by its Omega^2 for
-    /// K_G per Omega^2.
-    pub fn stiffness(&self, shapes: &[&[(usize, [f64; 3])]]) -> Result<DMatrix<f64>, String> {
+    /// The geometric stiffness projected on `shapes` (each its displacements at ccx's 3-D
+    /// nodes, every node of every brick), at the reference speed (divide by its Omega^2 for
+    /// per Omega^2), n x n and symmetric, in two parts:
+    /// - the stress stiffness, sum w det J (grad u_k)^T sigma (grad u_l);
+    /// - the initial-displacement stiffness to first order in the static displacement u0,
+    ///   sum w det J [e_k : C : sym(G0^T grad u_l) + sym(G0^T grad u_k) : C : e_l], e = sym(grad u),
+    ///   G0 = grad u0: the change of the material stiffness about the deformed state
+    ///   (sym(F0^T grad u) : C : sym(F0^T grad u), F0 = E + G0, as ccx's perturbation step forms
+    ///   it, e_c3d.f with wcoef.f) that is linear in Omega^2.
+    pub fn stiffness(
+        &self,
+        shapes: &[&[(usize, [f64; 3])]],
+    ) -> Result<(DMatrix<f64>, DMatrix<f64>), String> {
         let n = shapes.len();
         // Node id -> row of u: u[row * 3n + 3k + c] is component c of shape k.
         let rows: HashMap<usize, usize> = self
@@ -282,13 +335,17 @@ impl Prestress {
                 (i % stride) / 3
             ));
         }
-        let mut k = DMatrix::<f64>::zeros(n, n);
-        // Per Gauss point the n x 9 gradients A (A[k, 3i + j] = d u_k,i / d x_j) and
-        // B = A (E x sigma) w det J; K += B A^T, a batch of points at a time.
+        // Per Gauss point the n x 9 gradients A9 (A9[k, 3i + j] = d u_k,i / d x_j) and
+        // B9 = A9 (E x sigma) w det J: K_sigma += B9 A9^T; and sym(grad u_k) A6 (6: xx, yy,
+        // zz, xy, yz, zx) and B6 = 2 w det J C : sym(G0^T grad u_k) (off-diagonals doubled):
+        // K_u += B6 A6^T, symmetrised at the end. A batch of points at a time.
         const BATCH: usize = 256;
-        let mut a = DMatrix::<f64>::zeros(n, 9 * BATCH);
-        let mut b = DMatrix::<f64>::zeros(n, 9 * BATCH);
-        let mut filled = 0;
+        let mut a9 = DMatrix::<f64>::zeros(n, 9 * BATCH);
+        let mut b9 = DMatrix::<f64>::zeros(n, 9 * BATCH);
+        let mut a6 = DMatrix::<f64>::zeros(n, 6 * BATCH);
+        let mut b6 = DMatrix::<f64>::zeros(n, 6 * BATCH);
+        let mut ks = DMatrix::<f64>::zeros(n, n);
+        let mut ku = DMatrix::<f64>::zeros(n, n);
         let flush = |a: &DMatrix<f64>, b: &DMatrix<f64>, cols: usize, k: &mut DMatrix<f64>| {
             k.gemm(
                 1.0,
@@ -297,48 +354,79 @@ impl Prestress {
                 1.0,
             );
         };
+        let mut filled = 0;
         let mut local = vec![0.0; 20 * stride];
         for brick in &self.bricks {
             let x: [[f64; 3]; 20] = std::array::from_fn(|i| self.coords[&brick.nodes[i]]);
+            let u0: [[f64; 3]; 20] = std::array::from_fn(|i| self.u0[&brick.nodes[i]]);
             for (i, id) in brick.nodes.iter().enumerate() {
                 let r = rows[id];
                 local[i * stride..(i + 1) * stride]
                     .copy_from_slice(&u[r * stride..(r + 1) * stride]);
             }
+            let (lam, mu) = brick.lame;
             let rule = hex20::rule_of(brick.stress.len()).expect("checked on reading");
             for ((p, w), s) in rule.iter().zip(&brick.stress) {
                 let (g, det) = hex20::spatial_gradient(&x, *p)
                     .ok_or_else(|| format!("element {}: det J <= 0", brick.number))?;
                 let sig = [[s[0], s[3], s[5]], [s[3], s[1], s[4]], [s[5], s[4], s[2]]];
+                let mut g0 = [[0.0; 3]; 3];
+                for (node, gn) in g.iter().enumerate() {
+                    for i in 0..3 {
+                        for j in 0..3 {
+                            g0[i][j] += u0[node][i] * gn[j];
+                        }
+                    }
+                }
                 let wd = w * det;
-                let col = 9 * filled;
+                let (c9, c6) = (9 * filled, 6 * filled);
                 for m in 0..n {
-                    for c in 0..3 {
-                        let mut h = [0.0; 3];
-                        for (node, gn) in g.iter().enumerate() {
+                    let mut h = [[0.0; 3]; 3];
+                    for (node, gn) in g.iter().enumerate() {
+                        for c in 0..3 {
                             let v = local[node * stride + 3 * m + c];
                             for j in 0..3 {
-                                h[j] += v * gn[j];
+                                h[c][j] += v * gn[j];
                             }
                         }
+                    }
+                    for c in 0..3 {
                         for j in 0..3 {
-                            a[(m, col + 3 * c + j)] = h[j];
-                            b[(m, col + 3 * c + j)] =
-                                wd * (h[0] * sig[0][j] + h[1] * sig[1][j] + h[2] * sig[2][j]);
+                            a9[(m, c9 + 3 * c + j)] = h[c][j];
+                            b9[(m, c9 + 3 * c + j)] = wd
+                                * (h[c][0] * sig[0][j] + h[c][1] * sig[1][j] + h[c][2] * sig[2][j]);
                         }
+                    }
+                    // (G0^T H)_ij = sum_c G0_ci H_cj.
+                    let gh: [[f64; 3]; 3] = std::array::from_fn(|i| {
+                        std::array::from_fn(|j| (0..3).map(|c| g0[c][i] * h[c][j]).sum())
+                    });
+                    let pairs = [(0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (2, 0)];
+                    let tr = gh[0][0] + gh[1][1] + gh[2][2];
+                    for (v, &(i, j)) in pairs.iter().enumerate() {
+                        a6[(m, c6 + v)] = 0.5 * (h[i][j] + h[j][i]);
+                        let e = 0.5 * (gh[i][j] + gh[j][i]);
+                        let c = if i == j {
+                            lam * tr + 2.0 * mu * e
+                        } else {
+                            4.0 * mu * e
+                        };
+                        b6[(m, c6 + v)] = 2.0 * wd * c;
                     }
                 }
                 filled += 1;
                 if filled == BATCH {
-                    flush(&a, &b, 9 * filled, &mut k);
+                    flush(&a9, &b9, 9 * filled, &mut ks);
+                    flush(&a6, &b6, 6 * filled, &mut ku);
                     filled = 0;
                 }
             }
         }
         if filled > 0 {
-            flush(&a, &b, 9 * filled, &mut k);
+            flush(&a9, &b9, 9 * filled, &mut ks);
+            flush(&a6, &b6, 6 * filled, &mut ku);
         }
-        Ok(0.5 * (&k + k.transpose()))
+        Ok((0.5 * (&ks + ks.transpose()), 0.5 * (&ku + ku.transpose())))
     }
 }
 

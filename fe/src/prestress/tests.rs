@@ -107,8 +107,10 @@ fn one_brick(x: [[f64; 3]; 20], s: [f64; 6], points: usize) -> Prestress {
             number: 1,
             nodes: std::array::from_fn(|a| 100 + a),
             stress: vec![s; points],
+            lame: (121e9, 81e9),
         }],
         coords: (0..20).map(|a| (100 + a, x[a])).collect(),
+        u0: (0..20).map(|a| (100 + a, [0.0; 3])).collect(),
         loads: Vec::new(),
         solve_s: 0.0,
     }
@@ -142,7 +144,11 @@ fn the_assembly_integrates_grad_u_sigma_grad_v_exactly_for_linear_fields() {
         .map(|(p, w)| w * hex20::spatial_gradient(&x, *p).unwrap().1)
         .sum();
     let mut worst = 0.0f64;
-    let k = one_brick(x, s, 27).stiffness(&refs).unwrap();
+    let (k, ku) = one_brick(x, s, 27).stiffness(&refs).unwrap();
+    assert!(
+        ku.iter().all(|v| *v == 0.0),
+        "no static displacement, no K_u: {ku}"
+    );
     for p in 0..2 {
         for q in 0..2 {
             let mut e = 0.0;
@@ -160,6 +166,53 @@ fn the_assembly_integrates_grad_u_sigma_grad_v_exactly_for_linear_fields() {
     eprintln!("K against V tr(A_k sigma A_l^T): {worst:e}");
     // Measured 5.9e-16 (round-off).
     assert!(worst < 6e-15, "{worst:e}: {k}");
+    // A uniform static gradient G0 (u0 = G0 x): K_u,kl = V [e_k : C : sym(G0^T A_l) +
+    // sym(G0^T A_k) : C : e_l], e = sym(A), C : e = lambda tr(e) E + 2 mu e.
+    let g0 = [
+        [2e-4, -1e-4, 3e-5],
+        [5e-5, 1e-4, -2e-4],
+        [1e-4, 3e-4, -5e-5],
+    ];
+    let mut pre = one_brick(x, s, 8);
+    pre.u0 = (0..20)
+        .map(|a| {
+            let v = std::array::from_fn(|i| (0..3).map(|j| g0[i][j] * x[a][j]).sum());
+            (100 + a, v)
+        })
+        .collect();
+    let (_, ku) = pre.stiffness(&refs).unwrap();
+    let (lam, mu) = pre.bricks[0].lame;
+    let sym = |m: [[f64; 3]; 3]| -> [[f64; 3]; 3] {
+        std::array::from_fn(|i| std::array::from_fn(|j| 0.5 * (m[i][j] + m[j][i])))
+    };
+    let gt = |m: [[f64; 3]; 3]| -> [[f64; 3]; 3] {
+        std::array::from_fn(|i| std::array::from_fn(|j| (0..3).map(|c| g0[c][i] * m[c][j]).sum()))
+    };
+    let ddot = |p: [[f64; 3]; 3], q: [[f64; 3]; 3]| -> f64 {
+        let tr = (p[0][0] + p[1][1] + p[2][2]) * (q[0][0] + q[1][1] + q[2][2]);
+        lam * tr
+            + 2.0
+                * mu
+                * (0..3)
+                    .flat_map(|i| (0..3).map(move |j| (i, j)))
+                    .map(|(i, j)| p[i][j] * q[i][j])
+                    .sum::<f64>()
+    };
+    let vol8: f64 = hex20::gauss(2)
+        .unwrap()
+        .iter()
+        .map(|(p, w)| w * hex20::spatial_gradient(&x, *p).unwrap().1)
+        .sum();
+    let mut worst_u = 0.0f64;
+    for p in 0..2 {
+        for q in 0..2 {
+            let e = vol8 * (ddot(sym(a[p]), sym(gt(a[q]))) + ddot(sym(gt(a[p])), sym(a[q])));
+            worst_u = worst_u.max((ku[(p, q)] - e).abs() / e.abs().max(1.0));
+        }
+    }
+    eprintln!("K_u against its closed form: {worst_u:e}");
+    // Measured 1.4e-13 (round-off of terms that partly cancel).
+    assert!(worst_u < 1e-12, "{worst_u:e}: {ku}");
     // A shape missing a node is refused.
     let short = &shapes[0][..19];
     assert!(one_brick(x, s, 27).stiffness(&[short]).is_err());

@@ -15,7 +15,10 @@
 //! and projected on mode shapes at the same (expanded) nodes: K_G,kl = sum over Gauss points of
 //! w det J sum_i (grad u_k,i)^T sigma (grad u_l,i), u_k,i the i-th component of mode k. This is
 //! what ccx adds in a `*FREQUENCY` perturbation step after the same static step (its K_sigma),
-//! up to the truncation to the kept modes.
+//! up to the truncation to the kept modes. The stresses are ccx's own at its integration points
+//! (7 digits in the `.dat`); its nodal stresses of the `.frd` (extrapolated, averaged between
+//! elements) interpolated to the same points change the drum's K_G entries by up to 4.6e-3 of
+//! the diagonal and its frequencies at 1400 rpm by up to 1.3e-4 (measured once).
 //!
 //! ccx's perturbation stiffness also changes the material stiffness about the deformed state
 //! (sym(F0^T grad u) : C : sym(F0^T grad u), F0 = E + grad u0: e_c3d.f, wcoef.f). Its part

@@ -308,44 +308,67 @@ fn cabinet_preload_stresses_match_calculix(
 }
 
 #[test]
-fn drum_stress_stiffened_frequencies_come_back_from_the_committed_data() {
+fn drum_stress_stiffened_frequencies_come_back_from_the_assembled_geometric_stiffness() {
+    // The drum as `fe modal` builds it (`common::builtin`: its K_G assembled from ccx's static
+    // centrifugal stresses at 1400 rpm, `washdyn_fe::prestress`) against ccx's own prestressed
+    // body: the same static step (CENTRIF and the pulley masses' CLOADs), then a *FREQUENCY
+    // perturbation step, at 400, 900 and 1400 rpm. ccx's step also holds the static
+    // displacement's stiffness, and has neither the pulley's rigid-part stiffness nor the
+    // point masses' spin softening (`PrestressReport::as_ccx` makes ours so; on this drum the
+    // last two are below 3e-13 per (rad/s)^2: the pulley sits behind the rear bearing). And the committed data, whose K_G was fitted to ccx's
+    // prestressed modes at 1400 rpm, for comparison.
     if !have_ccx() {
         return;
     }
-    let drum = committed("drum");
-    let kg = drum.geometric_stiffness.clone().unwrap();
-    let spec = bodies::builtin().remove(1);
+    let built = common::builtin::tub_and_drum();
+    let b = built.bodies.iter().find(|b| b.spec.name == "drum").unwrap();
+    let kg = b.data.geometric_stiffness.clone().unwrap();
+    let as_ccx = b.report.prestress.as_ref().unwrap().as_ccx(&kg);
+    let committed = committed("drum");
     let dir = tempfile::tempdir().unwrap();
-    let f0 = &drum.frequencies;
-    let mut worst: f64 = 0.0;
+    let f0 = &b.data.frequencies;
+    let (mut worst, mut fitted) = (0.0f64, 0.0f64);
     for rpm in [400.0, 900.0, 1400.0] {
         let omega = rpm * std::f64::consts::PI / 30.0;
+        let c = washdyn_fe::prestress::Centrifugal::new(omega, kg.axis_point, kg.axis);
         let (frd, _) = washdyn_fe::rotating::solve_prestressed(
-            &spec.mesh,
+            &b.spec.mesh,
             dir.path(),
             &format!("w{rpm}"),
-            omega,
-            kg.axis_point,
-            kg.axis,
-            6,
+            &c,
+            10,
         )
         .unwrap();
         let ccx_f: Vec<f64> = frd.modes.iter().map(|m| m.frequency_hz).collect();
-        let ours = washdyn_fe::rotating::reduced_frequencies(f0, &drum.elementary, &kg, omega);
-        eprintln!(
-            "{rpm} rpm: ccx {ccx_f:?}\n  committed data {:?}",
-            &ours[..6]
+        let ours =
+            washdyn_fe::rotating::reduced_frequencies(f0, &b.data.elementary, &as_ccx, omega);
+        let old = washdyn_fe::rotating::reduced_frequencies(
+            &committed.frequencies,
+            &committed.elementary,
+            committed.geometric_stiffness.as_ref().unwrap(),
+            omega,
         );
-        for (k, (o, c)) in ours.iter().zip(&ccx_f).enumerate() {
-            // Truncation to the 12 kept modes (a Rayleigh-Ritz projection: from above) and the
-            // fit residual of the extraction (1.5e-2 on the highest kept mode) bound the error:
-            // measured 1.8e-3.
-            let rel = (o - c) / c;
+        eprintln!("{rpm} rpm: ccx {ccx_f:?}\n  assembled {ours:?}\n  committed (fit) {old:?}");
+        for (k, c) in ccx_f.iter().enumerate() {
+            let rel = (ours[k] - c) / c;
             worst = worst.max(rel.abs());
-            assert!(rel.abs() < 5e-3, "mode {k} at {rpm} rpm: {o} vs ccx {c}");
+            fitted = fitted.max(((old[k] - c) / c).abs());
+            // A Rayleigh-Ritz projection on the 10 kept modes (from above), and the static
+            // displacement's stiffness from the .frd's 6 digits (it splits the degenerate
+            // pairs by up to 1.4e-4; 3.1e-5 below ccx at 400 rpm): measured 1.9e-3 (1400 rpm,
+            // the torsion mode, 161.254 vs 160.956 Hz; 3.2e-3 with the stresses' K_G alone; the
+            // committed data's fitted K_G 1.8e-3).
+            assert!(
+                rel.abs() < 5e-3,
+                "mode {k} at {rpm} rpm: {} vs ccx {c}",
+                ours[k]
+            );
         }
     }
-    eprintln!("stress-stiffened frequencies against ccx: worst {worst:.1e}");
+    eprintln!(
+        "stress-stiffened frequencies against ccx: assembled K_G {worst:.1e}, the committed \
+         (fitted) K_G {fitted:.1e}"
+    );
 }
 
 // The drum's Campbell diagram against CalculiX: `tests/fe_drum.rs`, on the knot-free brick

@@ -1,15 +1,52 @@
-//! The spinning body's data against CalculiX: the geometric stiffness per Omega^2 is extracted
-//! from ccx's prestressed solution at one speed; the stress-stiffened frequencies that ccx
-//! computes at three speeds (`*STATIC` CENTRIF + `*FREQUENCY` perturbation) must come back from
-//! the stored modal data alone. Without ccx the test skips, except under CI, where it fails.
+//! The spinning body's data against CalculiX: the geometric stiffness per Omega^2 is assembled
+//! from ccx's static centrifugal stresses at one speed (`washdyn_fe::prestress`, through
+//! `pipeline::build`); the stress-stiffened frequencies that ccx computes at three speeds
+//! (`*STATIC` CENTRIF + `*FREQUENCY` perturbation) must come back from the stored modal data
+//! alone. Without ccx the test skips, except under CI, where it fails.
 
 use crate::common;
 use common::have_ccx;
 
-use washdyn_fe::consistent::consistent;
 use washdyn_fe::mesh::{Material, Mesh, Section};
-use washdyn_fe::modal::{self, Keep};
+use washdyn_fe::modal::Keep;
+use washdyn_fe::pipeline::{BodySpec, Spin, build};
+use washdyn_fe::prestress::Centrifugal;
 use washdyn_fe::rotating;
+use washdyn_runtime::ir::modal::{ElasticBodyKind, ModalData, Support};
+
+/// `mesh` clamped, spinning about `axis` through `axis_point`: its `modes` lowest modes and
+/// their geometric stiffness from the prestress at `reference` rad/s, as `fe modal` builds a
+/// drum.
+fn spinning(
+    mesh: &Mesh,
+    dir: &std::path::Path,
+    modes: usize,
+    reference: f64,
+    axis_point: [f64; 3],
+    axis: [f64; 3],
+) -> ModalData {
+    let spec = BodySpec {
+        name: "rotor".into(),
+        kind: ElasticBodyKind::Drum,
+        support: Support::Clamped,
+        mesh: mesh.clone(),
+        solve_modes: modes,
+        keep: Keep {
+            rigid_below_hz: 0.0,
+            max_hz: f64::INFINITY,
+            max_modes: modes,
+        },
+        points: Vec::new(),
+        spin: Some(Spin {
+            axis_point,
+            axis,
+            reference_speed: reference,
+        }),
+        correction: Vec::new(),
+        recovery: false,
+    };
+    build(&spec, dir).unwrap().0
+}
 
 /// A steel blade 0.25 m long, 12 x 6 mm, along y from a hub of radius 0.05 m, clamped there;
 /// it spins about z through the origin. 20 B32 elements.
@@ -53,41 +90,21 @@ fn stress_stiffened_frequencies_come_back_from_the_stored_data() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path().to_path_buf();
     let (axis_point, axis) = ([0.0; 3], [0.0, 0.0, 1.0]);
-    let mass = consistent(&mesh);
-    let keep = Keep {
-        rigid_below_hz: 0.0,
-        max_hz: 1e9,
-        max_modes: 4,
-    };
-    let rest = modal::solve(&mesh, &dir, "rest", 4, false).unwrap();
-    let base = modal::select(&mesh, &rest.frd, &rest.prints, keep).unwrap();
-    let el = mass.elementary(&mesh, &base).unwrap();
     let reference = 200.0;
-    let (_, pre) =
-        rotating::solve_prestressed(&mesh, &dir, "pre", reference, axis_point, axis, 16).unwrap();
-    let x =
-        rotating::geometric_stiffness(&mesh, &mass, &base, &pre, &el, reference, axis_point, axis)
-            .unwrap();
-    eprintln!("fit residuals {:?}", x.residual);
-    let f0: Vec<f64> = base.iter().map(|s| s.frequency_hz).collect();
+    let data = spinning(&mesh, &dir, 4, reference, axis_point, axis);
+    let (f0, el) = (&data.frequencies, &data.elementary);
+    let kg = data.geometric_stiffness.clone().unwrap();
     for omega in [100.0, 200.0, 300.0] {
-        let (frd, _) = rotating::solve_prestressed(
-            &mesh,
-            &dir,
-            &format!("w{omega}"),
-            omega,
-            axis_point,
-            axis,
-            4,
-        )
-        .unwrap();
+        let c = Centrifugal::new(omega, axis_point, axis);
+        let (frd, _) =
+            rotating::solve_prestressed(&mesh, &dir, &format!("w{omega}"), &c, 4).unwrap();
         let ccx_f: Vec<f64> = frd.modes.iter().map(|m| m.frequency_hz).collect();
-        let ours = rotating::reduced_frequencies(&f0, &el, &x.stiffness, omega);
+        let ours = rotating::reduced_frequencies(f0, el, &kg, omega);
         eprintln!("{omega} rad/s: ccx {ccx_f:?}, stored data {ours:?}, at rest {f0:?}");
         for (k, (o, c)) in ours.iter().zip(&ccx_f).enumerate() {
             // The reduced model is a Rayleigh-Ritz projection onto the 4 kept modes: its
-            // frequencies lie above ccx's by the truncation error (measured 4e-5 at the
-            // extraction speed, 1.6e-4 at 300 rad/s; bound 5e-4).
+            // frequencies lie above ccx's by the truncation error (measured 4.0e-5 at the
+            // prestress's speed, 200 rad/s, 1.6e-4 at 300 rad/s; bound 5e-4).
             let rel = (o - c) / c;
             assert!(
                 rel > -1e-6 && rel < 5e-4,
@@ -99,9 +116,6 @@ fn stress_stiffened_frequencies_come_back_from_the_stored_data() {
             }
         }
     }
-    // The fit of the kept modes by 16 prestressed ones is near exact (the truncation of the
-    // extraction itself).
-    assert!(x.residual.iter().all(|r| *r < 1e-4), "{:?}", x.residual);
 }
 
 /// A stiff steel disk (C3D20) on a light cantilever shaft (B32, joined by spokes), with or
@@ -181,9 +195,9 @@ fn campbell_of_a_disk_rotor_matches_calculix_coriolis() {
     // The reduced rotating-frame problem (Coriolis, spin softening, stress stiffening from the
     // modal sums) against ccx's *COMPLEX FREQUENCY, CORIOLIS on the same model: the whirl
     // pair, the axial mode and the next, at 400 and 1400 rpm. Measured with the consistent
-    // mass: within 7e-6 at both speeds without the rim (bound 1e-4; 2.6e-3 with HRZ masses),
-    // 6.5e-3 with the shell rim, whose knots (MPCs) ccx's Coriolis matrix gets wrong
-    // (design-notes.md; bound 1e-2).
+    // mass: within 1.5e-5 at both speeds without the rim (bound 1e-4; 7e-6 with the K_G fitted
+    // to ccx's prestressed modes; 2.6e-3 with HRZ masses), 6.5e-3 with the shell rim, whose
+    // knots (MPCs) ccx's Coriolis matrix gets wrong (design-notes.md; bound 1e-2).
     if !have_ccx() {
         return;
     }
@@ -192,37 +206,15 @@ fn campbell_of_a_disk_rotor_matches_calculix_coriolis() {
         let tmp = tempfile::tempdir().unwrap();
         let dir = tmp.path();
         let (axis_point, axis) = ([0.0; 3], [1.0, 0.0, 0.0]);
-        let keep = Keep {
-            rigid_below_hz: 0.0,
-            max_hz: 1e9,
-            max_modes: 8,
-        };
-        let rest = modal::solve(&mesh, dir, "rest", 8, false).unwrap();
-        let base = modal::select(&mesh, &rest.frd, &rest.prints, keep).unwrap();
-        let mass = consistent(&mesh);
-        let el = mass.elementary(&mesh, &base).unwrap();
         let reference = 400.0 * std::f64::consts::PI / 30.0;
-        let (_, pre) =
-            rotating::solve_prestressed(&mesh, dir, "pre", reference, axis_point, axis, 20)
-                .unwrap();
-        let x = rotating::geometric_stiffness(
-            &mesh, &mass, &base, &pre, &el, reference, axis_point, axis,
-        )
-        .unwrap();
-        let f0: Vec<f64> = base.iter().map(|s| s.frequency_hz).collect();
+        let data = spinning(&mesh, dir, 8, reference, axis_point, axis);
+        let (f0, el) = (&data.frequencies, &data.elementary);
+        let kg = data.geometric_stiffness.clone().unwrap();
         for rpm in [400.0, 1400.0] {
             let omega = rpm * std::f64::consts::PI / 30.0;
-            let ours = rotating::campbell(&f0, &el, &x.stiffness, omega);
-            let ccx = rotating::coriolis_reference(
-                &mesh,
-                dir,
-                &format!("c{rpm}"),
-                omega,
-                axis_point,
-                axis,
-                8,
-            )
-            .unwrap();
+            let ours = rotating::campbell(f0, el, &kg, omega);
+            let c = Centrifugal::new(omega, axis_point, axis);
+            let ccx = rotating::coriolis_reference(&mesh, dir, &format!("c{rpm}"), &c, 8).unwrap();
             eprintln!(
                 "rim {rim}, {rpm} rpm: ours {:?}, ccx {:?}",
                 &ours[..4],

@@ -49,6 +49,10 @@ pub struct Corrected {
     pub reaction: Option<f64>,
     /// With `stresses`: each load case's stresses at the expanded nodes (the same solve).
     pub static_stresses: Vec<Vec<(usize, [f64; 6])>>,
+    /// With `stresses`: each load case's displacements at all of ccx's 3-D nodes, and ccx's
+    /// 3-D elements (a spinning body's geometric stiffness integrates them, `prestress.rs`).
+    pub statics_3d: Vec<Vec<(usize, [f64; 3])>>,
+    pub elements_3d: Vec<(usize, Vec<usize>)>,
 }
 
 /// Node set of a free body's 3-2-1 support (for its reaction prints).
@@ -311,9 +315,11 @@ pub fn correction_modes(
     };
     let d = static_deck(mesh, &forces, &support, stresses);
     let mut solved = crate::modal::solve_deck(mesh, &d, dir, job)?;
-    if stresses {
-        crate::stress::mid_surface(mesh, &mut solved.frd)?;
-    }
+    let statics_3d = if stresses {
+        crate::stress::mid_surface(mesh, &mut solved.frd)?.1.statics
+    } else {
+        Vec::new()
+    };
     if solved.frd.statics.len() != loads.len() {
         return Err(format!(
             "{job}: ccx wrote {} static results for {} load cases",
@@ -435,6 +441,12 @@ pub fn correction_modes(
         combination: x,
         reaction,
         static_stresses: solved.frd.static_stresses,
+        statics_3d,
+        elements_3d: if stresses {
+            solved.frd.elements
+        } else {
+            Vec::new()
+        },
     })
 }
 

@@ -47,6 +47,58 @@ fn node_table(dat: &str, what: &str, set: &str) -> Result<Vec<Print>, String> {
     Ok(out)
 }
 
+/// One element's stresses at its integration points, in ccx's point order: (xx, yy, zz, xy, yz,
+/// zx) as the `.frd` orders them.
+pub type ElementStresses = (usize, Vec<[f64; 6]>);
+
+/// The first block "stresses (elem, integ.pnt.,sxx,syy,szz,sxy,sxz,syz) for set SET" of a
+/// `.dat` (`*EL PRINT, ELSET=SET` / `S`), per element in file order. ccx prints a shell's
+/// expanded brick in the shell's own axes unless the print asks for `GLOBAL=YES` (a line then
+/// ends with the orientation's name, `_shell_0000000001`: ignored here).
+pub fn element_stresses(dat: &str, set: &str) -> Result<Vec<ElementStresses>, String> {
+    let head = format!("for set {} and time", set.to_ascii_uppercase());
+    let mut lines = dat.lines().enumerate().peekable();
+    let Some(_) =
+        lines.find(|(_, l)| l.contains("stresses (elem, integ.pnt.") && l.contains(&head))
+    else {
+        return Ok(Vec::new());
+    };
+    while lines.peek().is_some_and(|(_, l)| l.trim().is_empty()) {
+        lines.next();
+    }
+    let mut out: Vec<ElementStresses> = Vec::new();
+    while let Some((i, l)) = lines.next_if(|(_, l)| !l.trim().is_empty()) {
+        let f: Vec<&str> = l.split_whitespace().collect();
+        let bad = || format!("line {}: not a stress print: `{l}`", i + 1);
+        if f.len() < 8 {
+            return Err(bad());
+        }
+        let elem = f[0].parse::<usize>().map_err(|_| bad())?;
+        let point = f[1].parse::<usize>().map_err(|_| bad())?;
+        let mut v = [0.0; 6];
+        for k in 0..6 {
+            v[k] = f[k + 2].parse::<f64>().map_err(|_| bad())?;
+        }
+        // ccx's order xx, yy, zz, xy, xz, yz -> the .frd's xx, yy, zz, xy, yz, zx.
+        let s = [v[0], v[1], v[2], v[3], v[5], v[4]];
+        match out.last_mut() {
+            Some((e, pts)) if *e == elem => {
+                if point != pts.len() + 1 {
+                    return Err(bad());
+                }
+                pts.push(s);
+            }
+            _ => {
+                if point != 1 {
+                    return Err(bad());
+                }
+                out.push((elem, vec![s]));
+            }
+        }
+    }
+    Ok(out)
+}
+
 /// ccx's `EMAS` totals of an element set (`*EL PRINT, TOTALS=ONLY` / `EMAS`): mass, CoG and
 /// the second moments about the CoG. Note: ccx's "mass moment of inertia (xx, yy, zz, xy, xz,
 /// yz)" is the second-moment tensor J = sum dm r r^T (checked on a beam along x: its "xx" is
@@ -107,6 +159,23 @@ mod tests {
         let i = e.inertia();
         assert!((i[1][1] - (2.093333e-3 + 2.093333e-5)).abs() < 1e-12);
         assert!((i[0][0] - 2.0 * 2.093333e-5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn element_stresses_in_the_frd_order() {
+        // As ccx 2.20 prints them (a shell's expanded brick in global axes ends with its
+        // orientation's name).
+        let dat = "\n stresses (elem, integ.pnt.,sxx,syy,szz,sxy,sxz,syz) for set WD_SPIN and \
+                   time  0.1000000E+01\n\n         3   1  1.0E+06  2.0E+06  3.0E+06  4.0E+06  \
+                   5.0E+06  6.0E+06 _shell_0000000003   \n         3   2  1 2 3 4 5 6\n        \
+                   12   1  -1 -2 -3 -4 -5 -6\n\n";
+        let s = element_stresses(dat, "wd_spin").unwrap();
+        assert_eq!(s.len(), 2);
+        assert_eq!(s[0].0, 3);
+        assert_eq!(s[0].1[0], [1e6, 2e6, 3e6, 4e6, 6e6, 5e6]);
+        assert_eq!(s[0].1[1], [1.0, 2.0, 3.0, 4.0, 6.0, 5.0]);
+        assert_eq!(s[1], (12, vec![[-1.0, -2.0, -3.0, -4.0, -6.0, -5.0]]));
+        assert!(element_stresses(dat, "other").unwrap().is_empty());
     }
 
     #[test]

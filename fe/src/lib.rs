@@ -20,6 +20,7 @@ pub mod lumping;
 pub mod mesh;
 pub mod modal;
 pub mod pipeline;
+pub mod prestress;
 pub mod rotating;
 pub mod stress;
 pub mod subspace;

@@ -45,13 +45,8 @@ pub fn select(
     }
     let rot_ids: Vec<usize> = mesh.rigid.iter().map(|r| r.rot_node).collect();
     let mut out = Vec::new();
-    for (i, m) in frd.modes.iter().enumerate() {
-        if m.frequency_hz < keep.rigid_below_hz {
-            continue;
-        }
-        if m.frequency_hz > keep.max_hz || out.len() == keep.max_modes {
-            break;
-        }
+    for i in kept(frd, keep) {
+        let m = &frd.modes[i];
         let mut w: HashMap<usize, [f64; 3]> = m.disp.iter().copied().collect();
         let mut rot = HashMap::new();
         for &(id, v) in prints.get(i).into_iter().flatten() {
@@ -68,6 +63,21 @@ pub fn select(
         });
     }
     Ok(out)
+}
+
+/// The indices of the `.frd`'s modes that `keep` keeps, ascending.
+pub fn kept(frd: &Frd, keep: Keep) -> Vec<usize> {
+    let mut out = Vec::new();
+    for (i, m) in frd.modes.iter().enumerate() {
+        if m.frequency_hz < keep.rigid_below_hz {
+            continue;
+        }
+        if m.frequency_hz > keep.max_hz || out.len() == keep.max_modes {
+            break;
+        }
+        out.push(i);
+    }
+    out
 }
 
 /// Least-squares rigid motion of the nodes `ids` in one mode, as (translation at the nodes'
@@ -253,6 +263,9 @@ pub struct Solved {
     pub dat: String,
     /// A 3-D solve's expanded nodes of each original node (`stress::mid_surface`).
     pub expanded: Option<HashMap<usize, Vec<usize>>>,
+    /// A 3-D solve's displacements at all of ccx's nodes, when asked to keep them
+    /// (`solve_keeping_3d`).
+    pub unfolded: Option<crate::stress::Unfolded>,
 }
 
 /// Write `mesh`'s frequency deck for `modes` eigenmodes as `<dir>/<job>.inp`, run ccx, read back.
@@ -266,9 +279,36 @@ pub fn solve(
     modes: usize,
     stresses: bool,
 ) -> Result<Solved, String> {
+    solve_with(mesh, dir, job, modes, stresses, false)
+}
+
+/// `solve` with 3-D output, keeping the displacements at ccx's 3-D nodes (`Solved::unfolded`)
+/// beside the shapes at the original nodes: a spinning body's geometric stiffness integrates
+/// them over ccx's bricks.
+pub fn solve_keeping_3d(
+    mesh: &Mesh,
+    dir: &std::path::Path,
+    job: &str,
+    modes: usize,
+) -> Result<Solved, String> {
+    solve_with(mesh, dir, job, modes, true, true)
+}
+
+fn solve_with(
+    mesh: &Mesh,
+    dir: &std::path::Path,
+    job: &str,
+    modes: usize,
+    stresses: bool,
+    keep: bool,
+) -> Result<Solved, String> {
     let mut s = solve_deck(mesh, &mesh.frequency_deck(modes, stresses), dir, job)?;
     if stresses {
-        s.expanded = Some(crate::stress::mid_surface(mesh, &mut s.frd)?);
+        let (points, unfolded) = crate::stress::mid_surface(mesh, &mut s.frd)?;
+        s.expanded = Some(points);
+        if keep {
+            s.unfolded = Some(unfolded);
+        }
     }
     Ok(s)
 }
@@ -301,6 +341,7 @@ pub fn solve_deck(
         prints,
         dat,
         expanded: None,
+        unfolded: None,
     })
 }
 

@@ -1,26 +1,34 @@
 //! One body from FE model to modal data: write the deck, solve it with ccx, assemble the
 //! consistent mass, keep the wanted modes, form the elementary matrices and points, and for a
-//! spinning body extract the geometric stiffness, and the shapes on the whole mesh for field
-//! recovery (`field.rs`). The CLI's `washdyn fe modal` runs this for the built-in bodies.
+//! spinning body assemble the geometric stiffness of its centrifugal prestress
+//! (`prestress.rs`), and the shapes on the whole mesh for field recovery (`field.rs`). The
+//! CLI's `washdyn fe modal` runs this for the built-in bodies.
 
 use crate::consistent;
 use crate::lumping::{MassProps, lump};
 use crate::mesh::Mesh;
 use crate::modal::{self, Keep};
-use crate::rotating;
+use crate::prestress::{self, Centrifugal};
+use nalgebra::DMatrix;
 use std::path::Path;
+use washdyn_runtime::geom::f::unit;
 use washdyn_runtime::ir::modal::{
-    Correction, ElasticBodyKind, LoadCase, ModalData, Support, SupportSpring,
+    Correction, ElasticBodyKind, GeometricStiffness, LoadCase, ModalData, Support, SupportSpring,
 };
 
-/// How a body spins (the drum): about `axis` through `axis_point`; the prestress is computed at
-/// `reference_speed` (rad/s) with `modes` prestressed modes.
+/// How a body spins (the drum): about `axis` through `axis_point`; its geometric stiffness comes
+/// from the centrifugal prestress at `reference_speed` (rad/s).
 #[derive(Clone, Debug)]
 pub struct Spin {
     pub axis_point: [f64; 3],
     pub axis: [f64; 3],
     pub reference_speed: f64,
-    pub modes: usize,
+}
+
+impl Spin {
+    pub fn centrifugal(&self) -> Centrifugal {
+        Centrifugal::new(self.reference_speed, self.axis_point, self.axis)
+    }
 }
 
 /// Everything needed to turn one FE model into modal data.
@@ -44,6 +52,14 @@ pub struct BodySpec {
     pub recovery: bool,
 }
 
+impl BodySpec {
+    /// Whether the solves write ccx's 3-D output: for recovery, and for a spinning body, whose
+    /// geometric stiffness integrates the shapes over ccx's bricks.
+    pub fn three_d(&self) -> bool {
+        self.recovery || self.spin.is_some()
+    }
+}
+
 /// What a build measured, for the report.
 #[derive(Clone, Debug)]
 pub struct Report {
@@ -51,7 +67,6 @@ pub struct Report {
     pub nodes: usize,
     pub elements: usize,
     pub solve_s: f64,
-    pub prestress_solve_s: Option<f64>,
     /// All of ccx's frequencies (Hz), rigid ones included.
     pub all_frequencies: Vec<f64>,
     /// The body from the consistent mass (+ rigid parts): what the modal data holds.
@@ -62,13 +77,45 @@ pub struct Report {
     pub hrz_error: f64,
     /// max |sum dm W| / sqrt(m) (free-free: orthogonality to translation).
     pub translation_coupling: f64,
-    /// Worst relative residual of the kept modes in the prestressed basis.
-    pub prestress_fit_residual: Option<f64>,
+    /// A spinning body's centrifugal prestress.
+    pub prestress: Option<PrestressReport>,
     /// The static correction modes, if any.
     pub correction: Option<CorrectionReport>,
     /// ccx's own mass totals of the structural elements (`EMAS` in the frequency solve's
     /// `.dat`), to check our integration against.
     pub emas: Option<crate::dat::Emas>,
+}
+
+/// What the prestress solve gave, beside the geometric stiffness in the modal data.
+#[derive(Clone, Debug)]
+pub struct PrestressReport {
+    /// ccx's time for the static step, s.
+    pub solve_s: f64,
+    /// Bricks integrated (ccx's expanded shells and beams, and solids).
+    pub bricks: usize,
+    /// Of the modal data's K_G per Omega^2 (n x n, row-major), the rigid parts' share
+    /// (`prestress::rigid_parts`); ccx's perturbation step has none.
+    pub rigid_parts: Vec<f64>,
+    /// Not in it: the initial-displacement stiffness of the static state per Omega^2
+    /// (`Prestress::stiffness`), which ccx's perturbation step has.
+    pub initial_displacement: Vec<f64>,
+    /// The point masses' share of the spin softening S_perp per Omega^2 (n x n, row-major;
+    /// `prestress::point_mass_softening`); ccx's perturbation step has none.
+    pub point_mass_softening: Vec<f64>,
+}
+
+impl PrestressReport {
+    /// `kg` as ccx's own prestressed `*FREQUENCY` step has it: with the initial-displacement
+    /// stiffness, without the rigid parts' share, and with the point masses' spin softening
+    /// added back (so that `rotating::reduced_frequencies`, which subtracts all of S_perp,
+    /// leaves it out).
+    pub fn as_ccx(&self, kg: &GeometricStiffness) -> GeometricStiffness {
+        let mut k = kg.clone();
+        for (i, v) in k.per_omega2.iter_mut().enumerate() {
+            *v += self.initial_displacement[i] + self.point_mass_softening[i] - self.rigid_parts[i];
+        }
+        k
+    }
 }
 
 /// What the static correction solve measured.
@@ -85,8 +132,13 @@ pub struct CorrectionReport {
 
 /// Build `spec` in `dir` (the deck and ccx's files land there).
 pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), String> {
-    // One solve gives the shapes and, for recovery, the stresses (`stress.rs`).
-    let mut solved = modal::solve(&spec.mesh, dir, &spec.name, spec.solve_modes, spec.recovery)?;
+    // One solve gives the shapes and, for recovery, the stresses (`stress.rs`); a spinning
+    // body's keeps its 3-D shapes for the geometric stiffness.
+    let mut solved = if spec.spin.is_some() {
+        modal::solve_keeping_3d(&spec.mesh, dir, &spec.name, spec.solve_modes)?
+    } else {
+        modal::solve(&spec.mesh, dir, &spec.name, spec.solve_modes, spec.recovery)?
+    };
     let mass = consistent::consistent(&spec.mesh);
     let mut modes = modal::select(&spec.mesh, &solved.frd, &solved.prints, spec.keep)?;
     if modes.is_empty() {
@@ -95,15 +147,8 @@ pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), String>
     let points: Vec<(&str, [f64; 3])> = spec.points.iter().map(|(s, p)| (s.as_str(), *p)).collect();
     let mut correction = None;
     let mut correction_solved: Option<crate::correction::Corrected> = None;
+    let eigen = modes.len();
     if !spec.correction.is_empty() {
-        if spec.spin.is_some() {
-            // A spinning body's K_G comes from prestressed eigenmodes, which do not span a
-            // local dent.
-            return Err(format!(
-                "{}: static correction modes need a non-spinning body",
-                spec.name
-            ));
-        }
         // A free body gets inertia relief (`correction.rs`).
         let c = crate::correction::correction_modes(
             &spec.mesh,
@@ -112,7 +157,7 @@ pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), String>
             &points,
             &spec.correction,
             spec.support == Support::FreeFree,
-            spec.recovery,
+            spec.three_d(),
             dir,
             &format!("{}_correction", spec.name),
         )?;
@@ -153,33 +198,22 @@ pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), String>
         data.correction = Some(c);
         r
     });
-    let mut prestress_solve_s = None;
-    let mut prestress_fit_residual = None;
-    if let Some(s) = &spec.spin {
-        let t = std::time::Instant::now();
-        let (_, pre) = rotating::solve_prestressed(
-            &spec.mesh,
-            dir,
-            &format!("{}_prestressed", spec.name),
-            s.reference_speed,
-            s.axis_point,
-            s.axis,
-            s.modes,
-        )?;
-        prestress_solve_s = Some(t.elapsed().as_secs_f64());
-        let x = rotating::geometric_stiffness(
-            &spec.mesh,
-            &mass,
-            &modes,
-            &pre,
-            &data.elementary,
-            s.reference_speed,
-            s.axis_point,
-            s.axis,
-        )?;
-        prestress_fit_residual = Some(x.residual.iter().copied().fold(0.0, f64::max));
-        data.geometric_stiffness = Some(x.stiffness);
-    }
+    let prestress = match &spec.spin {
+        Some(spin) => {
+            let (k, r) = geometric_stiffness(
+                spec,
+                dir,
+                spin,
+                &solved,
+                &modes,
+                eigen,
+                correction_solved.as_ref(),
+            )?;
+            data.geometric_stiffness = Some(k);
+            Some(r)
+        }
+        None => None,
+    };
     if spec.recovery {
         write_field(
             spec,
@@ -205,17 +239,112 @@ pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), String>
         nodes: spec.mesh.nodes.len(),
         elements: spec.mesh.element_count(),
         solve_s: solved.run.wall_s,
-        prestress_solve_s,
         all_frequencies: solved.frd.modes.iter().map(|m| m.frequency_hz).collect(),
         mass_props: mass.mass_props(&spec.mesh),
         mass_error: data.mass_normalisation_error(),
         hrz_error,
         translation_coupling,
-        prestress_fit_residual,
+        prestress,
         correction,
         emas: crate::dat::emas(&solved.dat, "EALL"),
     };
     Ok((data, report))
+}
+
+/// A spinning body's K_G per Omega^2 on `modes` (the first `eigen` of them the eigenmodes of
+/// `solved`, the rest the correction modes of `correction`): ccx's static centrifugal stresses
+/// and displacements integrated over its bricks with the shapes at its 3-D nodes
+/// (`prestress.rs`), plus the rigid parts' share.
+fn geometric_stiffness(
+    spec: &BodySpec,
+    dir: &Path,
+    spin: &Spin,
+    solved: &modal::Solved,
+    modes: &[modal::Shapes],
+    eigen: usize,
+    correction: Option<&crate::correction::Corrected>,
+) -> Result<(GeometricStiffness, PrestressReport), String> {
+    let name = &spec.name;
+    let c = spin.centrifugal();
+    let (pre, _) = prestress::solve(&spec.mesh, &c, dir, &format!("{name}_prestress"))?;
+    let unfolded = solved
+        .unfolded
+        .as_ref()
+        .ok_or_else(|| format!("{name}: the eigen solve kept no 3-D shapes"))?;
+    pre.same_bricks(&solved.frd.elements, &format!("{name}: the eigen solve"))?;
+    let kept = modal::kept(&solved.frd, spec.keep);
+    if kept.len() != eigen {
+        return Err(format!(
+            "{name}: {} eigenmodes kept, {eigen} shapes",
+            kept.len()
+        ));
+    }
+    let mut basis: Vec<&[(usize, [f64; 3])]> =
+        kept.iter().map(|&i| &unfolded.modes[i][..]).collect();
+    // Each correction mode is a combination of the static solutions less the eigenmodes'
+    // share: final = basis T with T = [E, -share comb; 0, comb].
+    let t = match correction {
+        None => None,
+        Some(_) if spec.support == Support::FreeFree => {
+            // Its static solutions less their rigid motion would need that motion at the 3-D
+            // nodes too; no spinning body is free.
+            return Err(format!(
+                "{name}: a free spinning body with correction modes"
+            ));
+        }
+        Some(cor) => {
+            pre.same_bricks(&cor.elements_3d, &format!("{name}: the correction solve"))?;
+            basis.extend(cor.statics_3d.iter().map(|v| &v[..]));
+            let (j, m) = (cor.forces.len(), cor.combination.ncols());
+            let mut t = DMatrix::<f64>::zeros(eigen + j, eigen + m);
+            t.view_mut((0, 0), (eigen, eigen)).fill_with_identity();
+            t.view_mut((0, eigen), (eigen, m))
+                .copy_from(&(-&cor.share * &cor.combination));
+            t.view_mut((eigen, eigen), (j, m))
+                .copy_from(&cor.combination);
+            Some(t)
+        }
+    };
+    let (rows, cols) = t.as_ref().map_or((eigen, eigen), |t| t.shape());
+    if basis.len() != rows || modes.len() != cols {
+        return Err(format!(
+            "{name}: the shapes and their 3-D basis differ in number"
+        ));
+    }
+    let (ks, ku) = pre.stiffness(&basis).map_err(|e| format!("{name}: {e}"))?;
+    let (ks, ku) = match &t {
+        Some(t) => (t.transpose() * ks * t, t.transpose() * ku * t),
+        None => (ks, ku),
+    };
+    let w2 = spin.reference_speed * spin.reference_speed;
+    let (ks, ku) = (ks / w2, ku / w2);
+    let k_rig = prestress::rigid_parts(&spec.mesh, &pre.loads, modes)? / w2;
+    let soft = prestress::point_mass_softening(&spec.mesh, modes, c.axis)?;
+    let n = modes.len();
+    let row_major = |m: &DMatrix<f64>| -> Vec<f64> {
+        (0..n * n)
+            .map(|i| 0.5 * (m[(i / n, i % n)] + m[(i % n, i / n)]))
+            .collect()
+    };
+    // ccx's perturbation step also holds K_u; the model leaves it out: its thin sheets'
+    // through-thickness gradient of u0 from the .frd's 6 digits splits the drum's degenerate
+    // pairs by up to 1.4e-4 (K_G from the stresses alone keeps them to 1e-9).
+    let total = &ks + &k_rig;
+    Ok((
+        GeometricStiffness {
+            axis_point: spin.axis_point,
+            axis: unit(spin.axis),
+            per_omega2: row_major(&total),
+            reference_speed: spin.reference_speed,
+        },
+        PrestressReport {
+            solve_s: pre.solve_s,
+            bricks: pre.bricks.len(),
+            rigid_parts: row_major(&k_rig),
+            initial_displacement: row_major(&ku),
+            point_mass_softening: row_major(&soft),
+        },
+    ))
 }
 
 /// The mesh's springs to the ground (SPRING1, `Section::Ground`), each at the modal point whose
@@ -305,8 +434,10 @@ impl std::fmt::Display for Report {
             self.nodes,
             self.elements,
             self.solve_s,
-            self.prestress_solve_s
-                .map_or(String::new(), |s| format!(" (+ {s:.1} s prestressed)"))
+            self.prestress.as_ref().map_or(String::new(), |p| format!(
+                " (+ {:.1} s prestress)",
+                p.solve_s
+            ))
         )?;
         writeln!(
             f,
@@ -319,8 +450,18 @@ impl std::fmt::Display for Report {
              max|sum dm W|/sqrt(m) = {:.2e}",
             self.mass_error, self.hrz_error, self.translation_coupling
         )?;
-        if let Some(r) = self.prestress_fit_residual {
-            writeln!(f, "  prestressed-basis fit residual {r:.2e}")?;
+        if let Some(p) = &self.prestress {
+            let largest = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            writeln!(
+                f,
+                "  geometric stiffness over {} bricks, rigid parts' share up to {:.2e}; ccx's \
+                 perturbation step adds the static displacement's stiffness (up to {:.2e}) and \
+                 lacks the point masses' spin softening (up to {:.2e}) per (rad/s)^2",
+                p.bricks,
+                largest(&p.rigid_parts),
+                largest(&p.initial_displacement),
+                largest(&p.point_mass_softening)
+            )?;
         }
         if let Some(c) = &self.correction {
             let fr: Vec<String> = c.frequencies.iter().map(|x| format!("{x:.0}")).collect();

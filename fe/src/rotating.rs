@@ -1,61 +1,22 @@
-//! What a spinning body needs beyond its modes at rest: the geometric stiffness of the
-//! centrifugal prestress, per Omega^2, in modal coordinates.
+//! What a spinning body's reduced model does with its geometric stiffness (K_G per Omega^2,
+//! assembled from ccx's static centrifugal stresses: `prestress.rs`): the frequencies of the
+//! prestressed body, its Campbell diagram, and ccx's own answers to hold them against.
 //!
-//! CalculiX computes the prestressed body (`*STATIC` with a `CENTRIF` load, then a
-//! `*FREQUENCY` perturbation step about that state). Its perturbation stiffness is
-//! K + Omega^2 (K_G - M_perp): stress stiffening and spin softening (measured on a radial
-//! square beam with ccx 2.20: lead-lag and flap eigenvalues part by exactly Omega^2). We express
-//! the modes at rest Phi in the prestressed modes Psi (mass-weighted least squares, Phi ~ Psi A,
-//! with more prestressed modes than kept ones) and get Phi^T K_Omega Phi = A^T Lambda A, since
-//! Psi^T K_Omega Psi = Lambda for mass-normalised Psi. Then
-//! K_G / Omega^2 = (A^T Lambda A - diag(omega_0^2)) / Omega^2 + S_perp, with
-//! S_perp = sum dm W^T (E - e e^T) W from the elementary matrices, so that the equations' own
-//! spin-softening term plus this K_G give back ccx's prestressed stiffness. The residual of the
-//! fit is the truncation error, reported.
+//! ccx's perturbation stiffness about the static centrifugal state is K + Omega^2 (K_G - M_perp)
+//! (measured on a radial square beam with ccx 2.20: lead-lag and flap eigenvalues part by
+//! exactly Omega^2). The reduced model has diag(omega_0^2) + Omega^2 (K_G - S_perp), with
+//! S_perp = sum dm W^T (E - e e^T) W from the elementary matrices (the equations' own spin
+//! softening).
 
-use crate::consistent::MassMatrix;
 use crate::frd::Frd;
 use crate::mesh::Mesh;
 use crate::modal::Shapes;
+use crate::prestress::{Centrifugal, loaded_set, write_loads};
 use nalgebra::DMatrix;
-use washdyn_runtime::geom::f::unit;
 use washdyn_runtime::ir::modal::{Elementary, GeometricStiffness};
 
-/// Define the element set `WD_SPIN` (every element with density) in `d` and return the
-/// `*DLOAD` line of its centrifugal load at `omega` (rad/s) about `axis` through `axis_point`.
-fn spin_load(
-    d: &mut crate::deck::Deck,
-    mesh: &Mesh,
-    omega: f64,
-    axis_point: [f64; 3],
-    axis: [f64; 3],
-) -> String {
-    // Point masses carry no density (ccx leaves MASS elements out of the load).
-    let loaded: Vec<&str> = mesh
-        .parts
-        .iter()
-        .filter(|p| p.section.material().is_some())
-        .map(|p| p.name.as_str())
-        .collect();
-    d.line("*ELSET, ELSET=WD_SPIN");
-    for c in loaded.chunks(8) {
-        d.line(&c.join(", "));
-    }
-    let e = unit(axis);
-    format!(
-        "WD_SPIN, CENTRIF, {:e}, {:e}, {:e}, {:e}, {:e}, {:e}, {:e}",
-        omega * omega,
-        axis_point[0],
-        axis_point[1],
-        axis_point[2],
-        e[0],
-        e[1],
-        e[2]
-    )
-}
-
 /// sum dm W^T (E - e e^T) W (n x n, row-major): the spin-softening matrix per Omega^2.
-fn s_perp(elementary: &Elementary, n: usize, e: [f64; 3]) -> Vec<f64> {
+pub fn s_perp(elementary: &Elementary, n: usize, e: [f64; 3]) -> Vec<f64> {
     let mut s = vec![0.0; n * n];
     for a in 0..3 {
         for b in 0..3 {
@@ -68,32 +29,25 @@ fn s_perp(elementary: &Elementary, n: usize, e: [f64; 3]) -> Vec<f64> {
     s
 }
 
-/// The deck of the prestressed body at `omega` (rad/s) about `axis` through `axis_point`:
-/// a `*STATIC` step with the centrifugal load on every element with density, then a
-/// `*FREQUENCY` perturbation step for `modes` eigenmodes about that state.
-pub fn prestressed_deck(
-    mesh: &Mesh,
-    omega: f64,
-    axis_point: [f64; 3],
-    axis: [f64; 3],
-    modes: usize,
-) -> crate::deck::Deck {
+/// ccx's own prestressed body at `c`: a `*STATIC` step with the centrifugal load
+/// (`prestress::write_loads`: `CENTRIF` on every element with density, the point masses'
+/// forces as `*CLOAD`s), then a `*FREQUENCY` perturbation step for `modes` eigenmodes about
+/// that state. The reference the reduced model's frequencies are held against.
+pub fn prestressed_deck(mesh: &Mesh, c: &Centrifugal, modes: usize) -> crate::deck::Deck {
     let mut d = mesh.model_deck();
-    let load = spin_load(&mut d, mesh, omega, axis_point, axis);
+    loaded_set(&mut d, mesh);
+    d.line("*STEP").line("*STATIC");
+    let dload = write_loads(&mut d, mesh, c);
     // OUTPUT=2D in the static step too: otherwise ccx 2.20 writes the perturbation modes at
     // its expanded 3-D nodes (seen on a beam: 248 nodes instead of 41).
-    d.line("*STEP")
-        .line("*STATIC")
-        .line("*NODE FILE, OUTPUT=2D")
+    d.line("*NODE FILE, OUTPUT=2D")
         .line("U")
-        .line("*DLOAD")
-        .line(&load)
         .line("*END STEP")
         .line("*STEP, PERTURBATION")
         .line("*FREQUENCY")
         .line(&modes.to_string())
         .line("*DLOAD")
-        .line(&load);
+        .line(&dload);
     mesh.output_requests(&mut d, false);
     d.line("*END STEP");
     d
@@ -104,12 +58,10 @@ pub fn solve_prestressed(
     mesh: &Mesh,
     dir: &std::path::Path,
     job: &str,
-    omega: f64,
-    axis_point: [f64; 3],
-    axis: [f64; 3],
+    c: &Centrifugal,
     modes: usize,
 ) -> Result<(Frd, Vec<Shapes>), String> {
-    let deck = prestressed_deck(mesh, omega, axis_point, axis, modes);
+    let deck = prestressed_deck(mesh, c, modes);
     let solved = crate::modal::solve_deck(mesh, &deck, dir, job)?;
     let keep = crate::modal::Keep {
         rigid_below_hz: f64::NEG_INFINITY,
@@ -118,89 +70,6 @@ pub fn solve_prestressed(
     };
     let shapes = crate::modal::select(mesh, &solved.frd, &solved.prints, keep)?;
     Ok((solved.frd, shapes))
-}
-
-/// The extraction's result: K_G per Omega^2 and how well the prestressed modes span the kept
-/// ones (per kept mode, the mass-weighted relative residual of Phi ~ Psi A).
-pub struct Extracted {
-    pub stiffness: GeometricStiffness,
-    pub residual: Vec<f64>,
-}
-
-/// K_G / Omega^2 from the kept modes at rest `base` and the prestressed modes `pre` at `omega`.
-/// The fit Phi ~ Psi A is least squares in the mass `mass` (the consistent one):
-/// A = (Psi^T M Psi)^-1 Psi^T M Phi, residual |Phi - Psi A|_M / |Phi|_M per kept mode.
-#[allow(clippy::too_many_arguments)]
-pub fn geometric_stiffness(
-    mesh: &Mesh,
-    mass: &MassMatrix,
-    base: &[Shapes],
-    pre: &[Shapes],
-    elementary: &Elementary,
-    omega: f64,
-    axis_point: [f64; 3],
-    axis: [f64; 3],
-) -> Result<Extracted, String> {
-    let (n, m) = (base.len(), pre.len());
-    if m < n {
-        return Err(format!(
-            "{m} prestressed modes cannot represent {n} kept modes"
-        ));
-    }
-    let g = mass.inner(mesh, pre, pre)?;
-    let b = mass.inner(mesh, pre, base)?;
-    let pp = mass.inner(mesh, base, base)?;
-    let a = g
-        .clone()
-        .svd(true, true)
-        .solve(&b, 1e-12)
-        .map_err(|e| e.to_string())?;
-    // |Phi - Psi A|^2 = Phi^T M Phi - 2 A^T B + A^T G A (per column).
-    let ga = &g * &a;
-    let residual = (0..n)
-        .map(|k| {
-            let r2 =
-                pp[(k, k)] - 2.0 * a.column(k).dot(&b.column(k)) + a.column(k).dot(&ga.column(k));
-            (r2.max(0.0) / pp[(k, k)]).sqrt()
-        })
-        .collect();
-    let lambda = DMatrix::from_diagonal(&nalgebra::DVector::from_iterator(
-        m,
-        pre.iter()
-            .map(|s| (2.0 * std::f64::consts::PI * s.frequency_hz).powi(2)),
-    ));
-    let k_omega = a.transpose() * lambda * &a;
-    let e = unit(axis);
-    let sp = s_perp(elementary, n, e);
-    let mut per = vec![0.0; n * n];
-    for k in 0..n {
-        for l in 0..n {
-            let w0 = if k == l {
-                (2.0 * std::f64::consts::PI * base[k].frequency_hz).powi(2)
-            } else {
-                0.0
-            };
-            let sym = 0.5 * (k_omega[(k, l)] + k_omega[(l, k)]);
-            per[k * n + l] = (sym - w0) / (omega * omega) + sp[k * n + l];
-        }
-    }
-    // Symmetric by construction of both parts; make the round-off so too.
-    for k in 0..n {
-        for l in 0..k {
-            let v = 0.5 * (per[k * n + l] + per[l * n + k]);
-            per[k * n + l] = v;
-            per[l * n + k] = v;
-        }
-    }
-    Ok(Extracted {
-        stiffness: GeometricStiffness {
-            axis_point,
-            axis: e,
-            per_omega2: per,
-            reference_speed: omega,
-        },
-        residual,
-    })
 }
 
 /// The reduced stiffness at `omega` (n x n, row-major): diag(omega_0^2) + Omega^2 (K_G - S_perp).
@@ -319,26 +188,22 @@ pub fn try_campbell(
     Ok(f)
 }
 
-/// ccx's reference for the Campbell diagram: the prestressed body at `omega` (`*STATIC`
-/// CENTRIF), its `modes` real eigenmodes (`*FREQUENCY, STORAGE=YES`), then
+/// ccx's reference for the Campbell diagram: the prestressed body at `c` (`*STATIC` with the
+/// loads of `prestress::write_loads`), its `modes` real eigenmodes (`*FREQUENCY, STORAGE=YES`), then
 /// `*COMPLEX FREQUENCY, CORIOLIS` on them; returns the complex frequencies (Hz) and the turning
 /// directions ('F' forward, 'B' backward) that ccx prints.
 pub fn coriolis_reference(
     mesh: &Mesh,
     dir: &std::path::Path,
     job: &str,
-    omega: f64,
-    axis_point: [f64; 3],
-    axis: [f64; 3],
+    c: &Centrifugal,
     modes: usize,
 ) -> Result<Vec<(f64, char)>, String> {
     let mut d = mesh.model_deck();
-    let load = spin_load(&mut d, mesh, omega, axis_point, axis);
-    d.line("*STEP")
-        .line("*STATIC")
-        .line("*DLOAD")
-        .line(&load)
-        .line("*END STEP")
+    loaded_set(&mut d, mesh);
+    d.line("*STEP").line("*STATIC");
+    let load = write_loads(&mut d, mesh, c);
+    d.line("*END STEP")
         .line("*STEP, PERTURBATION")
         .line("*FREQUENCY, STORAGE=YES")
         .line(&modes.to_string())

@@ -70,7 +70,14 @@ pub fn associate(mesh: &Mesh, frd: &Frd) -> Result<HashMap<usize, Vec<usize>>, S
 /// its own. Measured against ccx's 2-D output: 2.1e-6 relative on the tub's 110 modes (the
 /// last printed digit; the plain mean of a shell corner's three was 1e-4 off on its 2 kHz
 /// modes), and on the cabinet's beams (the plain mean of eight 1e-4 off).
-pub fn mid_surface(mesh: &Mesh, frd: &mut Frd) -> Result<HashMap<usize, Vec<usize>>, String> {
+///
+/// Returns the expanded nodes of each original node, and the 3-D displacements it replaced
+/// (every node ccx wrote, per mode and per static step), which a spinning body's geometric
+/// stiffness integrates over ccx's bricks (`prestress.rs`).
+pub fn mid_surface(
+    mesh: &Mesh,
+    frd: &mut Frd,
+) -> Result<(HashMap<usize, Vec<usize>>, Unfolded), String> {
     let points = associate(mesh, frd)?;
     let coords: HashMap<usize, [f64; 3]> = frd.nodes.iter().copied().collect();
     // Per original node: (expanded node, weight); the middle node sits at the original node.
@@ -116,7 +123,7 @@ pub fn mid_surface(mesh: &Mesh, frd: &mut Frd) -> Result<HashMap<usize, Vec<usiz
         })
         .collect();
     let original = mesh.nodes.len();
-    let fold = |disp: &mut Vec<(usize, [f64; 3])>| {
+    let fold = |disp: &mut Vec<(usize, [f64; 3])>| -> Vec<(usize, [f64; 3])> {
         let by: HashMap<usize, [f64; 3]> = disp.iter().copied().collect();
         let mut out: Vec<(usize, [f64; 3])> = disp
             .iter()
@@ -138,15 +145,21 @@ pub fn mid_surface(mesh: &Mesh, frd: &mut Frd) -> Result<HashMap<usize, Vec<usiz
             }
         }
         out.sort_unstable_by_key(|x| x.0);
-        *disp = out;
+        std::mem::replace(disp, out)
     };
-    for m in &mut frd.modes {
-        fold(&mut m.disp);
-    }
-    for s in &mut frd.statics {
-        fold(s);
-    }
-    Ok(points)
+    let unfolded = Unfolded {
+        modes: frd.modes.iter_mut().map(|m| fold(&mut m.disp)).collect(),
+        statics: frd.statics.iter_mut().map(fold).collect(),
+    };
+    Ok((points, unfolded))
+}
+
+/// A 3-D solve's displacements at all of ccx's nodes (expanded ones included), as it wrote
+/// them: per mode and per static step, in file order.
+#[derive(Clone, Debug, Default)]
+pub struct Unfolded {
+    pub modes: Vec<Vec<(usize, [f64; 3])>>,
+    pub statics: Vec<Vec<(usize, [f64; 3])>>,
 }
 
 /// The stresses of the kept modes `kept` (selected from `frd`'s modes, in order) of the 3-D

@@ -44,27 +44,22 @@ pub fn patch(m: &mut Mesh, name: &str, point: [f64; 3]) -> f64 {
 }
 
 /// The built-in decks as (file name, text): each body's frequency deck and, for the spinning
-/// drum, its prestressed deck at the reference speed. `washdyn fe write` writes them; the
-/// repository keeps them in `models/fe/` (a test holds them equal to what this code writes).
+/// drum, the static deck of its centrifugal prestress at the reference speed
+/// (`prestress::deck`). `washdyn fe write` writes them; the repository keeps them in
+/// `models/fe/` (a test holds them equal to what this code writes).
 pub fn decks() -> Vec<(String, String)> {
     let mut out = Vec::new();
     for b in builtin() {
         out.push((
             format!("{}.inp", b.name),
             b.mesh
-                .frequency_deck(b.solve_modes, b.recovery)
+                .frequency_deck(b.solve_modes, b.three_d())
                 .text()
                 .to_string(),
         ));
         if let Some(s) = &b.spin {
-            let d = crate::rotating::prestressed_deck(
-                &b.mesh,
-                s.reference_speed,
-                s.axis_point,
-                s.axis,
-                s.modes,
-            );
-            out.push((format!("{}_prestressed.inp", b.name), d.text().to_string()));
+            let d = crate::prestress::deck(&b.mesh, &s.centrifugal());
+            out.push((format!("{}_prestress.inp", b.name), d.text().to_string()));
         }
     }
     out
@@ -304,9 +299,7 @@ pub fn builtin() -> Vec<BodySpec> {
                 axis_point: DRUM_AXIS_POINT,
                 axis: [1.0, 0.0, 0.0],
                 reference_speed: DRUM_REFERENCE_SPEED,
-                modes: 40,
             }),
-            // K_G comes from prestressed eigenmodes, which hold no local dent.
             correction: Vec::new(),
             recovery: true,
         },

@@ -87,8 +87,6 @@ pub struct SpinSpec {
     pub axis: [f64; 3],
     /// The speed of the prestress, rpm (the top of the run-up).
     pub reference_rpm: f64,
-    /// Prestressed modes for the geometric stiffness fit (about twice the kept modes).
-    pub modes: usize,
 }
 
 /// The spec file's line of a byte offset.
@@ -170,17 +168,16 @@ pub fn load(spec_path: &Path) -> Result<BodySpec, String> {
     let spin = match spec.spin {
         Some(s) => {
             let n = s.axis.iter().map(|v| v * v).sum::<f64>().sqrt();
-            if !(n.is_finite() && n > 0.0 && s.reference_rpm > 0.0 && s.modes > 0) {
+            if !(n.is_finite() && n > 0.0 && s.reference_rpm > 0.0) {
                 return Err(bad(
                     "[spin]",
-                    "spin: needs a nonzero axis, a positive reference_rpm and modes".into(),
+                    "spin: needs a nonzero axis and a positive reference_rpm".into(),
                 ));
             }
             let spin = Spin {
                 axis_point: s.axis_point,
                 axis: s.axis.map(|v| v / n),
                 reference_speed: s.reference_rpm * std::f64::consts::PI / 30.0,
-                modes: s.modes,
             };
             axis_through_the_body(&mesh, &spin).map_err(|m| bad("axis_point", m))?;
             Some(spin)

@@ -49,7 +49,7 @@ fn spec(axis_point: &str, axis: &str) -> String {
          support = \"clamped\"\nsolve_modes = 10\nrecovery = false\n\
          keep = {{ max_hz = 1000.0, max_modes = 10 }}\n\
          points = [{{ name = \"BEARING\", nset = \"HUB\" }}]\n\n\
-         [spin]\naxis_point = {axis_point}\naxis = {axis}\nreference_rpm = 1400.0\nmodes = 20\n"
+         [spin]\naxis_point = {axis_point}\naxis = {axis}\nreference_rpm = 1400.0\n"
     )
 }
 

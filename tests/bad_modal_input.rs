@@ -641,10 +641,10 @@ fn fixed_size_lists_of_another_length_are_refused_naming_the_field() {
     )
     .unwrap();
     let e = washdyn::commands::resolve_model(p.to_str().unwrap()).unwrap_err();
-    // The model file's line 17 (`cog = [...]`), the field named.
+    // The model file's line 28 (`cog = [...]`), the field named.
     assert!(
         matches!(&e, washdyn::Error::Model(m) if m.errors.iter().any(|l| l.file.ends_with("four.toml")
-            && l.line == 17
+            && l.line == 28
             && l.message.contains("tub.cog: invalid length 4"))),
         "{e:?}"
     );

@@ -148,8 +148,15 @@ pub fn check(m: &Model) -> Result<(), Vec<CheckError>> {
 /// Each free parameter names a number of the model, once.
 fn free(c: &mut Ctx, m: &Model) {
     let mut seen = HashSet::new();
-    for (i, text) in m.free.iter().enumerate() {
-        match super::param::resolve(m, text) {
+    if m.free.is_empty() {
+        return;
+    }
+    for (i, r) in super::param::resolve_all(m, &m.free)
+        .into_iter()
+        .enumerate()
+    {
+        let text = &m.free[i];
+        match r {
             Ok(p) if !seen.insert(p.path.clone()) => c.err(
                 Path::of(&["free"]).idx(i),
                 format!("free parameter `{text}` is given twice (as `{}`)", p.path),

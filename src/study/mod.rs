@@ -4,7 +4,7 @@
 //! re-run completes: only missing or failed variants run again. One concept a file: the study
 //! file (`file.rs`), its design points (`design.rs`), the variants and their check
 //! (`variants.rs`), what each variant reports (`outputs.rs`), the directory and its files
-//! (`dataset.rs`), the local run (`run.rs`), `status` and `collect` (`collect.rs`), the
+//! (`dataset.rs`), the local run (`run.rs`), the run on a Slurm cluster (`slurm.rs`), `status` and `collect` (`collect.rs`), the
 //! refusals (`error.rs`).
 
 pub mod collect;
@@ -14,6 +14,7 @@ pub mod error;
 pub mod file;
 pub mod outputs;
 pub mod run;
+pub mod slurm;
 pub mod variants;
 
 pub use collect::{Collected, Status, collect, status};

@@ -41,8 +41,9 @@ impl Cluster {
         ]
         .iter()
         .all(|t| {
+            // The daemons are in /usr/sbin, which up.sh adds to PATH.
             Command::new("sh")
-                .args(["-c", &format!("command -v {t}")])
+                .args(["-c", &format!("PATH=$PATH:/usr/sbin:/sbin; command -v {t}")])
                 .stdout(Stdio::null())
                 .status()
                 .is_ok_and(|s| s.success())

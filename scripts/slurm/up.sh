@@ -8,6 +8,8 @@
 # SLURMCTLD_PORT and SLURMD_PORT (default 6817, 6818) move the daemons' ports; UP_TIMEOUT
 # (default 60 s) bounds the wait for the node to be idle.
 set -euo pipefail
+# The daemons and mungekey live in /usr/sbin, not on every PATH.
+export PATH=$PATH:/usr/sbin:/sbin
 
 die() {
   echo "up.sh: $*" >&2

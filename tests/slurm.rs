@@ -226,9 +226,9 @@ fn submitted(stdout: &str) -> String {
 }
 
 /// Submit five variants as five tasks (two at a time); a second run is refused while they are
-/// queued; cancel task 2 while its variant is being written: that variant is missing (its tmp
-/// partition left, none in place), the others are done; a re-run submits that variant alone, and the dataset is a local run's
-/// to the byte.
+/// queued; cancel task 4 while it is pending and task 2 while its variant is being written:
+/// those variants are missing (task 2's tmp partition left, nothing in place), the others are
+/// done; a re-run submits those two alone, and the dataset is a local run's to the byte.
 #[test]
 fn a_cancelled_task_is_submitted_again_and_the_dataset_is_the_local_runs() {
     let Some(c) = Cluster::up() else {
@@ -269,6 +269,17 @@ fn a_cancelled_task_is_submitted_again_and_the_dataset_is_the_local_runs() {
         err.contains("tasks of this study are still in Slurm's queue"),
         "{err}"
     );
+
+    // Task 4 waits behind the throttle for two rounds of runs: cancelled while PENDING it
+    // leaves no trace in Slurm (design notes), so status calls it gone.
+    let pending = format!("{job}_4");
+    let q = c.queue(&job);
+    assert!(
+        q.contains(&format!("{pending} PENDING")),
+        "task 4 not pending behind the throttle: {q:?}"
+    );
+    println!("$ scancel {pending}   (pending)");
+    c.ask("scancel", &[&pending]);
 
     // Task 2 is cancelled as soon as squeue shows it running.
     let task = format!("{job}_2");
@@ -337,43 +348,48 @@ fn a_cancelled_task_is_submitted_again_and_the_dataset_is_the_local_runs() {
         println!("scontrol: {}", f.join(" "));
     }
 
-    // The dataset: 0002 missing, nothing of it in place; Slurm: task 2 CANCELLED.
+    // The dataset: 0002 and 0004 missing, nothing of them in place; Slurm: task 2 CANCELLED,
+    // task 4 gone.
     println!("$ washdyn study status on-slurm");
     let st = c.washdyn(&["study", "status", o], START);
     assert!(st.status.success());
     let st = String::from_utf8_lossy(&st.stdout);
     assert!(
-        st.contains("5 variants: 4 done, 0 failed, 1 missing") && st.contains("missing: 0002"),
+        st.contains("5 variants: 3 done, 0 failed, 2 missing")
+            && st.contains("missing: 0002, 0004"),
         "{st}"
     );
     assert!(
         st.contains(&format!("slurm job {job}: 5 tasks: "))
-            && st.contains("  task 2 (variants 0002): CANCELLED"),
+            && st.contains("  task 2 (variants 0002): CANCELLED")
+            && st.contains("  task 4 (variants 0004): gone"),
         "{st}"
     );
     for d in ["variants", "summary", "timing"] {
-        assert!(
-            !out.join(d).join("variant=0002").exists(),
-            "{d}/variant=0002 in place after the cancel"
-        );
+        for id in ["0002", "0004"] {
+            assert!(
+                !out.join(d).join(format!("variant={id}")).exists(),
+                "{d}/variant={id} in place after the cancel"
+            );
+        }
     }
     // The killed run's tmp partition is left (SIGTERM ends washdyn at once), counted by status.
     assert!(begun("variants"));
     assert!(st.contains("tmp directories of a killed run"), "{st}");
 
-    // The re-run submits the cancelled variant alone and waits for it.
+    // The re-run submits the cancelled variants alone and waits for them.
     println!("$ washdyn study run springs.toml --out on-slurm --slurm --wait");
     let again = c.washdyn(&[&run[..], &["--wait"]].concat(), ARRAY);
     let stdout = String::from_utf8_lossy(&again.stdout);
     assert!(again.status.success(), "the re-run failed:\n{stdout}");
     assert!(
-        stdout.contains("5 variants, 1 to run (4 finished before); removed "),
+        stdout.contains("5 variants, 2 to run (3 finished before); removed "),
         "{stdout}"
     );
     assert!(!begun("variants"), "the tmp partition is still there");
     let job2 = submitted(&stdout);
     assert!(stdout.contains(&format!(
-        "submitted slurm job {job2}: 1 variants in 1 tasks (1 a task)"
+        "submitted slurm job {job2}: 2 variants in 2 tasks (1 a task)"
     )));
     assert!(
         stdout.contains("5 variants: 5 done, 0 failed, 0 missing"),
@@ -385,12 +401,12 @@ fn a_cancelled_task_is_submitted_again_and_the_dataset_is_the_local_runs() {
         .iter()
         .map(|j| (j.job_id.as_str(), j.tasks, j.variants))
         .collect();
-    assert_eq!(recorded, [(job.as_str(), 5, 5), (job2.as_str(), 1, 1)]);
+    assert_eq!(recorded, [(job.as_str(), 5, 5), (job2.as_str(), 2, 2)]);
     let a: slurm::Assignment = serde_json::from_str(
         &std::fs::read_to_string(out.join(format!("slurm/job-{job2}.json"))).unwrap(),
     )
     .unwrap();
-    assert_eq!(a.chunks, [["0002"]]);
+    assert_eq!(a.chunks, [["0002"], ["0004"]]);
 
     // The same study run here: the same bytes (wall times and Slurm's files aside).
     let local = dir.path().join("local");

@@ -65,7 +65,7 @@ pub enum SlurmError {
     #[error(
         "{}: tasks of this study are still in Slurm's queue ({}): wait for them (`washdyn study \
          status`) or cancel them (scancel) before running it again",
-        dir.display(), tasks.join(", ")
+        dir.display(), listed(tasks)
     )]
     Busy { dir: PathBuf, tasks: Vec<String> },
     /// A path an sbatch script cannot name as it is.
@@ -75,6 +75,17 @@ pub enum SlurmError {
     /// changed since submission.
     #[error("{}: {message}", path.display())]
     Assignment { path: PathBuf, message: String },
+}
+
+/// Tasks named in a refusal at most; the rest are counted.
+const SHOWN: usize = 10;
+
+fn listed(tasks: &[String]) -> String {
+    let mut s = tasks[..tasks.len().min(SHOWN)].join(", ");
+    if tasks.len() > SHOWN {
+        s += &format!(" and {} more", tasks.len() - SHOWN);
+    }
+    s
 }
 
 /// Without `SLURM_CONF` the client commands look for the cluster in DNS and /etc.

@@ -307,8 +307,9 @@ pub enum Cmd {
         jobs: Option<usize>,
     },
     /// Variant studies: a design over a model's parameters (a study file, TOML; README,
-    /// "Variant studies"), every variant checked before any runs, run on all cores with the
-    /// interpreter into one hive-partitioned Parquet dataset; a re-run completes it.
+    /// "Variant studies"), every variant checked before any runs, run on all cores (or as a
+    /// Slurm job array, `run --slurm`) into one hive-partitioned Parquet dataset; a re-run
+    /// completes it.
     Study {
         #[command(subcommand)]
         cmd: StudyCmd,

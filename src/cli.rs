@@ -16,12 +16,12 @@ const EXIT_CODES: &str = "Exit codes:
   1    a run stopped early (its output up to then is kept), or a sweep's or study's variant
        failed
   2    a setting refused before anything was written (an option or its value, a study file
-       at its line, a study directory that is another study's)
+       at its line, a study directory that is another study's or has tasks in Slurm's queue)
   3    a model refused: it does not load, fails the checker (also a study's variant), a scene
        cannot run, or it is neither built in nor a file
   4    a file or directory that cannot be read or written
   5    other refused data: a signal file the analysis cannot take (also after a run), runs
-       that cannot be compared, FE or field input
+       that cannot be compared, FE or field input, a Slurm command that failed
   130  interrupted (Ctrl-C); summary.json says so";
 
 #[derive(Parser)]
@@ -307,8 +307,9 @@ pub enum Cmd {
         jobs: Option<usize>,
     },
     /// Variant studies: a design over a model's parameters (a study file, TOML; README,
-    /// "Variant studies"), every variant checked before any runs, run on all cores with the
-    /// interpreter into one hive-partitioned Parquet dataset; a re-run completes it.
+    /// "Variant studies"), every variant checked before any runs, run on all cores (or as a
+    /// Slurm job array, `run --slurm`) into one hive-partitioned Parquet dataset; a re-run
+    /// completes it.
     Study {
         #[command(subcommand)]
         cmd: StudyCmd,
@@ -327,10 +328,13 @@ pub enum StudyCmd {
         #[arg(long)]
         out: Option<PathBuf>,
         /// Parallel runs (default: all cores).
-        #[arg(long)]
+        #[arg(long, conflicts_with = "slurm")]
         jobs: Option<usize>,
+        #[command(flatten)]
+        slurm: SlurmArgs,
     },
-    /// How many variants are done, failed (and why) and missing.
+    /// How many variants are done, failed (and why) and missing; with a study submitted to
+    /// Slurm, each job's tasks as `squeue` and `scontrol` see them.
     Status {
         /// The study's directory.
         dir: PathBuf,
@@ -341,6 +345,56 @@ pub enum StudyCmd {
         /// The study's directory.
         dir: PathBuf,
     },
+    /// Internal: one array task of `study run --slurm` (DIR/slurm/job.sh runs it), the
+    /// variants of chunk K as its job's chunk file lists them.
+    #[command(hide = true)]
+    Task {
+        /// The study's directory.
+        dir: PathBuf,
+        /// This task's chunk (SLURM_ARRAY_TASK_ID).
+        #[arg(long)]
+        chunk: usize,
+        /// The job's chunks.
+        #[arg(long)]
+        chunks: usize,
+        /// The job (default: SLURM_ARRAY_JOB_ID).
+        #[arg(long)]
+        job: Option<String>,
+        /// Parallel runs (default: SLURM_CPUS_PER_TASK, else 1).
+        #[arg(long)]
+        jobs: Option<usize>,
+    },
+}
+
+/// `washdyn study run --slurm`'s options: the variants still to run as one Slurm job array.
+#[derive(clap::Args)]
+pub struct SlurmArgs {
+    /// Submit to Slurm (sbatch; SLURM_CONF names the cluster) instead of running here: the
+    /// variants still to run in N chunks, one array task each (DIR/slurm/job.sh), recorded in
+    /// DIR/slurm/jobs.json; prints the job id.
+    #[arg(long)]
+    pub slurm: bool,
+    /// Array tasks, N (default: one a variant still to run, at most 1000).
+    #[arg(long, requires = "slurm")]
+    pub tasks: Option<usize>,
+    /// Tasks running at once, K (`--array=0-(N-1)%K`; default: Slurm's).
+    #[arg(long, requires = "slurm")]
+    pub throttle: Option<usize>,
+    /// CPUs of each task (its variants run on as many threads).
+    #[arg(long, requires = "slurm")]
+    pub cpus_per_task: Option<usize>,
+    /// Memory of each task, sbatch's --mem (`500M`, `2G`).
+    #[arg(long, requires = "slurm")]
+    pub mem: Option<String>,
+    /// Time limit of each task, sbatch's --time (`30`, `1:00:00`, `1-00:00`).
+    #[arg(long, requires = "slurm")]
+    pub time: Option<String>,
+    /// Partition, sbatch's --partition.
+    #[arg(long, requires = "slurm")]
+    pub partition: Option<String>,
+    /// Wait for the array to end (polling squeue), then report as `study status` does.
+    #[arg(long, requires = "slurm")]
+    pub wait: bool,
 }
 
 #[derive(Subcommand)]

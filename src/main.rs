@@ -15,6 +15,7 @@ use washdyn::analysis::{AnalysisError, AnalysisOptions, analyse_file};
 use washdyn::commands::{RunArgs, RunControl, check_model, resolve_model, run_command_with};
 use washdyn::simulation::Settings;
 use washdyn::study::StudyError;
+use washdyn::study::slurm::SlurmError;
 use washdyn_runtime::run::RunError;
 
 /// The exit code of an error: the one mapping (the table is `cli::EXIT_CODES`, shown by
@@ -28,14 +29,25 @@ fn exit_code(e: &Error) -> ExitCode {
         Error::Integration { .. } => 1,
         Error::Settings(_)
         | Error::Analysis(AnalysisError::InvalidOptions(_))
-        | Error::Study(StudyError::File(_) | StudyError::Directory { .. }) => 2,
+        | Error::Study(
+            StudyError::File(_)
+            | StudyError::Directory { .. }
+            | StudyError::Slurm(
+                SlurmError::Busy { .. } | SlurmError::Path { .. } | SlurmError::Assignment { .. },
+            ),
+        ) => 2,
         Error::Model(_)
         | Error::Check { .. }
         | Error::Scene { .. }
         | Error::UnknownModel { .. }
         | Error::Study(StudyError::Variants(_)) => 3,
         Error::Io { .. } | Error::File { .. } | Error::Analysis(AnalysisError::Io { .. }) => 4,
-        Error::Analysis(_) | Error::Compare(_) | Error::Refused { .. } => 5,
+        Error::Analysis(_)
+        | Error::Compare(_)
+        | Error::Refused { .. }
+        | Error::Study(StudyError::Slurm(
+            SlurmError::Missing { .. } | SlurmError::Failed { .. } | SlurmError::Answer { .. },
+        )) => 5,
     })
 }
 

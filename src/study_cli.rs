@@ -1,46 +1,44 @@
-//! `washdyn study run | status | collect`: the study's progress bar and report on the terminal;
-//! the study itself is `washdyn::study`.
+//! `washdyn study run | status | collect | task`: the study's progress bar and report on the
+//! terminal; the study itself is `washdyn::study` (on Slurm: `washdyn::study::slurm`).
 
-use crate::cli::{StudyCmd, interrupt_flag};
+use crate::cli::{SlurmArgs, StudyCmd, interrupt_flag};
 use crate::{Failure, wrote};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::Write;
+use std::path::Path;
 use std::process::ExitCode;
 use washdyn::Error;
-use washdyn::study;
+use washdyn::study::{self, Study, slurm};
 use washdyn_runtime::run::RunError;
 
 /// Variants whose warnings or errors are printed at most; the rest are counted.
 const SHOWN: usize = 10;
 
-/// `washdyn study run | status | collect`.
+/// How often `--wait` asks squeue.
+const POLL: std::time::Duration = std::time::Duration::from_secs(1);
+
+/// `washdyn study run | status | collect | task`.
 pub fn study(cmd: StudyCmd) -> Result<ExitCode, Failure> {
     match cmd {
         StudyCmd::Run {
             study: file,
             out,
             jobs,
+            slurm,
         } => {
-            let mut s = study::Study::load(&file)?;
+            let mut s = Study::load(&file)?;
             s.settings.guard.interrupt = Some(interrupt_flag());
             let out = out.unwrap_or_else(|| s.default_out());
+            if slurm.slurm {
+                return submit(&s, &out, &slurm);
+            }
             let jobs =
                 jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(2, |n| n.get()));
             study::check_jobs(jobs)?;
+            // Tasks of an earlier submission still running would lose their tmp directories.
+            slurm::check_idle(&out)?;
             let plan = study::plan(&s, &out)?;
-            let mut stdout = std::io::stdout();
-            let _ = writeln!(
-                stdout,
-                "{}: {} variants, {} to run ({} finished before){}",
-                out.display(),
-                plan.variants.len(),
-                plan.todo.len(),
-                plan.variants.len() - plan.todo.len(),
-                match plan.removed_tmp {
-                    0 => String::new(),
-                    n => format!("; removed {n} tmp directories of a killed run"),
-                }
-            );
+            planned(&out, &plan);
             let bar = ProgressBar::new(plan.todo.len() as u64);
             bar.set_style(
                 ProgressStyle::with_template(
@@ -54,87 +52,17 @@ pub fn study(cmd: StudyCmd) -> Result<ExitCode, Failure> {
             };
             let res = study::execute(&s, &plan, jobs, &done)?;
             bar.finish_and_clear();
-            // The set-up's own warning (a loose tolerance) is every variant's: said once.
-            let common =
-                washdyn::accuracy::class::tolerance_warning(s.settings.method, s.settings.tol);
-            if let Some(w) = &common {
-                eprintln!("warning: {w}");
-            }
-            // A study's variants often warn alike: the first few here, all in the summaries.
-            let warned: Vec<&study::Outcome> = res
-                .iter()
-                .filter(|o| o.status != "interrupted")
-                .filter(|o| o.warnings.iter().any(|w| Some(w) != common.as_ref()))
-                .collect();
-            for o in warned.iter().take(SHOWN) {
-                for w in o.warnings.iter().filter(|w| Some(*w) != common.as_ref()) {
-                    eprintln!("warning: variant {}: {w}", o.id);
-                }
-            }
-            if warned.len() > SHOWN {
-                eprintln!(
-                    "warning: {} more variants warned (the summaries' `warnings` column)",
-                    warned.len() - SHOWN
-                );
-            }
-            let failed: Vec<&study::Outcome> =
-                res.iter().filter(|o| o.status == "failed").collect();
-            for o in failed.iter().take(SHOWN) {
-                eprintln!(
-                    "variant {} failed: {}",
-                    o.id,
-                    o.error.as_deref().unwrap_or("")
-                );
-            }
-            let interrupted =
-                res.len() < plan.todo.len() || res.iter().any(|o| o.status == "interrupted");
-            let _ = writeln!(
-                stdout,
-                "ran {} variants ({} failed); summaries: {}/summary (washdyn study collect {} \
-                 for one table)",
-                res.iter().filter(|o| o.status != "interrupted").count(),
-                failed.len(),
-                out.display(),
-                out.display()
-            );
-            if interrupted {
-                let e = Error::integration(RunError::Interrupted { t: 0.0 });
-                eprintln!(
-                    "interrupted: the finished variants are kept; run the study again to complete it"
-                );
-                return Err(Failure::Printed(e));
-            }
-            Ok(if failed.is_empty() {
-                ExitCode::SUCCESS
-            } else {
-                ExitCode::FAILURE
-            })
+            report(&s, &plan, &res, &out)
         }
+        StudyCmd::Task {
+            dir,
+            chunk,
+            chunks,
+            job,
+            jobs,
+        } => task(&dir, chunk, chunks, job, jobs),
         StudyCmd::Status { dir } => {
-            let st = study::status(&dir)?;
-            let mut out = std::io::stdout();
-            let _ = writeln!(
-                out,
-                "{}: {} variants: {} done, {} failed, {} missing",
-                dir.display(),
-                st.total,
-                st.done,
-                st.failed.len(),
-                st.missing.len()
-            );
-            for (id, e) in &st.failed {
-                let _ = writeln!(out, "failed {id}: {e}");
-            }
-            if !st.missing.is_empty() {
-                let _ = writeln!(out, "missing: {}", st.missing.join(", "));
-            }
-            if st.tmp > 0 {
-                let _ = writeln!(
-                    out,
-                    "{} tmp directories of a killed run (the next `washdyn study run` removes them)",
-                    st.tmp
-                );
-            }
+            status(&dir)?;
             Ok(ExitCode::SUCCESS)
         }
         StudyCmd::Collect { dir } => {
@@ -151,4 +79,220 @@ pub fn study(cmd: StudyCmd) -> Result<ExitCode, Failure> {
             Ok(wrote(c.files))
         }
     }
+}
+
+/// The plan's first line: what is to run.
+fn planned(out: &Path, plan: &study::Plan) {
+    println!(
+        "{}: {} variants, {} to run ({} finished before){}",
+        out.display(),
+        plan.variants.len(),
+        plan.todo.len(),
+        plan.variants.len() - plan.todo.len(),
+        match plan.removed_tmp {
+            0 => String::new(),
+            n => format!("; removed {n} tmp directories of a killed run"),
+        }
+    );
+}
+
+/// After a run (local, or one Slurm task): the warnings, the failures, the exit code.
+fn report(
+    s: &Study,
+    plan: &study::Plan,
+    res: &[study::Outcome],
+    out: &Path,
+) -> Result<ExitCode, Failure> {
+    // The set-up's own warning (a loose tolerance) is every variant's: said once.
+    let common = washdyn::accuracy::class::tolerance_warning(s.settings.method, s.settings.tol);
+    if let Some(w) = &common {
+        eprintln!("warning: {w}");
+    }
+    // A study's variants often warn alike: the first few here, all in the summaries.
+    let warned: Vec<&study::Outcome> = res
+        .iter()
+        .filter(|o| o.status != "interrupted")
+        .filter(|o| o.warnings.iter().any(|w| Some(w) != common.as_ref()))
+        .collect();
+    for o in warned.iter().take(SHOWN) {
+        for w in o.warnings.iter().filter(|w| Some(*w) != common.as_ref()) {
+            eprintln!("warning: variant {}: {w}", o.id);
+        }
+    }
+    if warned.len() > SHOWN {
+        eprintln!(
+            "warning: {} more variants warned (the summaries' `warnings` column)",
+            warned.len() - SHOWN
+        );
+    }
+    let failed: Vec<&study::Outcome> = res.iter().filter(|o| o.status == "failed").collect();
+    for o in failed.iter().take(SHOWN) {
+        eprintln!(
+            "variant {} failed: {}",
+            o.id,
+            o.error.as_deref().unwrap_or("")
+        );
+    }
+    let interrupted = res.len() < plan.todo.len() || res.iter().any(|o| o.status == "interrupted");
+    println!(
+        "ran {} variants ({} failed); summaries: {}/summary (washdyn study collect {} for one \
+         table)",
+        res.iter().filter(|o| o.status != "interrupted").count(),
+        failed.len(),
+        out.display(),
+        out.display()
+    );
+    if interrupted {
+        let e = Error::integration(RunError::Interrupted { t: 0.0 });
+        eprintln!(
+            "interrupted: the finished variants are kept; run the study again to complete it"
+        );
+        return Err(Failure::Printed(e));
+    }
+    Ok(if failed.is_empty() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    })
+}
+
+/// `study run --slurm`: plan as a local run does, submit the variants still to run, and with
+/// `--wait` wait for the array and report as `status`.
+fn submit(s: &Study, out: &Path, a: &SlurmArgs) -> Result<ExitCode, Failure> {
+    let opts = slurm::Options {
+        tasks: a.tasks,
+        throttle: a.throttle,
+        cpus_per_task: a.cpus_per_task,
+        mem: a.mem.clone(),
+        time: a.time.clone(),
+        partition: a.partition.clone(),
+    };
+    opts.check()?;
+    let exe = std::env::current_exe()
+        .map_err(|e| Error::io("find the path of", "the running washdyn", e))?;
+    slurm::check_idle(out)?;
+    let plan = study::plan(s, out)?;
+    planned(out, &plan);
+    let Some(sub) = slurm::submit(s, &plan, &opts, &exe)? else {
+        println!("nothing to submit: every variant has finished");
+        return status(out);
+    };
+    let sizes: Vec<usize> = sub.chunks.iter().map(|c| c.len()).collect();
+    let (lo, hi) = (sizes.iter().min(), sizes.iter().max());
+    println!(
+        "submitted slurm job {}: {} variants in {} tasks ({} a task){} ({})",
+        sub.job_id,
+        plan.todo.len(),
+        sub.chunks.len(),
+        if lo == hi {
+            format!("{}", lo.unwrap_or(&0))
+        } else {
+            format!("{}-{}", lo.unwrap_or(&0), hi.unwrap_or(&0))
+        },
+        a.throttle
+            .map_or(String::new(), |k| format!(", at most {k} at once")),
+        sub.script.display()
+    );
+    if !a.wait {
+        return Ok(ExitCode::SUCCESS);
+    }
+    slurm::wait(&sub.job_id, POLL, &mut |counts| {
+        let c: Vec<String> = counts.iter().map(|(s, n)| format!("{n} {s}")).collect();
+        match c.is_empty() {
+            true => println!("slurm job {}: no task in the queue", sub.job_id),
+            false => println!("slurm job {}: {}", sub.job_id, c.join(", ")),
+        }
+    })?;
+    status(out)
+}
+
+/// `study task`: one array task's chunk, run as a local run runs it.
+fn task(
+    dir: &Path,
+    chunk: usize,
+    chunks: usize,
+    job: Option<String>,
+    jobs: Option<usize>,
+) -> Result<ExitCode, Failure> {
+    let Some(job) = job.or_else(|| std::env::var("SLURM_ARRAY_JOB_ID").ok()) else {
+        return Err(Error::setting(
+            "--job",
+            "no --job and no SLURM_ARRAY_JOB_ID: `study task` is the task of a job `study run \
+             --slurm` submitted",
+        )
+        .into());
+    };
+    let jobs = match (jobs, std::env::var("SLURM_CPUS_PER_TASK")) {
+        (Some(j), _) => j,
+        (None, Ok(c)) => c.trim().parse().map_err(|_| {
+            Error::setting(
+                "--jobs",
+                format!("SLURM_CPUS_PER_TASK `{c}` is no count: give --jobs"),
+            )
+        })?,
+        (None, Err(_)) => 1,
+    };
+    study::check_jobs(jobs)?;
+    let (mut s, plan) = slurm::task_plan(dir, &job, chunk, chunks)?;
+    s.settings.guard.interrupt = Some(interrupt_flag());
+    let ids: Vec<&str> = plan.todo.iter().map(|v| v.id.as_str()).collect();
+    println!(
+        "slurm job {job} task {chunk} of {chunks}: variants {} on {jobs} threads",
+        ids.join(", ")
+    );
+    let done = |o: &study::Outcome| {
+        println!(
+            "variant {}: {} ({:.2} s, {} steps)",
+            o.id, o.status, o.wall_time_s, o.steps
+        );
+    };
+    let res = study::execute(&s, &plan, jobs, &done)?;
+    report(&s, &plan, &res, dir)
+}
+
+/// `study status`: the dataset's standing, then each Slurm job's tasks where the study was
+/// submitted. Exit code 1 while a variant failed or is missing.
+fn status(dir: &Path) -> Result<ExitCode, Failure> {
+    let st = study::status(dir)?;
+    println!(
+        "{}: {} variants: {} done, {} failed, {} missing",
+        dir.display(),
+        st.total,
+        st.done,
+        st.failed.len(),
+        st.missing.len()
+    );
+    for (id, e) in &st.failed {
+        println!("failed {id}: {e}");
+    }
+    if !st.missing.is_empty() {
+        println!("missing: {}", st.missing.join(", "));
+    }
+    if st.tmp > 0 {
+        println!(
+            "{} tmp directories of a killed run (the next `washdyn study run` removes them)",
+            st.tmp
+        );
+    }
+    for j in slurm::view(dir)? {
+        println!("{j}");
+        let odd: Vec<&slurm::TaskView> =
+            j.tasks.iter().filter(|t| t.state != "COMPLETED").collect();
+        for t in odd.iter().take(SHOWN) {
+            println!(
+                "  task {} (variants {}): {}",
+                t.index,
+                t.variants.join(", "),
+                t.state
+            );
+        }
+        if odd.len() > SHOWN {
+            println!("  and {} more tasks not completed", odd.len() - SHOWN);
+        }
+    }
+    Ok(if st.failed.is_empty() && st.missing.is_empty() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    })
 }

@@ -42,6 +42,7 @@ mod model_files;
 mod parquet_roundtrip;
 mod rigid_physics;
 mod simulation;
+mod slurm;
 mod starts_and_sensors;
 mod study;
 mod study_sobol;

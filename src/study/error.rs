@@ -48,6 +48,9 @@ pub enum StudyError {
     /// The study's directory: not a study's, another study's, or one whose files disagree.
     #[error("{}: {message}", dir.display())]
     Directory { dir: PathBuf, message: String },
+    /// A run on Slurm: its commands failing, tasks still queued, a task's assignment.
+    #[error(transparent)]
+    Slurm(#[from] super::slurm::SlurmError),
 }
 
 fn variants(bad: &[BadVariant]) -> String {

@@ -5,8 +5,9 @@
 //! re-run completes: only missing or failed variants run again. One concept a file: the study
 //! file (`file.rs`), its design points (`design.rs`), the variants and their check
 //! (`variants.rs`), what each variant reports (`outputs.rs`), the directory and its files
-//! (`dataset.rs`), the local run (`run.rs`), `status` and `collect` (`collect.rs`), the Pareto
-//! plot and Sobol indices (`report.rs`), the refusals (`error.rs`).
+//! (`dataset.rs`), the local run (`run.rs`), the run as a Slurm job array (`slurm/`), `status`
+//! and `collect` (`collect.rs`), the Pareto plot and Sobol indices (`report.rs`), the refusals
+//! (`error.rs`).
 
 pub mod collect;
 pub mod dataset;
@@ -16,6 +17,7 @@ pub mod file;
 pub mod outputs;
 pub mod report;
 pub mod run;
+pub mod slurm;
 pub mod variants;
 
 pub use collect::{Collected, Status, collect, status};

@@ -6,29 +6,10 @@
 //! for C3D20. Both checked against ccx 2.20 (`prestress/tests.rs`): the stresses we form from
 //! ccx's nodal displacements at these points are those it prints there.
 
-/// Natural coordinates of the nodes, in ccx's order.
-pub const NODES: [[f64; 3]; 20] = [
-    [-1.0, -1.0, -1.0],
-    [1.0, -1.0, -1.0],
-    [1.0, 1.0, -1.0],
-    [-1.0, 1.0, -1.0],
-    [-1.0, -1.0, 1.0],
-    [1.0, -1.0, 1.0],
-    [1.0, 1.0, 1.0],
-    [-1.0, 1.0, 1.0],
-    [0.0, -1.0, -1.0],
-    [1.0, 0.0, -1.0],
-    [0.0, 1.0, -1.0],
-    [-1.0, 0.0, -1.0],
-    [0.0, -1.0, 1.0],
-    [1.0, 0.0, 1.0],
-    [0.0, 1.0, 1.0],
-    [-1.0, 0.0, 1.0],
-    [-1.0, -1.0, 0.0],
-    [1.0, -1.0, 0.0],
-    [1.0, 1.0, 0.0],
-    [-1.0, 1.0, 0.0],
-];
+/// Natural coordinates of the nodes, in ccx's order; with the shape functions and their
+/// derivatives (`hex20`) and the Jacobian (`hex20_jacobian`), the lumping's own brick.
+pub use crate::lumping::HEX20 as NODES;
+use crate::lumping::{det3, hex20, hex20_jacobian};
 
 /// ccx's `.frd` writes a 20-node brick's nodes 1-12, 17-20, 13-16: position `k` of the file's
 /// list holds ccx's node `FRD_ORDER[k]` (0-based).
@@ -38,55 +19,12 @@ pub const FRD_ORDER: [usize; 20] = [
 
 /// The shape functions at `p` (natural coordinates).
 pub fn shape(p: [f64; 3]) -> [f64; 20] {
-    let [x, y, z] = p;
-    std::array::from_fn(|a| {
-        let [px, py, pz] = NODES[a];
-        if a < 8 {
-            (1.0 + px * x) * (1.0 + py * y) * (1.0 + pz * z) * (px * x + py * y + pz * z - 2.0)
-                / 8.0
-        } else if px == 0.0 {
-            (1.0 - x * x) * (1.0 + py * y) * (1.0 + pz * z) / 4.0
-        } else if py == 0.0 {
-            (1.0 + px * x) * (1.0 - y * y) * (1.0 + pz * z) / 4.0
-        } else {
-            (1.0 + px * x) * (1.0 + py * y) * (1.0 - z * z) / 4.0
-        }
-    })
+    hex20(p).0
 }
 
 /// The shape functions' derivatives by the natural coordinates at `p`: row a, column d.
 pub fn natural_gradient(p: [f64; 3]) -> [[f64; 3]; 20] {
-    let [x, y, z] = p;
-    std::array::from_fn(|a| {
-        let [px, py, pz] = NODES[a];
-        let (fx, fy, fz) = (1.0 + px * x, 1.0 + py * y, 1.0 + pz * z);
-        if a < 8 {
-            let s = px * x + py * y + pz * z - 2.0;
-            [
-                px * fy * fz * (s + fx) / 8.0,
-                py * fx * fz * (s + fy) / 8.0,
-                pz * fx * fy * (s + fz) / 8.0,
-            ]
-        } else if px == 0.0 {
-            [
-                -2.0 * x * fy * fz / 4.0,
-                (1.0 - x * x) * py * fz / 4.0,
-                (1.0 - x * x) * fy * pz / 4.0,
-            ]
-        } else if py == 0.0 {
-            [
-                px * (1.0 - y * y) * fz / 4.0,
-                -2.0 * y * fx * fz / 4.0,
-                fx * (1.0 - y * y) * pz / 4.0,
-            ]
-        } else {
-            [
-                px * fy * (1.0 - z * z) / 4.0,
-                fx * py * (1.0 - z * z) / 4.0,
-                -2.0 * z * fx * fy / 4.0,
-            ]
-        }
-    })
+    hex20(p).1
 }
 
 /// One Gauss point: natural coordinates and weight.
@@ -127,18 +65,9 @@ pub fn rule_of(points: usize) -> Option<Vec<Point>> {
 /// space (row a: dN_a/dx) and det J. None where the map folds (det J <= 0).
 pub fn spatial_gradient(x: &[[f64; 3]; 20], p: [f64; 3]) -> Option<([[f64; 3]; 20], f64)> {
     let d = natural_gradient(p);
-    // J[i][k] = dx_i / dxi_k.
-    let mut j = [[0.0; 3]; 3];
-    for a in 0..20 {
-        for i in 0..3 {
-            for k in 0..3 {
-                j[i][k] += x[a][i] * d[a][k];
-            }
-        }
-    }
-    let det = j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1])
-        - j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0])
-        + j[0][2] * (j[1][0] * j[2][1] - j[1][1] * j[2][0]);
+    // jt[k][i] = dx_i / dxi_k.
+    let jt = hex20_jacobian(&d, |a| x[a]);
+    let det = det3(jt);
     if det.is_nan() || det <= 0.0 {
         return None;
     }
@@ -148,7 +77,7 @@ pub fn spatial_gradient(x: &[[f64; 3]; 20], p: [f64; 3]) -> Option<([[f64; 3]; 2
         for i in 0..3 {
             let (r0, r1) = ((i + 1) % 3, (i + 2) % 3);
             let (c0, c1) = ((k + 1) % 3, (k + 2) % 3);
-            inv[k][i] = (j[r0][c0] * j[r1][c1] - j[r0][c1] * j[r1][c0]) / det;
+            inv[k][i] = (jt[c0][r0] * jt[c1][r1] - jt[c1][r0] * jt[c0][r1]) / det;
         }
     }
     let g =

@@ -16,7 +16,7 @@
 use super::GenError;
 use crate::equations::{Drive, Equations};
 use crate::ir::check::Path;
-use crate::ir::param::{Param, get, resolve, set};
+use crate::ir::param::{Param, get_all, resolve_all, set};
 use crate::ir::{EffectSet, Model};
 use crate::symbolic::{Graph, Sym};
 
@@ -30,11 +30,10 @@ pub struct Free {
 
 impl Free {
     pub fn of(model: &Model) -> Result<Free, GenError> {
-        let params = model
-            .free
-            .iter()
+        let params = resolve_all(model, &model.free)
+            .into_iter()
             .enumerate()
-            .map(|(k, t)| resolve(model, t).map_err(|e| GenError::free(k, e.to_string())))
+            .map(|(k, r)| r.map_err(|e| GenError::free(k, e.to_string())))
             .collect::<Result<Vec<_>, _>>()?;
         if params.len() > 0x7ff {
             return Err(GenError::free(
@@ -42,7 +41,7 @@ impl Free {
                 format!("{} free parameters; at most 2047", params.len()),
             ));
         }
-        let values: Vec<f64> = params.iter().map(|p| get(model, p)).collect();
+        let values = get_all(model, &params).map_err(|e| GenError::free(0, e.to_string()))?;
         let stand_ins = values
             .iter()
             .enumerate()

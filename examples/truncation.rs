@@ -6,11 +6,15 @@
 //! band (`accuracy::band_error`), and drum orders 1-6 (Hann window, within 40 dB of the
 //! channel's strongest order). Regenerates docs/truncation.md:
 //! `cargo run --release --example truncation -- [RPM...] > docs/truncation.md`.
+//! With `--deep DIR` the reference is the model with each body's modal data from
+//! `DIR/<body>.modal.toml` where it exists (fe's `modes_2k` example: the drum with `spin`),
+//! every mode kept, and the rows are the committed data's cuts against it.
 
 use std::time::Instant;
 use washdyn::accuracy::{BAND_HZ, ORDER_FLOOR, TRUNCATION_CUTS_HZ, band_error, is_accel};
 use washdyn::analysis::spectrum::Window;
 use washdyn_runtime::ir::EffectSet;
+use washdyn_runtime::ir::modal::read_file;
 use washdyn_runtime::ode::{AnySolver, Method, Options};
 use washdyn_runtime::output::MemorySink;
 use washdyn_runtime::run::{Guard, Labels, RunOptions, Start, run_guarded};
@@ -28,8 +32,29 @@ struct Run {
     mem: MemorySink,
 }
 
-fn run(rpm: f64, cutoff: Option<f64>) -> Run {
+/// The reference model with its modal data replaced by DIR's where DIR has a body's file.
+fn deep(dir: &str) -> (washdyn_runtime::ir::Model, Vec<String>) {
     let mut m = washdyn_models::reference();
+    let mut used = Vec::new();
+    for e in &mut m.elastic {
+        let p = std::path::Path::new(dir).join(format!("{}.modal.toml", e.name));
+        if p.exists() {
+            let d = read_file(&p, &p.display().to_string()).expect("deep modal data");
+            used.push(format!(
+                "{}: {} eigenmodes to {:.0} Hz + {} correction",
+                e.name,
+                d.eigenmodes(),
+                d.frequencies[d.eigenmodes() - 1],
+                d.modes() - d.eigenmodes()
+            ));
+            e.data = Some(d);
+        }
+    }
+    (m, used)
+}
+
+fn run(base: &washdyn_runtime::ir::Model, rpm: f64, cutoff: Option<f64>) -> Run {
+    let mut m = base.clone();
     m.speed.table = vec![[0.0, rpm], [1000.0, rpm]];
     let s = EffectSet {
         mode_cutoff: cutoff,
@@ -97,10 +122,18 @@ fn amplitude(x: &[f64], f: f64) -> f64 {
 }
 
 fn main() {
-    let rpms: Vec<f64> = std::env::args()
-        .skip(1)
-        .map(|a| a.parse().expect("rpm"))
-        .collect();
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    let deep_dir = args.iter().position(|a| a == "--deep").map(|i| {
+        let d = args.get(i + 1).expect("--deep DIR").clone();
+        args.drain(i..i + 2);
+        d
+    });
+    let committed = washdyn_models::reference();
+    let (reference, used) = match &deep_dir {
+        Some(d) => deep(d),
+        None => (committed.clone(), Vec::new()),
+    };
+    let rpms: Vec<f64> = args.iter().map(|a| a.parse().expect("rpm")).collect();
     let rpms = if rpms.is_empty() { vec![1400.0] } else { rpms };
     println!("# Modal truncation of the elastic machine\n");
     println!(
@@ -119,6 +152,13 @@ fn main() {
             .collect::<Vec<_>>()
             .join(" ")
     );
+    if let Some(d) = &deep_dir {
+        println!(
+            "Reference (`--deep {d}`): every mode of the committed data, with these bodies' \
+             data from DIR instead: {}.\n",
+            used.join("; ")
+        );
+    }
     println!(
         "| rpm | modes up to Hz | coordinates | steps | wall s | accel | orders dB | orders \
          within 20 dB, dB |"
@@ -126,7 +166,7 @@ fn main() {
     println!("|---|---|---|---|---|---|---|---|");
     for rpm in rpms {
         let f0 = rpm / 60.0;
-        let r = run(rpm, None);
+        let r = run(&reference, rpm, None);
         let rw = window(&r.mem);
         let orders = |x: &[f64]| {
             (1..=6)
@@ -134,8 +174,13 @@ fn main() {
                 .collect::<Vec<_>>()
         };
         let ro: Vec<Vec<f64>> = rw.iter().map(|(_, x)| orders(x)).collect();
-        for cut in TRUNCATION_CUTS_HZ {
-            let c = run(rpm, Some(cut));
+        // Against a deep reference, the committed data with every mode is a row of its own.
+        let cuts = TRUNCATION_CUTS_HZ
+            .iter()
+            .map(|c| Some(*c))
+            .chain(deep_dir.as_ref().map(|_| None));
+        for cut in cuts {
+            let c = run(&committed, rpm, cut);
             let cw = window(&c.mem);
             let (mut accel, mut db, mut db20) = (0.0f64, 0.0f64, 0.0f64);
             for ((name, x), ((rn, y), yo)) in cw.iter().zip(rw.iter().zip(&ro)) {
@@ -152,6 +197,7 @@ fn main() {
                     }
                 }
             }
+            let cut = cut.map_or("all committed".into(), |c| format!("{c}"));
             println!(
                 "| {rpm} | {cut} | {} | {} | {:.1} | {accel:.1e} | {db:.3} | {db20:.3} |",
                 c.n, c.steps, c.wall

@@ -1,15 +1,18 @@
 //! Modal data of one built-in body with every mode up to a frequency, for issue 21's
 //! truncation study (docs/truncation.md): the built-in spec with `solve_modes` eigenmodes,
-//! every one below `max_hz` kept, the spec's correction modes, no recovery field and no spin
-//! (the study compares bases at standstill).
+//! every one below `max_hz` kept, the spec's correction modes, no recovery field; no spin unless
+//! `spin` follows (the basis study compares bases at standstill; a simulation of the spinning
+//! drum needs its geometric stiffness, one static solve more).
 //!
-//! `cargo run --release -p washdyn-fe --example modes_2k -- BODY SOLVE_MODES MAX_HZ OUT_DIR`
+//! `cargo run --release -p washdyn-fe --example modes_2k -- BODY SOLVE_MODES MAX_HZ OUT_DIR [spin]`
 //! writes `OUT_DIR/BODY.modal.toml` and prints the frequencies' range.
 
 fn main() -> Result<(), String> {
     let a: Vec<String> = std::env::args().skip(1).collect();
-    let [body, solve, max_hz, out] = &a[..] else {
-        return Err("usage: modes_2k BODY SOLVE_MODES MAX_HZ OUT_DIR".into());
+    let (body, solve, max_hz, out, spin) = match &a[..] {
+        [b, s, m, o] => (b, s, m, o, false),
+        [b, s, m, o, k] if k == "spin" => (b, s, m, o, true),
+        _ => return Err("usage: modes_2k BODY SOLVE_MODES MAX_HZ OUT_DIR [spin]".into()),
     };
     let solve: usize = solve
         .parse()
@@ -23,7 +26,9 @@ fn main() -> Result<(), String> {
     spec.keep.max_hz = max_hz;
     spec.keep.max_modes = solve;
     spec.recovery = false;
-    spec.spin = None;
+    if !spin {
+        spec.spin = None;
+    }
     let out = std::path::Path::new(out);
     let work = out.join(format!("{body}_work"));
     std::fs::create_dir_all(&work).map_err(|e| e.to_string())?;

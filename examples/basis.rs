@@ -2,10 +2,12 @@
 //! between the `elastic` scene's element load points on the body and to its sensors
 //! (`washdyn::basis`), over the order band (150 Hz: drum orders 1-6 at 1400 rpm) and the
 //! analysis band (300 Hz), for the committed modal data as the scenes cut it and for the 2 kHz
-//! data cut the same way. The 2 kHz data first (ccx, about an hour for the cabinet's 1000
-//! modes on one core):
-//! `cargo run --release -p washdyn-fe --example modes_2k -- BODY SOLVE_MODES 2000 DIR`
-//! for tub 120, drum 260, cabinet 1150; then
+//! data cut the same way. The deep data first:
+//! `cargo run --release -p washdyn-fe --example modes_2k -- drum 262 2000 DIR spin` (262
+//! eigenmodes to 1972 Hz and the 3 correction modes; ccx 785-1160 s) and `... -- cabinet 400
+//! 2000 DIR` (400 modes reach 772 Hz, ccx 830 s; its 40 mm shells resolve the panels' bending
+//! to about 700 Hz, so modes to 2 kHz of this mesh would not be the cabinet's); the tub's
+//! committed data already reaches 1916 Hz. Then
 //! `cargo run --release --example basis -- DIR > docs/truncation-bodies.md`.
 
 use washdyn::accuracy::{BAND_HZ, TRUNCATION_CUTS_HZ};

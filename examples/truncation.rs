@@ -8,7 +8,8 @@
 //! `cargo run --release --example truncation -- [RPM...] > docs/truncation.md`.
 //! With `--deep DIR` the reference is the model with each body's modal data from
 //! `DIR/<body>.modal.toml` where it exists (fe's `modes_2k` example: the drum with `spin`),
-//! every mode kept, and the rows are the committed data's cuts against it.
+//! every mode kept, and the rows are the committed data's cuts against it. `--cuts 210,700`
+//! runs only those cuts.
 
 use std::time::Instant;
 use washdyn::accuracy::{BAND_HZ, ORDER_FLOOR, TRUNCATION_CUTS_HZ, band_error, is_accel};
@@ -32,24 +33,33 @@ struct Run {
     mem: MemorySink,
 }
 
-/// The reference model with its modal data replaced by DIR's where DIR has a body's file.
-fn deep(dir: &str) -> (washdyn_runtime::ir::Model, Vec<String>) {
-    let mut m = washdyn_models::reference();
-    let mut used = Vec::new();
-    for e in &mut m.elastic {
-        let p = std::path::Path::new(dir).join(format!("{}.modal.toml", e.name));
-        if p.exists() {
-            let d = read_file(&p, &p.display().to_string()).expect("deep modal data");
-            used.push(format!(
+/// Each body's modal data in words.
+fn describe(m: &washdyn_runtime::ir::Model) -> Vec<String> {
+    m.elastic
+        .iter()
+        .filter_map(|e| {
+            let d = e.data.as_ref()?;
+            Some(format!(
                 "{}: {} eigenmodes to {:.0} Hz + {} correction",
                 e.name,
                 d.eigenmodes(),
                 d.frequencies[d.eigenmodes() - 1],
                 d.modes() - d.eigenmodes()
-            ));
-            e.data = Some(d);
+            ))
+        })
+        .collect()
+}
+
+/// The reference model with its modal data replaced by DIR's where DIR has a body's file.
+fn deep(dir: &str) -> (washdyn_runtime::ir::Model, Vec<String>) {
+    let mut m = washdyn_models::reference();
+    for e in &mut m.elastic {
+        let p = std::path::Path::new(dir).join(format!("{}.modal.toml", e.name));
+        if p.exists() {
+            e.data = Some(read_file(&p, &p.display().to_string()).expect("deep modal data"));
         }
     }
+    let used = describe(&m);
     (m, used)
 }
 
@@ -128,6 +138,15 @@ fn main() {
         args.drain(i..i + 2);
         d
     });
+    // `--cuts 210,700`: only these cuts (Hz) instead of the study's list.
+    let cuts_arg: Option<Vec<f64>> = args.iter().position(|a| a == "--cuts").map(|i| {
+        let v = args.get(i + 1).expect("--cuts LIST").clone();
+        args.drain(i..i + 2);
+        v.split(',')
+            .map(|c| c.parse().expect("cut in Hz"))
+            .collect()
+    });
+    let cut_list = cuts_arg.unwrap_or_else(|| TRUNCATION_CUTS_HZ.to_vec());
     let committed = washdyn_models::reference();
     let (reference, used) = match &deep_dir {
         Some(d) => deep(d),
@@ -140,24 +159,23 @@ fn main() {
         "`cargo run --release --example truncation -- {}` (interpreted, dopri5 rtol {TOL:e}). \
          Each row: the `elastic` scene with the eigenmodes up to the cut, the static \
          correction modes and the dropped modes' static response to every element load, \
-         against all the modal data's modes (the tub's 100 to 1916 Hz and 6 correction modes \
-         to 6.6 kHz; the drum's 10 to 200 Hz; the cabinet's 60 to 136 Hz and 6 correction \
-         modes), at constant speed: 2 s from rest under the mean loads, compared over the \
-         next 1 s sampled at 20 kHz. accel: worst relative error of the sensor accelerations \
-         in the {BAND_HZ} Hz band; orders: worst |dB| of drum orders 1-6 within 40 dB of the \
-         channel's strongest (and within 20 dB: the weak even orders of the cabinet's \
-         channels, 25-38 dB down, set the first). Wall times on a shared 2-core machine.\n",
-        rpms.iter()
-            .map(|r| r.to_string())
-            .collect::<Vec<_>>()
-            .join(" ")
+         against the reference below, at constant speed: 2 s from rest under the mean \
+         loads, compared over the next 1 s sampled at 20 kHz. accel: worst relative error of \
+         the sensor accelerations in the {BAND_HZ} Hz band; orders: worst |dB| of drum orders \
+         1-6 within 40 dB of the channel's strongest (and within 20 dB: the weak even orders \
+         of the cabinet's channels, 25-38 dB down, set the first). Wall times on a shared \
+         2-core machine. The committed modal data: {}.\n",
+        std::env::args().skip(1).collect::<Vec<_>>().join(" "),
+        describe(&committed).join("; ")
     );
     if let Some(d) = &deep_dir {
         println!(
-            "Reference (`--deep {d}`): every mode of the committed data, with these bodies' \
-             data from DIR instead: {}.\n",
+            "Reference (`--deep {d}`): every mode of the committed data, with DIR's where it \
+             has a body's: {}.\n",
             used.join("; ")
         );
+    } else {
+        println!("Reference: every mode of the committed data.\n");
     }
     println!(
         "| rpm | modes up to Hz | coordinates | steps | wall s | accel | orders dB | orders \
@@ -175,7 +193,7 @@ fn main() {
         };
         let ro: Vec<Vec<f64>> = rw.iter().map(|(_, x)| orders(x)).collect();
         // Against a deep reference, the committed data with every mode is a row of its own.
-        let cuts = TRUNCATION_CUTS_HZ
+        let cuts = cut_list
             .iter()
             .map(|c| Some(*c))
             .chain(deep_dir.as_ref().map(|_| None));

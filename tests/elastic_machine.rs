@@ -202,7 +202,7 @@ fn quasi_static_drum_deflection_under_the_unbalance_matches_calculix() {
     // washdyn: the unbalance's load on the drum modes (scene with minus without it) over
     // diag(omega_k^2), read at the unbalance's point.
     let mut errors = Vec::new();
-    for modes in [4, 8, 10] {
+    for modes in [4, 10, 45] {
         let with = drum_model(modes, unbalance, "\"elastic.drum\", \"unbalance.drum\"");
         let without = drum_model(modes, unbalance, "\"elastic.drum\"");
         let eq = Equations::new(&with, &with.scene(Some("s")).unwrap());
@@ -211,30 +211,39 @@ fn quasi_static_drum_deflection_under_the_unbalance_matches_calculix() {
         let (f0, _) = drum_load_and_stiffness(&eq0, omega);
         let drum = eq.elastic_drum().unwrap();
         let w = drum.modes.rows([0.15, 0.0, 0.69]);
-        let uz: f64 = (0..modes)
+        let n = drum.modes.omega2.len();
+        let uz: f64 = (0..n)
             .map(|k| w.w[k][2] * (f1[k] - f0[k]) / drum.modes.omega2[k])
             .sum();
         let err = (uz - reference).abs() / reference.abs();
-        eprintln!("{modes} modes: uz {uz:.4e} m vs ccx {reference:.4e} m, error {err:.3}");
+        eprintln!(
+            "{modes} eigenmodes ({n} coordinates): uz {uz:.4e} m vs ccx {reference:.4e} m, \
+             error {err:.2e}"
+        );
         errors.push(err);
     }
-    // Measured at 1000 rpm: 19.7 %, 12.2 %, 12.2 % below ccx (1.22 mm) with 4, 8, 10 modes
-    // (the rebuilt drum of issue 19; the old one: 7 % of 7.90 mm). The force sits on the
-    // nodes of the front rim: its local dent is in no global mode up to 200 Hz, which static
-    // correction modes would add (not built for the spinning drum: its K_G comes from
-    // prestressed eigenmodes). Bound: the 10-mode truncation error with a margin; it must
-    // fall with the modes.
-    assert!(errors[2] < errors[0], "{errors:?}");
-    assert!(errors[2] < 0.2, "{errors:?}");
+    // The drum's data carries the static correction modes of a force at UNBALANCE_FRONT
+    // (fe/src/bodies: the drum's static give under its test mass; the spinning drum's K_G is
+    // assembled from static stresses, so correction modes are allowed on it), and a cut folds
+    // the dropped eigenmodes' give under it: every cut gives the same static answer. Measured
+    // at 1000 rpm: 4, 10 and 45 eigenmodes (10, 16 and 48 coordinates) all 2.66 % below ccx
+    // (1.22 mm), equal to 1e-15; without the correction modes 10 eigenmodes read 12.2 % low
+    // (the force's local dent on the front rim is in no global mode up to 200 Hz). What
+    // remains is the load's spread: ccx puts equal forces on the set's nodes, the model the
+    // point's rigid fit (W^T f, its weights per node).
+    for e in &errors {
+        assert!(*e < 5e-2, "{errors:?}");
+        assert!((e - errors[0]).abs() < 1e-9, "{errors:?}");
+    }
 
     // The full equations over speed: deflection of the point, and the fitted exponent.
     let with = drum_model(
-        10,
+        45,
         unbalance,
         "\"elastic.drum\", \"unbalance.drum\", \"centrifugal_stiffening\"",
     );
     let without = drum_model(
-        10,
+        45,
         unbalance,
         "\"elastic.drum\", \"centrifugal_stiffening\"",
     );
@@ -246,9 +255,10 @@ fn quasi_static_drum_deflection_under_the_unbalance_matches_calculix() {
         let om = rpm * std::f64::consts::PI / 30.0;
         let (f1, k) = drum_load_and_stiffness(&eq, om);
         let (f0, _) = drum_load_and_stiffness(&eq0, om);
-        let f = nalgebra::DVector::from_iterator(10, (0..10).map(|i| f1[i] - f0[i]));
+        let n = f1.len();
+        let f = nalgebra::DVector::from_iterator(n, (0..n).map(|i| f1[i] - f0[i]));
         let q = k.lu().solve(&f).unwrap();
-        let uz: f64 = (0..10).map(|i| w.w[i][2] * q[i]).sum();
+        let uz: f64 = (0..n).map(|i| w.w[i][2] * q[i]).sum();
         eprintln!("{rpm} rpm: uz {uz:.4e} m");
         pts.push((om.ln(), uz.abs().ln()));
     }

@@ -59,11 +59,13 @@ pub fn problems(d: &ModalData) -> Vec<String> {
                 &e.s[a][b],
                 n,
             );
-            dims(
-                format!("elementary.g[{}][{}]", xyz[a], xyz[b]),
-                &e.g[a][b],
-                n * n,
-            );
+            if e.has_g() {
+                dims(
+                    format!("elementary.g[{}][{}]", xyz[a], xyz[b]),
+                    &e.g[a][b],
+                    n * n,
+                );
+            }
         }
     }
     for (i, p) in d.points.iter().enumerate() {
@@ -317,6 +319,11 @@ fn support(d: &ModalData, out: &mut Vec<String>) {
         ElasticBodyKind::Drum => Support::Clamped,
         ElasticBodyKind::Cabinet => Support::OnSprings,
     };
+    if d.body == ElasticBodyKind::Drum && !d.elementary.has_g() {
+        out.push(
+            "elementary.g: missing; the spinning drum's equations need it (sum dm W^T e~ W)".into(),
+        );
+    }
     if d.support != want {
         out.push(format!(
             "support: {:?} for the {:?}, whose modes the equations take as {want:?}",
@@ -336,6 +343,7 @@ fn gram(d: &ModalData, out: &mut Vec<String>) {
     let e = &d.elementary;
     let fine = |v: &[f64], len: usize| v.len() == len && v.iter().all(|x| x.is_finite());
     if n == 0
+        || !e.has_g()
         || !(0..3).all(|a| {
             fine(&e.c[a], n) && (0..3).all(|b| fine(&e.s[a][b], n) && fine(&e.g[a][b], n * n))
         })

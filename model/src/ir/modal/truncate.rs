@@ -121,11 +121,14 @@ impl ModalData {
                 .collect(),
         );
         let e = &mut self.elementary;
+        let has_g = e.has_g();
         for a in 0..3 {
             e.c[a] = row(&e.c[a]);
             for b in 0..3 {
                 e.s[a][b] = row(&e.s[a][b]);
-                e.g[a][b] = square(&e.g[a][b]);
+                if has_g {
+                    e.g[a][b] = square(&e.g[a][b]);
+                }
             }
         }
         for p in &mut self.points {

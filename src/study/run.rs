@@ -13,20 +13,28 @@ use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
 use std::time::Instant;
+use washdyn_runtime::ir::Model;
 
 /// The back end that runs `variant` of `study`: a built-in model's generated code where the
 /// variant differs from it in free parameters only (`Model::free`: one build serves every such
 /// variant), else the interpreter, which takes any variant's numbers as data.
 pub fn backend_for(study: &Study, variant: &Variant) -> Backend {
-    let Some(name) = study.source.built_in.as_deref() else {
-        return Backend::Interpreted;
-    };
     match variant.model(study) {
-        Ok(m)
-            if washdyn_models::generated_for(name, &study.scene, &m).is_some_and(|r| r.is_ok()) =>
-        {
-            Backend::Generated
-        }
+        Ok(m) => backend_of(study, &m),
+        Err(_) => Backend::Interpreted,
+    }
+}
+
+/// [`backend_for`] of a variant's model, by the fit check alone (`washdyn_models::fits`): the
+/// simulation builds the generated system once, where it was built to choose and again to run.
+fn backend_of(study: &Study, model: &Model) -> Backend {
+    let fits = study
+        .source
+        .built_in
+        .as_deref()
+        .and_then(|name| washdyn_models::fits(name, &study.scene, model));
+    match fits {
+        Some(Ok(())) => Backend::Generated,
         _ => Backend::Interpreted,
     }
 }
@@ -199,12 +207,15 @@ fn run_variant(study: &Study, layout: &Layout, v: &Variant) -> Result<Outcome, E
         id: &v.id,
         dirs: Vec::new(),
     };
-    let backend = backend_for(study, v);
+    let model = v.model(study).map_err(|b| b.to_string());
+    let backend = model
+        .as_ref()
+        .map_or(Backend::Interpreted, |m| backend_of(study, m));
     let settings = crate::simulation::Settings {
         backend: Some(backend),
         ..v.settings(study)
     };
-    let sim = v.model(study).map_err(|b| b.to_string()).and_then(|m| {
+    let sim = model.and_then(|m| {
         Simulation::new(study.source.variant(m), &settings).map_err(|e| e.to_string())
     });
     phases.setup_s = lap.next();

@@ -235,11 +235,18 @@ fn main() {
          (3 spring rates, 4 damper friction forces) +-30 % by a Latin hypercube, so every \
          variant runs on the generated code (back end: {}). One thread (`--jobs 1`); the \
          plan's check of every variant runs on rayon's threads (both cores). The split per \
-         variant is `washdyn::study::Phases`, timed inside the study's own `run_variant`.\n\n\
+         variant is `washdyn::study::Phases`, timed inside the study's own `run_variant`. \
+         Before the fit check (`washdyn_models::fits`; this example at commit ac9bda0) a \
+         variant's set-up took 22.8 to 23.6 ms: the generated system was built to choose the \
+         back end and again to run, each build reading the model from its JSON with its modal \
+         data. `cargo bench --bench study_overhead` times the pieces one by one.\n\n\
          ## The run-up itself\n\n\
          One whole run-up at the base values through the study (0 to 178.375 s, dopri5 1e-6, \
          back end {whole_backend}): set-up {} ms, run {:.2} s, outputs (order tracks, cabinet \
-         levels) {} ms, writing its partitions (357 k samples of 24 channels) {} ms.\n\n",
+         levels) {} ms, writing its partitions (357 k samples of 24 channels) {} ms. The \
+         outputs cost as much as the run: each channel's order tracks resample it to the drum \
+         angle (`analysis::angle`); in a 10 ms window below they are the kernel's set-up, \
+         once a channel.\n\n",
         load.split_whitespace()
             .take(3)
             .collect::<Vec<_>>()

@@ -162,3 +162,27 @@ fn a_variant_runs_on_the_built_code_or_is_refused_by_name() {
     let e = e.to_string();
     assert!(e.contains("`tub.mass`") && e.contains("interpreter"), "{e}");
 }
+
+/// The fit check a study chooses each variant's back end by (`washdyn_models::fits`) says what
+/// building the system says, without building it: a free-only variant fits, a change elsewhere
+/// is refused with the same message, a scene without generated code or an unknown model is
+/// `None`.
+#[test]
+fn the_fit_check_agrees_with_the_build() {
+    let v = variant();
+    let mut heavier = variant();
+    heavier.tub.mass *= 1.1;
+    for scene in washdyn_models::reference::SCENES {
+        assert_eq!(washdyn_models::fits("reference", scene, &v), Some(Ok(())));
+        let built = washdyn_models::generated_for("reference", scene, &heavier).unwrap();
+        let Err(by_build) = built else {
+            panic!("{scene}: the build took a heavier tub")
+        };
+        assert_eq!(
+            washdyn_models::fits("reference", scene, &heavier),
+            Some(Err(by_build))
+        );
+    }
+    assert_eq!(washdyn_models::fits("reference", "no_such_scene", &v), None);
+    assert_eq!(washdyn_models::fits("no_such_model", "full", &v), None);
+}

@@ -91,6 +91,21 @@ pub fn generated_for(
     }
 }
 
+/// Whether a built-in model's generated code runs `variant` in `scene`, checked without
+/// building the system ([`generated_for`] builds it): the scene has generated code and the
+/// variant differs from the model in free parameters only (`Err`: the first other difference).
+/// `None`: unknown model or scene. A study asks this for every variant before it builds one.
+pub fn fits(name: &str, scene: &str, variant: &Model) -> Option<Result<(), String>> {
+    type Fits = fn(&Model) -> Result<Vec<f64>, String>;
+    let (scenes, fits): (&[&str], Fits) = match name {
+        "reference" => (reference::SCENES, reference::fits),
+        "compact" => (compact::SCENES, compact::fits),
+        "elastic_cabinet" => (elastic_cabinet::SCENES, elastic_cabinet::fits),
+        _ => return None,
+    };
+    scenes.contains(&scene).then(|| fits(variant).map(|_| ()))
+}
+
 /// The reference machine (panics only if the shipped file is broken, which a test guards).
 pub fn reference() -> Model {
     built_in("reference")

@@ -23,5 +23,5 @@ pub mod variants;
 pub use collect::{Collected, Status, collect, status};
 pub use error::{BadVariant, StudyError};
 pub use file::Study;
-pub use run::{Outcome, Plan, backend_for, check_jobs, execute, plan};
+pub use run::{Outcome, Phases, Plan, backend_for, check_jobs, execute, plan};
 pub use variants::Variant;

@@ -12,20 +12,29 @@ use crate::simulation::{Backend, Simulation};
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
+use std::time::Instant;
+use washdyn_runtime::ir::Model;
 
 /// The back end that runs `variant` of `study`: a built-in model's generated code where the
 /// variant differs from it in free parameters only (`Model::free`: one build serves every such
 /// variant), else the interpreter, which takes any variant's numbers as data.
 pub fn backend_for(study: &Study, variant: &Variant) -> Backend {
-    let Some(name) = study.source.built_in.as_deref() else {
-        return Backend::Interpreted;
-    };
     match variant.model(study) {
-        Ok(m)
-            if washdyn_models::generated_for(name, &study.scene, &m).is_some_and(|r| r.is_ok()) =>
-        {
-            Backend::Generated
-        }
+        Ok(m) => backend_of(study, &m),
+        Err(_) => Backend::Interpreted,
+    }
+}
+
+/// [`backend_for`] of a variant's model, by the fit check alone (`washdyn_models::fits`): the
+/// simulation builds the generated system once, where it was built to choose and again to run.
+fn backend_of(study: &Study, model: &Model) -> Backend {
+    let fits = study
+        .source
+        .built_in
+        .as_deref()
+        .and_then(|name| washdyn_models::fits(name, &study.scene, model));
+    match fits {
+        Some(Ok(())) => Backend::Generated,
         _ => Backend::Interpreted,
     }
 }
@@ -72,6 +81,24 @@ pub struct Outcome {
     pub warnings: Vec<String>,
     pub wall_time_s: f64,
     pub steps: u64,
+    /// Where the variant's time went, for the overhead a study adds to its runs
+    /// (benches/study_overhead.rs, examples/study_overhead.rs).
+    pub phases: Phases,
+}
+
+/// One variant's wall time by phase, s: what the study spends around the run itself.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Phases {
+    /// The variant's model (parameters set, checked), the back end's choice and the
+    /// simulation's set-up (the system built, the settings checked).
+    pub setup_s: f64,
+    /// The integration (`Simulation::integrate`), the samples kept in memory.
+    pub run_s: f64,
+    /// The outputs from the samples (peaks, order tracks, cabinet levels).
+    pub outputs_s: f64,
+    /// Its partitions: the sensors, the summary row and the timing under tmp names, then
+    /// renamed into place.
+    pub write_s: f64,
 }
 
 /// Most parallel runs (as `washdyn sweep`).
@@ -160,22 +187,38 @@ impl Drop for Tmp<'_> {
     }
 }
 
+/// Seconds since the last lap.
+struct Lap(Instant);
+
+impl Lap {
+    fn next(&mut self) -> f64 {
+        let now = Instant::now();
+        (now - std::mem::replace(&mut self.0, now)).as_secs_f64()
+    }
+}
+
 /// One variant: its model and simulation, the run into its tmp partitions, its outputs, then
 /// its partitions into place. A variant refused at its set-up gets a failed row.
 fn run_variant(study: &Study, layout: &Layout, v: &Variant) -> Result<Outcome, Error> {
+    let mut lap = Lap(Instant::now());
+    let mut phases = Phases::default();
     let mut tmp = Tmp {
         layout,
         id: &v.id,
         dirs: Vec::new(),
     };
-    let backend = backend_for(study, v);
+    let model = v.model(study).map_err(|b| b.to_string());
+    let backend = model
+        .as_ref()
+        .map_or(Backend::Interpreted, |m| backend_of(study, m));
     let settings = crate::simulation::Settings {
         backend: Some(backend),
         ..v.settings(study)
     };
-    let sim = v.model(study).map_err(|b| b.to_string()).and_then(|m| {
+    let sim = model.and_then(|m| {
         Simulation::new(study.source.variant(m), &settings).map_err(|e| e.to_string())
     });
+    phases.setup_s = lap.next();
     let (row, wall, warnings) = match sim {
         Err(e) => {
             tmp.dir(VARIANTS)?;
@@ -184,9 +227,12 @@ fn run_variant(study: &Study, layout: &Layout, v: &Variant) -> Result<Outcome, E
         Ok(sim) => {
             let rate = sim.run.sample_rate;
             let mut sink = SensorRecorder::deferred(&tmp.dir(VARIANTS)?, Format::Parquet);
+            phases.write_s = lap.next();
             let (summary, error) = sim.integrate(&mut sink, &mut |_| {});
+            phases.run_s = lap.next();
             sink.finish()
                 .map_err(|e| Error::io("write", sink.path(), e))?;
+            phases.write_s += lap.next();
             if summary.status == "interrupted" {
                 return Ok(Outcome {
                     id: v.id.clone(),
@@ -195,6 +241,7 @@ fn run_variant(study: &Study, layout: &Layout, v: &Variant) -> Result<Outcome, E
                     warnings: summary.warnings,
                     wall_time_s: summary.wall_time_s,
                     steps: summary.steps,
+                    phases,
                 });
             }
             let outputs = match error {
@@ -203,6 +250,7 @@ fn run_variant(study: &Study, layout: &Layout, v: &Variant) -> Result<Outcome, E
                     .values(&summary, &sink.names, &sink.memory, rate),
                 Some(_) => study.outputs.none(),
             };
+            phases.outputs_s = lap.next();
             let row = Row {
                 outputs,
                 status: summary.status.clone(),
@@ -220,15 +268,17 @@ fn run_variant(study: &Study, layout: &Layout, v: &Variant) -> Result<Outcome, E
     };
     dataset::write_summary(&tmp.dir(SUMMARY)?, study, v, &row)?;
     dataset::write_timing(&tmp.dir(TIMING)?, &v.id, wall)?;
-    let outcome = Outcome {
+    let mut outcome = Outcome {
         id: v.id.clone(),
         status: row.status.clone(),
         error: (!row.error.is_empty()).then(|| row.error.clone()),
         warnings,
         wall_time_s: wall,
         steps: row.steps as u64,
+        phases,
     };
     tmp.publish()?;
+    outcome.phases.write_s += lap.next();
     Ok(outcome)
 }
 

@@ -378,7 +378,7 @@ impl {name} {{
     /// The scene of `variant`, a model that differs from this one in free parameters only
     /// (`FREE`); anything else is refused, naming the first difference.
     pub fn for_variant(variant: &{rt}::ir::Model) -> Result<Self, String> {{
-        let p = {rt}::ir::param::free_values(&model(), variant)?;
+        let p = fits(variant)?;
         Ok({name} {{
             speed: {rt}::speed::Speed::new(&SPEED_TABLE),
             jac: {rt}::equations::ForceJacobians::for_scene(variant, Self::SCENE),
@@ -473,6 +473,18 @@ pub fn generate_with_stats(model: &Model) -> Result<(String, Vec<SceneStats>), G
          /// The model's IR (the interpreter's input).\n\
          pub fn model() -> ::washdyn_runtime::ir::Model {{\n\
              ::washdyn_runtime::serde_json::from_str(MODEL_JSON).expect(\"the macro wrote valid JSON\")\n\
+         }}\n\
+         /// The model, read from `MODEL_JSON` once: what a variant is compared with (an elastic\n\
+         /// machine's JSON holds its modal data, milliseconds to read).\n\
+         fn base() -> &'static ::washdyn_runtime::ir::Model {{\n\
+             static BASE: ::std::sync::OnceLock<::washdyn_runtime::ir::Model> = ::std::sync::OnceLock::new();\n\
+             BASE.get_or_init(model)\n\
+         }}\n\
+         /// `variant`'s values of the free parameters where it differs from this model in those\n\
+         /// only, else the first other difference: whether the generated scenes run it\n\
+         /// (`system_for`), without building one.\n\
+         pub fn fits(variant: &::washdyn_runtime::ir::Model) -> Result<Vec<f64>, String> {{\n\
+             ::washdyn_runtime::ir::param::free_values(base(), variant)\n\
          }}\n\
          /// The drum speed profile (time s, rpm).\n\
          pub const SPEED_TABLE: [[f64; 2]; {}] = [{}];\n",

@@ -385,13 +385,14 @@ pub fn submit(
         .into());
     }
     let release = || -> Result<(), Error> {
-        let a = Assignment {
-            job_id: id.into(),
-            study_file,
-            chunks: chunks.clone(),
-        };
-        let json = serde_json::to_string_pretty(&a).expect("an assignment serialises") + "\n";
-        write_atomic(&assignment_file(&dir, id), json.as_bytes())?;
+        assign(
+            &dir,
+            &Assignment {
+                job_id: id.into(),
+                study_file,
+                chunks: chunks.clone(),
+            },
+        )?;
         record.jobs.push(Job {
             job_id: id.into(),
             tasks: chunks.len(),
@@ -411,6 +412,15 @@ pub fn submit(
         chunks,
         script: path,
     }))
+}
+
+/// Write job `a.job_id`'s chunk file into `dir`: what its tasks run. `submit` writes it while
+/// the job is held; the overhead bench writes one for tasks it starts itself, without Slurm.
+pub fn assign(dir: &Path, a: &Assignment) -> Result<(), Error> {
+    let sd = slurm_dir(dir);
+    std::fs::create_dir_all(&sd).map_err(|e| Error::io("create", &sd, e))?;
+    let json = serde_json::to_string_pretty(a).expect("an assignment serialises") + "\n";
+    write_atomic(&assignment_file(dir, &a.job_id), json.as_bytes())
 }
 
 /// What task `chunk` of `chunks` of `job` runs in `dir`: the study (from the file recorded at

@@ -9,7 +9,7 @@
 //! With `--deep DIR` the reference is the model with each body's modal data from
 //! `DIR/<body>.modal.toml` where it exists (fe's `modes_2k` example: the drum with `spin`),
 //! every mode kept, and the rows are the committed data's cuts against it. `--cuts 210,700`
-//! runs only those cuts.
+//! runs only those cuts; `--against DIR2` puts DIR2's data where the committed data was.
 
 use std::time::Instant;
 use washdyn::accuracy::{BAND_HZ, ORDER_FLOOR, TRUNCATION_CUTS_HZ, band_error, is_accel};
@@ -147,7 +147,17 @@ fn main() {
             .collect()
     });
     let cut_list = cuts_arg.unwrap_or_else(|| TRUNCATION_CUTS_HZ.to_vec());
-    let committed = washdyn_models::reference();
+    // `--against DIR2`: the rows are the model with DIR2's data instead of the committed data
+    // (two deep references against each other).
+    let against = args.iter().position(|a| a == "--against").map(|i| {
+        let d = args.get(i + 1).expect("--against DIR").clone();
+        args.drain(i..i + 2);
+        d
+    });
+    let committed = match &against {
+        Some(d) => deep(d).0,
+        None => washdyn_models::reference(),
+    };
     let (reference, used) = match &deep_dir {
         Some(d) => deep(d),
         None => (committed.clone(), Vec::new()),

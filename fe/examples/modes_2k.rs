@@ -9,11 +9,12 @@
 
 fn main() -> Result<(), String> {
     let a: Vec<String> = std::env::args().skip(1).collect();
-    let (body, solve, max_hz, out, spin) = match &a[..] {
-        [b, s, m, o] => (b, s, m, o, false),
-        [b, s, m, o, k] if k == "spin" => (b, s, m, o, true),
-        _ => return Err("usage: modes_2k BODY SOLVE_MODES MAX_HZ OUT_DIR [spin]".into()),
+    let (body, solve, max_hz, out, flag) = match &a[..] {
+        [b, s, m, o] => (b, s, m, o, ""),
+        [b, s, m, o, k] if k == "spin" || k == "dampers" => (b, s, m, o, k.as_str()),
+        _ => return Err("usage: modes_2k BODY SOLVE_MODES MAX_HZ OUT_DIR [spin|dampers]".into()),
     };
+    let spin = flag == "spin";
     let solve: usize = solve
         .parse()
         .map_err(|_| format!("SOLVE_MODES `{solve}`"))?;
@@ -28,6 +29,22 @@ fn main() -> Result<(), String> {
     spec.recovery = false;
     if !spin {
         spec.spin = None;
+    }
+    // `dampers`: the cabinet's static give along each friction damper's rod at its bracket as
+    // correction modes too (the built-in data leaves them out: a correction mode there puts
+    // the friction slope on a small modal mass), for a reference with every element load's
+    // static give.
+    if flag == "dampers" {
+        let model = washdyn_fe::bodies::reference_model();
+        for (k, d) in model.friction_dampers.iter().enumerate() {
+            let dir =
+                washdyn_runtime::geom::f::unit(washdyn_runtime::geom::f::sub(d.b.point, d.a.point));
+            spec.correction
+                .push(washdyn_runtime::ir::modal::LoadCase::force(
+                    &format!("DAMPER_{}", k + 1),
+                    dir,
+                ));
+        }
     }
     let out = std::path::Path::new(out);
     let work = out.join(format!("{body}_work"));

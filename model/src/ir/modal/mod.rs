@@ -199,23 +199,16 @@ pub struct Elementary {
     /// g_xx + g_yy + g_zz is the modal mass matrix (identity for mass-normalised modes).
     /// Only the spinning drum's equations use it (the frame turns its modes into each other);
     /// the cabinet's data leaves it out (all nine blocks empty): 9 n^2 numbers, 35 MB of a
-    /// 36 MB file at 406 modes.
-    #[serde(
-        default,
-        skip_serializing_if = "no_g",
-        deserialize_with = "crate::ir::exact::exact"
-    )]
+    /// 36 MB file at 406 modes. Written even when empty: the error class's content hash
+    /// serialises a rigid body's cleared `elementary` and must not change with this field.
+    #[serde(default, deserialize_with = "crate::ir::exact::exact")]
     pub g: [[Vec<f64>; 3]; 3],
-}
-
-fn no_g(g: &[[Vec<f64>; 3]; 3]) -> bool {
-    g.iter().flatten().all(|v| v.is_empty())
 }
 
 impl Elementary {
     /// Whether the data gives `g` (a body kind that needs it is refused without it).
     pub fn has_g(&self) -> bool {
-        !no_g(&self.g)
+        self.g.iter().flatten().any(|v| !v.is_empty())
     }
 }
 

@@ -35,15 +35,27 @@ fn main() -> Result<(), String> {
     // the friction slope on a small modal mass), for a reference with every element load's
     // static give.
     if flag == "dampers" {
+        use washdyn_runtime::geom::f::{norm, sub, unit};
         let model = washdyn_fe::bodies::reference_model();
-        for (k, d) in model.friction_dampers.iter().enumerate() {
-            let dir =
-                washdyn_runtime::geom::f::unit(washdyn_runtime::geom::f::sub(d.b.point, d.a.point));
-            spec.correction
-                .push(washdyn_runtime::ir::modal::LoadCase::force(
-                    &format!("DAMPER_{}", k + 1),
-                    dir,
-                ));
+        for d in &model.friction_dampers {
+            // The bracket's node set: the body's point at the damper's cabinet end.
+            let end = [&d.a, &d.b]
+                .into_iter()
+                .find(|e| e.body == washdyn_runtime::ir::BodyRef::Cabinet)
+                .ok_or_else(|| format!("{}: no end on the cabinet", d.name))?;
+            let dist = |p: [f64; 3]| norm(sub(p, end.point));
+            let (set, at) = spec
+                .points
+                .iter()
+                .min_by(|x, y| dist(x.1).total_cmp(&dist(y.1)))
+                .ok_or("the cabinet has no points")?;
+            if dist(*at) > 5e-3 {
+                return Err(format!("{}: no cabinet point at its bracket", d.name));
+            }
+            let dir = unit(sub(d.b.point, d.a.point));
+            eprintln!("{}: correction load at {set} along {dir:?}", d.name);
+            let case = washdyn_runtime::ir::modal::LoadCase::force(set, dir);
+            spec.correction.push(case);
         }
     }
     let out = std::path::Path::new(out);

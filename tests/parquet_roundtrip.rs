@@ -19,22 +19,6 @@ fn pyarrow() -> bool {
     common::required_tool(ok, "python3 with pyarrow", "pip install pyarrow")
 }
 
-/// Run python3 with `script` and arguments; its stdout.
-fn python(script: &str, args: &[&Path]) -> String {
-    let out = Command::new("python3")
-        .arg("-c")
-        .arg(script)
-        .args(args)
-        .output()
-        .expect("python3 runs");
-    assert!(
-        out.status.success(),
-        "python failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout).unwrap()
-}
-
 /// The reference's default scene, generated, dopri5 at 1e-6, Parquet, samples kept.
 fn reference_run(dir: &Path, t_end: f64, sample_rate: f64, states: bool) -> RunArgs {
     RunArgs {
@@ -70,7 +54,7 @@ fn sensor_file_reads_back_bit_for_bit_in_pyarrow() {
     // pyarrow writes every column's values as little-endian f64 bytes, one file per column.
     let raw = dir.path().join("raw");
     std::fs::create_dir(&raw).unwrap();
-    let listed = python(
+    let listed = common::python(
         "import sys, struct, pyarrow as pa, pyarrow.parquet as pq\n\
          t = pq.read_table(sys.argv[1])\n\
          for i, name in enumerate(t.column_names):\n\
@@ -131,7 +115,7 @@ fn analysis_tables_read_in_pyarrow() {
         ..AnalysisOptions::default()
     };
     analyse_signals(&s, dir.path(), &opts).unwrap();
-    let out = python(
+    let out = common::python(
         "import sys, pyarrow.parquet as pq, pyarrow.compute as pc\n\
          s = pq.read_table(sys.argv[1])\n\
          o = pq.read_table(sys.argv[2])\n\

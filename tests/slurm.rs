@@ -7,7 +7,6 @@
 
 use crate::common;
 
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
@@ -195,26 +194,6 @@ const STUDY: &str = "model = \"reference\"\nscene = \"full\"\n\
     sample_rate = 200.0\n\
     [[parameter]]\npath = \"springs.spring_front.stiffness\"\n\
     levels = [3000, 3250, 3500, 3750, 4000]\n[design]\nkind = \"grid\"\n";
-
-/// Every file under `out` but `timing/` (wall times) and `slurm/` (the jobs), by path.
-fn dataset_bytes(out: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
-    let mut files = BTreeMap::new();
-    let mut stack = vec![out.to_path_buf()];
-    while let Some(d) = stack.pop() {
-        for e in std::fs::read_dir(&d).unwrap().flatten() {
-            let p = e.path();
-            let rel = p.strip_prefix(out).unwrap().to_path_buf();
-            if p.is_dir() {
-                if rel != Path::new("timing") && rel != Path::new("slurm") {
-                    stack.push(p);
-                }
-            } else {
-                files.insert(rel, std::fs::read(&p).unwrap());
-            }
-        }
-    }
-    files
-}
 
 /// The job id in `submitted slurm job ID: ...`.
 fn submitted(stdout: &str) -> String {
@@ -416,7 +395,10 @@ fn a_cancelled_task_is_submitted_again_and_the_dataset_is_the_local_runs() {
         ARRAY,
     );
     assert!(l.status.success());
-    let (remote, here) = (dataset_bytes(&out), dataset_bytes(&local));
+    let (remote, here) = (
+        common::dataset_bytes(&out, &["timing", "slurm"]),
+        common::dataset_bytes(&local, &["timing", "slurm"]),
+    );
     assert_eq!(
         remote.keys().collect::<Vec<_>>(),
         here.keys().collect::<Vec<_>>()

@@ -4,7 +4,6 @@
 
 use crate::common;
 
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::Mutex;
@@ -132,7 +131,7 @@ fn grid_of_two_spring_stiffnesses_is_one_dataset() {
     // reader), each with DIR the study's: the 4 rows with the parameter columns the design's.
     let mut args = vec![out.display().to_string()];
     args.extend(readers.iter().cloned());
-    let got = python(
+    let got = common::python(
         "import sys, duckdb, pandas, pyarrow.dataset\n\
          for line in sys.argv[2:]:\n\
          \x20   r = eval(line.replace('DIR', sys.argv[1]))\n\
@@ -230,26 +229,6 @@ fn a_bad_variant_refuses_the_study_before_anything_is_written() {
     assert!(!dir.path().join("o").exists());
 }
 
-/// Every file of the dataset but the timing, by path under `out`.
-fn dataset_bytes(out: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
-    let mut files = BTreeMap::new();
-    let mut stack = vec![out.to_path_buf()];
-    while let Some(d) = stack.pop() {
-        for e in std::fs::read_dir(&d).unwrap().flatten() {
-            let p = e.path();
-            if p.is_dir() {
-                if !p.ends_with("timing") {
-                    stack.push(p);
-                }
-            } else {
-                let rel = p.strip_prefix(out).unwrap().to_path_buf();
-                files.insert(rel, std::fs::read(&p).unwrap());
-            }
-        }
-    }
-    files
-}
-
 /// A re-run runs only what is missing: one variant's partitions deleted and a killed run's
 /// tmp directory left behind, the second run runs that variant alone, removes the tmp
 /// directory, and the dataset is the first run's to the byte (timing/ aside).
@@ -265,7 +244,7 @@ fn a_rerun_completes_the_study_to_the_same_bytes() {
     );
     let out = dir.path().join("out");
     assert_eq!(run(&file, &out).len(), 3);
-    let first = dataset_bytes(&out);
+    let first = common::dataset_bytes(&out, &["timing"]);
     assert!(first.contains_key(Path::new("summary/variant=0001/summary.parquet")));
     assert!(first.contains_key(Path::new("variants/variant=0001/sensors.parquet")));
     for d in ["summary", "variants"] {
@@ -281,7 +260,10 @@ fn a_rerun_completes_the_study_to_the_same_bytes() {
     );
     assert_eq!(run(&file, &out), ["0001"]);
     assert!(!tmp.exists());
-    assert!(first == dataset_bytes(&out), "the re-run's dataset differs");
+    assert!(
+        first == common::dataset_bytes(&out, &["timing"]),
+        "the re-run's dataset differs"
+    );
     // A changed study is another study: refused in this directory.
     let other = study_file(
         dir.path(),
@@ -444,22 +426,6 @@ fn python_readers() -> bool {
         "python3 with duckdb, pandas and pyarrow",
         "pip install duckdb pandas pyarrow",
     )
-}
-
-/// Run python3 with `script` and arguments; its stdout.
-fn python(script: &str, args: &[String]) -> String {
-    let out = Command::new("python3")
-        .arg("-c")
-        .arg(script)
-        .args(args)
-        .output()
-        .expect("python3 runs");
-    assert!(
-        out.status.success(),
-        "python failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout).unwrap()
 }
 
 /// A Saltelli study and what `collect` makes of it: the Pareto plot of the two named outputs

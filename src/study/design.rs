@@ -244,12 +244,9 @@ mod tests {
         );
     }
 
-    /// The defining property: every stratum of every dimension holds one point; the log scale
-    /// puts the strata's edges at lo (hi/lo)^(k/n).
-    #[test]
-    fn lhs_fills_every_stratum_once_and_is_seeded() {
-        let n = 7;
-        let axes = [
+    /// A linear range [2, 4] and a log range [1, 1e3].
+    fn lin_and_log() -> [Axis; 2] {
+        [
             Axis::Range {
                 lo: 2.0,
                 hi: 4.0,
@@ -260,7 +257,15 @@ mod tests {
                 hi: 1e3,
                 scale: Scale::Log,
             },
-        ];
+        ]
+    }
+
+    /// The defining property: every stratum of every dimension holds one point; the log scale
+    /// puts the strata's edges at lo (hi/lo)^(k/n).
+    #[test]
+    fn lhs_fills_every_stratum_once_and_is_seeded() {
+        let n = 7;
+        let axes = lin_and_log();
         let d = Design {
             kind: Kind::Lhs,
             samples: Some(n),
@@ -292,18 +297,7 @@ mod tests {
     /// parameter j from B, mapped through each parameter's scale.
     #[test]
     fn saltelli_rows_follow_the_layout() {
-        let axes = [
-            Axis::Range {
-                lo: 2.0,
-                hi: 4.0,
-                scale: Scale::Linear,
-            },
-            Axis::Range {
-                lo: 1.0,
-                hi: 1e3,
-                scale: Scale::Log,
-            },
-        ];
+        let axes = lin_and_log();
         let p = points(&design(Kind::Saltelli, Some(8)), &axes).unwrap();
         assert_eq!(p.len(), 8 * 4);
         for r in p.chunks(4) {

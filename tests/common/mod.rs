@@ -241,3 +241,45 @@ pub fn linearise_at_speed(
     }
     Linearised { m, c, k, h0 }
 }
+
+/// Run python3 with `script` and arguments; its stdout (the Parquet and study tests read our
+/// files with pyarrow, DuckDB and pandas, independent readers).
+pub fn python<S: AsRef<std::ffi::OsStr>>(script: &str, args: &[S]) -> String {
+    let out = std::process::Command::new("python3")
+        .arg("-c")
+        .arg(script)
+        .args(args)
+        .output()
+        .expect("python3 runs");
+    assert!(
+        out.status.success(),
+        "python failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
+
+/// Every file of a study's dataset under `out`, by path, but those under the top-level
+/// directories `skip` (wall times in `timing/`, a Slurm run's `slurm/`): the bytes a re-run
+/// or another engine must reproduce.
+pub fn dataset_bytes(
+    out: &std::path::Path,
+    skip: &[&str],
+) -> std::collections::BTreeMap<std::path::PathBuf, Vec<u8>> {
+    let mut files = std::collections::BTreeMap::new();
+    let mut stack = vec![out.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap().flatten() {
+            let p = e.path();
+            let rel = p.strip_prefix(out).unwrap().to_path_buf();
+            if p.is_dir() {
+                if !skip.iter().any(|s| rel == std::path::Path::new(s)) {
+                    stack.push(p);
+                }
+            } else {
+                files.insert(rel, std::fs::read(&p).unwrap());
+            }
+        }
+    }
+    files
+}

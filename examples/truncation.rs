@@ -9,7 +9,9 @@
 //! With `--deep DIR` the reference is the model with each body's modal data from
 //! `DIR/<body>.modal.toml` where it exists (fe's `modes_2k` example: the drum with `spin`),
 //! every mode kept, and the rows are the committed data's cuts against it. `--cuts 210,700`
-//! runs only those cuts; `--against DIR2` puts DIR2's data where the committed data was.
+//! runs only those cuts; `--against DIR2` puts DIR2's data where the committed data was;
+//! `--method auto` integrates with another method than dopri5. The reference and the rows run
+//! side by side on all cores (rayon), so their wall times are measured under the same load.
 
 use std::time::Instant;
 use washdyn::accuracy::{BAND_HZ, ORDER_FLOOR, TRUNCATION_CUTS_HZ, band_error, is_accel};
@@ -63,7 +65,7 @@ fn deep(dir: &str) -> (washdyn_runtime::ir::Model, Vec<String>) {
     (m, used)
 }
 
-fn run(base: &washdyn_runtime::ir::Model, rpm: f64, cutoff: Option<f64>) -> Run {
+fn run(base: &washdyn_runtime::ir::Model, rpm: f64, cutoff: Option<f64>, method: Method) -> Run {
     let mut m = base.clone();
     m.speed.table = vec![[0.0, rpm], [1000.0, rpm]];
     let s = EffectSet {
@@ -77,7 +79,7 @@ fn run(base: &washdyn_runtime::ir::Model, rpm: f64, cutoff: Option<f64>) -> Run 
         atol: TOL * 1e-3,
         ..Options::default()
     };
-    let mut solver = AnySolver::new(Method::Dopri5, 2 * n, opts);
+    let mut solver = AnySolver::new(method, 2 * n, opts);
     let mut mem = MemorySink::default();
     let ropts = RunOptions {
         t_start: 0.0,
@@ -154,6 +156,15 @@ fn main() {
         args.drain(i..i + 2);
         d
     });
+    let method: Method = args
+        .iter()
+        .position(|a| a == "--method")
+        .map(|i| {
+            let v = args.get(i + 1).expect("--method NAME").clone();
+            args.drain(i..i + 2);
+            v.parse().expect("an integrator's name")
+        })
+        .unwrap_or(Method::Dopri5);
     let committed = match &against {
         Some(d) => deep(d).0,
         None => washdyn_models::reference(),
@@ -166,7 +177,7 @@ fn main() {
     let rpms = if rpms.is_empty() { vec![1400.0] } else { rpms };
     println!("# Modal truncation of the elastic machine\n");
     println!(
-        "`cargo run --release --example truncation -- {}` (interpreted, dopri5 rtol {TOL:e}). \
+        "`cargo run --release --example truncation -- {}` (interpreted, {} rtol {TOL:e}). \
          Each row: the `elastic` scene with the eigenmodes up to the cut, the static \
          correction modes and the dropped modes' static response to every element load, \
          against the reference below, at constant speed: 2 s from rest under the mean \
@@ -176,6 +187,7 @@ fn main() {
          of the cabinet's channels, 25-38 dB down, set the first). Wall times on a shared \
          2-core machine. The committed modal data: {}.\n",
         std::env::args().skip(1).collect::<Vec<_>>().join(" "),
+        method.name(),
         describe(&committed).join("; ")
     );
     if let Some(d) = &deep_dir {
@@ -194,7 +206,22 @@ fn main() {
     println!("|---|---|---|---|---|---|---|---|");
     for rpm in rpms {
         let f0 = rpm / 60.0;
-        let r = run(&reference, rpm, None);
+        // Against a deep reference, the committed data with every mode is a row of its own.
+        let cuts: Vec<Option<f64>> = cut_list
+            .iter()
+            .map(|c| Some(*c))
+            .chain(deep_dir.as_ref().map(|_| None))
+            .collect();
+        let mut runs: Vec<Run> = {
+            use rayon::prelude::*;
+            std::iter::once((&reference, None))
+                .chain(cuts.iter().map(|c| (&committed, *c)))
+                .collect::<Vec<_>>()
+                .into_par_iter()
+                .map(|(m, cut)| run(m, rpm, cut, method))
+                .collect()
+        };
+        let r = runs.remove(0);
         let rw = window(&r.mem);
         let orders = |x: &[f64]| {
             (1..=6)
@@ -202,13 +229,7 @@ fn main() {
                 .collect::<Vec<_>>()
         };
         let ro: Vec<Vec<f64>> = rw.iter().map(|(_, x)| orders(x)).collect();
-        // Against a deep reference, the committed data with every mode is a row of its own.
-        let cuts = cut_list
-            .iter()
-            .map(|c| Some(*c))
-            .chain(deep_dir.as_ref().map(|_| None));
-        for cut in cuts {
-            let c = run(&committed, rpm, cut);
+        for (cut, c) in cuts.into_iter().zip(runs) {
             let cw = window(&c.mem);
             let (mut accel, mut db, mut db20) = (0.0f64, 0.0f64, 0.0f64);
             for ((name, x), ((rn, y), yo)) in cw.iter().zip(rw.iter().zip(&ro)) {

@@ -11,8 +11,8 @@ fn main() -> Result<(), String> {
     let a: Vec<String> = std::env::args().skip(1).collect();
     let (body, solve, max_hz, out, flag) = match &a[..] {
         [b, s, m, o] => (b, s, m, o, ""),
-        [b, s, m, o, k] if k == "spin" || k == "dampers" => (b, s, m, o, k.as_str()),
-        _ => return Err("usage: modes_2k BODY SOLVE_MODES MAX_HZ OUT_DIR [spin|dampers]".into()),
+        [b, s, m, o, k] if k == "spin" => (b, s, m, o, k.as_str()),
+        _ => return Err("usage: modes_2k BODY SOLVE_MODES MAX_HZ OUT_DIR [spin]".into()),
     };
     let spin = flag == "spin";
     let solve: usize = solve
@@ -29,34 +29,6 @@ fn main() -> Result<(), String> {
     spec.recovery = false;
     if !spin {
         spec.spin = None;
-    }
-    // `dampers`: the cabinet's static give along each friction damper's rod at its bracket as
-    // correction modes too (the built-in data leaves them out: a correction mode there puts
-    // the friction slope on a small modal mass), for a reference with every element load's
-    // static give.
-    if flag == "dampers" {
-        use washdyn_runtime::geom::f::{norm, sub, unit};
-        let model = washdyn_fe::bodies::reference_model();
-        for d in &model.friction_dampers {
-            // The bracket's node set: the body's point at the damper's cabinet end.
-            let end = [&d.a, &d.b]
-                .into_iter()
-                .find(|e| e.body == washdyn_runtime::ir::BodyRef::Cabinet)
-                .ok_or_else(|| format!("{}: no end on the cabinet", d.name))?;
-            let dist = |p: [f64; 3]| norm(sub(p, end.point));
-            let (set, at) = spec
-                .points
-                .iter()
-                .min_by(|x, y| dist(x.1).total_cmp(&dist(y.1)))
-                .ok_or("the cabinet has no points")?;
-            if dist(*at) > 5e-3 {
-                return Err(format!("{}: no cabinet point at its bracket", d.name));
-            }
-            let dir = unit(sub(d.b.point, d.a.point));
-            eprintln!("{}: correction load at {set} along {dir:?}", d.name);
-            let case = washdyn_runtime::ir::modal::LoadCase::force(set, dir);
-            spec.correction.push(case);
-        }
     }
     let out = std::path::Path::new(out);
     let work = out.join(format!("{body}_work"));

@@ -283,7 +283,7 @@ fn elastic_machine_rules_have_lines() {
             "body = \"drum\"\npoint = [0.17, 0.1, 0.45]",
             1,
         )
-        .replacen("max_order = 6.0", "max_order = -1.0", 1);
+        .replacen("max_order = 12.0", "max_order = -1.0", 1);
     let e = errors(&src);
     let has = |needle: &str, line: usize| {
         assert!(

@@ -331,11 +331,10 @@ pub fn builtin() -> Vec<BodySpec> {
             support: Support::OnSprings,
             mesh: cab_mesh,
             // Modes to 420 Hz (219) and the static give under every element load (13
-            // correction modes, `cabinet_loads`): a scene's cut at 210 Hz then folds those
-            // above it (issue 21's basis study against 400 modes to 772 Hz: 60 modes to 136 Hz
-            // missed 2.8e-2 of the order band's receptances, 0.79 at the worst channel; the
-            // 420 Hz data cut at 210 Hz, 6.3e-5). The mesh's 40 mm shells resolve the panels'
-            // bending to about 700 Hz, not 2 kHz.
+            // correction modes, `cabinet_loads`), all kept by the `elastic` scene (issue 21's
+            // cut study, docs/truncation.md: within 2.1e-2 and 0.093 dB of 400 modes to 772 Hz
+            // at 1400 rpm; a cut at 210 Hz was 6.2e-1 off). The mesh's 40 mm shells resolve
+            // the panels' bending to about 700 Hz, not 2 kHz.
             solve_modes: 230,
             keep: Keep {
                 rigid_below_hz: 0.0,

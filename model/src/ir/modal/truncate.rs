@@ -5,10 +5,12 @@
 use super::{Correction, LoadCase, ModalData};
 
 impl ModalData {
-    /// Keep the first `n` eigenmodes. Correction modes stay; the dropped eigenmodes' static
-    /// response to the load cases (the correction's and `loads`, the scene's elements' at this
-    /// body, `Model::element_loads`), sum_k Phi_k (f_j . Phi_k) / omega_k^2, becomes new
-    /// correction modes, so that truncation never loses flexibility at the load points.
+    /// Keep the first `n` eigenmodes. The dropped eigenmodes and the correction modes become
+    /// one static shape per independent load case (the correction's and `loads`, the scene's
+    /// elements' at this body, `Model::element_loads`): sum_k Phi_k (f_j . Phi_k) / omega_k^2
+    /// over every dropped mode and every correction mode, so that truncation keeps the data's
+    /// static response at the load points exactly with one coordinate per load, not two (a
+    /// correction mode and the dropped eigenmodes' part of the same give).
     pub fn truncate(&mut self, n: usize, loads: &[LoadCase]) {
         let (m, e) = (self.modes(), self.eigenmodes());
         if n >= e {
@@ -19,47 +21,41 @@ impl ModalData {
             .iter()
             .map(|f| (2.0 * std::f64::consts::PI * f).powi(2))
             .collect();
-        // Columns over the dropped modes n..e: the static shapes of the load cases.
-        let mut cols: Vec<Vec<f64>> = Vec::new();
-        if let Some(c) = &self.correction {
-            let j = c.loads.len();
-            cols.extend((0..j).map(|col| {
-                (n..e)
-                    .map(|k| c.participation[k * j + col] / w2[k])
-                    .collect()
-            }));
-        }
-        for l in loads {
-            if let Some(p) = self.point(&l.point) {
-                cols.push((n..e).map(|k| l.participation(p, k) / w2[k]).collect());
-            }
-        }
+        // Columns over the dropped modes n..m: the static shapes of the load cases. The stored
+        // correction participations are the points' w . direction (the checker holds them
+        // so), so every load case reads its point.
+        let own = self.correction.as_ref().map(|c| c.loads.clone());
+        let cols: Vec<Vec<f64>> = own
+            .iter()
+            .flatten()
+            .chain(loads)
+            .filter_map(|l| {
+                let p = self.point(&l.point)?;
+                Some((n..m).map(|k| l.participation(p, k) / w2[k]).collect())
+            })
+            .collect();
         let folded = if cols.is_empty() {
-            (nalgebra::DMatrix::zeros(e - n, 0), Vec::new())
+            (nalgebra::DMatrix::zeros(m - n, 0), Vec::new())
         } else {
-            let u = nalgebra::DMatrix::from_fn(e - n, cols.len(), |r, c| cols[c][r]);
-            orthonormal_static_basis(&u, &w2[n..e])
+            let u = nalgebra::DMatrix::from_fn(m - n, cols.len(), |r, c| cols[c][r]);
+            orthonormal_static_basis(&u, &w2[n..m])
         };
-        let (p, r) = (folded.1.len(), m - e);
-        let mut t = nalgebra::DMatrix::zeros(m, n + p + r);
+        let p = folded.1.len();
+        let mut t = nalgebra::DMatrix::zeros(m, n + p);
         for k in 0..n {
             t[(k, k)] = 1.0;
         }
-        t.view_mut((n, n), (e - n, p)).copy_from(&folded.0);
-        for k in 0..r {
-            t[(e + k, n + p + k)] = 1.0;
-        }
+        t.view_mut((n, n), (m - n, p)).copy_from(&folded.0);
         let mut frequencies = self.frequencies[..n].to_vec();
         frequencies.extend(folded.1);
-        frequencies.extend_from_slice(&self.frequencies[e..]);
         self.change_basis(&t, frequencies);
         match &mut self.correction {
             Some(c) => {
-                c.modes = p + r;
+                c.modes = p;
                 c.participation.truncate(n * c.loads.len());
             }
-            // Data without correction modes (the drum): the folded shapes are correction
-            // modes all the same, so that `eigenmodes()` counts only eigenmodes.
+            // Data without correction modes: the folded shapes are correction modes all the
+            // same, so that `eigenmodes()` counts only eigenmodes.
             None if p > 0 => {
                 self.correction = Some(Correction {
                     loads: Vec::new(),
@@ -71,8 +67,8 @@ impl ModalData {
         }
     }
 
-    /// Cut as a scene with `cutoff` Hz cuts it: the eigenmodes up to it (at least one), the
-    /// correction modes, and the dropped modes' static response to `loads` (`truncate`).
+    /// Cut as a scene with `cutoff` Hz cuts it: the eigenmodes up to it (at least one) and the
+    /// static response of the dropped and correction modes to `loads` (`truncate`).
     pub fn cut(&mut self, cutoff: f64, loads: &[LoadCase]) {
         let keep = self.frequencies[..self.eigenmodes()]
             .iter()

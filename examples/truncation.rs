@@ -136,45 +136,37 @@ fn amplitude(x: &[f64], f: f64) -> f64 {
     2.0 * (re * re + im * im).sqrt() / x.len() as f64 * hann.amplitude_correction()
 }
 
+/// Remove `flag` and the value after it from `args`; the value, if the flag is there.
+fn take(args: &mut Vec<String>, flag: &str) -> Option<String> {
+    let i = args.iter().position(|a| a == flag)?;
+    let v = args
+        .get(i + 1)
+        .unwrap_or_else(|| panic!("{flag} needs a value"))
+        .clone();
+    args.drain(i..i + 2);
+    Some(v)
+}
+
 fn main() {
     let mut args: Vec<String> = std::env::args().skip(1).collect();
-    let deep_dir = args.iter().position(|a| a == "--deep").map(|i| {
-        let d = args.get(i + 1).expect("--deep DIR").clone();
-        args.drain(i..i + 2);
-        d
-    });
+    let deep_dir = take(&mut args, "--deep");
     // `--cuts 210,700`: only these cuts (Hz) instead of the study's list.
-    let cuts_arg: Option<Vec<f64>> = args.iter().position(|a| a == "--cuts").map(|i| {
-        let v = args.get(i + 1).expect("--cuts LIST").clone();
-        args.drain(i..i + 2);
-        v.split(',')
-            .map(|c| c.parse().expect("cut in Hz"))
-            .collect()
-    });
-    let cut_list = cuts_arg.unwrap_or_else(|| TRUNCATION_CUTS_HZ.to_vec());
+    let cut_list: Vec<f64> = take(&mut args, "--cuts").map_or_else(
+        || TRUNCATION_CUTS_HZ.to_vec(),
+        |v| {
+            v.split(',')
+                .map(|c| c.parse().expect("cut in Hz"))
+                .collect()
+        },
+    );
     // `--against DIR2`: the rows are the model with DIR2's data instead of the committed data
     // (two deep references against each other).
-    let against = args.iter().position(|a| a == "--against").map(|i| {
-        let d = args.get(i + 1).expect("--against DIR").clone();
-        args.drain(i..i + 2);
-        d
-    });
+    let against = take(&mut args, "--against");
     // `--cache DIR`: the reference's compared window is read from DIR if a run left it there,
     // else run and left there (the deep reference costs minutes).
-    let cache = args.iter().position(|a| a == "--cache").map(|i| {
-        let d = args.get(i + 1).expect("--cache DIR").clone();
-        args.drain(i..i + 2);
-        d
-    });
-    let method: Method = args
-        .iter()
-        .position(|a| a == "--method")
-        .map(|i| {
-            let v = args.get(i + 1).expect("--method NAME").clone();
-            args.drain(i..i + 2);
-            v.parse().expect("an integrator's name")
-        })
-        .unwrap_or(Method::Dopri5);
+    let cache = take(&mut args, "--cache");
+    let method: Method = take(&mut args, "--method")
+        .map_or(Method::Dopri5, |v| v.parse().expect("an integrator's name"));
     let committed = match &against {
         Some(d) => deep(d).0,
         None => washdyn_models::reference(),

@@ -8,8 +8,8 @@
 
 use std::f64::consts::PI;
 use std::fmt::Write;
-use std::process::Command;
 
+use crate::common;
 use washdyn::analysis::study::designs::saltelli;
 use washdyn::analysis::study::sobol::{SobolOptions, indices};
 
@@ -66,18 +66,8 @@ fn sobol_indices_agree_with_salib() {
         writeln!(csv, "{y}").unwrap();
     }
     std::fs::write(&file, csv).unwrap();
-    let out = Command::new("python3")
-        .arg("-c")
-        .arg(SCRIPT)
-        .arg(&file)
-        .output()
-        .expect("python3 runs (CI installs it with SALib: pip install SALib)");
-    assert!(
-        out.status.success(),
-        "python3 with SALib failed (pip install SALib): {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let stdout = String::from_utf8(out.stdout).unwrap();
+    // python3 with SALib (CI installs it: pip install SALib).
+    let stdout = common::python(SCRIPT, &[&file]);
     let r: serde_json::Value = serde_json::from_str(stdout.lines().last().unwrap()).unwrap();
     let holds = |k: &str| r[k].as_bool().unwrap();
     assert!(

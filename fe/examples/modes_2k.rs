@@ -9,12 +9,11 @@
 
 fn main() -> Result<(), String> {
     let a: Vec<String> = std::env::args().skip(1).collect();
-    let (body, solve, max_hz, out, flag) = match &a[..] {
-        [b, s, m, o] => (b, s, m, o, ""),
-        [b, s, m, o, k] if k == "spin" => (b, s, m, o, k.as_str()),
+    let (body, solve, max_hz, out, spin) = match &a[..] {
+        [b, s, m, o] => (b, s, m, o, false),
+        [b, s, m, o, k] if k == "spin" => (b, s, m, o, true),
         _ => return Err("usage: modes_2k BODY SOLVE_MODES MAX_HZ OUT_DIR [spin]".into()),
     };
-    let spin = flag == "spin";
     let solve: usize = solve
         .parse()
         .map_err(|_| format!("SOLVE_MODES `{solve}`"))?;

@@ -24,10 +24,10 @@ impl ModalData {
         // Columns over the dropped modes n..m: the static shapes of the load cases. The stored
         // correction participations are the points' w . direction (the checker holds them
         // so), so every load case reads its point.
-        let own = self.correction.as_ref().map(|c| c.loads.clone());
-        let cols: Vec<Vec<f64>> = own
+        let cols: Vec<Vec<f64>> = self
+            .correction
             .iter()
-            .flatten()
+            .flat_map(|c| &c.loads)
             .chain(loads)
             .filter_map(|l| {
                 let p = self.point(&l.point)?;

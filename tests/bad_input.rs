@@ -523,6 +523,24 @@ fn a_run_without_progress_stops() {
     std::fs::remove_dir_all(out_dir("stall")).ok();
 }
 
+/// `--max-projected-wall` (the guard's budget on the command line) takes seconds > 0 or `inf`
+/// and refuses the rest before anything runs.
+#[test]
+fn the_progress_budget_is_refused_unless_positive() {
+    for bad in ["0", "-3", "nan", "soon"] {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_washdyn"))
+            .args(["run", "reference", &format!("--max-projected-wall={bad}")])
+            .output()
+            .unwrap();
+        let e = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{bad}: {e}");
+        assert!(
+            e.contains(&format!("invalid value '{bad}' for '--max-projected-wall")),
+            "{bad}: {e}"
+        );
+    }
+}
+
 #[test]
 fn sweep_settings_are_validated() {
     let base = washdyn::simulation::Source::load("reference").unwrap();

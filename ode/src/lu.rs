@@ -35,12 +35,19 @@ pub fn lu_factor(a: &mut [f64], n: usize, piv: &mut [usize]) -> Result<(), Singu
             }
         }
         let inv = 1.0 / a[k * n + k];
-        for i in k + 1..n {
-            let l = a[i * n + k] * inv;
-            a[i * n + k] = l;
+        // The pivot row and the rows below it as separate slices: the update of each row is
+        // a zipped axpy without bounds checks (the same operations in the same order as the
+        // indexed loop, so the same bits). `cargo bench -p washdyn-ode --bench lu`: 1.38x at
+        // n = 48; none at n = 324 (the elastic scene's iteration matrix, 9.8 ms both), where
+        // the updates stream the 0.8 MB matrix from memory: only a blocked LU would gain.
+        let (top, below) = a.split_at_mut((k + 1) * n);
+        let pivot = &top[k * n + k + 1..(k + 1) * n];
+        for row in below.chunks_exact_mut(n) {
+            let l = row[k] * inv;
+            row[k] = l;
             if l != 0.0 {
-                for j in k + 1..n {
-                    a[i * n + j] -= l * a[k * n + j];
+                for (x, u) in row[k + 1..].iter_mut().zip(pivot) {
+                    *x -= l * u;
                 }
             }
         }

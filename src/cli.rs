@@ -86,7 +86,7 @@ pub struct Sim {
     /// The progress guard: a run whose recent rate projects the rest of it beyond this many
     /// seconds of wall time stops (keeping its output). Raise it for a run meant to take hours.
     /// `inf` never stops.
-    #[arg(long, default_value_t = Guard::default().max_projected_s, value_parser = positive_seconds)]
+    #[arg(long, default_value_t = Guard::default().max_projected_s)]
     pub max_projected_wall: f64,
 }
 
@@ -103,15 +103,6 @@ impl Sim {
             max_projected_s: self.max_projected_wall,
             ..Guard::default()
         }
-    }
-}
-
-/// A duration in seconds, > 0 (`inf` allowed); NaN, zero and negative refused.
-fn positive_seconds(s: &str) -> Result<f64, String> {
-    match s.parse::<f64>() {
-        Ok(v) if v > 0.0 => Ok(v),
-        Ok(v) => Err(format!("must be > 0 s, got {v}")),
-        Err(e) => Err(e.to_string()),
     }
 }
 

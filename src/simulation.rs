@@ -256,6 +256,7 @@ impl Simulation {
             channels: Some(mech.channel_names().len()),
             analysis_band_hz: s.analysis_band_hz,
             allow_large_output: s.allow_large_output,
+            max_projected_s: s.guard.max_projected_s,
         })?;
         if s.start == Start::Periodic {
             washdyn_runtime::periodic::period(mech.speed(), s.t_start)

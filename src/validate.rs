@@ -39,6 +39,8 @@ pub struct Settings {
     /// Highest frequency the analysis after the run resolves, Hz; `None`: no analysis.
     pub analysis_band_hz: Option<f64>,
     pub allow_large_output: bool,
+    /// `--max-projected-wall`: the progress guard's budget, s (`inf`: never stops).
+    pub max_projected_s: f64,
 }
 
 /// Collects the violations.
@@ -82,6 +84,7 @@ pub fn check(s: &Settings) -> Result<(), Error> {
     check_t_end(&mut cx, s);
     check_sample_rate(&mut cx, s);
     check_max_steps(&mut cx, s);
+    check_max_projected_wall(&mut cx, s);
     if cx.errors.is_empty() {
         check_output_size(&mut cx, s);
     }
@@ -166,6 +169,17 @@ fn check_max_steps(cx: &mut Ctxt, s: &Settings) {
         cx.error(
             "--max-steps",
             "--max-steps must be at least 1, got 0".into(),
+        );
+    }
+}
+
+/// The progress guard's budget: a duration, so > 0; `inf` never stops, NaN never compares.
+fn check_max_projected_wall(cx: &mut Ctxt, s: &Settings) {
+    let v = s.max_projected_s;
+    if v.is_nan() || v <= 0.0 {
+        cx.error(
+            "--max-projected-wall",
+            format!("--max-projected-wall must be > 0 s (inf: never stop), got {v}"),
         );
     }
 }

@@ -188,6 +188,7 @@ fn output_beyond_the_size_limit_names_its_size() {
         channels: Some(21),
         analysis_band_hz: None,
         allow_large_output: true,
+        max_projected_s: 3600.0,
     };
     assert!(washdyn::validate::check(&s).is_ok());
     let e = washdyn::validate::check(&washdyn::validate::Settings {
@@ -523,22 +524,33 @@ fn a_run_without_progress_stops() {
     std::fs::remove_dir_all(out_dir("stall")).ok();
 }
 
-/// `--max-projected-wall` (the guard's budget on the command line) takes seconds > 0 or `inf`
-/// and refuses the rest before anything runs.
+/// `--max-projected-wall` (the guard's budget) takes seconds > 0 or `inf`: the settings' rule
+/// refuses the rest before anything runs (`run` and `sweep` share it), and clap what is no
+/// number at all.
 #[test]
 fn the_progress_budget_is_refused_unless_positive() {
-    for bad in ["0", "-3", "nan", "soon"] {
-        let out = std::process::Command::new(env!("CARGO_BIN_EXE_washdyn"))
-            .args(["run", "reference", &format!("--max-projected-wall={bad}")])
-            .output()
-            .unwrap();
-        let e = String::from_utf8_lossy(&out.stderr);
-        assert!(!out.status.success(), "{bad}: {e}");
-        assert!(
-            e.contains(&format!("invalid value '{bad}' for '--max-projected-wall")),
-            "{bad}: {e}"
-        );
+    for bad in [0.0, -3.0, f64::NAN] {
+        let ctl = RunControl {
+            guard: Guard {
+                max_projected_s: bad,
+                ..Guard::default()
+            },
+            ..RunControl::default()
+        };
+        let m = refused(&args("budget"), &ctl, "--max-projected-wall");
+        let want = format!("--max-projected-wall must be > 0 s (inf: never stop), got {bad}");
+        assert_eq!(m, [want]);
     }
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_washdyn"))
+        .args(["run", "reference", "--max-projected-wall=soon"])
+        .output()
+        .unwrap();
+    let e = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{e}");
+    assert!(
+        e.contains("invalid value 'soon' for '--max-projected-wall"),
+        "{e}"
+    );
 }
 
 #[test]

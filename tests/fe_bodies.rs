@@ -153,29 +153,37 @@ fn decks_solve_and_reproduce_the_committed_modal_data() {
     if !have_ccx() {
         return;
     }
-    let top = tempfile::tempdir().unwrap();
-    // The cabinet here, beside the tub's and the drum's build (`common::builtin`, which
-    // tests/fields.rs recovers from): one ccx each.
-    let cabinet = bodies::builtin().remove(2);
-    std::thread::scope(|s| {
-        let job = s.spawn(|| {
-            let dir = top.path().join(&cabinet.name);
-            std::fs::create_dir_all(&dir).unwrap();
-            let (data, report) = washdyn_fe::pipeline::build(&cabinet, &dir).unwrap();
-            cabinet_preload_stresses_match_calculix(&cabinet, &data, &dir);
-            compare(&cabinet, &data, &report, &dir);
-        });
-        let built = common::builtin::tub_and_drum();
-        for b in &built.bodies {
-            compare(&b.spec, &b.data, &b.report, &built.dir.join(&b.spec.name));
-        }
-        if let Err(e) = job.join() {
-            std::panic::resume_unwind(e);
-        }
-    });
+    // The tub and the drum as tests/fields.rs recovers from them (`common::builtin`).
+    for b in common::builtin::tub_and_drum() {
+        compare(
+            &b.spec,
+            &b.data,
+            &b.report,
+            &common::builtin::dir().join(&b.spec.name),
+        );
+    }
 }
 
-/// One body of `decks_solve_and_reproduce_the_committed_modal_data`, built in `dir`: ccx's
+/// The cabinet's solve (199 s of ccx plus 39 s for its correction modes, measured on a cold
+/// CI-like run) is needed by no other test: it runs with the data's regeneration, not in CI's
+/// budget. The static check beside it (correction modes answer a static load exactly) is held
+/// in CI by tests/fe_free_body.rs on a free body.
+#[test]
+#[ignore = "ccx's cabinet solve, 240 s of one core: run with --ignored after regenerating the data"]
+fn cabinet_deck_solves_to_the_committed_modal_data_and_its_preload_stresses() {
+    if !have_ccx() {
+        return;
+    }
+    let top = tempfile::tempdir().unwrap();
+    let cabinet = bodies::builtin().remove(2);
+    let dir = top.path().join(&cabinet.name);
+    std::fs::create_dir_all(&dir).unwrap();
+    let (data, report) = washdyn_fe::pipeline::build(&cabinet, &dir).unwrap();
+    cabinet_preload_stresses_match_calculix(&cabinet, &data, &dir);
+    compare(&cabinet, &data, &report, &dir);
+}
+
+/// One body of the two tests above, built in `dir`: ccx's
 /// mass totals against ours, and the committed file against this solve.
 fn compare(
     b: &washdyn_fe::pipeline::BodySpec,
@@ -320,8 +328,8 @@ fn drum_stress_stiffened_frequencies_come_back_from_the_assembled_geometric_stif
     if !have_ccx() {
         return;
     }
-    let built = common::builtin::tub_and_drum();
-    let b = built.bodies.iter().find(|b| b.spec.name == "drum").unwrap();
+    // The drum alone: this test does not wait for the tub's solve.
+    let b = common::builtin::body("drum");
     let kg = b.data.geometric_stiffness.clone().unwrap();
     let as_ccx = b.report.prestress.as_ref().unwrap().as_ccx(&kg);
     let committed = committed("drum");

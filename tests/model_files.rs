@@ -179,7 +179,7 @@ fn speed_csv_errors_have_lines() {
 /// that is not TOML names its own line.
 #[test]
 fn modal_data_errors_name_the_model_line_the_file_and_the_field() {
-    let fixtures = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/tests");
+    let fixtures = Path::new(env!("CARGO_MANIFEST_DIR")).join("macros/tests");
     let with = |file: &str| {
         format!("{REF}\n[[elastic]]\nname = \"cabinet\"\nfile = \"{file}\"\ndamping = 0.02\n")
     };

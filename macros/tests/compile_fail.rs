@@ -1,6 +1,7 @@
 //! `machine!` rejects broken machines at compile time, each error at the offending token.
 //! Cases: `tests/ui/*.rs`, expected output beside each in `.stderr`
-//! (regenerate with `TRYBUILD=overwrite`, then read them).
+//! (regenerate with `TRYBUILD=overwrite`, then read them). The cases use the reference machine's
+//! files (`../models/data`, `../models/fe`) as bases, staged beside the case crate.
 
 use std::path::{Path, PathBuf};
 
@@ -10,14 +11,15 @@ fn stage_fixtures() {
     let target = Path::new(env!("CARGO_TARGET_TMPDIR"))
         .parent()
         .expect("CARGO_TARGET_TMPDIR is <target>/tmp");
-    let project = target.join("tests/trybuild/washdyn-models/ui-data");
+    let project = target.join("tests/trybuild/washdyn-macros/ui-data");
     std::fs::create_dir_all(&project).expect("create the trybuild project's ui-data");
     let here = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     let mut files: Vec<PathBuf> = std::fs::read_dir(here.join("tests/ui-data"))
         .expect("tests/ui-data")
         .map(|e| e.expect("dir entry").path())
         .collect();
-    files.push(here.join("data/reference.toml"));
+    let models = here.join("../models");
+    files.push(models.join("data/reference.toml"));
     for f in files {
         std::fs::copy(&f, project.join(f.file_name().expect("a file"))).expect("copy fixture");
     }
@@ -26,7 +28,7 @@ fn stage_fixtures() {
     std::fs::create_dir_all(&fe).expect("create the trybuild project's fe");
     for body in ["tub", "drum", "cabinet"] {
         let name = format!("{body}.modal.toml");
-        std::fs::copy(here.join("fe").join(&name), fe.join(&name)).expect("copy modal data");
+        std::fs::copy(models.join("fe").join(&name), fe.join(&name)).expect("copy modal data");
     }
 }
 

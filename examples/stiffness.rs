@@ -1,0 +1,73 @@
+//! Why a scene is stiff: the largest eigenvalues of its Jacobian at the static rest of the
+//! run-up's start (every velocity zero, so every friction damper on its steepest slope,
+//! 2 Fmax s / pi), with the friction dampers and without them, and the step dopri5's
+//! stability boundary (about 3.3 on the negative real axis) allows there.
+//! `cargo run --release --example stiffness -- [SCENE]` (default `elastic`; docs/performance.md
+//! quotes its output).
+
+use washdyn_runtime::ode::OdeSystem;
+use washdyn_runtime::system::{FirstOrder, Interpreter};
+
+/// The `count` largest eigenvalues (by magnitude) of the scene's Jacobian at rest.
+fn spectrum(scene: &washdyn_runtime::ir::EffectSet, count: usize) -> (usize, Vec<(f64, f64)>) {
+    let m = washdyn_models::reference();
+    let mut sys = Interpreter::new(&m, scene);
+    let q = washdyn_runtime::statics::static_equilibrium(&mut sys, 0.0).expect("a rest position");
+    let mut fo = FirstOrder::new(sys);
+    let n = fo.dim();
+    let mut y = vec![0.0; n];
+    y[..q.len()].copy_from_slice(&q);
+    let mut jac = vec![0.0; n * n];
+    assert!(fo.jacobian(0.0, &y, &mut jac), "the interpreter's Jacobian");
+    let mut ev: Vec<(f64, f64)> = nalgebra::DMatrix::from_row_slice(n, n, &jac)
+        .complex_eigenvalues()
+        .iter()
+        .map(|e| (e.re, e.im))
+        .collect();
+    ev.sort_by(|a, b| b.0.hypot(b.1).total_cmp(&a.0.hypot(a.1)));
+    ev.truncate(count);
+    (n, ev)
+}
+
+fn main() {
+    let name = std::env::args().nth(1).unwrap_or_else(|| "elastic".into());
+    let m = washdyn_models::reference();
+    let scene = m.scene(Some(&name)).unwrap_or_else(|e| panic!("{e}"));
+    let mut no_dampers = scene.clone();
+    no_dampers
+        .effects
+        .retain(|e| e.name() != "friction_dampers");
+    println!("| scene | state | largest eigenvalues, 1/s | dopri5's h there |");
+    println!("|---|---|---|---|");
+    for (label, s) in [
+        (name.clone(), &scene),
+        (format!("{name} without friction_dampers"), &no_dampers),
+    ] {
+        let (n, ev) = spectrum(s, 8);
+        let list: Vec<String> = ev
+            .iter()
+            .map(|(re, im)| {
+                if im.abs() > 0.0 {
+                    format!("{re:.3e} ± {:.3e}i", im.abs())
+                } else {
+                    format!("{re:.3e}")
+                }
+            })
+            .collect();
+        let mut seen = Vec::new();
+        let list: Vec<String> = list
+            .into_iter()
+            .filter(|x| {
+                let new = !seen.contains(x);
+                seen.push(x.clone());
+                new
+            })
+            .collect();
+        let radius = ev[0].0.hypot(ev[0].1);
+        println!(
+            "| {label} | {n} | {} | {:.1} us |",
+            list.join(", "),
+            3.3 / radius * 1e6
+        );
+    }
+}

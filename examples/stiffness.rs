@@ -59,23 +59,16 @@ fn main() {
         ),
     ] {
         let (n, ev) = spectrum(model, s, 8);
+        // A conjugate pair prints once, as re ± im i.
         let list: Vec<String> = ev
             .iter()
+            .filter(|(_, im)| *im >= 0.0)
             .map(|(re, im)| {
-                if im.abs() > 0.0 {
-                    format!("{re:.3e} ± {:.3e}i", im.abs())
+                if *im > 0.0 {
+                    format!("{re:.3e} ± {im:.3e}i")
                 } else {
                     format!("{re:.3e}")
                 }
-            })
-            .collect();
-        let mut seen = Vec::new();
-        let list: Vec<String> = list
-            .into_iter()
-            .filter(|x| {
-                let new = !seen.contains(x);
-                seen.push(x.clone());
-                new
             })
             .collect();
         let radius = ev[0].0.hypot(ev[0].1);

@@ -184,6 +184,16 @@ fn order_one_doubled_reads_6_02_db_and_equal_channels_0_db() {
     let want = ((5.0 - 4.0 * 0.7f64.cos()) / 1.09).sqrt();
     eprintln!("rms diff {rms:.6} against {want:.6}");
     assert!((rms / want - 1.0).abs() < 1e-2, "{rms} vs {want}");
+    // In the 300 Hz band (every line of these signals is in it, orders 1 and 3 at 10 Hz, motor
+    // order 1 at 112 Hz): the same ratio, Hann-weighted over the run.
+    let band = ch("tub1_ax").band_diff.unwrap();
+    eprintln!("band diff {band:.6} against {want:.6}");
+    assert!((band / want - 1.0).abs() < 1e-2, "{band} vs {want}");
+    assert!(ch("tub1_ay").band_diff.unwrap() < 1e-12);
+    assert_eq!(ch("drum_front_ux").band_diff, None);
+    // The strong part of order 1's track (within 20 dB of its peak) reads the same 6.02 dB.
+    let strong = o1.worst_strong_db.unwrap();
+    assert!((strong - expected).abs() < 5e-6, "{strong}");
 
     // The costs from the summaries, the tables and the plots.
     assert_eq!(c.runs[0].steps, Some(1234));

@@ -175,11 +175,17 @@ pub(super) fn order_error(x: &Tracks, r: &Tracks) -> Option<f64> {
 /// resolved and positive and `r` is at least [`ORDER_FLOOR`] of its own peak (one track of
 /// [`order_error`]).
 pub fn track_error(x: &[Option<f64>], r: &[Option<f64>]) -> Option<(f64, usize)> {
+    track_error_above(x, r, ORDER_FLOOR)
+}
+
+/// [`track_error`] over the blocks where `r` is at least `floor` of its own peak (0.1: the
+/// strong part of a track, within 20 dB of its peak).
+pub fn track_error_above(x: &[Option<f64>], r: &[Option<f64>], floor: f64) -> Option<(f64, usize)> {
     let peak = r.iter().flatten().fold(0.0f64, |m, v| m.max(*v));
     let mut worst: Option<(f64, usize)> = None;
     for (k, (a, b)) in r.iter().zip(x).enumerate() {
         if let (Some(a), Some(b)) = (a, b)
-            && *a >= ORDER_FLOOR * peak
+            && *a >= floor * peak
             && *a > 0.0
             && *b > 0.0
         {

@@ -22,7 +22,9 @@
 //! plots); the runs' input (`runs.rs`: reading a run directory, its cost, whether two runs can be
 //! compared) and the report (`report.rs`: compare.md and compare.json) have a file each.
 
-use crate::accuracy::{ORDER_FLOOR, relative_rms, track_error};
+use crate::accuracy::{
+    BAND_HZ, ORDER_FLOOR, STRONG_FLOOR, band_error, relative_rms, track_error, track_error_above,
+};
 use crate::analysis::angle::{AngleGrid, Kernel};
 use crate::analysis::{
     AnalysisError, AnalysisOptions, Quantity, RunUp, Signals, plot, unique_stems,
@@ -131,6 +133,9 @@ pub struct OrderComparison {
     pub worst_db: Option<f64>,
     /// Drum speed of that block, rpm.
     pub worst_rpm: Option<f64>,
+    /// The same over the strong part of the track: the blocks where A is at least
+    /// [`STRONG_FLOOR`] of its peak (within 20 dB of it).
+    pub worst_strong_db: Option<f64>,
 }
 
 /// One channel in both runs.
@@ -144,6 +149,10 @@ pub struct ChannelComparison {
     pub rms_b: f64,
     /// RMS(B - A) / RMS(A) (acceleration channels; `None` where A is zero).
     pub rms_diff: Option<f64>,
+    /// The same in the analysis band to [`BAND_HZ`] ([`band_error`]: the Hann-windowed spectra
+    /// of the whole run): a model with modes above the band differs there by content no order
+    /// plot shows.
+    pub band_diff: Option<f64>,
     pub orders: Vec<OrderComparison>,
 }
 
@@ -188,8 +197,15 @@ fn db(a: Option<f64>, b: Option<f64>) -> Option<f64> {
     }
 }
 
-/// The comparison of two analysed channels (the same options, so the same tracks in order).
-pub fn compare_channel(ra: &RunUp, rb: &RunUp, xa: &[f64], xb: &[f64]) -> ChannelComparison {
+/// The comparison of two analysed channels (the same options, so the same tracks in order),
+/// their samples `xa` and `xb` taken at `fs` Hz.
+pub fn compare_channel(
+    ra: &RunUp,
+    rb: &RunUp,
+    xa: &[f64],
+    xb: &[f64],
+    fs: f64,
+) -> ChannelComparison {
     let orders = ra
         .tracks
         .iter()
@@ -205,6 +221,7 @@ pub fn compare_channel(ra: &RunUp, rb: &RunUp, xa: &[f64], xb: &[f64]) -> Channe
                 .map(|v| v.filter(|v| *v >= floor_b))
                 .collect();
             let worst = track_error(&masked, &ta.amplitude);
+            let strong = track_error_above(&masked, &ta.amplitude, STRONG_FLOOR);
             OrderComparison {
                 order: ta.order,
                 label: ta.label.clone(),
@@ -215,18 +232,19 @@ pub fn compare_channel(ra: &RunUp, rb: &RunUp, xa: &[f64], xb: &[f64]) -> Channe
                 db: db(ma.map(|m| m.0), mb.map(|m| m.0)),
                 worst_db: worst.map(|w| w.0),
                 worst_rpm: worst.map(|w| ra.blocks[w.1].rpm),
+                worst_strong_db: strong.map(|w| w.0),
             }
         })
         .collect();
     let rms = |x: &[f64]| (x.iter().map(|v| v * v).sum::<f64>() / x.len().max(1) as f64).sqrt();
+    let accel = ra.quantity == Quantity::Acceleration;
     ChannelComparison {
         channel: ra.channel.clone(),
         unit: ra.quantity.si_unit().to_string(),
         rms_a: rms(xa),
         rms_b: rms(xb),
-        rms_diff: (ra.quantity == Quantity::Acceleration)
-            .then(|| relative_rms(xb, xa))
-            .flatten(),
+        rms_diff: accel.then(|| relative_rms(xb, xa)).flatten(),
+        band_diff: accel.then(|| band_error(xb, xa, fs, BAND_HZ)).flatten(),
         orders,
     }
 }
@@ -304,7 +322,7 @@ pub fn compare(args: &CompareArgs) -> Result<(Comparison, Vec<PathBuf>), Compare
         .map(|(((ca_, cb_), stem), (ya, yb))| {
             let ra = RunUp::analyse_resampled(&sa, ca_, &opts, &ga, ya)?;
             let rb = RunUp::analyse_resampled(&sb, cb_, &opts, &gb, yb)?;
-            let cmp = compare_channel(&ra, &rb, &ca_.data, &cb_.data);
+            let cmp = compare_channel(&ra, &rb, &ca_.data, &cb_.data, sa.sample_rate);
             let mut files = plot::order_plot_pair(
                 [&ra, &rb],
                 labels,

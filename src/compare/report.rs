@@ -2,6 +2,7 @@
 //! differences, the runs' costs) and compare.json. Separate because it only formats what the
 //! comparison found.
 
+use crate::accuracy::BAND_HZ;
 use crate::analysis::AnalysisOptions;
 use crate::analysis::options::fmt_order;
 use std::fmt::Write as _;
@@ -97,15 +98,16 @@ pub fn markdown(c: &Comparison, opts: &AnalysisOptions) -> String {
     let _ = writeln!(s, "\n## Order peaks\n");
     let _ = writeln!(
         s,
-        "| channel | order | peak {} | peak {} | dB | at rpm {} / {} | worst track dB (at rpm) |",
+        "| channel | order | peak {} | peak {} | dB | at rpm {} / {} | worst track dB (at rpm) | \
+         worst within 20 dB of the peak, dB |",
         a.label, b.label, a.label, b.label
     );
-    let _ = writeln!(s, "|---|---|---|---|---|---|---|");
+    let _ = writeln!(s, "|---|---|---|---|---|---|---|---|");
     for ch in &c.channels {
         for o in &ch.orders {
             let _ = writeln!(
                 s,
-                "| {} [{}] | {} | {} | {} | {} | {} / {} | {} ({}) |",
+                "| {} [{}] | {} | {} | {} | {} | {} / {} | {} ({}) | {} |",
                 ch.channel,
                 ch.unit,
                 fmt_order(o.order),
@@ -115,26 +117,28 @@ pub fn markdown(c: &Comparison, opts: &AnalysisOptions) -> String {
                 rpm(o.rpm_a),
                 rpm(o.rpm_b),
                 dbs(o.worst_db),
-                rpm(o.worst_rpm)
+                rpm(o.worst_rpm),
+                dbs(o.worst_strong_db)
             );
         }
     }
     let _ = writeln!(s, "\n## RMS over the run\n");
     let _ = writeln!(
         s,
-        "| channel | RMS {} | RMS {} | RMS(B - A) / RMS(A) |",
-        a.label, b.label
+        "| channel | RMS {} | RMS {} | RMS(B - A) / RMS(A) | the same to {} Hz |",
+        a.label, b.label, BAND_HZ
     );
-    let _ = writeln!(s, "|---|---|---|---|");
+    let _ = writeln!(s, "|---|---|---|---|---|");
     for ch in &c.channels {
         let _ = writeln!(
             s,
-            "| {} [{}] | {} | {} | {} |",
+            "| {} [{}] | {} | {} | {} | {} |",
             ch.channel,
             ch.unit,
             num(Some(ch.rms_a)),
             num(Some(ch.rms_b)),
-            ch.rms_diff.map_or("-".into(), |d| format!("{d:.3}"))
+            ch.rms_diff.map_or("-".into(), |d| format!("{d:.3}")),
+            ch.band_diff.map_or("-".into(), |d| format!("{d:.2e}"))
         );
     }
     let _ = writeln!(s, "\n## Cost\n");

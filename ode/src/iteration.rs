@@ -11,6 +11,7 @@
 
 use super::OdeSystem;
 use super::lu::{SingularMatrix, lu_factor, lu_solve};
+use super::ported::{PortedJacobian, PortedLu};
 
 pub struct IterationMatrix {
     dim: usize,
@@ -19,6 +20,10 @@ pub struct IterationMatrix {
     /// M, dh/dq, dh/dq' (n x n each) of the last `jacobian`, when the system gave them.
     mass: [Vec<f64>; 3],
     mass_form: bool,
+    /// The ported pieces and their reduced LU, when the system is ported (`set_ported`).
+    ported: Option<(PortedJacobian, PortedLu)>,
+    /// The last `jacobian` gave the ported pieces.
+    ported_form: bool,
     lu: Vec<f64>,
     piv: Vec<usize>,
     tmp: Vec<f64>,
@@ -37,6 +42,8 @@ impl IterationMatrix {
             tmp: vec![0.0; dim],
             mass: [(); 3].map(|_| vec![0.0; (dim / 2) * (dim / 2)]),
             mass_form: false,
+            ported: None,
+            ported_form: false,
             c: 0.0,
             d: 1.0,
         }
@@ -48,7 +55,36 @@ impl IterationMatrix {
         self.half = half.filter(|&n| 2 * n == self.dim);
     }
 
-    /// The Jacobian at (t, y): M, dh/dq, dh/dq' kept here when a second-order system gives
+    /// Whether the system is ported (`OdeSystem::ported_shape`, known at `init`, after
+    /// `set_second_order`): the reduced solve of `ported.rs` is used then, when it is smaller.
+    /// Allocates only the first time (or when the shape changes).
+    pub fn set_ported<S: OdeSystem + ?Sized>(&mut self, sys: &S) {
+        let shape = match (self.half, sys.ported_shape()) {
+            (Some(n), Some((n1, r))) if n1 <= n && n1 + r < n => Some((n1, r, n - n1)),
+            _ => None,
+        };
+        let Some((n1, r, n2)) = shape else {
+            self.ported = None;
+            return;
+        };
+        match &mut self.ported {
+            Some((j, _)) if (j.n1, j.r, j.n2) == (n1, r, n2) => {}
+            slot => {
+                let j = PortedJacobian::new(n1, r, n2);
+                let mut lu = PortedLu::default();
+                lu.reserve(&j);
+                *slot = Some((j, lu));
+            }
+        }
+    }
+
+    /// The last `jacobian` gave the ported pieces (the reduced solve is in use).
+    #[cfg(test)]
+    pub fn is_ported(&self) -> bool {
+        self.ported_form
+    }
+
+    /// The Jacobian at (t, y): the ported pieces when the system is ported, else M, dh/dq, dh/dq' kept here when a second-order system gives
     /// them, else J into `jac` (`OdeSystem::jacobian`). `false`: neither is analytic (the
     /// caller differences J into `jac`).
     pub fn jacobian<S: OdeSystem + ?Sized>(
@@ -58,6 +94,13 @@ impl IterationMatrix {
         y: &[f64],
         jac: &mut [f64],
     ) -> bool {
+        self.ported_form = match &mut self.ported {
+            Some((j, _)) => sys.ported_jacobians(t, y, j),
+            None => false,
+        };
+        if self.ported_form {
+            return true;
+        }
         let [m, hq, hqd] = &mut self.mass;
         self.mass_form = self.half.is_some() && sys.mass_jacobians(t, y, m, hq, hqd);
         self.mass_form || sys.jacobian(t, y, jac)
@@ -69,6 +112,9 @@ impl IterationMatrix {
     pub fn factor(&mut self, jac: &[f64], d: f64, c: f64) -> Result<(), SingularMatrix> {
         self.c = c;
         self.d = d;
+        if let (true, Some((j, lu))) = (self.ported_form, &mut self.ported) {
+            return lu.factor(j, d, c);
+        }
         if let (true, Some(n)) = (self.mass_form, self.half) {
             let [m, hq, hqd] = &self.mass;
             for i in 0..n * n {
@@ -103,6 +149,10 @@ impl IterationMatrix {
 
     /// Solve (d I - c J) x = b in place, with the J the factorisation was made with.
     pub fn solve(&mut self, jac: &[f64], b: &mut [f64]) {
+        if let (true, Some((j, lu))) = (self.ported_form, &mut self.ported) {
+            lu.solve(j, b);
+            return;
+        }
         if let (true, Some(n)) = (self.mass_form, self.half) {
             let [m, hq, _] = &self.mass;
             let (b1, b2) = b.split_at_mut(n);

@@ -15,6 +15,7 @@ mod iteration;
 pub mod lu;
 pub mod method;
 mod newton;
+pub mod ported;
 pub mod problems;
 pub mod rk4;
 pub mod rodas4;
@@ -27,6 +28,7 @@ pub use auto::Auto;
 pub use dopri5::Dopri5;
 pub use generalized_alpha::GeneralizedAlpha;
 pub use method::{AnySolver, Method, UnknownMethod};
+pub use ported::PortedJacobian;
 pub use rk4::Rk4;
 pub use rodas4::Rodas4;
 pub use sdirk4::Sdirk4;
@@ -63,6 +65,18 @@ pub trait OdeSystem {
         _hq: &mut [f64],
         _hqd: &mut [f64],
     ) -> bool {
+        false
+    }
+    /// For a second-order system whose coordinates split into q1 (the first n1, full mass
+    /// matrix) and q2 (unit mass, own terms diagonal: modes on a fixed frame) that meet only
+    /// through r port coordinates p = B2^T q2: `Some((n1, r))`. The implicit methods then
+    /// factorise an (n1 + r) matrix in place of the n x n mass form (`ported.rs`).
+    fn ported_shape(&self) -> Option<(usize, usize)> {
+        None
+    }
+    /// The ported pieces at (t, y) into `j` (shaped by `ported_shape`). `false`: not
+    /// available now (the methods fall back to `mass_jacobians`).
+    fn ported_jacobians(&mut self, _t: f64, _y: &[f64], _j: &mut PortedJacobian) -> bool {
         false
     }
 }

@@ -200,6 +200,7 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Rodas4 {
         self.jac_valid = false;
         self.lu_h = 0.0;
         self.lu.set_second_order(sys.second_order());
+        self.lu.set_ported(&*sys);
         self.h = start(
             sys,
             t0,

@@ -278,6 +278,7 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Sdirk4 {
         self.lu_h = 0.0;
         self.eta = 1.0;
         self.lu.set_second_order(sys.second_order());
+        self.lu.set_ported(&*sys);
         self.h = start(
             sys,
             t0,

@@ -4,7 +4,7 @@
 use crate::equations::{Equations, JacobianWork, Layout};
 use crate::ir::{EffectSet, Model};
 use crate::linalg::{cholesky_in_place, cholesky_solve};
-use crate::ode::OdeSystem;
+use crate::ode::{OdeSystem, PortedJacobian};
 use crate::speed::Speed;
 
 /// M(q, t) q'' = h(q, q', t) with M = diag(M1(q, t), M2), as either back end evaluates it.
@@ -149,6 +149,9 @@ pub struct FirstOrder<S: Mechanical> {
     /// The absolute tolerance's scales over y (`Equations::atol_scales`), computed once: the
     /// integrators ask at every `init` (each speed breakpoint), which must not allocate.
     atol: Vec<f64>,
+    /// The ported form's port count and work arrays (`Equations::ported_ports`), where it
+    /// applies: the implicit methods then factorise n1 + r instead of n.
+    ported: Option<(usize, JacobianWork)>,
 }
 
 impl<S: Mechanical> FirstOrder<S> {
@@ -169,8 +172,13 @@ impl<S: Mechanical> FirstOrder<S> {
         if let Some(eq) = sys.equations() {
             eq.atol_scales(&mut atol);
         }
+        let ported = sys
+            .equations()
+            .filter(|_| m2_identity && !sys.has_acceleration_jacobians())
+            .and_then(|eq| Some((eq.ported_ports()?, JacobianWork::new(eq))));
         FirstOrder {
             atol,
+            ported,
             sys,
             layout,
             m1: vec![0.0; n1 * n1],
@@ -287,6 +295,25 @@ impl<S: Mechanical> OdeSystem for FirstOrder<S> {
         for i in 0..n2 {
             m[(n1 + i) * n + n1..(n1 + i + 1) * n].copy_from_slice(&m2[i * n2..(i + 1) * n2]);
         }
+        true
+    }
+    /// (n1, r) where the ported form applies (`Equations::ported_ports`, M2 = I).
+    fn ported_shape(&self) -> Option<(usize, usize)> {
+        self.ported.as_ref().map(|(r, _)| (self.layout.n1, *r))
+    }
+    /// M1 and the model's ported force Jacobians (`Equations::force_jacobians_ported`).
+    fn ported_jacobians(&mut self, t: f64, y: &[f64], j: &mut PortedJacobian) -> bool {
+        let n = self.layout.n();
+        let (q, qd) = y.split_at(n);
+        let d = self.sys.speed().drive(t);
+        let (Some(eq), Some((_, work))) = (self.sys.equations(), self.ported.as_mut()) else {
+            return false;
+        };
+        eq.force_jacobians_ported(
+            &d, q, qd, work, &mut j.eq, &mut j.ev, &mut j.dq, &mut j.dv, &mut j.b2,
+        );
+        self.sys.eval(t, q, qd, &mut self.m1, &mut self.h);
+        j.m1.copy_from_slice(&self.m1);
         true
     }
     /// J = [[0, I], [dq''/dq, dq''/dq']] when the back end has analytic Jacobians.

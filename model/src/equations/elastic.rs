@@ -138,6 +138,16 @@ impl ModalBody {
         }
     }
 
+    /// The same terms into the diagonals `dq`, `dv` of a subsystem starting at coordinate
+    /// `offset` (the ported form's subsystem 2).
+    pub fn add_elastic_diagonal(&self, dq: &mut [f64], dv: &mut [f64], offset: usize) {
+        for k in 0..self.n {
+            let i = self.start + k - offset;
+            dq[i] -= self.omega2[k];
+            dv[i] -= self.damping[k];
+        }
+    }
+
     /// sum dm W_k per mode (3-vectors).
     pub fn weight_sums(&self) -> Vec<[f64; 3]> {
         let c = &self.data.elementary.c;

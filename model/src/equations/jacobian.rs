@@ -16,7 +16,7 @@
 //! structured route to.
 
 use super::kinematics::{Load, Local, MarkerDef};
-use super::{BodyState, Drive, Equations, Placed, Terms};
+use super::{BodyState, Drive, Equations, Modes, Placed, Terms};
 use crate::dual::{Dual, LANES};
 use crate::elements::Element;
 use crate::geom::V;
@@ -153,6 +153,21 @@ fn outputs<'a, const N: usize>(
     out
 }
 
+/// A marker's ports (W then Phi on its modes) as the identity on its six port columns from
+/// `slot` (the ported form), or unchanged.
+fn ported<T: Copy>(
+    mut ports: [Option<(Port<'_>, T)>; 4],
+    slot: Option<usize>,
+) -> [Option<(Port<'_>, T)>; 4] {
+    if let Some(c) = slot {
+        for (k, (p, _)) in ports.iter_mut().flatten().enumerate() {
+            debug_assert!(matches!(p, Port::Modal(..)), "a port marker has no frame");
+            *p = Port::Rigid(c + 3 * k);
+        }
+    }
+    ports
+}
+
 impl Equations {
     /// dh/dq into `hq` and dh/dq' into `hqd` (row-major n x n each) at (d, q, q'), by the
     /// structure of the derivation (module doc). Never allocates.
@@ -169,7 +184,8 @@ impl Equations {
         hq.fill(0.0);
         hqd.fill(0.0);
         // Body terms: the columns of q1 and q1' (seed s: column s % n1, of hqd when s >= n1).
-        self.seeded_passes(d, q, qd, w, hq, hqd, 2 * n1, Terms::Bodies, |s| {
+        let rows = (n, n);
+        self.seeded_passes(d, q, qd, w, hq, hqd, rows, 2 * n1, Terms::Bodies, |s| {
             (s >= n1, s % n1)
         });
         // Subsystem 2's own terms are diagonal (modes on a fixed frame).
@@ -180,12 +196,121 @@ impl Equations {
         }
         // Force elements by their local Jacobians.
         let st = BodyState::new(q, qd);
-        self.element_jacobians(&self.springs, &st, d, &mut w.x, hq, hqd);
-        self.element_jacobians(&self.dampers, &st, d, &mut w.x, hq, hqd);
-        self.element_jacobians(&self.friction_dampers, &st, d, &mut w.x, hq, hqd);
-        self.element_jacobians(&self.damper_joints, &st, d, &mut w.x, hq, hqd);
-        self.element_jacobians(&self.gaskets, &st, d, &mut w.x, hq, hqd);
-        self.element_jacobians(&self.contacts, &st, d, &mut w.x, hq, hqd);
+        self.all_element_jacobians(&st, d, &mut w.x, hq, hqd, n, None);
+    }
+
+    /// Every force element's Jacobian into hq / hqd (dimension `dim`); with `ports`, each
+    /// marker on subsystem 2 as six port columns of its own (`force_jacobians_ported`).
+    #[allow(clippy::too_many_arguments)]
+    fn all_element_jacobians(
+        &self,
+        st: &BodyState<f64>,
+        d: &Drive<f64>,
+        x: &mut [f64],
+        hq: &mut [f64],
+        hqd: &mut [f64],
+        dim: usize,
+        mut ports: Option<&mut usize>,
+    ) {
+        let x = &mut *x;
+        self.element_jacobians(&self.springs, st, d, x, hq, hqd, dim, ports.as_deref_mut());
+        self.element_jacobians(&self.dampers, st, d, x, hq, hqd, dim, ports.as_deref_mut());
+        let fd = &self.friction_dampers;
+        self.element_jacobians(fd, st, d, x, hq, hqd, dim, ports.as_deref_mut());
+        let dj = &self.damper_joints;
+        self.element_jacobians(dj, st, d, x, hq, hqd, dim, ports.as_deref_mut());
+        self.element_jacobians(&self.gaskets, st, d, x, hq, hqd, dim, ports.as_deref_mut());
+        self.element_jacobians(&self.contacts, st, d, x, hq, hqd, dim, ports);
+    }
+
+    /// Every force element's markers in the order `all_element_jacobians` visits them.
+    fn element_markers(&self) -> impl Iterator<Item = &MarkerDef> {
+        fn pairs<E: Element>(l: &[Placed<E>]) -> impl Iterator<Item = &MarkerDef> {
+            l.iter().flat_map(|p| {
+                let (a, b) = p.e.markers();
+                [a, b]
+            })
+        }
+        pairs(&self.springs)
+            .chain(pairs(&self.dampers))
+            .chain(pairs(&self.friction_dampers))
+            .chain(pairs(&self.damper_joints))
+            .chain(pairs(&self.gaskets))
+            .chain(pairs(&self.contacts))
+    }
+
+    /// The element markers on subsystem 2's modes (the ported form's ports, six coordinates
+    /// each: W q and Phi q there).
+    fn port_markers(&self) -> impl Iterator<Item = &MarkerDef> {
+        let n1 = self.layout.n1;
+        self.element_markers()
+            .filter(move |m| m.modal.as_ref().is_some_and(|r| r.start >= n1))
+    }
+
+    /// The number of port coordinates r of the ported form (`washdyn_ode::ported`): six per
+    /// element marker on subsystem 2. `None` where the form does not apply: subsystem 2 is
+    /// empty, or holds anything but modes on a fixed frame (a damper's moving part).
+    pub fn ported_ports(&self) -> Option<usize> {
+        let (n, n1) = (self.layout.n(), self.layout.n1);
+        let mut modes = 0;
+        for b in self.bodies.list.iter().filter(|b| b.in_subsystem2()) {
+            match (&b.modes, b.modal()) {
+                (Modes::Frame(_), Some(m)) => modes += m.n,
+                (Modes::Rigid, None) => {}
+                _ => return None,
+            }
+        }
+        if n == n1 || modes != n - n1 {
+            return None;
+        }
+        Some(6 * self.port_markers().count())
+    }
+
+    /// The ported form of the force Jacobians (`washdyn_ode::ported`, r = `ported_ports`):
+    /// dh/dq and dh/dq' over [q1; p] (na x na, na = n1 + r) into `eq` and `ev`, the diagonals
+    /// of subsystem 2's own terms into `dq` and `dv`, and the ports' map B2 (n2 x r) into `b2`.
+    /// `T^T E T + diag(0, d)` is `force_jacobians`' result. Never allocates.
+    #[allow(clippy::too_many_arguments)]
+    pub fn force_jacobians_ported(
+        &self,
+        d: &Drive<f64>,
+        q: &[f64],
+        qd: &[f64],
+        w: &mut JacobianWork,
+        eq: &mut [f64],
+        ev: &mut [f64],
+        dq: &mut [f64],
+        dv: &mut [f64],
+        b2: &mut [f64],
+    ) {
+        let (n, n1) = (self.layout.n(), self.layout.n1);
+        let r = b2.len() / (n - n1);
+        let na = n1 + r;
+        eq.fill(0.0);
+        ev.fill(0.0);
+        self.seeded_passes(d, q, qd, w, eq, ev, (n1, na), 2 * n1, Terms::Bodies, |s| {
+            (s >= n1, s % n1)
+        });
+        dq.fill(0.0);
+        dv.fill(0.0);
+        for b in self.bodies.list.iter().filter(|b| b.in_subsystem2()) {
+            if let Some(m) = b.modal() {
+                m.add_elastic_diagonal(dq, dv, n1);
+            }
+        }
+        let st = BodyState::new(q, qd);
+        let mut next = 0;
+        self.all_element_jacobians(&st, d, &mut w.x, eq, ev, na, Some(&mut next));
+        debug_assert_eq!(next, r, "ports counted as visited");
+        b2.fill(0.0);
+        for (k, m) in self.port_markers().enumerate() {
+            let rows = m.modal.as_ref().expect("a port marker has modes");
+            for (j, (wr, pr)) in rows.w.iter().zip(&rows.phi).enumerate() {
+                let row = &mut b2[(rows.start - n1 + j) * r + 6 * k..][..6];
+                row[..3].copy_from_slice(wr);
+                row[3..].copy_from_slice(pr);
+            }
+        }
     }
 
     /// The same Jacobians from the whole derivation over dual numbers, every column seeded
@@ -211,7 +336,7 @@ impl Equations {
                 (k >= n2, n1 + k % n2)
             }
         };
-        self.seeded_passes(d, q, qd, w, hq, hqd, 2 * n, Terms::All, col);
+        self.seeded_passes(d, q, qd, w, hq, hqd, (n, n), 2 * n, Terms::All, col);
     }
 
     /// Columns of hq / hqd from passes over `Dual<LANES>`: seed s (of `seeds`) is column
@@ -225,6 +350,7 @@ impl Equations {
         w: &mut JacobianWork,
         hq: &mut [f64],
         hqd: &mut [f64],
+        (rows, stride): (usize, usize),
         seeds: usize,
         terms: Terms,
         col: impl Fn(usize) -> (bool, usize),
@@ -258,15 +384,20 @@ impl Equations {
             for s in start..end {
                 let (vel, c) = col(s);
                 let target = if vel { &mut *hqd } else { &mut *hq };
-                for r in 0..n {
-                    target[r * n + c] = w.h[r].d[s - start];
+                for r in 0..rows {
+                    target[r * stride + c] = w.h[r].d[s - start];
                 }
+                // Rows past `rows` are left out only where they are zero (the body terms'
+                // rows of subsystem 2).
+                debug_assert!(w.h[rows..].iter().all(|v| v.d[s - start] == 0.0));
             }
         }
     }
 
-    /// h's Jacobians += each element's (`element_jacobian`, over the fewest lanes that hold
-    /// its input ports).
+    /// h's Jacobians (dimension `dim`) += each element's (`element_jacobian`, over the fewest
+    /// lanes that hold its input ports). With `ports` (the next free port slot), a marker on
+    /// subsystem 2 reads and loads six port columns of its own instead of its modes.
+    #[allow(clippy::too_many_arguments)]
     fn element_jacobians<E: Element>(
         &self,
         list: &[Placed<E>],
@@ -275,39 +406,54 @@ impl Equations {
         x: &mut [f64],
         hq: &mut [f64],
         hqd: &mut [f64],
+        dim: usize,
+        mut ports: Option<&mut usize>,
     ) {
+        let n1 = self.layout.n1;
         for p in list {
             let (ma, mb) = p.e.markers();
+            // Each marker's port slot (ported form, subsystem 2's markers).
+            let mut slot = |m: &MarkerDef| -> Option<usize> {
+                let next = ports.as_deref_mut()?;
+                m.modal.as_ref().filter(|r| r.start >= n1)?;
+                *next += 6;
+                Some(n1 + *next - 6)
+            };
+            let slots = [slot(ma), slot(mb)];
             // The element's input ports, marker a's then b's: lane k seeds the k-th present.
             let mut ins = [None; 8];
             let (ia, ib) = (inputs(ma), inputs(mb));
-            ins[..4].copy_from_slice(&ia);
-            ins[4..].copy_from_slice(&ib);
+            ins[..4].copy_from_slice(&ported(ia, slots[0]));
+            ins[4..].copy_from_slice(&ported(ib, slots[1]));
             let lanes = 3 * ins.iter().flatten().count();
+            let a = (p, &ins, slots, st, d);
             if lanes <= LOCAL[0] {
-                self.element_jacobian::<E, { LOCAL[0] }>(p, &ins, st, d, x, hq, hqd);
+                self.element_jacobian::<E, { LOCAL[0] }>(a, x, hq, hqd, dim);
             } else if lanes <= LOCAL[1] {
-                self.element_jacobian::<E, { LOCAL[1] }>(p, &ins, st, d, x, hq, hqd);
+                self.element_jacobian::<E, { LOCAL[1] }>(a, x, hq, hqd, dim);
             } else {
-                self.element_jacobian::<E, { LOCAL[2] }>(p, &ins, st, d, x, hq, hqd);
+                self.element_jacobian::<E, { LOCAL[2] }>(a, x, hq, hqd, dim);
             }
         }
     }
 
     /// One element's loads over `Dual<N>` seeded along its markers' input ports `ins`, one
     /// level at a time, chained through the ports' maps into hq / hqd.
-    #[allow(clippy::too_many_arguments)]
+    #[allow(clippy::type_complexity)]
     fn element_jacobian<E: Element, const N: usize>(
         &self,
-        p: &Placed<E>,
-        ins: &[Option<(Port<'_>, Field)>; 8],
-        st: &BodyState<f64>,
-        d: &Drive<f64>,
+        (p, ins, slots, st, d): (
+            &Placed<E>,
+            &[Option<(Port<'_>, Field)>; 8],
+            [Option<usize>; 2],
+            &BodyState<f64>,
+            &Drive<f64>,
+        ),
         x: &mut [f64],
         hq: &mut [f64],
         hqd: &mut [f64],
+        n: usize,
     ) {
-        let n = self.layout.n();
         let dl = Drive {
             phi: Dual::<N>::c(d.phi),
             omega: Dual::<N>::c(d.omega),
@@ -326,10 +472,10 @@ impl Equations {
             let (sb, _) = seeded::<N>(mb, &lb, rate, next);
             let (ya, yb) = self.element_loads(p, &sa, &sb, &dl);
             let h = if rate { &mut *hqd } else { &mut *hq };
-            for (m, y) in [(ma, &ya), (mb, &yb)] {
+            for ((m, y), slot) in [(ma, &ya), (mb, &yb)].into_iter().zip(slots) {
                 // The marker's ports in pairs sharing rows: (force, moment) on the tub's
-                // rigid rows, (W, Phi) on its modes.
-                let outs = outputs(m, y);
+                // rigid rows, (W, Phi) on its modes (or its port rows).
+                let outs = ported(outputs(m, y), slot);
                 for pair in outs.chunks(2) {
                     let (Some((po, vf)), Some((pm, vm))) = (pair[0], pair[1]) else {
                         continue;

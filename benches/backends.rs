@@ -8,7 +8,7 @@ use std::hint::black_box;
 use std::io;
 use washdyn::simulation::integrator_options;
 use washdyn_runtime::equations::{Equations, JacobianWork};
-use washdyn_runtime::ode::{Dopri5, Method};
+use washdyn_runtime::ode::{AnySolver, Dopri5, Method, OdeSystem, Options, Solver, Stepper};
 use washdyn_runtime::output::SampleSink;
 use washdyn_runtime::run::{Labels, RunOptions, run};
 use washdyn_runtime::system::{FirstOrder, Interpreter, Mechanical};
@@ -173,5 +173,75 @@ fn run_ups(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, evaluations, run_ups);
+/// The first-order form with its ported form withheld: the implicit methods factorise the
+/// dense n x n mass form, as before `OdeSystem::ported_jacobians`.
+struct Dense<S: Mechanical>(FirstOrder<S>);
+
+impl<S: Mechanical> OdeSystem for Dense<S> {
+    fn dim(&self) -> usize {
+        self.0.dim()
+    }
+    fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) {
+        self.0.rhs(t, y, dy)
+    }
+    fn mass_jacobians(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        m: &mut [f64],
+        hq: &mut [f64],
+        hqd: &mut [f64],
+    ) -> bool {
+        self.0.mass_jacobians(t, y, m, hq, hqd)
+    }
+    fn second_order(&self) -> Option<usize> {
+        self.0.second_order()
+    }
+    fn atol_scales(&self, s: &mut [f64]) {
+        self.0.atol_scales(s)
+    }
+}
+
+/// `STEPS` steps of an implicit method from rest at 60 s (the tub settling, the dampers
+/// stuck: the run-up's stiff phase).
+fn implicit_steps<S: OdeSystem>(sys: &mut S, solver: &mut AnySolver) -> f64 {
+    const STEPS: usize = 20;
+    let y0 = vec![0.0; sys.dim()];
+    solver.init(sys, 60.0, &y0).unwrap();
+    for _ in 0..STEPS {
+        solver.step(sys, 61.0).unwrap();
+    }
+    solver.y()[0]
+}
+
+/// rodas4 and sdirk4 on the elastic scenes (generated), factorising the ported n1 + r matrix
+/// (`washdyn_ode::ported`) against the dense n x n mass form: 20 steps each.
+fn ported(c: &mut Criterion) {
+    for scene in ["elastic", "elastic_rigid_tub"] {
+        let gen_ = || FirstOrder::new(washdyn_models::generated("reference", scene).unwrap());
+        let dim = gen_().dim();
+        let opts = Options {
+            rtol: 1e-6,
+            atol: 1e-9,
+            ..Options::default()
+        };
+        let mut g = c.benchmark_group(format!("implicit_20_steps/{scene}"));
+        g.sample_size(10);
+        for method in [Method::Rodas4, Method::Sdirk4] {
+            let (mut p, mut d) = (gen_(), Dense(gen_()));
+            let mut solver = AnySolver::new(method, dim, opts);
+            g.bench_function(format!("{method}_ported"), |b| {
+                b.iter(|| implicit_steps(&mut p, &mut solver))
+            });
+            eprintln!("{scene} {method} ported: {:?}", solver.stats());
+            let mut solver = AnySolver::new(method, dim, opts);
+            g.bench_function(format!("{method}_dense"), |b| {
+                b.iter(|| implicit_steps(&mut d, &mut solver))
+            });
+        }
+        g.finish();
+    }
+}
+
+criterion_group!(benches, evaluations, run_ups, ported);
 criterion_main!(benches);

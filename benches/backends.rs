@@ -214,7 +214,7 @@ fn implicit_steps<S: OdeSystem>(sys: &mut S, solver: &mut AnySolver) -> f64 {
     solver.y()[0]
 }
 
-/// rodas4 and sdirk4 on the elastic scenes (generated), factorising the ported n1 + r matrix
+/// rodas4, sdirk4 and generalized-alpha on the elastic scenes (generated), factorising the ported n1 + r matrix
 /// (`washdyn_ode::ported`) against the dense n x n mass form: 20 steps each.
 fn ported(c: &mut Criterion) {
     for scene in ["elastic", "elastic_rigid_tub"] {
@@ -227,7 +227,7 @@ fn ported(c: &mut Criterion) {
         };
         let mut g = c.benchmark_group(format!("implicit_20_steps/{scene}"));
         g.sample_size(10);
-        for method in [Method::Rodas4, Method::Sdirk4] {
+        for method in [Method::Rodas4, Method::Sdirk4, Method::GeneralizedAlpha] {
             let (mut p, mut d) = (gen_(), Dense(gen_()));
             let mut solver = AnySolver::new(method, dim, opts);
             g.bench_function(format!("{method}_ported"), |b| {

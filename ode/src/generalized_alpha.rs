@@ -12,8 +12,9 @@
 //!
 //! * The system says it is second order through `OdeSystem::second_order` (y = [q; q'],
 //!   f = [q'; q'']); any other system is refused with `OdeError::NotSecondOrder`.
-//! * Jacobian: the lower half of `sys.jacobian` when analytic, else forward differences in q
-//!   and q' (2n evaluations). Newton's stop rule, the Jacobian's reuse and the step control
+//! * Jacobian: the system's ported pieces (`ported.rs`: the cabinet's modes eliminated
+//!   through its ports) or mass form when it gives them, else the lower half of
+//!   `sys.jacobian` when analytic, else forward differences in q and q' (2n evaluations). Newton's stop rule, the Jacobian's reuse and the step control
 //!   after a trial are `sdirk4`'s (`newton.rs`).
 //! * Error estimate (Zienkiewicz & Xie's for Newmark-type methods): the local error of q is
 //!   h^2 (beta - 1/6) (q''1 - q''0); only the positions enter the norm. Step factor
@@ -25,6 +26,7 @@ use super::common::{
 };
 use super::lu::{lu_factor, lu_solve};
 use super::newton::{self, Attempt, Jacobian, Rate, Verdict};
+use super::ported::{self, PortedJacobian, PortedLu};
 use super::{OdeError, OdeSystem, Options, Solver, Stats};
 
 /// Multibody codes' usual numerical damping (e.g. the default of HHT-type integrators).
@@ -83,6 +85,10 @@ pub struct GeneralizedAlpha {
     av: Vec<f64>,
     mass: Vec<f64>,
     mass_form: bool,
+    /// The ported pieces and their factorisation (`ported.rs`), when the system is ported;
+    /// `ported_form`: the last Jacobian is theirs.
+    ported: Option<(PortedJacobian, PortedLu)>,
+    ported_form: bool,
     jac: Vec<f64>,
     lu: Vec<f64>,
     piv: Vec<usize>,
@@ -130,6 +136,8 @@ impl GeneralizedAlpha {
             av: v(n * n),
             mass: v(n * n),
             mass_form: false,
+            ported: None,
+            ported_form: false,
             jac: v(dim * dim),
             lu: v(n * n),
             piv: vec![0; n],
@@ -158,6 +166,13 @@ impl GeneralizedAlpha {
         let n = self.n;
         let m = 2 * n;
         self.stats.jacobian_evals += 1;
+        self.ported_form = match &mut self.ported {
+            Some((j, _)) => sys.ported_jacobians(self.t, &self.y, j),
+            None => false,
+        };
+        if self.ported_form {
+            return;
+        }
         self.mass_form = sys.second_order() == Some(n)
             && sys.mass_jacobians(self.t, &self.y, &mut self.mass, &mut self.aq, &mut self.av);
         if self.mass_form {
@@ -208,22 +223,27 @@ impl GeneralizedAlpha {
             self.lu_h = 0.0;
         }
         if self.lu_h != h {
-            // I - cq A - cv B, or M times it: M - cq dh/dq - cv dh/dq'.
+            // I - cq A - cv B, or M times it: M - cq dh/dq - cv dh/dq' (dense or ported).
             let (cq, cv) = (bp * h * h * beta, bp * h * gamma);
-            for k in 0..n * n {
-                self.lu[k] = -cq * self.aq[k] - cv * self.av[k];
-            }
-            if self.mass_form {
-                for (l, m) in self.lu.iter_mut().zip(&self.mass) {
-                    *l += m;
-                }
-            } else {
-                for i in 0..n {
-                    self.lu[i * n + i] += 1.0;
-                }
-            }
             self.stats.lu_decompositions += 1;
-            if lu_factor(&mut self.lu, n, &mut self.piv).is_err() {
+            let factored = if let (true, Some((j, lu))) = (self.ported_form, &mut self.ported) {
+                lu.factor_mass(j, 1.0, cv, cq).is_ok()
+            } else {
+                for k in 0..n * n {
+                    self.lu[k] = -cq * self.aq[k] - cv * self.av[k];
+                }
+                if self.mass_form {
+                    for (l, m) in self.lu.iter_mut().zip(&self.mass) {
+                        *l += m;
+                    }
+                } else {
+                    for i in 0..n {
+                        self.lu[i * n + i] += 1.0;
+                    }
+                }
+                lu_factor(&mut self.lu, n, &mut self.piv).is_ok()
+            };
+            if !factored {
                 self.lu_h = 0.0;
                 return Attempt::Singular;
             }
@@ -246,15 +266,22 @@ impl GeneralizedAlpha {
             for i in 0..n {
                 self.dx[i] = self.ftmp[n + i] - self.x[i];
             }
-            if self.mass_form {
-                // The residual in forces: M (A(y) - x).
+            if let (true, Some((j, lu))) = (self.ported_form, &mut self.ported) {
+                // The residual in forces, M (A(y) - x), through the ported factorisation.
                 self.base.copy_from_slice(&self.dx);
-                for (i, d) in self.dx.iter_mut().enumerate() {
-                    let row = &self.mass[i * n..(i + 1) * n];
-                    *d = row.iter().zip(&self.base).map(|(m, r)| m * r).sum();
+                ported::mass_times(j, &self.base, &mut self.dx);
+                lu.solve_mass(j, &mut self.dx);
+            } else {
+                if self.mass_form {
+                    // The residual in forces: M (A(y) - x).
+                    self.base.copy_from_slice(&self.dx);
+                    for (i, d) in self.dx.iter_mut().enumerate() {
+                        let row = &self.mass[i * n..(i + 1) * n];
+                        *d = row.iter().zip(&self.base).map(|(m, r)| m * r).sum();
+                    }
                 }
+                lu_solve(&self.lu, n, &self.piv, &mut self.dx);
             }
-            lu_solve(&self.lu, n, &self.piv, &mut self.dx);
             // The correction's size in the state: dq = h^2 beta beta' dx, dv = h gamma beta' dx.
             let mut sum = 0.0;
             for i in 0..n {
@@ -348,6 +375,7 @@ impl<S: OdeSystem + ?Sized> Solver<S> for GeneralizedAlpha {
         self.jac_age = Jacobian::default();
         self.lu_h = 0.0;
         self.eta = 1.0;
+        ported::prepare(&mut self.ported, &*sys, Some(self.n));
         self.h = start(
             sys,
             t0,

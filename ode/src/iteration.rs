@@ -59,23 +59,7 @@ impl IterationMatrix {
     /// `set_second_order`): the reduced solve of `ported.rs` is used then, when it is smaller.
     /// Allocates only the first time (or when the shape changes).
     pub fn set_ported<S: OdeSystem + ?Sized>(&mut self, sys: &S) {
-        let shape = match (self.half, sys.ported_shape()) {
-            (Some(n), Some((n1, r))) if n1 <= n && n1 + r < n => Some((n1, r, n - n1)),
-            _ => None,
-        };
-        let Some((n1, r, n2)) = shape else {
-            self.ported = None;
-            return;
-        };
-        match &mut self.ported {
-            Some((j, _)) if (j.n1, j.r, j.n2) == (n1, r, n2) => {}
-            slot => {
-                let j = PortedJacobian::new(n1, r, n2);
-                let mut lu = PortedLu::default();
-                lu.reserve(&j);
-                *slot = Some((j, lu));
-            }
-        }
+        super::ported::prepare(&mut self.ported, sys, self.half);
     }
 
     /// The last `jacobian` gave the ported pieces (the reduced solve is in use).

@@ -230,59 +230,54 @@ fn implicit_methods_take_the_same_steps_with_and_without_the_mass_form() {
         atol: 1e-9,
         ..Options::default()
     };
+    // The end state and the accepted steps of `method` on `sys` over [t0, t1].
+    let integrate = |sys: &mut dyn OdeSystem, method: Method| -> (Vec<f64>, u64) {
+        let mut solver = AnySolver::new(method, 2 * n, opts);
+        solver.init(sys, t0, &y0).unwrap();
+        while solver.t() < t1 {
+            solver.step(sys, t1).unwrap();
+        }
+        (solver.y().to_vec(), solver.stats().steps)
+    };
+    // Each step's Newton (sdirk4) or linear solve (rodas4) differs by round-off of another
+    // factorisation, carried over 548-1007 steps; a round-off flip of one step's acceptance
+    // is allowed. Measured: the same step counts; the ported form against the dense mass form
+    // 2.7e-11 (sdirk4), 1.5e-12 (rodas4), 1.4e-15 (galpha); against the
+    // first-order Jacobian 2.4e-12 (rodas4), 6.9e-12 (sdirk4), 1.4e-15 (galpha) (before the
+    // ported form, the dense mass form: 2.4e-11, 1.9e-11, 8.7e-15).
+    let agree =
+        |method: Method, what: &str, (ya, na): &(Vec<f64>, u64), (yb, nb): &(Vec<f64>, u64)| {
+            let scale = yb.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            let diff = ya
+                .iter()
+                .zip(yb)
+                .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+            eprintln!(
+                "{method}: ported {na} / {what} {nb} steps, difference {:.1e} of {scale:.1e}",
+                diff / scale
+            );
+            assert!(
+                na.abs_diff(*nb) <= 2,
+                "{method} ({what}): {na} against {nb} steps"
+            );
+            assert!(
+                diff <= 2e-10 * scale,
+                "{method} ({what}): {diff:e} of {scale:e}"
+            );
+        };
     for method in [Method::Sdirk4, Method::Rodas4, Method::GeneralizedAlpha] {
         let mut a = FirstOrder::new(Interpreter::new(&model, &s));
         assert!(a.ported_shape().is_some(), "elastic is ported");
-        let mut b = NoMassForm(FirstOrder::new(Interpreter::new(&model, &s)));
-        let mut c = NoPorted(FirstOrder::new(Interpreter::new(&model, &s)));
-        let mut sa = AnySolver::new(method, 2 * n, opts);
-        let mut sb = AnySolver::new(method, 2 * n, opts);
-        let mut sc = AnySolver::new(method, 2 * n, opts);
-        sa.init(&mut a, t0, &y0).unwrap();
-        sb.init(&mut b, t0, &y0).unwrap();
-        sc.init(&mut c, t0, &y0).unwrap();
-        while sa.t() < t1 {
-            sa.step(&mut a, t1).unwrap();
-        }
-        while sb.t() < t1 {
-            sb.step(&mut b, t1).unwrap();
-        }
-        while sc.t() < t1 {
-            sc.step(&mut c, t1).unwrap();
-        }
-        let (ya, yc) = (sa.y(), sc.y());
-        let scale = yc.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        let diff = ya
-            .iter()
-            .zip(yc)
-            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
-        let (na, nc) = (sa.stats().steps, sc.stats().steps);
-        eprintln!(
-            "{method}: ported {na} / dense mass form {nc} steps, difference {:.1e} of {scale:.1e}",
-            diff / scale
+        let ported = integrate(&mut a, method);
+        let first_order = integrate(
+            &mut NoMassForm(FirstOrder::new(Interpreter::new(&model, &s))),
+            method,
         );
-        // Measured: the same step counts, 2.7e-11 (sdirk4), 1.5e-12 (rodas4) before galpha
-        // took the ported form too.
-        assert!(na.abs_diff(nc) <= 2, "{method}: {na} against {nc} steps");
-        assert!(diff <= 2e-10 * scale, "{method}: {diff:e} of {scale:e}");
-        let (ya, yb) = (sa.y(), sb.y());
-        let scale = yb.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        let diff = ya
-            .iter()
-            .zip(yb)
-            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
-        let (na, nb) = (sa.stats().steps, sb.stats().steps);
-        eprintln!(
-            "{method}: {na} / {nb} steps, difference {:.1e} of {scale:.1e}",
-            diff / scale
+        let dense = integrate(
+            &mut NoPorted(FirstOrder::new(Interpreter::new(&model, &s))),
+            method,
         );
-        // Each step's Newton (sdirk4) or linear solve (rodas4) differs by
-        // round-off of another factorisation, carried over 548-1007 steps: measured 2.4e-12
-        // (rodas4), 6.9e-12 (sdirk4), 1.4e-15 (galpha), the ported form against the first-order
-        // Jacobian (before the ported form, the dense mass form: 2.4e-11, 1.9e-11, 8.7e-15).
-        // (Measured: the same step counts; a round-off flip of one step's acceptance is
-        // allowed.)
-        assert!(na.abs_diff(nb) <= 2, "{method}: {na} against {nb} steps");
-        assert!(diff <= 2e-10 * scale, "{method}: {diff:e} of {scale:e}");
+        agree(method, "dense mass form", &ported, &dense);
+        agree(method, "first-order Jacobian", &ported, &first_order);
     }
 }

@@ -57,6 +57,27 @@ impl PortedJacobian {
         self.n1 + self.r
     }
 
+    /// Row i of B2: how q2's coordinate i moves the ports.
+    fn b2_row(&self, i: usize) -> &[f64] {
+        &self.b2[i * self.r..(i + 1) * self.r]
+    }
+
+    /// p = B2^T w over q2's coordinates, w_i = `w(i, v_i)`, into `p` (length r).
+    fn ports_of(&self, v: &[f64], w: impl Fn(usize, f64) -> f64, p: &mut [f64]) {
+        p.fill(0.0);
+        for (i, &x) in v.iter().enumerate() {
+            let x = w(i, x);
+            for (pa, b) in p.iter_mut().zip(self.b2_row(i)) {
+                *pa += b * x;
+            }
+        }
+    }
+
+    /// (B2 e)_i: the load on q2's coordinate i of port loads `e` (length r).
+    fn port_load(&self, i: usize, e: &[f64]) -> f64 {
+        self.b2_row(i).iter().zip(e).map(|(b, x)| b * x).sum()
+    }
+
     /// The dense M (M2 = I), dh/dq and dh/dq' (n x n, n = n1 + n2) the pieces stand for: what
     /// the tests hold the ported pieces to, and the dense route when asked.
     pub fn expand(&self, m: &mut [f64], hq: &mut [f64], hqd: &mut [f64]) {
@@ -185,7 +206,7 @@ impl PortedLu {
         let g = &mut self.g[..r * r];
         g.fill(0.0);
         for i in 0..n2 {
-            let row = &j.b2[i * r..(i + 1) * r];
+            let row = j.b2_row(i);
             let inv = 1.0 / self.delta[i];
             for a in 0..r {
                 let s = row[a] * inv;
@@ -217,20 +238,14 @@ impl PortedLu {
     /// Jacobian the pieces stand for: the mass form's right-hand side t = d M b_v + c dh/dq b_q,
     /// the reduced solve for x_v, then x_q = (b_q + c x_v) / d (`iteration.rs`).
     pub fn solve(&mut self, j: &PortedJacobian, b: &mut [f64]) {
-        let (n1, r, n2, na) = (j.n1, j.r, j.n2, j.na());
+        let (n1, n2, na) = (j.n1, j.n2, j.na());
         let n = n1 + n2;
         let (c, d) = (self.c, self.d);
         let (bq, bv) = b.split_at_mut(n);
         let (u, e, t2) = (&mut self.u[..na], &mut self.e[..na], &mut self.t2[..n2]);
         // u = T b_q, e = E_q u.
         u[..n1].copy_from_slice(&bq[..n1]);
-        u[n1..].fill(0.0);
-        for i in 0..n2 {
-            let x = bq[n1 + i];
-            for (ua, b) in u[n1..].iter_mut().zip(&j.b2[i * r..(i + 1) * r]) {
-                *ua += b * x;
-            }
-        }
+        j.ports_of(&bq[n1..], |_, x| x, &mut u[n1..]);
         for a in 0..na {
             e[a] = j.eq[a * na..(a + 1) * na]
                 .iter()
@@ -248,12 +263,7 @@ impl PortedLu {
             u[i] = d * mb + c * e[i];
         }
         for i in 0..n2 {
-            let be: f64 = j.b2[i * r..(i + 1) * r]
-                .iter()
-                .zip(&e[n1..])
-                .map(|(x, y)| x * y)
-                .sum();
-            t2[i] = d * bv[n1 + i] + c * (be + j.dq[i] * bq[n1 + i]);
+            t2[i] = d * bv[n1 + i] + c * (j.port_load(i, &e[n1..]) + j.dq[i] * bq[n1 + i]);
         }
         // u's first n1 hold t1, t2 the rest: the reduced solve of W x = t into b_v.
         bv[n1..].copy_from_slice(t2);
@@ -271,13 +281,8 @@ impl PortedLu {
         let (u, e) = (&mut self.u[..na], &mut self.e[..na]);
         let (t1, t2) = t.split_at_mut(n1);
         u[..n1].copy_from_slice(t1);
-        u[n1..].fill(0.0);
-        for i in 0..n2 {
-            let x = t2[i] / self.delta[i];
-            for (ua, b) in u[n1..].iter_mut().zip(&j.b2[i * r..(i + 1) * r]) {
-                *ua += b * x;
-            }
-        }
+        let delta = &self.delta[..n2];
+        j.ports_of(t2, |i, x| x / delta[i], &mut u[n1..]);
         lu_solve(&self.k[..na * na], na, &self.piv[..na], u);
         // w = Fp [x1; y] (into e's port part), x2 = Delta^-1 (t2 - B2 w).
         for a in 0..r {
@@ -288,12 +293,7 @@ impl PortedLu {
                 .sum();
         }
         for i in 0..n2 {
-            let bw: f64 = j.b2[i * r..(i + 1) * r]
-                .iter()
-                .zip(&e[n1..])
-                .map(|(x, y)| x * y)
-                .sum();
-            t2[i] = (t2[i] - bw) / self.delta[i];
+            t2[i] = (t2[i] - j.port_load(i, &e[n1..])) / self.delta[i];
         }
         t1.copy_from_slice(&u[..n1]);
     }

@@ -212,7 +212,12 @@ fn main() {
         let cuts: Vec<Option<f64>> = cut_list
             .iter()
             .map(|c| Some(*c))
-            .chain(deep_dir.as_ref().map(|_| None))
+            .chain(
+                deep_dir
+                    .as_ref()
+                    .filter(|_| against.is_none())
+                    .map(|_| None),
+            )
             .collect();
         let cached = cache
             .as_ref()

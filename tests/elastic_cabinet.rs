@@ -80,6 +80,7 @@ fn tub_on_springs_in_an_elastic_cabinet_matches_calculix() {
             .map(|i| LoadCase::force(&format!("TOP_{}", i + 1), [0.0, 0.0, 1.0]))
             .collect(),
         // Frequencies only: no field files.
+        correction_order: 1,
         recovery: false,
     };
     let (data, _) = build(&spec, dir.path()).unwrap();

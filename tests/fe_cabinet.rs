@@ -297,6 +297,7 @@ fn a_stiff_block_on_four_feet_puts_all_its_strain_energy_in_them() {
         points,
         spin: None,
         correction: Vec::new(),
+        correction_order: 1,
         recovery: false,
     };
     let dir = tempfile::tempdir().unwrap();

@@ -333,6 +333,7 @@ fn campbell_whirl_split_matches_calculix_coriolis_on_the_knot_free_drum() {
             reference_speed: bodies::DRUM_REFERENCE_SPEED,
         }),
         correction: Vec::new(),
+        correction_order: 1,
         recovery: false,
     };
     let dir = tempfile::tempdir().unwrap();

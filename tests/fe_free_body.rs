@@ -252,6 +252,7 @@ fn corrected(dir: &std::path::Path, eigen: usize) -> ModalData {
         points: POINTS.iter().map(|(s, p)| (s.to_string(), *p)).collect(),
         spin: None,
         correction: loads,
+        correction_order: 1,
         recovery: false,
     };
     let (data, report) = build(&spec, dir).unwrap();

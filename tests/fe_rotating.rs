@@ -43,6 +43,7 @@ fn spinning(
             reference_speed: reference,
         }),
         correction: Vec::new(),
+        correction_order: 1,
         recovery: false,
     };
     build(&spec, dir).unwrap().0

@@ -294,6 +294,7 @@ pub fn correction_modes(
     loads: &[LoadCase],
     free: bool,
     stresses: bool,
+    order: usize,
     dir: &std::path::Path,
     job: &str,
 ) -> Result<Corrected, String> {
@@ -313,18 +314,143 @@ pub fn correction_modes(
     } else {
         (unit.clone(), Vec::new())
     };
-    let d = static_deck(mesh, &forces, &support, stresses);
+    let (n, j) = (modes.len(), loads.len());
+    let mut participation = vec![0.0; n * j];
+    for (k, m) in modes.iter().enumerate() {
+        for (c, f) in unit.iter().enumerate() {
+            participation[k * j + c] = work(m, f);
+        }
+    }
+    let mut first = residuals(
+        mesh, mass, modes, &forces, &support, free, stresses, dir, job,
+    )?;
+    let mut forces = forces;
+    if order >= 2 {
+        // The next Krylov block: K X2 = M Psi_r, each load scaled by its shape's Rayleigh
+        // quotient so that X2 comes out the size of Psi_r (the shapes' own eigenproblem below
+        // would drop a block 1e-13 smaller as dependent).
+        let next = first
+            .shapes
+            .iter()
+            .zip(&forces)
+            .map(|(s, f)| {
+                let m = mass.inner(mesh, std::slice::from_ref(s), std::slice::from_ref(s))?[(0, 0)];
+                let scale = work(s, f) / m;
+                let l: Loads = mass
+                    .shape_load(mesh, s)?
+                    .into_iter()
+                    .map(|(id, v)| (id, v.map(|x| scale * x)))
+                    .collect();
+                Ok(if free { relieved(mesh, mass, &l) } else { l })
+            })
+            .collect::<Result<Vec<Loads>, String>>()?;
+        let second = residuals(
+            mesh,
+            mass,
+            modes,
+            &next,
+            &support,
+            free,
+            stresses,
+            dir,
+            &format!("{job}_2"),
+        )?;
+        first.shapes.extend(second.shapes);
+        first.share = first
+            .share
+            .columns(0, j)
+            .into_owned()
+            .insert_columns(j, j, 0.0);
+        first.share.columns_mut(j, j).copy_from(&second.share);
+        first.reaction = match (first.reaction, second.reaction) {
+            (Some(a), Some(b)) => Some(a.max(b)),
+            (a, b) => a.or(b),
+        };
+        first.solve_s += second.solve_s;
+        first.static_stresses.extend(second.static_stresses);
+        first.statics_3d.extend(second.statics_3d);
+        forces.extend(next);
+    }
+    let residual = &first.shapes;
+    let j = forces.len();
+    let stiff = DMatrix::from_fn(j, j, |a, b| {
+        0.5 * (work(&residual[a], &forces[b]) + work(&residual[b], &forces[a]))
+    });
+    let m_rr = mass.inner(mesh, residual, residual)?;
+    let (x, lambda) = generalised_eigen(&m_rr, &stiff);
+    let shapes = (0..lambda.len())
+        .map(|c| {
+            let mut w: HashMap<usize, [f64; 3]> = HashMap::new();
+            let mut rot: HashMap<usize, [f64; 3]> = HashMap::new();
+            for (r, s) in residual.iter().enumerate() {
+                let a = x[(r, c)];
+                for (map, src) in [(&mut w, &s.w), (&mut rot, &s.rot)] {
+                    for (id, u) in src {
+                        let e = map.entry(*id).or_insert([0.0; 3]);
+                        for i in 0..3 {
+                            e[i] += a * u[i];
+                        }
+                    }
+                }
+            }
+            Shapes {
+                frequency_hz: lambda[c].max(0.0).sqrt() / (2.0 * std::f64::consts::PI),
+                w,
+                rot,
+            }
+        })
+        .collect();
+    Ok(Corrected {
+        shapes,
+        participation,
+        solve_s: first.solve_s,
+        forces,
+        support,
+        share: first.share,
+        combination: x,
+        reaction: first.reaction,
+        static_stresses: first.static_stresses,
+        statics_3d: first.statics_3d,
+        elements_3d: first.elements_3d,
+    })
+}
+
+/// One static solve of `forces` (on `support`): the residual shapes Psi_r (less a free
+/// body's rigid motion and the eigenmodes' share) and what the solve leaves for stresses.
+struct Residuals {
+    shapes: Vec<Shapes>,
+    share: DMatrix<f64>,
+    reaction: Option<f64>,
+    solve_s: f64,
+    static_stresses: Vec<Vec<(usize, [f64; 6])>>,
+    statics_3d: Vec<Vec<(usize, [f64; 3])>>,
+    elements_3d: Vec<(usize, Vec<usize>)>,
+}
+
+#[allow(clippy::too_many_arguments)]
+fn residuals(
+    mesh: &Mesh,
+    mass: &MassMatrix,
+    modes: &[Shapes],
+    forces: &[Loads],
+    support: &[(usize, usize)],
+    free: bool,
+    stresses: bool,
+    dir: &std::path::Path,
+    job: &str,
+) -> Result<Residuals, String> {
+    let d = static_deck(mesh, forces, support, stresses);
     let mut solved = crate::modal::solve_deck(mesh, &d, dir, job)?;
     let statics_3d = if stresses {
         crate::stress::mid_surface(mesh, &mut solved.frd)?.1.statics
     } else {
         Vec::new()
     };
-    if solved.frd.statics.len() != loads.len() {
+    if solved.frd.statics.len() != forces.len() {
         return Err(format!(
             "{job}: ccx wrote {} static results for {} load cases",
             solved.frd.statics.len(),
-            loads.len()
+            forces.len()
         ));
     }
     let reaction = if support.is_empty() {
@@ -334,7 +460,7 @@ pub fn correction_modes(
         let rf = crate::dat::reactions(&solved.dat, SUPPORT_SET)
             .map_err(|e| format!("{job}.dat: {e}"))?;
         let mut worst = 0.0f64;
-        for (r, f) in rf.iter().zip(&forces) {
+        for (r, f) in rf.iter().zip(forces) {
             let top = f
                 .iter()
                 .flat_map(|x| x.1)
@@ -356,17 +482,11 @@ pub fn correction_modes(
         Some(worst)
     };
     let rot_ids: Vec<usize> = mesh.rigid.iter().map(|r| r.rot_node).collect();
-    let (n, j) = (modes.len(), loads.len());
+    let (n, j) = (modes.len(), forces.len());
     let w2: Vec<f64> = modes
         .iter()
         .map(|m| (2.0 * std::f64::consts::PI * m.frequency_hz).powi(2))
         .collect();
-    let mut participation = vec![0.0; n * j];
-    for (k, m) in modes.iter().enumerate() {
-        for (c, f) in unit.iter().enumerate() {
-            participation[k * j + c] = work(m, f);
-        }
-    }
     // The share of the loads as solved: the same as the unit loads' for eigenmodes orthogonal
     // to the rigid motions; this one makes Psi_r exactly K-orthogonal to them.
     let share = DMatrix::from_fn(n, j, |k, c| work(&modes[k], &forces[c]) / w2[k]);
@@ -404,42 +524,11 @@ pub fn correction_modes(
         }
         residual.push(s);
     }
-    let stiff = DMatrix::from_fn(j, j, |a, b| {
-        0.5 * (work(&residual[a], &forces[b]) + work(&residual[b], &forces[a]))
-    });
-    let m_rr = mass.inner(mesh, &residual, &residual)?;
-    let (x, lambda) = generalised_eigen(&m_rr, &stiff);
-    let shapes = (0..lambda.len())
-        .map(|c| {
-            let mut w: HashMap<usize, [f64; 3]> = HashMap::new();
-            let mut rot: HashMap<usize, [f64; 3]> = HashMap::new();
-            for (r, s) in residual.iter().enumerate() {
-                let a = x[(r, c)];
-                for (map, src) in [(&mut w, &s.w), (&mut rot, &s.rot)] {
-                    for (id, u) in src {
-                        let e = map.entry(*id).or_insert([0.0; 3]);
-                        for i in 0..3 {
-                            e[i] += a * u[i];
-                        }
-                    }
-                }
-            }
-            Shapes {
-                frequency_hz: lambda[c].max(0.0).sqrt() / (2.0 * std::f64::consts::PI),
-                w,
-                rot,
-            }
-        })
-        .collect();
-    Ok(Corrected {
-        shapes,
-        participation,
-        solve_s: solved.run.wall_s,
-        forces,
-        support,
+    Ok(Residuals {
+        shapes: residual,
         share,
-        combination: x,
         reaction,
+        solve_s: solved.run.wall_s,
         static_stresses: solved.frd.static_stresses,
         statics_3d,
         elements_3d: if stresses {

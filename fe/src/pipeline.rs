@@ -47,6 +47,9 @@ pub struct BodySpec {
     pub spin: Option<Spin>,
     /// Unit loads at points whose static response static correction modes carry (empty: none).
     pub correction: Vec<LoadCase>,
+    /// Krylov blocks of the correction modes: 1, the static give K^-1 f; 2 adds K^-1 M of it,
+    /// so the dropped modes' first dynamic term (omega / omega_k)^2 is in the basis too.
+    pub correction_order: usize,
     /// Also write `<name>.field.bin` for recovery on the mesh: the solves then write 3-D output,
     /// which gives the shapes and the modal stresses at once; a study of the modes alone skips it.
     pub recovery: bool,
@@ -158,6 +161,7 @@ pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), String>
             &spec.correction,
             spec.support == Support::FreeFree,
             spec.three_d(),
+            spec.correction_order,
             dir,
             &format!("{}_correction", spec.name),
         )?;

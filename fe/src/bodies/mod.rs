@@ -301,6 +301,7 @@ pub fn builtin() -> Vec<BodySpec> {
             points: own(tub_all),
             spin: None,
             correction: tub_loads(),
+            correction_order: 1,
             recovery: true,
         },
         BodySpec {
@@ -325,6 +326,7 @@ pub fn builtin() -> Vec<BodySpec> {
                 reference_speed: DRUM_REFERENCE_SPEED,
             }),
             correction: drum_loads(),
+            correction_order: 1,
             recovery: true,
         },
         BodySpec {
@@ -332,11 +334,12 @@ pub fn builtin() -> Vec<BodySpec> {
             kind: ElasticBodyKind::Cabinet,
             support: Support::OnSprings,
             mesh: cab_mesh,
-            // Modes to 420 Hz (219) and the static give under every element load (13
-            // correction modes, `cabinet_loads`), all kept by the `elastic` scene (issue 21's
-            // cut study, docs/truncation.md: within 2.1e-2 and 0.093 dB of 400 modes to 772 Hz
-            // at 1400 rpm; a cut at 210 Hz was 6.2e-1 off). The mesh's 40 mm shells resolve
-            // the panels' bending to about 700 Hz, not 2 kHz.
+            // Modes to 420 Hz (219) and two Krylov blocks under every element load
+            // (`cabinet_loads`): the static give and K^-1 M of it, 26 correction modes, all
+            // kept by the `elastic` scene (issue 21's cut study, docs/truncation.md: the
+            // static give alone missed the 400 modes to 772 Hz by 1.4e-2 at 1100 rpm, the
+            // modes between 418 and 772 Hz driven near resonance by the dampers' harmonics).
+            // The mesh's 40 mm shells resolve the panels' bending to about 700 Hz, not 2 kHz.
             solve_modes: 230,
             keep: Keep {
                 rigid_below_hz: 0.0,
@@ -346,6 +349,7 @@ pub fn builtin() -> Vec<BodySpec> {
             points: own(cab_all),
             spin: None,
             correction: cab_loads,
+            correction_order: 2,
             recovery: true,
         },
     ]

@@ -186,6 +186,25 @@ impl MassMatrix {
         Ok(p)
     }
 
+    /// The inertial load M s of a shape as nodal loads (`load_of`): what a second static
+    /// solve K x = M s needs for the next Krylov vector of the correction modes.
+    pub fn shape_load(&self, mesh: &Mesh, s: &Shapes) -> Result<Vec<(usize, [f64; 3])>, String> {
+        let w = self.dense(std::slice::from_ref(s))?;
+        let u: [Vec<f64>; 3] = std::array::from_fn(|a| w[a].column(0).iter().copied().collect());
+        let parts = self
+            .rigid
+            .iter()
+            .filter(|r| r.mass > 0.0)
+            .map(|r| Ok((r.rot_node, rigid_motion(mesh, r, s)?)))
+            .collect::<Result<Vec<_>, String>>()?;
+        Ok(self.load_of(mesh, &u, |r| {
+            parts
+                .iter()
+                .find(|p| p.0 == r.rot_node)
+                .map_or(([0.0; 3], [0.0; 3]), |p| p.1)
+        }))
+    }
+
     /// max |W^T M W - E| of `modes`: how far the matrix is from the one ccx normalised with.
     pub fn normalisation_error(&self, mesh: &Mesh, modes: &[Shapes]) -> Result<f64, String> {
         let p = self.inner(mesh, modes, modes)?;

@@ -28,6 +28,7 @@ mod rigid_body;
 use crate::lumping::{Lumped, RigidLump, Rule, gauss, rigid_parts, section_axes};
 use crate::mesh::Mesh;
 use nalgebra::DMatrix;
+use washdyn_runtime::geom::f::{add, cross, sub};
 
 /// Where a mass matrix comes from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -243,6 +244,52 @@ impl MassMatrix {
                 .map(|(&j, v)| v * x[j])
                 .sum();
         }
+    }
+
+    /// The inertial load M u of the field `u` (per component, over the rows) whose rigid parts
+    /// move with `part` (CoG translation, rotation): nodal forces at the rows (the offsets'
+    /// share included), and per rigid part its force at the REF NODE and its moment about the
+    /// REF NODE at the ROT NODE, as ccx takes loads on a `*RIGID BODY`.
+    pub(crate) fn load_of(
+        &self,
+        mesh: &Mesh,
+        u: &[Vec<f64>; 3],
+        part: impl Fn(&RigidLump) -> ([f64; 3], [f64; 3]),
+    ) -> Vec<(usize, [f64; 3])> {
+        let n = self.ids.len();
+        let mut f: [Vec<f64>; 3] = std::array::from_fn(|_| vec![0.0; n]);
+        for a in 0..3 {
+            self.mul_vec(&u[a], &mut f[a]);
+        }
+        // The offsets: d = sum_j B_j u_j; the load on node j is weight B_j^T d.
+        for o in &self.offsets {
+            let mut d = [0.0; 3];
+            for (j, b) in &o.b {
+                for r in 0..3 {
+                    d[r] += (0..3).map(|c| b[r][c] * u[c][*j]).sum::<f64>();
+                }
+            }
+            for (j, b) in &o.b {
+                for c in 0..3 {
+                    f[c][*j] += o.weight * (0..3).map(|r| b[r][c] * d[r]).sum::<f64>();
+                }
+            }
+        }
+        let mut out: Vec<(usize, [f64; 3])> = self
+            .ids
+            .iter()
+            .enumerate()
+            .map(|(i, id)| (*id, [f[0][i], f[1][i], f[2][i]]))
+            .collect();
+        for r in self.rigid.iter().filter(|r| r.mass > 0.0) {
+            let (w, theta) = part(r);
+            let force = w.map(|x| r.mass * x);
+            let spin: [f64; 3] = std::array::from_fn(|a| dot(r.inertia[a], theta));
+            let arm = sub(r.cog, mesh.nodes[r.ref_node - 1]);
+            out.push((r.ref_node, force));
+            out.push((r.rot_node, add(cross(arm, force), spin)));
+        }
+        out
     }
 
     /// M X, column by column.

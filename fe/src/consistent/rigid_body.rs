@@ -3,7 +3,7 @@
 //! part of a shape). Separate from the matrix (`mod.rs`) and from its products with mode shapes
 //! (`elementary.rs`): these are what the correction modes and the checks against ccx's mass use.
 
-use super::{MassMatrix, dot};
+use super::MassMatrix;
 use crate::lumping::MassProps;
 use crate::mesh::Mesh;
 use washdyn_runtime::geom::f::{add, cross, sub};
@@ -87,44 +87,14 @@ impl MassMatrix {
         omega: [f64; 3],
         centre: [f64; 3],
     ) -> Vec<(usize, [f64; 3])> {
-        let n = self.ids.len();
         let u: [Vec<f64>; 3] = std::array::from_fn(|a| {
             self.ids
                 .iter()
                 .map(|id| add(v, cross(omega, sub(mesh.nodes[id - 1], centre)))[a])
                 .collect()
         });
-        let mut f: [Vec<f64>; 3] = std::array::from_fn(|_| vec![0.0; n]);
-        for a in 0..3 {
-            self.mul_vec(&u[a], &mut f[a]);
-        }
-        // The offsets: d = sum_j B_j u_j; the load on node j is weight B_j^T d.
-        for o in &self.offsets {
-            let mut d = [0.0; 3];
-            for (j, b) in &o.b {
-                for r in 0..3 {
-                    d[r] += (0..3).map(|c| b[r][c] * u[c][*j]).sum::<f64>();
-                }
-            }
-            for (j, b) in &o.b {
-                for c in 0..3 {
-                    f[c][*j] += o.weight * (0..3).map(|r| b[r][c] * d[r]).sum::<f64>();
-                }
-            }
-        }
-        let mut out: Vec<(usize, [f64; 3])> = self
-            .ids
-            .iter()
-            .enumerate()
-            .map(|(i, id)| (*id, [f[0][i], f[1][i], f[2][i]]))
-            .collect();
-        for r in self.rigid.iter().filter(|r| r.mass > 0.0) {
-            let force = add(v, cross(omega, sub(r.cog, centre))).map(|x| r.mass * x);
-            let spin: [f64; 3] = std::array::from_fn(|a| dot(r.inertia[a], omega));
-            let arm = sub(r.cog, mesh.nodes[r.ref_node - 1]);
-            out.push((r.ref_node, force));
-            out.push((r.rot_node, add(cross(arm, force), spin)));
-        }
-        out
+        self.load_of(mesh, &u, |r| {
+            (add(v, cross(omega, sub(r.cog, centre))), omega)
+        })
     }
 }

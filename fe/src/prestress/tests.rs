@@ -513,6 +513,7 @@ fn spinning(
             reference_speed: 30.0,
         }),
         correction,
+        correction_order: 1,
         recovery: false,
     }
 }

@@ -47,6 +47,9 @@ pub struct UserSpec {
     /// Unit loads whose static response becomes correction modes (non-spinning bodies).
     #[serde(default)]
     pub correction: Vec<LoadCase>,
+    /// Krylov blocks of the correction modes (1: static give; 2: also K^-1 M of it).
+    #[serde(default = "one")]
+    pub correction_order: usize,
     /// The drum's spin: axis and the speed of the prestress.
     pub spin: Option<SpinSpec>,
     /// Also write `<name>.field.bin` for `washdyn fields`.
@@ -56,6 +59,10 @@ pub struct UserSpec {
 
 fn yes() -> bool {
     true
+}
+
+fn one() -> usize {
+    1
 }
 
 #[derive(Clone, Copy, Debug, Deserialize)]
@@ -198,6 +205,7 @@ pub fn load(spec_path: &Path) -> Result<BodySpec, String> {
         points,
         spin,
         correction: spec.correction,
+        correction_order: spec.correction_order,
         recovery: spec.recovery,
     })
 }

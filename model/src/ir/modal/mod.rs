@@ -21,7 +21,7 @@ pub use limits::{
 
 pub use read::{from_toml, read_file, read_str, resolve};
 pub use rules::problems;
-pub use truncate::{DEPENDENT_SHAPE, generalised_eigen, orthonormal_static_basis};
+pub use truncate::{DEPENDENT_SHAPE, FOLD_BLOCKS, generalised_eigen, orthonormal_static_basis};
 
 use super::V3;
 use serde::{Deserialize, Serialize};

@@ -182,20 +182,23 @@ fn truncation_folds_the_dropped_modes_static_share_at_the_load_points() {
     assert_eq!(problems(&full), Vec::<String>::new());
     let mut d = full.clone();
     d.truncate(2, &[]);
-    // 2 eigenmodes and 1 folded shape (one load case) of the dropped modes and the
-    // correction mode.
-    assert_eq!(d.modes(), 3);
+    // 2 eigenmodes and 2 folded shapes (one load case, `FOLD_BLOCKS` Krylov blocks) of the
+    // dropped modes and the correction mode.
+    assert_eq!(FOLD_BLOCKS, 2);
+    assert_eq!(d.modes(), 4);
     assert_eq!(d.eigenmodes(), 2);
-    // The file's modes in the new ones: 6 x 3, the kept eigenmodes map to themselves; the
-    // folded column lives on the dropped modes 3-5 and the correction mode 6.
+    // The file's modes in the new ones: 6 x 4, the kept eigenmodes map to themselves; the
+    // folded columns live on the dropped modes 3-5 and the correction mode 6.
     let t = d.basis.clone().unwrap();
-    assert_eq!(t.len(), 18);
-    assert_eq!((t[0], t[4]), (1.0, 1.0));
-    assert!((0..6).all(|r| (r >= 2) == (t[r * 3 + 2] != 0.0)));
+    assert_eq!(t.len(), 24);
+    assert_eq!((t[0], t[5]), (1.0, 1.0));
+    for c in [2, 3] {
+        assert!((0..6).all(|r| (r >= 2) == (t[r * 4 + c] != 0.0)));
+    }
     assert_eq!(problems(&d), Vec::<String>::new());
-    // The folded shape is a combination of modes 3-6, so its frequency lies among theirs.
+    // The folded shapes are combinations of modes 3-6, so their frequencies lie among theirs.
     assert!(
-        d.frequencies[2] > 13.0 && d.frequencies[2] < 80.0,
+        d.frequencies[2] > 13.0 && d.frequencies[3] < 80.0,
         "{:?}",
         d.frequencies
     );
@@ -206,6 +209,16 @@ fn truncation_folds_the_dropped_modes_static_share_at_the_load_points() {
         let (x, y) = (static_at_p(&full, a, 2), static_at_p(&d, a, 2));
         assert!((x - y).abs() < 1e-12 * x.abs(), "{a}: {x} {y}");
     }
+    // The second block keeps the receptance's next term too: H(omega) = sum w^2 / omega_k^2
+    // + omega^2 sum w^2 / omega_k^4 + ...; the closed form's second sum to round-off.
+    let second = |d: &ModalData| -> f64 {
+        let p = &d.points[0];
+        (0..d.modes())
+            .map(|k| p.w[2][k].powi(2) / (2.0 * std::f64::consts::PI * d.frequencies[k]).powi(4))
+            .sum()
+    };
+    let (x, y) = (second(&full), second(&d));
+    assert!((x - y).abs() < 1e-12 * x, "{x} {y}");
     let a = static_at_p(&full, 2, 2);
     // Plain truncation would have lost modes 3-5's share.
     let mut plain = full.clone();
@@ -249,8 +262,8 @@ fn moment_load_cases_read_old_files_and_fold_through_phi() {
     };
     let mut d = full.clone();
     d.truncate(2, &[]);
-    // 2 eigenmodes and 2 folded shapes (two load cases).
-    assert_eq!(d.modes(), 4);
+    // 2 eigenmodes and 4 folded shapes (two load cases, two blocks each).
+    assert_eq!(d.modes(), 6);
     assert!((rot(&d) - rot(&full)).abs() < 1e-12 * rot(&full));
     assert_eq!(problems(&d), Vec::<String>::new());
 

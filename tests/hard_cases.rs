@@ -458,8 +458,8 @@ fn all_modes(m: &Model) -> EffectSet {
 }
 
 /// Every mode the modal data holds (the tub's 100 to 2 kHz and its correction modes to 6.6 kHz,
-/// the drum's to 420 Hz, the cabinet's to 418 Hz and its 13 bracket and gasket correction
-/// modes: 392 coordinates) at 1180 rpm, over 50 ms: the widest spread of time scales the
+/// the drum's to 420 Hz, the cabinet's to 418 Hz and its 26 bracket and gasket correction
+/// modes to 1.6 kHz: 405 coordinates) at 1180 rpm, over 50 ms: the widest spread of time scales the
 /// committed data can give.
 const ALL_MODES_WINDOW: (f64, f64) = (150.0, 150.05);
 

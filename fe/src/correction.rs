@@ -8,6 +8,11 @@
 //! residual shapes are made orthonormal on their own: K_rr = Psi_r^T f (exact: K Psi = f) and
 //! M_rr with the consistent mass (`consistent/mod.rs`), as the rest of the modal data.
 //!
+//! With `order` 2 a second solve follows, K X = M Psi_r (the next Krylov block), less the
+//! eigenmodes' share: the static give answers a dropped mode driven at omega with 1, where it
+//! answers (1 - (omega / omega_k)^2)^-1, and X holds the term in (omega / omega_k)^2. Both
+//! blocks are made orthonormal together; their K-block stays exact, a^T K X_b = a^T f_b.
+//!
 //! A free body (the tub) has no static solution to a load that is not in equilibrium, and ccx
 //! has no inertia relief, so we apply it ourselves: the load less the rigid-body inertia it
 //! drives, f - M Phi_r (Phi_r^T M Phi_r)^-1 Phi_r^T f (Phi_r the six rigid motions about the
@@ -35,7 +40,8 @@ pub struct Corrected {
     pub participation: Vec<f64>,
     /// ccx's wall time for the static steps, s.
     pub solve_s: f64,
-    /// The loads ccx solved: the unit loads, for a free body less their inertia relief.
+    /// The loads ccx solved: the unit loads, for a free body less their inertia relief (then,
+    /// with order 2, the second block's M Psi_r).
     pub forces: Vec<Loads>,
     /// The support ccx held a free body with: (node, dof) of a 3-2-1 support; empty otherwise.
     pub support: Vec<(usize, usize)>,

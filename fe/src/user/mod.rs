@@ -132,6 +132,15 @@ pub fn load(spec_path: &Path) -> Result<BodySpec, String> {
     if !(spec.keep.max_hz > 0.0 && spec.keep.rigid_below_hz >= 0.0) {
         return Err(bad("max_hz", "keep.max_hz must be positive".into()));
     }
+    if !(1..=2).contains(&spec.correction_order) {
+        return Err(bad(
+            "correction_order",
+            format!(
+                "correction_order is 1 (the static give) or 2 (also K^-1 M of it), not {}",
+                spec.correction_order
+            ),
+        ));
+    }
     let free = spec.support == Support::FreeFree;
     if free != (spec.body == ElasticBodyKind::Tub)
         || (spec.spin.is_some()) != (spec.body == ElasticBodyKind::Drum)

@@ -88,6 +88,24 @@ fn a_spin_axis_off_the_drum_is_refused_at_its_line() {
 }
 
 #[test]
+fn a_correction_order_other_than_one_or_two_is_refused_at_its_line() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    drum_deck(dir);
+    let p = dir.join("drum.toml");
+    let text = spec("[0.0, 0.0, 0.45]", "[1.0, 0.0, 0.0]").replace(
+        "recovery = false\n",
+        "recovery = false\ncorrection_order = 3\n",
+    );
+    std::fs::write(&p, text).unwrap();
+    let e = load(&p).unwrap_err();
+    assert!(
+        e.contains("drum.toml:8: correction_order is 1 (the static give) or 2"),
+        "{e}"
+    );
+}
+
+#[test]
 fn modal_data_the_checker_would_refuse_is_not_written() {
     let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../models/fe/drum.modal.toml");
     let mut d = washdyn_runtime::ir::modal::read_file(&p, "drum.modal.toml").unwrap();

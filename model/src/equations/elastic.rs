@@ -269,8 +269,8 @@ mod tests {
     fn the_share_follows_truncation_into_the_folded_and_correction_modes() {
         let full = with_correction();
         assert_eq!(crate::ir::modal::problems(&full), Vec::<String>::new());
-        // Keep the eigenmodes up to 10 Hz: 2 eigenmodes and 1 folded shape of modes 3-6 (the
-        // dropped eigenmodes and the correction mode).
+        // Keep the eigenmodes up to 10 Hz: 2 eigenmodes and 2 folded shapes (one load, two
+        // Krylov blocks) of modes 3-6 (the dropped eigenmodes and the correction mode).
         let b = ModalBody::new(
             &entry(full.clone(), Some(0.06), 0.0),
             0,
@@ -279,7 +279,7 @@ mod tests {
             &[],
         );
         let d = b.data();
-        assert_eq!(d.modes(), 3);
+        assert_eq!(d.modes(), 4);
         // Independent path: the spring's stiffness in the file's modes, K_s = W^T k W, carried
         // into the kept coordinates by the basis T (q_file = T q): e_j = (T^T K_s T)_jj /
         // omega_j^2.

@@ -327,7 +327,7 @@ pub fn correction_modes(
             participation[k * j + c] = work(m, f);
         }
     }
-    let mut first = residuals(
+    let mut solved = residuals(
         mesh, mass, modes, &forces, &support, free, stresses, dir, job,
     )?;
     let mut forces = forces;
@@ -335,13 +335,14 @@ pub fn correction_modes(
         // The next Krylov block: K X2 = M Psi_r, each load scaled by its shape's Rayleigh
         // quotient so that X2 comes out the size of Psi_r (the shapes' own eigenproblem below
         // would drop a block 1e-13 smaller as dependent).
-        let next = first
+        let m = mass.inner(mesh, &solved.shapes, &solved.shapes)?;
+        let next = solved
             .shapes
             .iter()
             .zip(&forces)
-            .map(|(s, f)| {
-                let m = mass.inner(mesh, std::slice::from_ref(s), std::slice::from_ref(s))?[(0, 0)];
-                let scale = work(s, f) / m;
+            .enumerate()
+            .map(|(c, (s, f))| {
+                let scale = work(s, f) / m[(c, c)];
                 let l: Loads = mass
                     .shape_load(mesh, s)?
                     .into_iter()
@@ -350,7 +351,7 @@ pub fn correction_modes(
                 Ok(if free { relieved(mesh, mass, &l) } else { l })
             })
             .collect::<Result<Vec<Loads>, String>>()?;
-        let second = residuals(
+        solved.append(residuals(
             mesh,
             mass,
             modes,
@@ -360,26 +361,12 @@ pub fn correction_modes(
             stresses,
             dir,
             &format!("{job}_2"),
-        )?;
-        first.shapes.extend(second.shapes);
-        first.share = first
-            .share
-            .columns(0, j)
-            .into_owned()
-            .insert_columns(j, j, 0.0);
-        first.share.columns_mut(j, j).copy_from(&second.share);
-        first.reaction = match (first.reaction, second.reaction) {
-            (Some(a), Some(b)) => Some(a.max(b)),
-            (a, b) => a.or(b),
-        };
-        first.solve_s += second.solve_s;
-        first.static_stresses.extend(second.static_stresses);
-        first.statics_3d.extend(second.statics_3d);
+        )?);
         forces.extend(next);
     }
-    let residual = &first.shapes;
-    let j = forces.len();
-    let stiff = DMatrix::from_fn(j, j, |a, b| {
+    let residual = &solved.shapes;
+    let cases = forces.len();
+    let stiff = DMatrix::from_fn(cases, cases, |a, b| {
         0.5 * (work(&residual[a], &forces[b]) + work(&residual[b], &forces[a]))
     });
     let m_rr = mass.inner(mesh, residual, residual)?;
@@ -409,15 +396,15 @@ pub fn correction_modes(
     Ok(Corrected {
         shapes,
         participation,
-        solve_s: first.solve_s,
+        solve_s: solved.solve_s,
         forces,
         support,
-        share: first.share,
+        share: solved.share,
         combination: x,
-        reaction: first.reaction,
-        static_stresses: first.static_stresses,
-        statics_3d: first.statics_3d,
-        elements_3d: first.elements_3d,
+        reaction: solved.reaction,
+        static_stresses: solved.static_stresses,
+        statics_3d: solved.statics_3d,
+        elements_3d: solved.elements_3d,
     })
 }
 
@@ -431,6 +418,29 @@ struct Residuals {
     static_stresses: Vec<Vec<(usize, [f64; 6])>>,
     statics_3d: Vec<Vec<(usize, [f64; 3])>>,
     elements_3d: Vec<(usize, Vec<usize>)>,
+}
+
+impl Residuals {
+    /// The load cases of `next` after this solve's, as one solve of both would give them.
+    fn append(&mut self, next: Residuals) {
+        let (n, j) = self.share.shape();
+        let share = DMatrix::from_fn(n, j + next.share.ncols(), |k, c| {
+            if c < j {
+                self.share[(k, c)]
+            } else {
+                next.share[(k, c - j)]
+            }
+        });
+        self.share = share;
+        self.shapes.extend(next.shapes);
+        self.reaction = match (self.reaction, next.reaction) {
+            (Some(a), Some(b)) => Some(a.max(b)),
+            (a, b) => a.or(b),
+        };
+        self.solve_s += next.solve_s;
+        self.static_stresses.extend(next.static_stresses);
+        self.statics_3d.extend(next.statics_3d);
+    }
 }
 
 #[allow(clippy::too_many_arguments)]

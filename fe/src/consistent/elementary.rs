@@ -201,7 +201,8 @@ impl MassMatrix {
             parts
                 .iter()
                 .find(|p| p.0 == r.rot_node)
-                .map_or(([0.0; 3], [0.0; 3]), |p| p.1)
+                .expect("`load_of` asks for the parts with mass, as `parts` holds them")
+                .1
         }))
     }
 

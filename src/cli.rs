@@ -225,6 +225,10 @@ pub enum Cmd {
         /// Also write the plots as SVG (PNG always).
         #[arg(long)]
         svg: bool,
+        /// Compare up to this time only, s (both runs must reach it): a run that stopped early
+        /// against a longer one, or a stretch of a run-up.
+        #[arg(long)]
+        until: Option<f64>,
     },
     /// FE models with CalculiX: `solve DECK.inp` runs ccx on a deck (errors with the deck's
     /// line) and lists its eigenfrequencies.

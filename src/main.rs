@@ -265,6 +265,7 @@ fn command(cmd: Cmd) -> Result<ExitCode, Failure> {
             label_b,
             motor_ratio,
             svg,
+            until,
         } => {
             let name = |p: &Path, l: Option<String>| {
                 l.unwrap_or_else(|| {
@@ -278,6 +279,7 @@ fn command(cmd: Cmd) -> Result<ExitCode, Failure> {
                 out,
                 motor_ratio,
                 svg,
+                until,
             };
             let (_, files) = washdyn::compare::compare(&args).map_err(Error::from)?;
             Ok(wrote(files))

@@ -104,6 +104,7 @@ fn args(a: &Path, b: &Path, out: &Path) -> CompareArgs {
         out: out.to_path_buf(),
         motor_ratio: 11.25,
         svg: false,
+        until: None,
     }
 }
 
@@ -238,6 +239,30 @@ fn runs_that_do_not_match_are_refused_naming_the_directories() {
     let e = compare(&args(&a, &short, &root.join("out"))).unwrap_err();
     assert!(matches!(e, CompareError::Profile { .. }), "{e}");
     assert!(e.to_string().contains("short"), "{e}");
+
+    // `--until` compares the common span: the run that stopped at 1.5 s against the first
+    // 1.5 s of the 2 s run (the same signals: 0 dB, RMS difference 0). A time past either run's
+    // end, or before its start, is refused naming that run.
+    let (c, _) = compare(&CompareArgs {
+        until: Some(1.5),
+        ..args(&a, &short, &root.join("out_until"))
+    })
+    .unwrap();
+    assert_eq!(c.samples, (1.5 * FS) as usize + 1);
+    assert!((c.t_end_s - 1.5).abs() < 1e-12, "{}", c.t_end_s);
+    let ax = c.channels.iter().find(|c| c.channel == "tub1_ax").unwrap();
+    assert_eq!(ax.rms_diff, Some(0.0), "the same run up to 1.5 s");
+    for until in [1.8, -1.0, f64::NAN] {
+        let e = compare(&CompareArgs {
+            until: Some(until),
+            ..args(&a, &short, &root.join("out"))
+        })
+        .unwrap_err();
+        assert!(matches!(e, CompareError::Until { .. }), "{until}: {e}");
+        let culprit = if until > 0.0 { "short" } else { "/a " };
+        assert!(e.to_string().contains(culprit), "{until}: {e}");
+    }
+    let _ = std::fs::remove_dir_all(root.join("out_until"));
 
     // Missing directory, missing sensor file, missing summary.
     let e = compare(&args(&a, &root.join("nothing"), &root.join("out"))).unwrap_err();

@@ -52,8 +52,13 @@ impl SampleSink for Null {
     }
 }
 
-/// Allocations of a whole run of `sys` over [0, t_end] with `method`.
-pub fn allocations<S: Mechanical>(sys: S, method: Method, t_end: f64) -> (u64, u64) {
+/// Allocations of a whole run of `sys` over [0, t_end] with `method`, and the samples it wrote.
+pub fn allocations<S: Mechanical>(
+    sys: S,
+    method: Method,
+    t_end: f64,
+    sample_rate: f64,
+) -> (u64, u64) {
     let mut sys = FirstOrder::new(sys);
     let n = 2 * sys.layout().n();
     let opts = Options {
@@ -66,7 +71,7 @@ pub fn allocations<S: Mechanical>(sys: S, method: Method, t_end: f64) -> (u64, u
     let mut sink = Null(0);
     let ro = RunOptions {
         t_end,
-        sample_rate: 500.0,
+        sample_rate,
         ..RunOptions::default()
     };
     let before = ALLOCS.with(Cell::get);
@@ -84,105 +89,105 @@ pub fn allocations<S: Mechanical>(sys: S, method: Method, t_end: f64) -> (u64, u
     (after - before, sink.0)
 }
 
-/// The short and long runs on the reference's elastic scene. dopri5 runs on its stability
-/// limit there while the friction dampers stick (the slope on the brackets' correction modes:
-/// 310 k steps for the first second), so its runs are shorter (still ten samples and more).
-fn window(method: Method) -> (f64, f64) {
-    if method == Method::Dopri5 {
-        (0.02, 0.2)
-    } else {
-        (0.03, 0.3)
+/// A step loop that allocates shows in any ten-fold window: the allocations of a short run and
+/// of a run ten times as long must be equal, and the long one must have sampled more than nine
+/// times as often (20 samples in the short window, whatever its length).
+fn same_allocations<S: Mechanical>(
+    make: impl Fn() -> S,
+    method: Method,
+    (short, long): (f64, f64),
+    what: &str,
+) {
+    let rate = 20.0 / short;
+    let (a_short, ns) = allocations(make(), method, short, rate);
+    let (a_long, nl) = allocations(make(), method, long, rate);
+    assert!(
+        nl > 9 * ns,
+        "{what}/{method}: the long run sampled {nl}, the short {ns}"
+    );
+    assert_eq!(
+        a_short, a_long,
+        "{what}/{method}: allocations grow with the simulated time"
+    );
+}
+
+/// The short and long runs: 0.5 and 5 s on the rigid scenes (the test took 96 s of CI with 1 and
+/// 10 s). On the elastic scenes dopri5 runs on its stability limit while the friction dampers
+/// stick (the slope on the brackets' correction modes, to 1.6 kHz in the reference's cabinet),
+/// so its windows are shorter: 2.5 and 25 ms on the reference's `elastic` (146 s of the generated
+/// test with 20 and 200 ms) and 50 and 500 ms on the elastic cabinet's (18 s with 0.5 and 5 s).
+/// The implicit methods take 30 and 300 ms on the reference's `elastic`.
+fn window(method: Method, scene: Scene) -> (f64, f64) {
+    match (scene, method) {
+        (Scene::Rigid, _) => (0.5, 5.0),
+        (Scene::ElasticCabinet, Method::Dopri5) => (0.05, 0.5),
+        (Scene::ElasticCabinet, _) => (0.5, 5.0),
+        (Scene::Elastic, Method::Dopri5) => (0.0025, 0.025),
+        (Scene::Elastic, _) => (0.03, 0.3),
     }
 }
 
-/// The short and long runs on the rigid scenes: 251 and 2501 samples at 500 Hz (the test took
-/// 96 s of CI with 1 s and 10 s; a step loop that allocates shows in any ten-fold window).
-const RIGID: (f64, f64) = (0.5, 5.0);
+/// The scenes' kinds, by what their windows must be.
+#[derive(Clone, Copy)]
+enum Scene {
+    Rigid,
+    ElasticCabinet,
+    Elastic,
+}
+
+/// The implicit methods and the composite one, with dopri5.
+const ADAPTIVE: [Method; 5] = [
+    Method::Dopri5,
+    Method::Sdirk4,
+    Method::Rodas4,
+    Method::GeneralizedAlpha,
+    Method::Auto,
+];
 
 #[test]
 fn interpreted_run_allocates_only_at_set_up() {
-    // The reference run-up's first seconds with every effect on.
-    // And the elastic cabinet's scene.
-    for (m, scene) in [
-        (washdyn_models::reference(), "full"),
-        (washdyn_models::elastic_cabinet::model(), "elastic"),
+    // The reference run-up's first seconds with every effect on, and the elastic cabinet's
+    // scene, with every method.
+    for (m, scene, kind) in [
+        (washdyn_models::reference(), "full", Scene::Rigid),
+        (
+            washdyn_models::elastic_cabinet::model(),
+            "elastic",
+            Scene::ElasticCabinet,
+        ),
     ] {
-        let scene = m.scene(Some(scene)).unwrap();
+        let effects = m.scene(Some(scene)).unwrap();
         for method in Method::ALL {
-            let (short, ns) = allocations(Interpreter::new(&m, &scene), method, RIGID.0);
-            let (long, nl) = allocations(Interpreter::new(&m, &scene), method, RIGID.1);
-            assert!(
-                nl > 9 * ns,
-                "{method}: the long run sampled {nl}, the short {ns}"
-            );
-            assert_eq!(
-                short, long,
-                "{method}: allocations grow with the simulated time"
-            );
+            let make = || Interpreter::new(&m, &effects);
+            same_allocations(make, method, window(method, kind), scene);
         }
     }
-    // The reference's elastic scene (tub, drum and cabinet modes): shorter runs (`window`);
-    // the implicit methods with its structured force Jacobians.
+    // The reference's elastic scene (tub, drum and cabinet modes), the implicit methods with
+    // its structured force Jacobians.
     let m = washdyn_models::reference();
-    let scene = m.scene(Some("elastic")).unwrap();
-    for method in [
-        Method::Dopri5,
-        Method::Sdirk4,
-        Method::Rodas4,
-        Method::GeneralizedAlpha,
-        Method::Auto,
-    ] {
-        let (t_short, t_long) = window(method);
-        let (short, ns) = allocations(Interpreter::new(&m, &scene), method, t_short);
-        let (long, nl) = allocations(Interpreter::new(&m, &scene), method, t_long);
-        assert!(nl > 9 * ns, "{method}: {nl} vs {ns}");
-        assert_eq!(
-            short, long,
-            "elastic/{method}: allocations grow with the simulated time"
-        );
+    let effects = m.scene(Some("elastic")).unwrap();
+    for method in ADAPTIVE {
+        let make = || Interpreter::new(&m, &effects);
+        same_allocations(make, method, window(method, Scene::Elastic), "elastic");
     }
 }
 
 #[test]
 fn generated_run_allocates_only_at_set_up() {
-    for (model, scene) in [
-        ("reference", "full"),
-        ("reference", "rigid_low_speed"),
+    for (model, scene, kind) in [
+        ("reference", "full", Scene::Rigid),
+        ("reference", "rigid_low_speed", Scene::Rigid),
         // The dampers' moving parts (subsystem 2's rigid parts, their joints) and the contacts.
-        ("reference", "damper_mass"),
-        ("reference", "contact"),
-        ("elastic_cabinet", "elastic"),
+        ("reference", "damper_mass", Scene::Rigid),
+        ("reference", "contact", Scene::Rigid),
+        ("elastic_cabinet", "elastic", Scene::ElasticCabinet),
+        // Above the traced size: the generated M1 and h, the force Jacobians over dual numbers.
+        ("reference", "elastic", Scene::Elastic),
     ] {
-        for method in [
-            Method::Dopri5,
-            Method::Sdirk4,
-            Method::Rodas4,
-            Method::GeneralizedAlpha,
-            Method::Auto,
-        ] {
-            let sys = || washdyn_models::generated(model, scene).unwrap();
-            let (short, ns) = allocations(sys(), method, RIGID.0);
-            let (long, nl) = allocations(sys(), method, RIGID.1);
-            assert!(nl > 9 * ns);
-            assert_eq!(
-                short, long,
-                "{model}/{scene}/{method}: allocations grow with the simulated time"
-            );
+        for method in ADAPTIVE {
+            let make = || washdyn_models::generated(model, scene).unwrap();
+            let what = format!("{model}/{scene}");
+            same_allocations(make, method, window(method, kind), &what);
         }
-    }
-    // Above the traced size: the generated M1 and h, the force Jacobians over dual numbers.
-    for method in [
-        Method::Dopri5,
-        Method::Sdirk4,
-        Method::Rodas4,
-        Method::GeneralizedAlpha,
-        Method::Auto,
-    ] {
-        let sys = || washdyn_models::generated("reference", "elastic").unwrap();
-        let (t_short, t_long) = window(method);
-        let (short, ns) = allocations(sys(), method, t_short);
-        let (long, nl) = allocations(sys(), method, t_long);
-        assert!(nl > 9 * ns);
-        assert_eq!(short, long, "reference/elastic/{method}: allocations grow");
     }
 }

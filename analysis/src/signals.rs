@@ -177,6 +177,24 @@ impl Signals {
         self.time.is_empty()
     }
 
+    /// Keep the samples up to `t_end` (within half a sample), e.g. the common span of a run
+    /// that stopped early and one that went on; the last sample's time, or `None` where no
+    /// sample reaches `t_end` (the signals are left as they were).
+    pub fn truncate(&mut self, t_end: f64) -> Option<f64> {
+        let half = 0.5 / self.sample_rate;
+        let last = *self.time.last()?;
+        if !(t_end.is_finite() && last >= t_end - half) {
+            return None;
+        }
+        let n = self.time.partition_point(|t| *t <= t_end + half);
+        self.time.truncate(n);
+        self.drum_rpm.truncate(n);
+        for c in &mut self.channels {
+            c.data.truncate(n);
+        }
+        self.time.last().copied()
+    }
+
     /// Look up a channel by name.
     pub fn channel(&self, name: &str) -> Option<&Channel> {
         self.channels.iter().find(|c| c.name == name)

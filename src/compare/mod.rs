@@ -62,6 +62,9 @@ pub struct CompareArgs {
     pub motor_ratio: f64,
     /// Also write the plots as SVG.
     pub svg: bool,
+    /// Compare up to this time only, s: the common span of a run that stopped early (or was
+    /// cut short on purpose) and a longer one. Both runs must reach it.
+    pub until: Option<f64>,
 }
 
 /// Why two runs cannot be compared.
@@ -107,6 +110,13 @@ pub enum CompareError {
         a: PathBuf,
         b: PathBuf,
         detail: String,
+    },
+    /// `--until` outside a run's span.
+    #[error("{dir} runs from {} to {} s; --until {until} s is not inside it", span[0], span[1])]
+    Until {
+        dir: PathBuf,
+        until: f64,
+        span: [f64; 2],
     },
     /// An output file could not be written.
     #[error("cannot write {path}: {message}")]
@@ -274,8 +284,20 @@ fn overlay_orders(c: &ChannelComparison) -> Vec<f64> {
 /// plots into `args.out`. Returns the comparison and the files written.
 pub fn compare(args: &CompareArgs) -> Result<(Comparison, Vec<PathBuf>), CompareError> {
     let [da, db] = [args.runs[0].as_path(), args.runs[1].as_path()];
-    let (sa, ca) = load(da, &args.labels[0])?;
-    let (sb, cb) = load(db, &args.labels[1])?;
+    let (mut sa, ca) = load(da, &args.labels[0])?;
+    let (mut sb, cb) = load(db, &args.labels[1])?;
+    if let Some(t) = args.until {
+        for (s, d) in [(&mut sa, da), (&mut sb, db)] {
+            let (t0, last) = (s.time[0], s.time[s.len() - 1]);
+            if t.is_nan() || t <= t0 || s.truncate(t).is_none() {
+                return Err(CompareError::Until {
+                    dir: d.to_path_buf(),
+                    until: t,
+                    span: [t0, last],
+                });
+            }
+        }
+    }
     check_comparable([da, db], &sa, &sb)?;
     let opts = options(args.motor_ratio, args.svg);
     opts.validate()?;

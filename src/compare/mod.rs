@@ -63,7 +63,8 @@ pub struct CompareArgs {
     /// Also write the plots as SVG.
     pub svg: bool,
     /// Compare up to this time only, s: the common span of a run that stopped early (or was
-    /// cut short on purpose) and a longer one. Both runs must reach it.
+    /// cut short on purpose) and a longer one. Both runs must reach it. The cost table stays
+    /// each whole run's (its summary.json).
     pub until: Option<f64>,
 }
 

@@ -178,13 +178,15 @@ impl Signals {
     }
 
     /// Keep the samples up to `t_end` (within half a sample), e.g. the common span of a run
-    /// that stopped early and one that went on; the last sample's time, or `None` where no
-    /// sample reaches `t_end` (the signals are left as they were).
-    pub fn truncate(&mut self, t_end: f64) -> Option<f64> {
+    /// that stopped early and one that went on. False, and the signals left as they were, where
+    /// `t_end` is not inside their span: not after the first sample, or past the last.
+    pub fn truncate(&mut self, t_end: f64) -> bool {
         let half = 0.5 / self.sample_rate;
-        let last = *self.time.last()?;
-        if !(t_end.is_finite() && last >= t_end - half) {
-            return None;
+        let (Some(&first), Some(&last)) = (self.time.first(), self.time.last()) else {
+            return false;
+        };
+        if !(t_end.is_finite() && t_end > first && t_end <= last + half) {
+            return false;
         }
         let n = self.time.partition_point(|t| *t <= t_end + half);
         self.time.truncate(n);
@@ -192,7 +194,7 @@ impl Signals {
         for c in &mut self.channels {
             c.data.truncate(n);
         }
-        self.time.last().copied()
+        true
     }
 
     /// Look up a channel by name.

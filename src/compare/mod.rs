@@ -289,12 +289,12 @@ pub fn compare(args: &CompareArgs) -> Result<(Comparison, Vec<PathBuf>), Compare
     let (mut sb, cb) = load(db, &args.labels[1])?;
     if let Some(t) = args.until {
         for (s, d) in [(&mut sa, da), (&mut sb, db)] {
-            let (t0, last) = (s.time[0], s.time[s.len() - 1]);
-            if t.is_nan() || t <= t0 || s.truncate(t).is_none() {
+            let span = [s.time[0], s.time[s.len() - 1]];
+            if !s.truncate(t) {
                 return Err(CompareError::Until {
                     dir: d.to_path_buf(),
                     until: t,
-                    span: [t0, last],
+                    span,
                 });
             }
         }

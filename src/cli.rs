@@ -106,7 +106,9 @@ impl Sim {
     }
 }
 
-/// The Ctrl-C flag: a run stops between steps, its summary's status `interrupted`.
+/// The Ctrl-C flag, also set by SIGTERM and SIGHUP (ctrlc's `termination`: a batch system's
+/// time limit, a closed session): a run stops between steps, its summary's status
+/// `interrupted`, its sensor file closed and readable.
 pub fn interrupt_flag() -> Arc<AtomicBool> {
     let interrupt = Arc::new(AtomicBool::new(false));
     let flag = interrupt.clone();

@@ -578,51 +578,63 @@ fn sweep_settings_are_validated() {
     assert!(!out_dir("sweep").exists());
 }
 
-/// SIGINT to the real binary: the ctrlc handler sets the flag, the run stops between steps and
-/// summary.json says "interrupted"; the exit code is a failure.
+/// SIGINT, SIGTERM and SIGHUP to the real binary (Ctrl-C; a batch system's time limit or a
+/// closed session): the ctrlc handler sets the flag, the run stops between steps,
+/// summary.json says "interrupted", the sensor file written so far is a complete parquet file
+/// (its footer written: read back here) and the exit code is a failure.
 #[cfg(unix)]
 #[test]
-fn sigint_to_the_binary_writes_an_interrupted_summary() {
+fn a_stop_signal_to_the_binary_writes_an_interrupted_summary_and_a_readable_file() {
     use std::process::{Command, Stdio};
-    let dir = out_dir("sigint");
-    std::fs::remove_dir_all(&dir).ok();
-    let child = Command::new(env!("CARGO_BIN_EXE_washdyn"))
-        .args([
-            "run",
-            "reference",
-            "--no-plots",
-            "--backend",
-            "interpreted",
-            "--out",
-        ])
-        .arg(&dir)
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    // The output folder appears once the settings passed and the run starts (the 178 s run-up
-    // takes seconds); interrupt it shortly after.
-    let start = std::time::Instant::now();
-    while !dir.exists() {
+    for signal in ["INT", "TERM", "HUP"] {
+        let dir = out_dir(&format!("sig{signal}"));
+        std::fs::remove_dir_all(&dir).ok();
+        let child = Command::new(env!("CARGO_BIN_EXE_washdyn"))
+            .args([
+                "run",
+                "reference",
+                "--no-plots",
+                "--backend",
+                "interpreted",
+                "--out",
+            ])
+            .arg(&dir)
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        // The output folder appears once the settings passed and the run starts (the 178 s
+        // run-up takes seconds); stop it shortly after.
+        let start = std::time::Instant::now();
+        while !dir.exists() {
+            assert!(
+                start.elapsed().as_secs() < 60,
+                "no output folder after 60 s"
+            );
+            std::thread::sleep(std::time::Duration::from_millis(10));
+        }
+        std::thread::sleep(std::time::Duration::from_millis(100));
+        let killed = Command::new("kill")
+            .args([&format!("-{signal}"), &child.id().to_string()])
+            .status()
+            .unwrap();
+        assert!(killed.success());
+        let out = child.wait_with_output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "SIG{signal}: {stderr}");
         assert!(
-            start.elapsed().as_secs() < 60,
-            "no output folder after 60 s"
+            stderr.contains("interrupted at t = "),
+            "SIG{signal}: {stderr}"
         );
-        std::thread::sleep(std::time::Duration::from_millis(10));
+        let json = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+        assert!(json.contains("\"status\": \"interrupted\""), "{json}");
+        let (names, cols) =
+            washdyn::analysis::results::read_parquet_f64(&dir.join("sensors.parquet"))
+                .unwrap_or_else(|e| panic!("SIG{signal}: the sensor file: {e}"));
+        assert_eq!(names[0], "time_s");
+        assert!(!cols[0].is_empty(), "SIG{signal}: no sample kept");
+        std::fs::remove_dir_all(&dir).ok();
     }
-    std::thread::sleep(std::time::Duration::from_millis(100));
-    let killed = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(killed.success());
-    let out = child.wait_with_output().unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success(), "{stderr}");
-    assert!(stderr.contains("interrupted at t = "), "{stderr}");
-    let json = std::fs::read_to_string(dir.join("summary.json")).unwrap();
-    assert!(json.contains("\"status\": \"interrupted\""), "{json}");
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// The FE and Campbell commands refuse bad arguments before writing anything.

@@ -49,7 +49,7 @@ fn dissipated(g: &Gasket, x: &[(f64, f64); 6], w: f64, omega_drive: f64) -> f64 
             rot: V([0.0; 3]),
             angvel: V([0.0; 3]),
         };
-        let (wa, _) = g.wrenches(&a, &b, true, &d);
+        let (wa, _) = g.wrenches(&a, &b, true, &d, &[]);
         let power = wa.force.dot(a.vel) + wa.moment.dot(a.angvel);
         energy -= power * period / n as f64;
     }

@@ -154,8 +154,7 @@ fn run(
                 let (_, p) = energy_and_power(&mut sys.sys, ti, &yi, &mut buf);
                 work += w * (b - a) * p;
                 throughput += w * (b - a) * p.abs();
-                let (q, qd) = yi.split_at(n);
-                assert!(powers(&mut sys.sys, ti, q, qd, &mut ew, &mut pw));
+                assert!(powers(&mut sys.sys, ti, &yi, &mut ew, &mut pw));
                 let largest = pw.iter().fold(0.0f64, |m, x| m.max(x.abs()));
                 let sum: f64 = pw.iter().sum();
                 split = split.max((sum - p).abs() / (p.abs() + largest).max(1e-300));

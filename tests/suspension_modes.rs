@@ -38,6 +38,9 @@ fn four_dampers(kb: f64) -> Vec<FrictionDamper> {
             bearing_stiffness: kb,
             bearing_damping: 0.05,
             moving_part: None,
+            law: Default::default(),
+            axial_stiffness: None,
+            breakaway: None,
         });
     }
     out
@@ -131,6 +134,9 @@ fn strokes_are_the_axial_motion_of_each_damper_end_and_every_mode_strokes_the_ne
             bearing_stiffness: 80.0,
             bearing_damping: 0.05,
             moving_part: None,
+            law: Default::default(),
+            axial_stiffness: None,
+            breakaway: None,
         })
         .collect();
     let old = rigid_modes(&m_old, Some("full")).unwrap();

@@ -6,23 +6,30 @@ use crate::equations::{Category, EnergyWork};
 use crate::ode::Stepper;
 use crate::system::Mechanical;
 
-/// The category powers of a back end at (t, q, q') in the order of
+/// The category powers of a back end at (t, y = [q; q'; z]) in the order of
 /// `Equations::energy_categories` (its resolved model's), the drive's with q'^T M1' q' / 2 (M1
 /// depends on t only: a central difference over 1e-6 s). Their sum is dT/dt for
 /// T = q'^T M q' / 2. False when the back end has no resolved model.
 pub fn powers<S: Mechanical + ?Sized>(
     sys: &mut S,
     t: f64,
-    q: &[f64],
-    qd: &[f64],
+    y: &[f64],
     w: &mut EnergyWork,
     out: &mut Vec<f64>,
 ) -> bool {
+    let n = sys.layout().n();
+    let (q, qd, z) = (&y[..n], &y[n..2 * n], &y[2 * n..]);
+    if !z.is_empty() {
+        sys.eval_states(t, q, qd, z, &mut w.m1p, &mut w.hs, &mut w.zd);
+    }
     let d = sys.speed().drive(t);
     let Some(eq) = sys.equations() else {
         return false;
     };
-    eq.powers(&d, q, qd, w, out);
+    // Out and back without allocating (an empty Vec in between).
+    let zd = std::mem::take(&mut w.zd);
+    eq.powers(&d, q, qd, z, &zd, w, out);
+    w.zd = zd;
     let n1 = eq.layout.n1;
     let dt = 1e-6;
     sys.eval(t + dt, q, qd, &mut w.m1p, &mut w.hs);
@@ -92,8 +99,8 @@ impl Balance {
         let eq = sys.equations()?;
         let categories = eq.energy_categories();
         let mut w = EnergyWork::new(eq);
-        let n = y0.len() / 2;
-        let kinetic0 = kinetic(sys, t0, &y0[..n], &y0[n..], &mut w);
+        let n = eq.layout.n();
+        let kinetic0 = kinetic(sys, t0, &y0[..n], &y0[n..2 * n], &mut w);
         Some(Balance {
             work: vec![0.0; categories.len()],
             p: Vec::with_capacity(categories.len()),
@@ -120,7 +127,7 @@ impl Balance {
         S: Mechanical + ?Sized,
         V: Stepper + ?Sized,
     {
-        let n = self.y.len() / 2;
+        let n = sys.layout().n();
         let g = 0.6f64.sqrt() / 2.0;
         let nodes = [
             (0.5 - g, 5.0 / 18.0),
@@ -139,8 +146,7 @@ impl Balance {
             for (x, wt) in nodes {
                 let t = a + x * (b - a);
                 solver.interpolate(t, &mut self.y);
-                let (q, qd) = self.y.split_at(n);
-                powers(sys, t, q, qd, &mut self.w, &mut self.p);
+                powers(sys, t, &self.y, &mut self.w, &mut self.p);
                 let mut total = 0.0;
                 for (wk, pc) in self.work.iter_mut().zip(&self.p) {
                     *wk += wt * (b - a) * pc;
@@ -150,7 +156,7 @@ impl Balance {
             }
             if b == next {
                 solver.interpolate(b, &mut self.y);
-                let (q, qd) = self.y.split_at(n);
+                let (q, qd) = (&self.y[..n], &self.y[n..2 * n]);
                 let kin = kinetic(sys, b, q, qd, &mut self.w);
                 self.row_closure = self.residual(kin);
                 row(b, sys.speed().rpm(b), kin, &self.work)?;
@@ -163,8 +169,8 @@ impl Balance {
 
     /// |T(t) - T0 - sum W| / throughput at the solver's current state.
     pub fn closure<S: Mechanical + ?Sized>(&mut self, sys: &mut S, t: f64, y: &[f64]) -> f64 {
-        let n = y.len() / 2;
-        let kin = kinetic(sys, t, &y[..n], &y[n..], &mut self.w);
+        let n = sys.layout().n();
+        let kin = kinetic(sys, t, &y[..n], &y[n..2 * n], &mut self.w);
         self.residual(kin)
     }
 

@@ -137,7 +137,8 @@ pub fn periodic_state_watched<S: Mechanical>(
 ) -> Result<(Vec<f64>, usize), StartStop> {
     let period = period(sys.sys.speed(), t0)?;
     let n = sys.layout().n();
-    let m = 2 * n;
+    // The whole state: [q; q'; z] (the element states are periodic too).
+    let m = sys.layout().dim();
     let q0 = mean_load_equilibrium(&mut sys.sys, t0)?;
     let mut y = vec![0.0; m];
     y[..n].copy_from_slice(&q0);

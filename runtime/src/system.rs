@@ -10,8 +10,25 @@ use crate::speed::Speed;
 /// M(q, t) q'' = h(q, q', t) with M = diag(M1(q, t), M2), as either back end evaluates it.
 pub trait Mechanical {
     fn layout(&self) -> Layout;
-    /// M1 (n1 x n1, row-major) and h (length n) at (t, q, q').
+    /// M1 (n1 x n1, row-major) and h (length n) at (t, q, q'), the element states at their
+    /// assembly value (z = 0).
     fn eval(&mut self, t: f64, q: &[f64], qd: &[f64], m1: &mut [f64], h: &mut [f64]);
+    /// As `eval` at element states `z` (`layout().nz`), and their rates into `zd`. A back end
+    /// without element states needs only `eval`.
+    #[allow(clippy::too_many_arguments)]
+    fn eval_states(
+        &mut self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        z: &[f64],
+        m1: &mut [f64],
+        h: &mut [f64],
+        zd: &mut [f64],
+    ) {
+        assert!(z.is_empty() && zd.is_empty(), "a back end with element states evaluates them");
+        self.eval(t, q, qd, m1, h);
+    }
     /// The constant M2 (n2 x n2, row-major).
     fn m2(&self) -> &[f64];
     /// Sensor channels (3 per sensor) from the state and its acceleration.
@@ -97,6 +114,20 @@ impl Mechanical for Interpreter {
         let d = self.speed.drive(t);
         self.eq.eval(&d, q, qd, m1, h);
     }
+    fn eval_states(
+        &mut self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        z: &[f64],
+        m1: &mut [f64],
+        h: &mut [f64],
+        zd: &mut [f64],
+    ) {
+        let d = self.speed.drive(t);
+        self.eq.eval_states(&d, q, qd, z, m1, h);
+        self.eq.state_rates(q, qd, z, zd);
+    }
     fn m2(&self) -> &[f64] {
         &self.m2
     }
@@ -134,7 +165,8 @@ impl Mechanical for Interpreter {
     }
 }
 
-/// First-order form y = [q; q'] for the integrators, with preallocated work arrays.
+/// First-order form y = [q; q'; z] for the integrators (z: the element states, usually none),
+/// with preallocated work arrays.
 pub struct FirstOrder<S: Mechanical> {
     pub sys: S,
     layout: Layout,
@@ -168,13 +200,13 @@ impl<S: Mechanical> FirstOrder<S> {
             cholesky_in_place(&mut l2, n2),
             "M2 is not positive definite"
         );
-        let mut atol = vec![1.0; 2 * (n1 + n2)];
+        let mut atol = vec![1.0; layout.dim()];
         if let Some(eq) = sys.equations() {
             eq.atol_scales(&mut atol);
         }
         let ported = sys
             .equations()
-            .filter(|_| m2_identity && !sys.has_acceleration_jacobians())
+            .filter(|_| m2_identity && !sys.has_acceleration_jacobians() && layout.nz == 0)
             .and_then(|eq| Some((eq.ported_ports()?, JacobianWork::new(eq))));
         FirstOrder {
             atol,
@@ -195,14 +227,33 @@ impl<S: Mechanical> FirstOrder<S> {
         self.layout
     }
 
-    /// q'' at (t, q, q') into `qdd`. A mass block that is not positive definite yields NaN, which
+    /// q'' at (t, q, q') into `qdd`, the element states at their assembly value (a system
+    /// without states: all of it). A mass block that is not positive definite yields NaN, which
     /// the integrators report as a non-finite state with its time.
     pub fn accelerations(&mut self, t: f64, q: &[f64], qd: &[f64], qdd: &mut [f64]) {
-        if self.sys.accelerations(t, q, qd, qdd) {
+        if self.layout.nz == 0 && self.sys.accelerations(t, q, qd, qdd) {
             return;
         }
-        let (n1, n2) = (self.layout.n1, self.layout.n2);
         self.sys.eval(t, q, qd, &mut self.m1, &mut self.h);
+        self.solve_mass(qdd);
+    }
+
+    /// q'' and the element states' rates at the whole state y = [q; q'; z] into `qdd`, `zd`.
+    pub fn rates(&mut self, t: f64, y: &[f64], qdd: &mut [f64], zd: &mut [f64]) {
+        let n = self.layout.n();
+        let (q, rest) = y.split_at(n);
+        let (qd, z) = rest.split_at(n);
+        if z.is_empty() {
+            return self.accelerations(t, q, qd, qdd);
+        }
+        self.sys
+            .eval_states(t, q, qd, z, &mut self.m1, &mut self.h, zd);
+        self.solve_mass(qdd);
+    }
+
+    /// q'' = M^-1 h from the `m1` and `h` just evaluated.
+    fn solve_mass(&mut self, qdd: &mut [f64]) {
+        let (n1, n2) = (self.layout.n1, self.layout.n2);
         qdd.copy_from_slice(&self.h);
         if cholesky_in_place(&mut self.m1, n1) {
             cholesky_solve(&self.m1, n1, &mut qdd[..n1]);
@@ -255,7 +306,7 @@ impl<S: Mechanical> FirstOrder<S> {
 
 impl<S: Mechanical> OdeSystem for FirstOrder<S> {
     fn dim(&self) -> usize {
-        2 * self.layout.n()
+        self.layout.dim()
     }
     fn second_order(&self) -> Option<usize> {
         Some(self.layout.n())
@@ -266,10 +317,10 @@ impl<S: Mechanical> OdeSystem for FirstOrder<S> {
     }
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) {
         let n = self.layout.n();
-        let (q, qd) = y.split_at(n);
-        let (dq, dqd) = dy.split_at_mut(n);
-        dq.copy_from_slice(qd);
-        self.accelerations(t, q, qd, dqd);
+        let (dq, rest) = dy.split_at_mut(n);
+        let (dqd, dz) = rest.split_at_mut(n);
+        dq.copy_from_slice(&y[n..2 * n]);
+        self.rates(t, y, dqd, dz);
     }
     /// M = diag(M1(t), M2) and the back end's force Jacobians, when it has them.
     fn mass_jacobians(
@@ -282,8 +333,12 @@ impl<S: Mechanical> OdeSystem for FirstOrder<S> {
     ) -> bool {
         let (n1, n2) = (self.layout.n1, self.layout.n2);
         let n = n1 + n2;
-        let (q, qd) = y.split_at(n);
-        if self.sys.has_acceleration_jacobians() || !self.sys.force_jacobians(t, q, qd, hq, hqd) {
+        let (q, qd) = (&y[..n], &y[n..2 * n]);
+        // Element states: the implicit methods difference the whole Jacobian.
+        if self.layout.nz > 0
+            || self.sys.has_acceleration_jacobians()
+            || !self.sys.force_jacobians(t, q, qd, hq, hqd)
+        {
             return false;
         }
         self.sys.eval(t, q, qd, &mut self.m1, &mut self.h);
@@ -320,6 +375,9 @@ impl<S: Mechanical> OdeSystem for FirstOrder<S> {
     fn jacobian(&mut self, t: f64, y: &[f64], jac: &mut [f64]) -> bool {
         let n = self.layout.n();
         let (q, qd) = y.split_at(n);
+        if self.layout.nz > 0 {
+            return false;
+        }
         if !self
             .sys
             .acceleration_jacobians(t, q, qd, &mut self.jq, &mut self.jqd)
@@ -345,6 +403,18 @@ impl<M: Mechanical + ?Sized> Mechanical for Box<M> {
     }
     fn eval(&mut self, t: f64, q: &[f64], qd: &[f64], m1: &mut [f64], h: &mut [f64]) {
         (**self).eval(t, q, qd, m1, h)
+    }
+    fn eval_states(
+        &mut self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        z: &[f64],
+        m1: &mut [f64],
+        h: &mut [f64],
+        zd: &mut [f64],
+    ) {
+        (**self).eval_states(t, q, qd, z, m1, h, zd)
     }
     fn m2(&self) -> &[f64] {
         (**self).m2()

@@ -113,8 +113,12 @@ impl Free {
             omega: 40.0,
             omega_dot: 2.0,
         };
+        // Element states inside their elastic range and past it.
+        let nz = eq0.layout.nz;
+        let z: Vec<f64> = (0..nz).map(|i| 1e-4 * (0.9 + i as f64).sin()).collect();
         let mut inputs: Vec<f64> = q.iter().chain(&qd).copied().collect();
         inputs.extend([d.phi, d.omega, d.omega_dot]);
+        inputs.extend(&z);
         let mut s_inputs: Vec<f64> = q.iter().chain(&qd).chain(&qdd).copied().collect();
         s_inputs.extend([d.phi, d.omega, d.omega_dot]);
         for k in 0..self.params.len() {
@@ -124,8 +128,10 @@ impl Free {
                 set(model, &self.params, &p).map_err(|e| GenError::free(k, e.to_string()))?;
             let eq = Equations::new(&changed, scene);
             let mut m1f = vec![0.0; n1 * n1];
-            let mut hf = vec![0.0; n];
-            eq.eval(&d, &q, &qd, &mut m1f, &mut hf);
+            let mut hf = vec![0.0; n + nz];
+            let (hm, zd) = hf.split_at_mut(n);
+            eq.eval_states(&d, &q, &qd, &z, &mut m1f, hm);
+            eq.state_rates(&q, &qd, &z, zd);
             let mut sf = Vec::new();
             for i in 0..eq.sensors.len() {
                 sf.extend(eq.sensor(i, &d, &q, &qd, &qdd));

@@ -96,7 +96,10 @@ pub enum Solve {
 pub struct Traced {
     pub n1: usize,
     pub n: usize,
-    /// Inputs: q (n), q' (n), phi, omega, omega'.
+    /// Element states (their rates follow h in `mh`).
+    pub nz: usize,
+    /// Inputs: q (n), q' (n), phi, omega, omega', the element states z (nz). Outputs: M1, and
+    /// h followed by z'.
     pub mh: (Graph, Vec<Sym>, Vec<Sym>),
     /// M1 from its fitted harmonics (`mass.rs`), same inputs, when the scene factorises M1 at
     /// run time and M1 has that form: what the generated code evaluates instead of `mh`'s M1.
@@ -141,15 +144,20 @@ pub fn trace_equations(eq: &Equations) -> Traced {
 /// As [`trace_equations`], for equations of a model whose free numbers are `stand_ins`
 /// (`Free::stand_in_model`): those become the graph's parameters.
 pub fn trace_free(eq: &Equations, stand_ins: &[f64]) -> Traced {
-    let (n1, n) = (eq.layout.n1, eq.layout.n());
+    let (n1, n, nz) = (eq.layout.n1, eq.layout.n(), eq.layout.nz);
     let ((m1, h), g_mh) = trace_params(stand_ins, || {
         let (q, qd, d) = inputs(n);
+        let z: Vec<Sym> = (0..nz).map(|_| Sym::input()).collect();
         let mut m1 = vec![Sym::c(0.0); n1 * n1];
-        let mut h = vec![Sym::c(0.0); n];
-        eq.eval(&d, &q, &qd, &mut m1, &mut h);
+        let mut h = vec![Sym::c(0.0); n + nz];
+        let (hm, zd) = h.split_at_mut(n);
+        eq.eval_states(&d, &q, &qd, &z, &mut m1, hm);
+        eq.state_rates(&q, &qd, &z, zd);
         (m1, h)
     });
-    let acc = if n <= TRACED_FACTOR_MAX_N {
+    // With element states q'' is not traced (it would need them as inputs too): M1 is
+    // factorised at run time, the implicit methods difference the whole Jacobian.
+    let acc = if n <= TRACED_FACTOR_MAX_N && nz == 0 {
         let ((qdd, jq, jqd), g_acc) = trace_params(stand_ins, || {
             let (q, qd, d) = inputs(n);
             let mut m1 = vec![Sym::c(0.0); n1 * n1];
@@ -201,6 +209,7 @@ pub fn trace_free(eq: &Equations, stand_ins: &[f64]) -> Traced {
     Traced {
         n1,
         n,
+        nz,
         mh: (g_mh, m1, h),
         m1_harmonic,
         acc,
@@ -232,6 +241,12 @@ fn state_inputs(n: usize, extra: &[&str]) -> Vec<String> {
         .collect()
 }
 
+/// `state_inputs` followed by the element states z.
+fn with_states(mut names: Vec<String>, nz: usize) -> Vec<String> {
+    names.extend((0..nz).map(|i| format!("z[{i}]")));
+    names
+}
+
 /// Rust source of one scene's type, and its statistics.
 pub fn scene_source(eq: &Equations, name: &str) -> (String, SceneStats) {
     scene_source_free(eq, name, &Free::default(), &trace_equations(eq))
@@ -247,23 +262,28 @@ fn scene_source_free(eq: &Equations, name: &str, free: &Free, t: &Traced) -> (St
     let nc = eq.n_channels();
     let drive = ["d.phi", "d.omega", "d.omega_dot"];
 
-    let (g, m1, h) = &t.mh;
+    let nz = t.nz;
+    let (g, m1, hz) = &t.mh;
+    let (h, zd) = hz.split_at(n);
+    let mh_inputs = with_states(state_inputs(n, &drive), nz);
     let (body_mh, ops_mh) = match &t.m1_harmonic {
         None => {
-            let mut e = Emitter::new(g, state_inputs(n, &drive));
+            let mut e = Emitter::new(g, mh_inputs);
             e.assign("m1", m1);
             e.assign("h", h);
+            e.assign("zd", zd);
             (
                 e.take(),
-                g.op_count(&[m1.as_slice(), h.as_slice()].concat()),
+                g.op_count(&[m1.as_slice(), hz.as_slice()].concat()),
             )
         }
         Some((gm, m1h)) => {
             let mut em = Emitter::with_prefix(gm, state_inputs(n, &drive), "m_");
             em.assign("m1", m1h);
-            let mut e = Emitter::new(g, state_inputs(n, &drive));
+            let mut e = Emitter::new(g, mh_inputs);
             e.assign("h", h);
-            (em.take() + &e.take(), gm.op_count(m1h) + g.op_count(h))
+            e.assign("zd", zd);
+            (em.take() + &e.take(), gm.op_count(m1h) + g.op_count(hz))
         }
     };
 
@@ -286,7 +306,7 @@ fn scene_source_free(eq: &Equations, name: &str, free: &Free, t: &Traced) -> (St
         Solve::Numeric => {
             let body_acc = format!(
                 "let mut m1 = [0.0f64; {n1sq}];\n\
-                 Self::mass_and_forces(p, d, q, qd, &mut m1, qdd);\n\
+                 Self::mass_and_forces(p, d, q, qd, &[0.0; {nz}], &mut m1, qdd, &mut [0.0; {nz}]);\n\
                  {rt}::linalg::cholesky_factor(&mut m1[..], {n1});\n\
                  {rt}::linalg::cholesky_solve(&m1[..], {n1}, &mut qdd[..{n1}]);\n",
                 n1sq = n1 * n1
@@ -386,9 +406,9 @@ impl {name} {{
         }})
     }}
 
-    /// M1 (row-major) and h.
+    /// M1 (row-major) and h at element states z, and their rates zd.
     #[inline]
-    pub fn mass_and_forces(p: &[f64; {np}], d: &{rt}::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], m1: &mut [f64; {n1sq}], h: &mut [f64; {n}]) {{
+    pub fn mass_and_forces(p: &[f64; {np}], d: &{rt}::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], z: &[f64; {nz}], m1: &mut [f64; {n1sq}], h: &mut [f64; {n}], zd: &mut [f64; {nz}]) {{
 {body_mh}    }}
 
     /// q'' = M^-1 h, with M1 factorised in straight-line code.
@@ -405,11 +425,15 @@ impl {name} {{
 
 impl {rt}::system::Mechanical for {name} {{
     fn layout(&self) -> {rt}::equations::Layout {{
-        {rt}::equations::Layout {{ n1: {n1}, n2: {n2} }}
+        {rt}::equations::Layout {{ n1: {n1}, n2: {n2}, nz: {nz} }}
     }}
     fn eval(&mut self, t: f64, q: &[f64], qd: &[f64], m1: &mut [f64], h: &mut [f64]) {{
         let d = self.speed.drive(t);
-        Self::mass_and_forces(&self.p, &d, q.try_into().expect("q has N entries"), qd.try_into().expect("qd has N entries"), m1.try_into().expect("m1 has N1^2 entries"), h.try_into().expect("h has N entries"));
+        Self::mass_and_forces(&self.p, &d, q.try_into().expect("q has N entries"), qd.try_into().expect("qd has N entries"), &[0.0; {nz}], m1.try_into().expect("m1 has N1^2 entries"), h.try_into().expect("h has N entries"), &mut [0.0; {nz}]);
+    }}
+    fn eval_states(&mut self, t: f64, q: &[f64], qd: &[f64], z: &[f64], m1: &mut [f64], h: &mut [f64], zd: &mut [f64]) {{
+        let d = self.speed.drive(t);
+        Self::mass_and_forces(&self.p, &d, q.try_into().expect("q has N entries"), qd.try_into().expect("qd has N entries"), z.try_into().expect("z has NZ entries"), m1.try_into().expect("m1 has N1^2 entries"), h.try_into().expect("h has N entries"), zd.try_into().expect("zd has NZ entries"));
     }}
     fn m2(&self) -> &[f64] {{
         &Self::M2

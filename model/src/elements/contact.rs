@@ -97,6 +97,7 @@ impl Element for Contact {
         b: &Marker<T>,
         _exact: bool,
         _d: &Drive<T>,
+        _z: &[T],
     ) -> (Wrench<T>, Wrench<T>) {
         // The same law in both kinematics: the normal stays at rest (the surface's tilt times
         // the tangential slide is second order in the small motion).
@@ -174,6 +175,7 @@ mod tests {
             &mk(rest, [0.0; 3]),
             true,
             &drive,
+            &[],
         );
         assert!((wa.force.0[2] + 141.421_356_237_309_5).abs() < 1e-9);
         assert_eq!(wb.force.0[2], -wa.force.0[2]);
@@ -183,6 +185,7 @@ mod tests {
             &mk(rest, [0.0; 3]),
             true,
             &drive,
+            &[],
         );
         assert_eq!(
             wa.force.0, [0.0; 3],

@@ -105,6 +105,7 @@ impl Element for DamperJoint {
         b: &Marker<T>,
         exact: bool,
         _d: &Drive<T>,
+        _z: &[T],
     ) -> (Wrench<T>, Wrench<T>) {
         // The part relative to the body; the rod's axis turns with the part (exact) or stays
         // at rest (linearised: then only the friction law is nonlinear).

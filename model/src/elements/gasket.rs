@@ -75,6 +75,7 @@ impl Element for Gasket {
         b: &Marker<T>,
         _exact: bool,
         d: &Drive<T>,
+        _z: &[T],
     ) -> (Wrench<T>, Wrench<T>) {
         let dx = a.pos - b.pos - (V::c(self.a.point) - V::c(self.b.point));
         let x = [dx.0, (a.rot - b.rot).0].concat_arr();

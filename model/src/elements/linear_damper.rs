@@ -46,6 +46,7 @@ impl Element for LinearDamper {
         b: &Marker<T>,
         exact: bool,
         _d: &Drive<T>,
+        _z: &[T],
     ) -> (Wrench<T>, Wrench<T>) {
         let n = if exact {
             let d = b.pos - a.pos;

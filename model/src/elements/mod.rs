@@ -11,7 +11,7 @@ mod spring;
 
 pub use contact::Contact;
 pub use damper_joint::{Axial, DamperJoint};
-pub use friction_damper::{FrictionDamper, friction_force};
+pub use friction_damper::{Axial as FrictionAxial, FrictionDamper, ep_rate, friction_force};
 pub use gasket::{Gasket, OMEGA_FLOOR, reference_speed};
 pub use linear_damper::LinearDamper;
 pub use spring::Spring;
@@ -31,12 +31,28 @@ pub trait Element {
     fn markers(&self) -> (&MarkerDef, &MarkerDef);
     /// Wrenches on the bodies at a and b. `exact`: current geometry; otherwise kinematics
     /// linearised about the rest position (scene effect `element_geometry` off). `d`: the drum's
-    /// motion, for elements whose law follows the excitation (the hysteretic gasket).
+    /// motion, for elements whose law follows the excitation (the hysteretic gasket). `z`: the
+    /// system's element states (an element with a state past its end reads its assembly value).
     fn wrenches<T: Scalar>(
         &self,
         a: &Marker<T>,
         b: &Marker<T>,
         exact: bool,
         d: &Drive<T>,
+        z: &[T],
     ) -> (Wrench<T>, Wrench<T>);
+    /// The index of the element's own state among the system's element states (a presliding
+    /// friction law's deflection), if it has one.
+    fn state(&self) -> Option<usize> {
+        None
+    }
+    /// The rate of the element's state (zero for an element without one).
+    fn state_rate<T: Scalar>(&self, _a: &Marker<T>, _b: &Marker<T>, _exact: bool, _z: &[T]) -> T {
+        T::zero()
+    }
+    /// The power stored in the element's state (its stored energy's rate), for the energy
+    /// balance's elastic category.
+    fn stored_power(&self, _z: &[f64], _zd: &[f64]) -> f64 {
+        0.0
+    }
 }

@@ -60,6 +60,7 @@ impl Element for Spring {
         b: &Marker<T>,
         exact: bool,
         _d: &Drive<T>,
+        _z: &[T],
     ) -> (Wrench<T>, Wrench<T>) {
         let d = b.pos - a.pos;
         let fa: V<T> = if exact {

@@ -167,7 +167,11 @@ impl Bodies {
                 (i, p)
             })
             .collect();
-        let layout = Layout { n1, n2: n - n1 };
+        let layout = Layout {
+            n1,
+            n2: n - n1,
+            nz: 0,
+        };
         let frame_modes = |m: Option<ModalBody>| m.map_or(Modes::Rigid, Modes::Frame);
         let mut bodies = Bodies {
             list: vec![Body {
@@ -393,7 +397,14 @@ mod tests {
             ]
         );
         assert_eq!(b.get(BodyRef::Tub).unwrap().coordinates(), 0..6);
-        assert_eq!(b.layout, Layout { n1: 6, n2: 0 });
+        assert_eq!(
+            b.layout,
+            Layout {
+                n1: 6,
+                n2: 0,
+                nz: 0
+            }
+        );
         // A drum point rides on the tub's frame at its own lever from p0.
         let p = [0.3, 0.1, 0.2];
         let d = b.marker(BodyRef::Drum, p);

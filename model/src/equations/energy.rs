@@ -16,7 +16,10 @@
 //! - `<element> elastic`, `<element> dissipated`: the element's loads at the markers' current
 //!   positions with their velocities set to zero, and the rest (friction, dampers, the
 //!   bearings' and the gasket's damping, a contact's Hunt-Crossley damping and its clamp:
-//!   `elements::contact` shows that part never positive).
+//!   `elements::contact` shows that part never positive). An element with a state of its own (a
+//!   presliding friction law's bushing deflection z) stores k z^2 / 2 there: its elastic work
+//!   is the bearings' at rest velocity at z = 0 minus k z z', and the slider's k z (v - z') is
+//!   dissipated.
 //!
 //! Strain and elastic categories store energy (their work is minus a potential change);
 //! dissipated ones only take it (their work is never positive).
@@ -58,6 +61,8 @@ pub struct EnergyWork {
     pub m1p: Vec<f64>,
     pub m1m: Vec<f64>,
     pub hs: Vec<f64>,
+    /// The element states' rates (their stored power).
+    pub zd: Vec<f64>,
 }
 
 impl EnergyWork {
@@ -70,6 +75,7 @@ impl EnergyWork {
             m1p: vec![0.0; n1 * n1],
             m1m: vec![0.0; n1 * n1],
             hs: vec![0.0; n],
+            zd: vec![0.0; eq.layout.nz],
         }
     }
 }
@@ -134,17 +140,21 @@ impl Equations {
     /// The power of each category at (d, q, q'), in the order of `energy_categories`; they add
     /// up to q'^T h. The drive's share lacks q'^T M1' q' / 2, which needs M1 at neighbouring
     /// times ([`powers`] adds it).
+    /// `z`, `zd`: the element states and their rates (empty without states).
+    #[allow(clippy::too_many_arguments)]
     pub fn powers(
         &self,
         d: &Drive<f64>,
         q: &[f64],
         qd: &[f64],
+        z: &[f64],
+        zd: &[f64],
         w: &mut EnergyWork,
         out: &mut Vec<f64>,
     ) {
         out.clear();
-        self.eval_terms(d, q, qd, None, &mut w.h, Terms::Bodies);
-        self.eval_terms(d, q, qd, None, &mut w.h0, Terms::BodiesWithoutGravity);
+        self.eval_terms(d, q, qd, &[], None, &mut w.h, Terms::Bodies);
+        self.eval_terms(d, q, qd, &[], None, &mut w.h0, Terms::BodiesWithoutGravity);
         let (with_g, without_g) = (dot(qd, &w.h), dot(qd, &w.h0));
         // A fixed frame's modal weight does not scale with the g of the body terms.
         let mut fixed_weight = 0.0;
@@ -171,42 +181,57 @@ impl Equations {
         out[0] = without_g - fixed_weight - own;
         out[1] = with_g - without_g + fixed_weight;
         let st = BodyState::new(q, qd);
-        self.element_powers(&self.springs, &st, d, qd, w, out);
-        self.element_powers(&self.dampers, &st, d, qd, w, out);
-        self.element_powers(&self.friction_dampers, &st, d, qd, w, out);
-        self.element_powers(&self.damper_joints, &st, d, qd, w, out);
-        self.element_powers(&self.gaskets, &st, d, qd, w, out);
-        self.element_powers(&self.contacts, &st, d, qd, w, out);
+        let s = States { z, zd };
+        self.element_powers(&self.springs, &st, d, qd, s, w, out);
+        self.element_powers(&self.dampers, &st, d, qd, s, w, out);
+        self.element_powers(&self.friction_dampers, &st, d, qd, s, w, out);
+        self.element_powers(&self.damper_joints, &st, d, qd, s, w, out);
+        self.element_powers(&self.gaskets, &st, d, qd, s, w, out);
+        self.element_powers(&self.contacts, &st, d, qd, s, w, out);
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn element_powers<E: Element>(
         &self,
         list: &[Placed<E>],
         st: &BodyState<f64>,
         d: &Drive<f64>,
         qd: &[f64],
+        s: States,
         w: &mut EnergyWork,
         out: &mut Vec<f64>,
     ) {
         for p in list {
             let (ma, mb) = p.e.markers();
             let (la, lb) = (ma.local(st), mb.local(st));
-            let power = |la: &Local<f64>, lb: &Local<f64>, h: &mut Vec<f64>| {
+            let power = |la: &Local<f64>, lb: &Local<f64>, z: &[f64], h: &mut Vec<f64>| {
                 h.fill(0.0);
-                let (a, b) = self.element_loads(p, la, lb, d);
+                let (a, b) = self.element_loads(p, la, lb, d, z);
                 ma.scatter(&a, h);
                 mb.scatter(&b, h);
                 dot(qd, h)
             };
             // An element without an elastic part has none at rest velocity (zero loads), and
-            // one that does not dissipate is its elastic part: one evaluation each.
-            let elastic = E::ELASTIC.then(|| power(&still(&la), &still(&lb), &mut w.h0));
+            // one that does not dissipate is its elastic part: one evaluation each. A state's
+            // force is in neither rest evaluation (z = 0 there): its stored share is -k z z'.
+            let stored = p.e.state().map(|_| -p.e.stored_power(s.z, s.zd));
+            let elastic = E::ELASTIC.then(|| {
+                let at_rest = if stored.is_some() { &[][..] } else { s.z };
+                power(&still(&la), &still(&lb), at_rest, &mut w.h0) + stored.unwrap_or(0.0)
+            });
             if let Some(e) = elastic {
                 out.push(e);
             }
             if E::DISSIPATIVE {
-                out.push(power(&la, &lb, &mut w.h) - elastic.unwrap_or(0.0));
+                out.push(power(&la, &lb, s.z, &mut w.h) - elastic.unwrap_or(0.0));
             }
         }
     }
+}
+
+/// The element states and their rates, for `element_powers`.
+#[derive(Clone, Copy)]
+struct States<'a> {
+    z: &'a [f64],
+    zd: &'a [f64],
 }

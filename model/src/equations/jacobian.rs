@@ -170,7 +170,9 @@ fn ported<T: Copy>(
 
 impl Equations {
     /// dh/dq into `hq` and dh/dq' into `hqd` (row-major n x n each) at (d, q, q'), by the
-    /// structure of the derivation (module doc). Never allocates.
+    /// structure of the derivation (module doc), with the element states at their assembly
+    /// value (the static start's Newton; a system with states iterates on its whole Jacobian).
+    /// Never allocates.
     pub fn force_jacobians(
         &self,
         d: &Drive<f64>,
@@ -380,7 +382,7 @@ impl Equations {
                 t => t,
             };
             let m1 = (t != Terms::Bodies).then_some(&mut w.m1[..]);
-            self.eval_terms(&dd, &w.q, &w.qd, m1, &mut w.h, t);
+            self.eval_terms(&dd, &w.q, &w.qd, &[], m1, &mut w.h, t);
             for s in start..end {
                 let (vel, c) = col(s);
                 let target = if vel { &mut *hqd } else { &mut *hq };
@@ -470,7 +472,7 @@ impl Equations {
         for rate in [false, true] {
             let (sa, next) = seeded::<N>(ma, &la, rate, 0);
             let (sb, _) = seeded::<N>(mb, &lb, rate, next);
-            let (ya, yb) = self.element_loads(p, &sa, &sb, &dl);
+            let (ya, yb) = self.element_loads(p, &sa, &sb, &dl, &[]);
             let h = if rate { &mut *hqd } else { &mut *hq };
             for ((m, y), slot) in [(ma, &ya), (mb, &yb)].into_iter().zip(slots) {
                 // The marker's ports in pairs sharing rows: (force, moment) on the tub's

@@ -58,11 +58,18 @@ pub struct Layout {
     pub n1: usize,
     /// Subsystem 2: cabinet modes.
     pub n2: usize,
+    /// First-order element states after q and q' (a presliding friction law's deflection).
+    pub nz: usize,
 }
 
 impl Layout {
+    /// The mechanical coordinates q (n1 + n2).
     pub fn n(&self) -> usize {
         self.n1 + self.n2
+    }
+    /// The first-order state's length: [q; q'; z].
+    pub fn dim(&self) -> usize {
+        2 * self.n() + self.nz
     }
 }
 
@@ -118,7 +125,7 @@ impl<E: Element> Placed<E> {
             omega: 0.0,
             omega_dot: 0.0,
         };
-        let (wa, _) = e.wrenches(&ma.state(&zero), &mb.state(&zero), exact, &rest);
+        let (wa, _) = e.wrenches(&ma.state(&zero), &mb.state(&zero), exact, &rest, &[]);
         Placed {
             e,
             rest_force_a: wa.force.0,
@@ -131,7 +138,7 @@ impl Equations {
     /// Resolve a checked model for a scene.
     pub fn new(model: &Model, scene: &EffectSet) -> Equations {
         let bodies = Bodies::new(model, scene);
-        let layout = bodies.layout;
+        let mut layout = bodies.layout;
         let mk = |body: BodyRef, point: [f64; 3]| bodies.marker(body, point);
         let (tub, m1_const, carried) = bodies.constant_mass(model);
         let all_rotors: Vec<RotorDef> = model
@@ -194,7 +201,10 @@ impl Equations {
                 damper_joints.push(Placed::new(rod, exact, n));
                 damper_joints.push(Placed::new(housing, exact, n));
             } else {
-                friction_dampers.push(Placed::new(FrictionDamper::new(d, a, b), exact, n));
+                let law = scene.friction_law(d.law);
+                let e = FrictionDamper::new(d, law, layout.nz, a, b);
+                layout.nz += usize::from(e.state().is_some());
+                friction_dampers.push(Placed::new(e, exact, n));
             }
         }
         let gaskets = model
@@ -256,19 +266,49 @@ impl Equations {
         self.bodies.spinning()
     }
 
-    /// Evaluate M1 (row-major n1 x n1, overwritten) and h (length n, overwritten).
+    /// Evaluate M1 (row-major n1 x n1, overwritten) and h (length n, overwritten), with the
+    /// element states at their assembly value (z = 0: the static start's).
     pub fn eval<T: Scalar>(&self, d: &Drive<T>, q: &[T], qd: &[T], m1: &mut [T], h: &mut [T]) {
-        self.eval_terms(d, q, qd, Some(m1), h, Terms::All);
+        self.eval_terms(d, q, qd, &[], Some(m1), h, Terms::All);
+    }
+
+    /// As `eval`, at element states `z` (length `layout.nz`).
+    #[allow(clippy::too_many_arguments)]
+    pub fn eval_states<T: Scalar>(
+        &self,
+        d: &Drive<T>,
+        q: &[T],
+        qd: &[T],
+        z: &[T],
+        m1: &mut [T],
+        h: &mut [T],
+    ) {
+        self.eval_terms(d, q, qd, z, Some(m1), h, Terms::All);
+    }
+
+    /// The element states' rates z' (length `layout.nz`, overwritten).
+    pub fn state_rates<T: Scalar>(&self, q: &[T], qd: &[T], z: &[T], zd: &mut [T]) {
+        let b = BodyState::new(q, qd);
+        for p in &self.friction_dampers {
+            if let Some(i) = p.e.state() {
+                let (ma, mb) = p.e.markers();
+                zd[i] = p
+                    .e
+                    .state_rate(&ma.state(&b), &mb.state(&b), self.exact_geometry, z);
+            }
+        }
     }
 
     /// M1 (when asked for: the Jacobians need h only) and h, or only some of h's terms (the
     /// others are left out, so the derivatives of the rest stay exact along the seeded
     /// columns: see `Terms`).
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn eval_terms<T: Scalar>(
         &self,
         d: &Drive<T>,
         q: &[T],
         qd: &[T],
+        z: &[T],
         mut m1: Option<&mut [T]>,
         h: &mut [T],
         terms: Terms,
@@ -318,12 +358,12 @@ impl Equations {
         if matches!(terms, Terms::Bodies | Terms::BodiesWithoutGravity) {
             return;
         }
-        self.elements(&self.springs, &b, d, h);
-        self.elements(&self.dampers, &b, d, h);
-        self.elements(&self.friction_dampers, &b, d, h);
-        self.elements(&self.damper_joints, &b, d, h);
-        self.elements(&self.gaskets, &b, d, h);
-        self.elements(&self.contacts, &b, d, h);
+        self.elements(&self.springs, &b, d, z, h);
+        self.elements(&self.dampers, &b, d, z, h);
+        self.elements(&self.friction_dampers, &b, d, z, h);
+        self.elements(&self.damper_joints, &b, d, z, h);
+        self.elements(&self.gaskets, &b, d, z, h);
+        self.elements(&self.contacts, &b, d, z, h);
     }
 
     fn elements<T: Scalar, E: Element>(
@@ -331,12 +371,13 @@ impl Equations {
         list: &[Placed<E>],
         st: &BodyState<T>,
         d: &Drive<T>,
+        z: &[T],
         h: &mut [T],
     ) {
         for p in list {
             let (ma, mb) = p.e.markers();
             let (la, lb) = (ma.local(st), mb.local(st));
-            let (a, b) = self.element_loads(p, &la, &lb, d);
+            let (a, b) = self.element_loads(p, &la, &lb, d, z);
             ma.scatter(&a, h);
             mb.scatter(&b, h);
         }
@@ -350,10 +391,11 @@ impl Equations {
         la: &Local<T>,
         lb: &Local<T>,
         d: &Drive<T>,
+        z: &[T],
     ) -> (Load<T>, Load<T>) {
         let (ma, mb) = p.e.markers();
         let (wa, wb) =
-            p.e.wrenches(&ma.state_of(la), &mb.state_of(lb), self.exact_geometry, d);
+            p.e.wrenches(&ma.state_of(la), &mb.state_of(lb), self.exact_geometry, d, z);
         (
             self.load(ma, la, &wa, p, true),
             self.load(mb, lb, &wb, p, false),

@@ -24,7 +24,8 @@ pub mod toml_file;
 
 pub use bodies::{Attach, BodyRef, Cabinet, DRUM, Elastic, MOTOR, Rotor, Tub, Unbalance};
 pub use force_elements::{
-    Contact, FrictionDamper, Gasket, LinearDamper, LossFactor, MovingPart, Spring,
+    Contact, DEFAULT_BREAKAWAY, FrictionDamper, FrictionLaw, Gasket, LinearDamper, LossFactor,
+    MovingPart, Spring,
 };
 pub use scenes::{Effect, EffectSet, MODE_MARGIN, Scene};
 pub use sensors::{Sensor, SensorKind};

@@ -1,7 +1,7 @@
 //! Scenes and effects: a scene's named selection of effects, the effects a scene can switch,
 //! the resolved set (`EffectSet`), and the model's scenes (`Model::scene`, `full`).
 
-use super::{BodyRef, Model};
+use super::{BodyRef, FrictionLaw, Model};
 use serde::{Deserialize, Serialize};
 
 /// A named selection of effects to simulate; what is not listed is left out.
@@ -54,6 +54,9 @@ pub enum Effect {
     /// The tub-cabinet contacts (`contacts`): penalty forces where the tub reaches the cabinet.
     /// Off: no contact code or state; the validity monitor still watches the clearances.
     Contact,
+    /// Every friction damper of the scene on this law, whatever its `law` says
+    /// (`friction_law.arctan`: the paper's machine beside the one as built).
+    FrictionLaw(FrictionLaw),
 }
 
 impl Effect {
@@ -71,6 +74,9 @@ impl Effect {
             _ => {
                 if let Some(b) = s.strip_prefix("elastic.") {
                     return elastic.contains(&b).then(|| Effect::Elastic(b.to_string()));
+                }
+                if let Some(l) = s.strip_prefix("friction_law.") {
+                    return FrictionLaw::parse(l).map(Effect::FrictionLaw);
                 }
                 if let Some(d) = s.strip_prefix("damper_mass.") {
                     return massive
@@ -97,6 +103,7 @@ impl Effect {
             Effect::DamperMass(d) => format!("damper_mass.{d}"),
             Effect::CentrifugalStiffening => "centrifugal_stiffening".into(),
             Effect::Contact => "contact".into(),
+            Effect::FrictionLaw(l) => format!("friction_law.{}", l.name()),
         }
     }
 }
@@ -113,6 +120,18 @@ pub struct EffectSet {
 impl EffectSet {
     pub fn has(&self, e: &Effect) -> bool {
         self.effects.contains(e)
+    }
+
+    /// The law a friction damper runs on in this scene: the scene's `friction_law.<law>`, or
+    /// the damper's own.
+    pub fn friction_law(&self, own: FrictionLaw) -> FrictionLaw {
+        self.effects
+            .iter()
+            .find_map(|e| match e {
+                Effect::FrictionLaw(l) => Some(*l),
+                _ => None,
+            })
+            .unwrap_or(own)
     }
 }
 

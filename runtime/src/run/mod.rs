@@ -143,7 +143,8 @@ where
         });
     }
     let setup = |reason| RunError::Setup { t: t0, reason };
-    let mut y = vec![0.0; 2 * n];
+    // [q; q'; z]: the element states start at their assembly value, z = 0.
+    let mut y = vec![0.0; lay.dim()];
     match opts.start {
         Start::Static => {
             y[..n].copy_from_slice(&static_equilibrium(&mut sys.sys, t0).map_err(setup)?)
@@ -175,6 +176,7 @@ where
         Start::Reference => {}
     }
     let mut qdd = vec![0.0; n];
+    let mut zd = vec![0.0; lay.nz];
     let mut vals = vec![0.0; names.len()];
     let io = |t: f64| move |source| RunError::Io { t, source };
     sink.header(&names).map_err(io(t0))?;
@@ -190,8 +192,8 @@ where
                     t: f64,
                     y: &[f64],
                     summary: &mut Summary| {
-        let (q, qd) = y.split_at(n);
-        sys.accelerations(t, q, qd, &mut qdd);
+        sys.rates(t, y, &mut qdd, &mut zd);
+        let (q, qd) = (&y[..n], &y[n..2 * n]);
         summary.sample_evals += 1;
         sys.sys.sensors(t, q, qd, &qdd, &mut vals);
         let rpm = sys.sys.speed().rpm(t);

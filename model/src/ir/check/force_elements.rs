@@ -3,7 +3,7 @@
 //! contacts. Each element has a unique name and two distinct ends.
 
 use super::{Ctx, Names, Path, asymmetry, norm, sym_eigenvalues};
-use crate::ir::{Attach, BodyRef, LossFactor, M6, Model, V3};
+use crate::ir::{Attach, BodyRef, FrictionLaw, LossFactor, M6, Model, V3};
 
 /// Steepest friction characteristic, s/m: 90 % of f_max at 6.4 um/s already, the near-Coulomb
 /// end of the hard-case studies. The damper's regularised damping f_max * slope * 2/pi makes the
@@ -53,7 +53,7 @@ pub(super) fn friction_dampers<'a>(c: &mut Ctx, names: &mut Names<'a>, m: &'a Mo
         let w = format!("friction damper `{}`", d.name);
         two_points(c, &p, &w, &d.a, &d.b);
         c.non_negative(p.clone().key("f_max"), &format!("{w}: f_max"), d.f_max);
-        c.positive(p.clone().key("slope"), &format!("{w}: slope"), d.slope);
+        law(c, &p, &w, d);
         if d.slope > MAX_FRICTION_SLOPE {
             c.err(
                 p.clone().key("slope"),
@@ -77,6 +77,47 @@ pub(super) fn friction_dampers<'a>(c: &mut Ctx, names: &mut Names<'a>, m: &'a Mo
         if let Some(mp) = &d.moving_part {
             moving_part(c, p.key("moving_part"), &w, mp);
         }
+    }
+}
+
+/// A friction damper's law and its parameters: arctan needs a positive slope; elasto-plastic
+/// a positive, finite axial stiffness and a breakaway fraction in (0, 1].
+fn law(c: &mut Ctx, p: &Path, w: &str, d: &crate::ir::FrictionDamper) {
+    match d.law {
+        FrictionLaw::Arctan => c.positive(p.clone().key("slope"), &format!("{w}: slope"), d.slope),
+        FrictionLaw::ElastoPlastic => {
+            let k = p.clone().key("axial_stiffness");
+            match d.axial_stiffness {
+                Some(v) => c.positive(k, &format!("{w}: axial_stiffness"), v),
+                None => c.err(
+                    k,
+                    format!("{w}: law `elasto_plastic` needs `axial_stiffness` (N/m)"),
+                ),
+            }
+        }
+    }
+    // The other law's parameter, given for a scene's `friction_law.<law>`: valid too.
+    if d.slope != 0.0 && !d.law.is_arctan() {
+        c.positive(p.clone().key("slope"), &format!("{w}: slope"), d.slope);
+    }
+    if let Some(k) = d.axial_stiffness.filter(|_| d.law.is_arctan()) {
+        c.positive(p.clone().key("axial_stiffness"), &format!("{w}: axial_stiffness"), k);
+    }
+    if let Some(b) = d.breakaway {
+        if !(b > 0.0 && b <= 1.0) {
+            c.err(
+                p.clone().key("breakaway"),
+                format!("{w}: breakaway must be in (0, 1], got {b}"),
+            );
+        }
+    }
+}
+
+/// What a friction damper lacks to run on `law` (a scene's `friction_law.<law>`).
+pub(super) fn law_misses(law: FrictionLaw, d: &crate::ir::FrictionDamper) -> Option<&'static str> {
+    match law {
+        FrictionLaw::Arctan => (d.slope <= 0.0).then_some("slope"),
+        FrictionLaw::ElastoPlastic => d.axial_stiffness.is_none().then_some("axial_stiffness"),
     }
 }
 

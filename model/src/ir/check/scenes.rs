@@ -2,7 +2,7 @@
 //! known effects (`damper_mass.<name>` with `friction_dampers`), a positive `max_order`.
 
 use super::{Ctx, Names, Path};
-use crate::ir::{Effect, Model};
+use crate::ir::{Effect, FrictionLaw, Model};
 use std::collections::HashSet;
 
 /// Sensors: a unique name and a finite point (the drum's sensors: `elastic.rs`).
@@ -37,7 +37,7 @@ pub(super) fn scenes(c: &mut Ctx, m: &Model) {
                         "scene `{}`: unknown effect `{e}` (known: gyroscopic, friction_dampers, \
                          gasket_damping, element_geometry, unbalance_inertia, unbalance.<rotor>, \
                          elastic.<body>, centrifugal_stiffening, damper_mass.<friction damper \
-                         with a moving_part>, contact)",
+                         with a moving_part>, contact, friction_law.<arctan|elasto_plastic>)",
                         s.name
                     ),
                 );
@@ -53,11 +53,43 @@ pub(super) fn scenes(c: &mut Ctx, m: &Model) {
                 ),
             );
         }
+        law_parameters(c, &p, m, &s.name, &s.effects);
         if let Some(o) = s.max_order {
             c.positive(
                 p.clone().key("max_order"),
                 &format!("scene `{}`: max_order", s.name),
                 o,
+            );
+        }
+    }
+}
+
+/// A scene's `friction_law.<law>`: one at most, and every friction damper has that law's
+/// parameters (`slope` for arctan, `axial_stiffness` for elasto-plastic).
+fn law_parameters(c: &mut Ctx, p: &Path, m: &Model, scene: &str, effects: &[String]) {
+    let laws: Vec<(usize, FrictionLaw)> = effects
+        .iter()
+        .enumerate()
+        .filter_map(|(j, e)| Some((j, FrictionLaw::parse(e.strip_prefix("friction_law.")?)?)))
+        .collect();
+    if let [_, (j, _), ..] = laws[..] {
+        c.err(
+            p.clone().key("effects").idx(j),
+            format!("scene `{scene}`: names more than one friction_law"),
+        );
+    }
+    let Some(&(j, law)) = laws.first() else {
+        return;
+    };
+    for d in &m.friction_dampers {
+        if let Some(missing) = super::force_elements::law_misses(law, d) {
+            c.err(
+                p.clone().key("effects").idx(j),
+                format!(
+                    "scene `{scene}`: `friction_law.{}` needs friction damper `{}`'s {missing}",
+                    law.name(),
+                    d.name
+                ),
             );
         }
     }

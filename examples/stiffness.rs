@@ -3,9 +3,12 @@
 //! 2 Fmax s / pi), with the friction dampers and without them, and with the cabinet's
 //! eigenmodes alone (its correction modes, the static give at the element loads, left out),
 //! and the step dopri5's stability boundary (about 3.3 on the negative real axis) allows there.
+//! A scene whose dampers carry a state (`friction_law.elasto_plastic`) is differenced. Each
+//! scene is also shown on the other friction law (`friction_law.<law>` added).
 //! `cargo run --release --example stiffness -- [SCENE]` (default `elastic`; docs/performance.md
 //! quotes its output).
 
+use washdyn_runtime::ir::{Effect, FrictionLaw};
 use washdyn_runtime::ode::OdeSystem;
 use washdyn_runtime::system::{FirstOrder, Interpreter};
 
@@ -22,7 +25,21 @@ fn spectrum(
     let mut y = vec![0.0; n];
     y[..q.len()].copy_from_slice(&q);
     let mut jac = vec![0.0; n * n];
-    assert!(fo.jacobian(0.0, &y, &mut jac), "the interpreter's Jacobian");
+    if !fo.jacobian(0.0, &y, &mut jac) {
+        // Element states: central differences, column by column.
+        let (mut fp, mut fm) = (vec![0.0; n], vec![0.0; n]);
+        for j in 0..n {
+            let e = 1e-7 * y[j].abs().max(1e-3);
+            let mut yp = y.clone();
+            yp[j] += e;
+            fo.rhs(0.0, &yp, &mut fp);
+            yp[j] -= 2.0 * e;
+            fo.rhs(0.0, &yp, &mut fm);
+            for i in 0..n {
+                jac[i * n + j] = (fp[i] - fm[i]) / (2.0 * e);
+            }
+        }
+    }
     let mut ev: Vec<(f64, f64)> = nalgebra::DMatrix::from_row_slice(n, n, &jac)
         .complex_eigenvalues()
         .iter()
@@ -37,6 +54,16 @@ fn main() {
     let name = std::env::args().nth(1).unwrap_or_else(|| "elastic".into());
     let m = washdyn_models::reference();
     let scene = m.scene(Some(&name)).unwrap_or_else(|e| panic!("{e}"));
+    let mut other_law = scene.clone();
+    let law = if other_law.friction_law(FrictionLaw::Arctan) == FrictionLaw::Arctan {
+        FrictionLaw::ElastoPlastic
+    } else {
+        FrictionLaw::Arctan
+    };
+    other_law
+        .effects
+        .retain(|e| !matches!(e, Effect::FrictionLaw(_)));
+    other_law.effects.push(Effect::FrictionLaw(law));
     let mut no_dampers = scene.clone();
     no_dampers
         .effects
@@ -51,6 +78,11 @@ fn main() {
     }
     for (label, model, s) in [
         (name.clone(), &m, &scene),
+        (
+            format!("{name} on friction_law.{}", law.name()),
+            &m,
+            &other_law,
+        ),
         (format!("{name} without friction_dampers"), &m, &no_dampers),
         (
             format!("{name}, the cabinet's eigenmodes alone"),

@@ -345,7 +345,7 @@ impl Simulation {
     ) -> (Summary, Option<Error>) {
         let mech = self.mech.take().expect("built by Simulation::with_scene");
         let mut sys = FirstOrder::new(mech);
-        let mut solver = AnySolver::new(self.method, 2 * sys.layout().n(), self.options);
+        let mut solver = AnySolver::new(self.method, sys.layout().dim(), self.options);
         let (mut summary, error) = match run_guarded(
             &mut sys,
             &mut solver,

@@ -50,6 +50,7 @@ fn agree(a: &[f64], b: &[f64], what: impl Fn(usize) -> String) -> f64 {
 #[test]
 fn mass_forces_and_accelerations_agree_for_random_states() {
     let mut worst: f64 = 0.0;
+    let mut states = 0;
     for (name, m) in models() {
         for scene in m.scene_names() {
             let eff = m.scene(Some(&scene)).unwrap();
@@ -74,6 +75,19 @@ fn mass_forces_and_accelerations_agree_for_random_states() {
                 worst = worst.max(e);
                 let e = agree(&m1a, &m1b, |i| format!("{name}/{scene} M1[{i}]"));
                 worst = worst.max(e);
+                // Element states (a presliding damper's bushing deflection, up to 0.6 mm:
+                // elastic, in its transition and sliding) and their rates.
+                if lay.nz > 0 {
+                    let z: Vec<f64> = (0..lay.nz).map(|_| 6e-4 * rng.next()).collect();
+                    let (mut za, mut zb) = (vec![0.0; lay.nz], vec![0.0; lay.nz]);
+                    interp.eval_states(t, &q, &qd, &z, &mut m1a, &mut ha, &mut za);
+                    gen_.eval_states(t, &q, &qd, &z, &mut m1b, &mut hb, &mut zb);
+                    let e = agree(&ha, &hb, |i| format!("{name}/{scene} h[{i}] with states"));
+                    worst = worst.max(e);
+                    let e = agree(&za, &zb, |i| format!("{name}/{scene} z'[{i}]"));
+                    worst = worst.max(e);
+                    states += 1;
+                }
                 // Sensors (a drum rim sensor on `compact` turns with the drive angle).
                 let qdd: Vec<f64> = (0..n).map(|_| 10.0 * rng.next()).collect();
                 let nc = interp.channel_names().len();
@@ -93,6 +107,7 @@ fn mass_forces_and_accelerations_agree_for_random_states() {
         }
     }
     eprintln!("largest relative disagreement of M1, h, sensors and q'': {worst:.2e}");
+    assert!(states > 0, "no scene with element states was compared");
 }
 
 #[test]

@@ -101,12 +101,15 @@ washdyn_macros::machine! {
         // where the left and right dampers' lines cross) to the bushings alone; 0.2 N m s/rad,
         // rubber's loss factor ~0.2 at that roll: 0.2 x 20 / (2 pi 3.2 Hz) (estimate). Run-up
         // peaks (rigid, `full`): 0.022 rad; 0.029 rad with 0.05 N m s/rad; 0.032, 0.036 rad with
-        // 30, 40 N m/rad.
+        // 30, 40 N m/rad. The damper as built (law elasto_plastic, a scene's
+        // `friction_law.elasto_plastic`): the two end bushings' axial stiffness in series,
+        // 2 x 5e5 N/m in series = 2.5e5 N/m (the moving part's bearings': estimate).
         friction_damper damper_front_left {
             a: { body: tub, point: [0.18, 0.18, 0.20] },
             b: { body: cabinet, point: [0.18, 0.27, 0.03] },
             f_max: 75.0,
             slope: 2000.0,
+            axial_stiffness: 2.5e5,
             bearing_stiffness: 20.0,
             bearing_damping: 0.2,
             moving_part: { mass: 0.55, inertia: 1.69e-3, translational_stiffness: 5.0e5 },
@@ -116,6 +119,7 @@ washdyn_macros::machine! {
             b: { body: cabinet, point: [0.18, -0.27, 0.03] },
             f_max: 75.0,
             slope: 2000.0,
+            axial_stiffness: 2.5e5,
             bearing_stiffness: 20.0,
             bearing_damping: 0.2,
             moving_part: { mass: 0.55, inertia: 1.69e-3, translational_stiffness: 5.0e5 },
@@ -125,6 +129,7 @@ washdyn_macros::machine! {
             b: { body: cabinet, point: [-0.18, 0.27, 0.03] },
             f_max: 75.0,
             slope: 2000.0,
+            axial_stiffness: 2.5e5,
             bearing_stiffness: 20.0,
             bearing_damping: 0.2,
             moving_part: { mass: 0.55, inertia: 1.69e-3, translational_stiffness: 5.0e5 },
@@ -134,6 +139,7 @@ washdyn_macros::machine! {
             b: { body: cabinet, point: [-0.18, -0.27, 0.03] },
             f_max: 75.0,
             slope: 2000.0,
+            axial_stiffness: 2.5e5,
             bearing_stiffness: 20.0,
             bearing_damping: 0.2,
             moving_part: { mass: 0.55, inertia: 1.69e-3, translational_stiffness: 5.0e5 },
@@ -224,6 +230,14 @@ washdyn_macros::machine! {
             effects: [
                 gyroscopic, unbalance.drum, unbalance.motor, friction_dampers, gasket_damping,
                 element_geometry, unbalance_inertia,
+            ],
+        }
+        // `full` with the dampers as built: the slider in series with the end bushings
+        // (elasto-plastic presliding, issue 48).
+        scene presliding {
+            effects: [
+                gyroscopic, unbalance.drum, unbalance.motor, friction_dampers, gasket_damping,
+                element_geometry, unbalance_inertia, friction_law.elasto_plastic,
             ],
         }
         scene rigid_low_speed {

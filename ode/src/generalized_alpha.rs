@@ -10,8 +10,12 @@
 //! The unknown is q''1; Newton's matrix is I - beta' (h^2 beta dA/dq + h gamma dA/dv) with
 //! beta' = (1 - alpha_f) / (1 - alpha_m): n x n, half the size of a first-order method's.
 //!
-//! * The system says it is second order through `OdeSystem::second_order` (y = [q; q'],
-//!   f = [q'; q'']); any other system is refused with `OdeError::NotSecondOrder`.
+//! * The system says it is second order through `OdeSystem::second_order` (y = [q; q'; z],
+//!   f = [q'; q''; z']); any other system is refused with `OdeError::NotSecondOrder`. Trailing
+//!   first-order states z (a presliding friction law's) take the same scheme's velocity
+//!   update with pseudo-rates b: z1 = z0 + h ((1 - gamma) b0 + gamma b1),
+//!   (1 - alpha_m) b1 + alpha_m b0 = (1 - alpha_f) z'1 + alpha_f z'0 (second order for
+//!   gamma = 1/2 + alpha_f - alpha_m, as for v); z'1 joins the Newton unknowns.
 //! * Jacobian: the system's ported pieces (`ported.rs`: the cabinet's modes eliminated
 //!   through its ports) or mass form when it gives them, else the lower half of
 //!   `sys.jacobian` when analytic, else forward differences in q and q' (2n evaluations). Newton's stop rule, the Jacobian's reuse and the step control
@@ -60,8 +64,9 @@ pub struct GeneralizedAlpha {
     opts: Options,
     tol: Tolerance,
     p: AlphaParams,
-    /// Positions (half the state).
+    /// Positions (half the second-order state), and the first-order states after it.
     n: usize,
+    nz: usize,
     t: f64,
     t_prev: f64,
     h: f64,
@@ -79,10 +84,12 @@ pub struct GeneralizedAlpha {
     /// The Newton unknown q''_(n+1) and its correction.
     x: Vec<f64>,
     dx: Vec<f64>,
-    /// dA/dq and dA/dv (n x n), and the full first-order Jacobian buffer (2n x 2n); or, when
-    /// the system gives its mass form (`mass_form`), dh/dq and dh/dq' with M in `mass`.
+    /// d[A; G]/dq and d[A; G]/dv ((n + nz) x n; G = z'), d[A; G]/dz ((n + nz) x nz), and the
+    /// full first-order Jacobian buffer; or, when the system gives its mass form
+    /// (`mass_form`, no z), dh/dq and dh/dq' with M in `mass`.
     aq: Vec<f64>,
     av: Vec<f64>,
+    az: Vec<f64>,
     mass: Vec<f64>,
     mass_form: bool,
     /// The ported pieces and their factorisation (`ported.rs`), when the system is ported;
@@ -105,7 +112,8 @@ pub struct GeneralizedAlpha {
 }
 
 impl GeneralizedAlpha {
-    /// For a first-order state of dimension `dim` = 2n, with the options' `rho_inf`.
+    /// For a first-order state of dimension `dim` = 2n (a system with first-order states
+    /// reshapes the buffers at its first `init`), with the options' `rho_inf`.
     pub fn new(dim: usize, options: Options) -> Self {
         Self::with_rho_inf(dim, options, options.rho_inf)
     }
@@ -118,6 +126,7 @@ impl GeneralizedAlpha {
             opts: options,
             p: AlphaParams::from_rho_inf(rho_inf),
             n,
+            nz: 0,
             t: 0.0,
             t_prev: 0.0,
             h: 0.0,
@@ -134,6 +143,7 @@ impl GeneralizedAlpha {
             dx: v(n),
             aq: v(n * n),
             av: v(n * n),
+            az: Vec::new(),
             mass: v(n * n),
             mass_form: false,
             ported: None,
@@ -152,6 +162,34 @@ impl GeneralizedAlpha {
         }
     }
 
+    /// Sizes the buffers for n positions and nz first-order states (allocates only when the
+    /// shape changes: once, at the first `init`).
+    fn shape(&mut self, n: usize, nz: usize) {
+        if (n, nz) == (self.n, self.nz) {
+            return;
+        }
+        let (m, dim) = (n + nz, 2 * n + nz);
+        (self.n, self.nz) = (n, nz);
+        for (b, len) in [
+            (&mut self.acc, m),
+            (&mut self.a0, m),
+            (&mut self.x, m),
+            (&mut self.dx, m),
+            (&mut self.aq, m * n),
+            (&mut self.av, m * n),
+            (&mut self.az, m * nz),
+            (&mut self.mass, n * n),
+            (&mut self.lu, m * m),
+            (&mut self.err, n),
+            (&mut self.base, m),
+            (&mut self.jac, dim * dim),
+        ] {
+            b.clear();
+            b.resize(len, 0.0);
+        }
+        self.piv.resize(m, 0);
+    }
+
     pub fn params(&self) -> AlphaParams {
         self.p
     }
@@ -163,8 +201,8 @@ impl GeneralizedAlpha {
     /// dA/dq, dA/dv at (t, y): the system's mass form (M, dh/dq, dh/dq'), or the lower half
     /// of the analytic Jacobian, or forward differences.
     fn compute_jacobian<S: OdeSystem + ?Sized>(&mut self, sys: &mut S) {
-        let n = self.n;
-        let m = 2 * n;
+        let (n, nz) = (self.n, self.nz);
+        let (m, rows) = (2 * n + nz, n + nz);
         self.stats.jacobian_evals += 1;
         self.ported_form = match &mut self.ported {
             Some((j, _)) => sys.ported_jacobians(self.t, &self.y, j),
@@ -173,16 +211,18 @@ impl GeneralizedAlpha {
         if self.ported_form {
             return;
         }
-        self.mass_form = sys.second_order() == Some(n)
+        self.mass_form = nz == 0
+            && sys.second_order() == Some(n)
             && sys.mass_jacobians(self.t, &self.y, &mut self.mass, &mut self.aq, &mut self.av);
         if self.mass_form {
             return;
         }
         if sys.jacobian(self.t, &self.y, &mut self.jac) {
-            for i in 0..n {
+            for i in 0..rows {
                 let row = &self.jac[(n + i) * m..(n + i + 1) * m];
                 self.aq[i * n..(i + 1) * n].copy_from_slice(&row[..n]);
-                self.av[i * n..(i + 1) * n].copy_from_slice(&row[n..]);
+                self.av[i * n..(i + 1) * n].copy_from_slice(&row[n..2 * n]);
+                self.az[i * nz..(i + 1) * nz].copy_from_slice(&row[2 * n..]);
             }
             return;
         }
@@ -195,10 +235,13 @@ impl GeneralizedAlpha {
             self.y_new[j] = yj + (f64::EPSILON * yj.abs().max(1e-5)).sqrt();
             let d = self.y_new[j] - yj;
             sys.rhs(self.t, &self.y_new, &mut self.ftmp);
-            let target = if j < n { &mut self.aq } else { &mut self.av };
-            let col = j % n;
-            for i in 0..n {
-                target[i * n + col] = (self.ftmp[n + i] - self.base[i]) / d;
+            let (target, cols, col) = match j {
+                j if j < n => (&mut self.aq, n, j),
+                j if j < 2 * n => (&mut self.av, n, j - n),
+                j => (&mut self.az, nz, j - 2 * n),
+            };
+            for i in 0..rows {
+                target[i * cols + col] = (self.ftmp[n + i] - self.base[i]) / d;
             }
             self.y_new[j] = yj;
         }
@@ -206,7 +249,8 @@ impl GeneralizedAlpha {
     }
 
     fn attempt<S: OdeSystem + ?Sized>(&mut self, sys: &mut S, h: f64) -> Attempt {
-        let n = self.n;
+        let (n, nz) = (self.n, self.nz);
+        let rows = n + nz;
         let AlphaParams {
             alpha_m,
             alpha_f,
@@ -229,19 +273,25 @@ impl GeneralizedAlpha {
             let factored = if let (true, Some((j, lu))) = (self.ported_form, &mut self.ported) {
                 lu.factor_mass(j, 1.0, cv, cq).is_ok()
             } else {
-                for k in 0..n * n {
-                    self.lu[k] = -cq * self.aq[k] - cv * self.av[k];
+                // [I 0; 0 I] - [cq A_q + cv A_v, cz A_z; cq G_q + cv G_v, cz G_z], cz = cv.
+                for i in 0..rows {
+                    for j in 0..n {
+                        self.lu[i * rows + j] = -cq * self.aq[i * n + j] - cv * self.av[i * n + j];
+                    }
+                    for j in 0..nz {
+                        self.lu[i * rows + n + j] = -cv * self.az[i * nz + j];
+                    }
                 }
                 if self.mass_form {
                     for (l, m) in self.lu.iter_mut().zip(&self.mass) {
                         *l += m;
                     }
                 } else {
-                    for i in 0..n {
-                        self.lu[i * n + i] += 1.0;
+                    for i in 0..rows {
+                        self.lu[i * rows + i] += 1.0;
                     }
                 }
-                lu_factor(&mut self.lu, n, &mut self.piv).is_ok()
+                lu_factor(&mut self.lu, rows, &mut self.piv).is_ok()
             };
             if !factored {
                 self.lu_h = 0.0;
@@ -249,7 +299,7 @@ impl GeneralizedAlpha {
             }
             self.lu_h = h;
         }
-        for i in 0..2 * n {
+        for i in 0..2 * n + nz {
             self.scale[i] = self.tol.scale(i, self.y[i]);
         }
         self.shift_acc(h);
@@ -263,7 +313,7 @@ impl GeneralizedAlpha {
             sys.rhs(t1, &self.y_new, &mut self.ftmp);
             self.stats.rhs_evals += 1;
             self.stats.newton_iterations += 1;
-            for i in 0..n {
+            for i in 0..rows {
                 self.dx[i] = self.ftmp[n + i] - self.x[i];
             }
             if let (true, Some((j, lu))) = (self.ported_form, &mut self.ported) {
@@ -280,17 +330,22 @@ impl GeneralizedAlpha {
                         *d = row.iter().zip(&self.base).map(|(m, r)| m * r).sum();
                     }
                 }
-                lu_solve(&self.lu, n, &self.piv, &mut self.dx);
+                lu_solve(&self.lu, rows, &self.piv, &mut self.dx);
             }
             // The correction's size in the state: dq = h^2 beta beta' dx, dv = h gamma beta' dx.
+            // dz = h gamma beta' dx_z.
             let mut sum = 0.0;
             for i in 0..n {
                 let dq = h * h * beta * bp * self.dx[i] / self.scale[i];
                 let dv = h * gamma * bp * self.dx[i] / self.scale[n + i];
                 sum += dq * dq + dv * dv;
             }
-            let dnorm = if n > 0 {
-                (sum / (2 * n) as f64).sqrt()
+            for j in 0..nz {
+                let dz = h * gamma * bp * self.dx[n + j] / self.scale[2 * n + j];
+                sum += dz * dz;
+            }
+            let dnorm = if n + nz > 0 {
+                (sum / (2 * n + nz) as f64).sqrt()
             } else {
                 0.0
             };
@@ -301,7 +356,7 @@ impl GeneralizedAlpha {
             if verdict == Verdict::Failed {
                 return Attempt::NewtonFailed;
             }
-            for i in 0..n {
+            for i in 0..rows {
                 self.x[i] += self.dx[i];
             }
             if verdict == Verdict::Converged {
@@ -331,21 +386,22 @@ impl GeneralizedAlpha {
     /// method drops to first order on variable steps. The shift takes the third derivative
     /// from the last step's accelerations.
     fn shift_acc(&mut self, h: f64) {
-        let n = self.n;
+        let (n, rows) = (self.n, self.n + self.nz);
         let dt = self.t - self.t_prev;
         let k = if dt > 0.0 {
             (self.p.alpha_m - self.p.alpha_f) * (h - self.h_acc) / dt
         } else {
             0.0
         };
-        for i in 0..n {
+        for i in 0..rows {
             self.a0[i] = self.acc[i] + k * (self.f[n + i] - self.f_prev[n + i]);
         }
     }
 
-    /// y_new = (q1, v1) from the current unknown x = q''_(n+1); a1 is recomputed on acceptance.
+    /// y_new = (q1, v1, z1) from the current unknown x = (q''_(n+1), z'_(n+1)); a1 is
+    /// recomputed on acceptance.
     fn update_state(&mut self, h: f64) {
-        let n = self.n;
+        let (n, nz) = (self.n, self.nz);
         let AlphaParams {
             alpha_m,
             alpha_f,
@@ -359,6 +415,12 @@ impl GeneralizedAlpha {
             self.y_new[i] = self.y[i] + h * self.y[n + i] + h * h * ((0.5 - beta) * a0 + beta * a1);
             self.y_new[n + i] = self.y[n + i] + h * ((1.0 - gamma) * a0 + gamma * a1);
         }
+        for j in 0..nz {
+            let (i, b0) = (2 * n + j, self.a0[n + j]);
+            let b1 = (alpha_f * self.f[i] - alpha_m * b0 + (1.0 - alpha_f) * self.x[n + j])
+                / (1.0 - alpha_m);
+            self.y_new[i] = self.y[i] + h * ((1.0 - gamma) * b0 + gamma * b1);
+        }
     }
 }
 
@@ -367,15 +429,23 @@ hermite_stepper!(GeneralizedAlpha, "galpha");
 impl<S: OdeSystem + ?Sized> Solver<S> for GeneralizedAlpha {
     fn init(&mut self, sys: &mut S, t0: f64, y0: &[f64]) -> Result<(), OdeError> {
         self.tol.fill(sys);
-        if sys.second_order() != Some(self.n) || y0.len() != 2 * self.n {
-            return Err(OdeError::NotSecondOrder { t: t0 });
+        match sys.second_order() {
+            Some(n) if 2 * n <= y0.len() && y0.len() == self.y.len() => {
+                self.shape(n, y0.len() - 2 * n)
+            }
+            _ => return Err(OdeError::NotSecondOrder { t: t0 }),
         }
         self.t = t0;
         self.t_prev = t0;
         self.jac_age = Jacobian::default();
         self.lu_h = 0.0;
         self.eta = 1.0;
-        ported::prepare(&mut self.ported, &*sys, Some(self.n));
+        // The ported form covers [q; q'] alone.
+        ported::prepare(
+            &mut self.ported,
+            &*sys,
+            Some(self.n).filter(|_| self.nz == 0),
+        );
         self.h = start(
             sys,
             t0,
@@ -422,11 +492,11 @@ impl<S: OdeSystem + ?Sized> Solver<S> for GeneralizedAlpha {
                 continue;
             }
 
-            let n = self.n;
+            let (n, rows) = (self.n, self.n + self.nz);
             let AlphaParams {
                 alpha_m, alpha_f, ..
             } = self.p;
-            for i in 0..n {
+            for i in 0..rows {
                 self.acc[i] = (alpha_f * self.f[n + i] - alpha_m * self.a0[i]
                     + (1.0 - alpha_f) * self.x[i])
                     / (1.0 - alpha_m);
@@ -436,7 +506,7 @@ impl<S: OdeSystem + ?Sized> Solver<S> for GeneralizedAlpha {
             std::mem::swap(&mut self.y_prev, &mut self.y);
             std::mem::swap(&mut self.y, &mut self.y_new);
             std::mem::swap(&mut self.f_prev, &mut self.f);
-            self.f[..n].copy_from_slice(&self.y[n..]);
+            self.f[..n].copy_from_slice(&self.y[n..2 * n]);
             self.f[n..].copy_from_slice(&self.x);
             self.stats.steps += 1;
             self.t_prev = self.t;

@@ -26,7 +26,10 @@ pub trait Mechanical {
         h: &mut [f64],
         zd: &mut [f64],
     ) {
-        assert!(z.is_empty() && zd.is_empty(), "a back end with element states evaluates them");
+        assert!(
+            z.is_empty() && zd.is_empty(),
+            "a back end with element states evaluates them"
+        );
         self.eval(t, q, qd, m1, h);
     }
     /// The constant M2 (n2 x n2, row-major).

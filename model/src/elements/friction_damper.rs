@@ -85,13 +85,11 @@ impl FrictionDamper {
     ) -> Self {
         let law = match law {
             ir::FrictionLaw::Arctan => Axial::Arctan { slope: d.slope },
-            ir::FrictionLaw::ElastoPlastic => {
-                Axial::ElastoPlastic {
-                    stiffness: d.axial_stiffness.expect("checked: the law's stiffness"),
-                    breakaway: d.breakaway.unwrap_or(ir::DEFAULT_BREAKAWAY),
-                    state,
-                }
-            }
+            ir::FrictionLaw::ElastoPlastic => Axial::ElastoPlastic {
+                stiffness: d.axial_stiffness.expect("checked: the law's stiffness"),
+                breakaway: d.breakaway.unwrap_or(ir::DEFAULT_BREAKAWAY),
+                state,
+            },
         };
         FrictionDamper {
             name: d.name.clone(),

@@ -157,13 +157,19 @@ fn coulomb_and_ideal_slider_limits() {
     let got = area(&stroke(&e, x, 30.0, 3));
     let coulomb = 4.0 * F_MAX * x;
     // Measured: 0.53 % below (the presliding stroke's share, about z_ss / X).
-    assert!((coulomb - got) / coulomb < 0.01, "{got} J against {coulomb} J");
+    assert!(
+        (coulomb - got) / coulomb < 0.01,
+        "{got} J against {coulomb} J"
+    );
     let x = 5.0 * Z_SS;
     let sharp = damper(0.999);
     let got = area(&stroke(&sharp, x, 30.0, 3));
     let ideal = 4.0 * F_MAX * (x - Z_SS);
     // Measured: 3.9e-4.
-    assert!((got - ideal).abs() < 2e-3 * ideal, "{got} J against {ideal} J");
+    assert!(
+        (got - ideal).abs() < 2e-3 * ideal,
+        "{got} J against {ideal} J"
+    );
 }
 
 /// The loop does not depend on the rate: the same at 1 and 300 rad/s.

@@ -292,9 +292,8 @@ impl Equations {
         for p in &self.friction_dampers {
             if let Some(i) = p.e.state() {
                 let (ma, mb) = p.e.markers();
-                zd[i] = p
-                    .e
-                    .state_rate(&ma.state(&b), &mb.state(&b), self.exact_geometry, z);
+                zd[i] =
+                    p.e.state_rate(&ma.state(&b), &mb.state(&b), self.exact_geometry, z);
             }
         }
     }
@@ -394,8 +393,13 @@ impl Equations {
         z: &[T],
     ) -> (Load<T>, Load<T>) {
         let (ma, mb) = p.e.markers();
-        let (wa, wb) =
-            p.e.wrenches(&ma.state_of(la), &mb.state_of(lb), self.exact_geometry, d, z);
+        let (wa, wb) = p.e.wrenches(
+            &ma.state_of(la),
+            &mb.state_of(lb),
+            self.exact_geometry,
+            d,
+            z,
+        );
         (
             self.load(ma, la, &wa, p, true),
             self.load(mb, lb, &wb, p, false),

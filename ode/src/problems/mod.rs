@@ -7,6 +7,7 @@ pub mod exponential;
 pub mod harmonic;
 pub mod hires;
 pub mod stiff_decay;
+pub mod tailed;
 pub mod vdpol;
 
 pub use blowup::Blowup;
@@ -14,6 +15,7 @@ pub use exponential::Exponential;
 pub use harmonic::Harmonic;
 pub use hires::Hires;
 pub use stiff_decay::StiffDecay;
+pub use tailed::Tailed;
 pub use vdpol::{VanDerPol, VanDerPolClassic};
 
 #[cfg(test)]
@@ -60,6 +62,14 @@ mod tests {
         check_jacobian(Exponential { lambda: -3.0 }, &[0.8]);
         check_jacobian(StiffDecay { k: 1e3 }, &[0.8]);
         check_jacobian(Blowup, &[1.7]);
+        check_jacobian(
+            Tailed {
+                omega: 3.0,
+                lambda: 50.0,
+                c: 2.0,
+            },
+            &[0.3, 0.4, 0.1],
+        );
     }
 
     /// Hires without the analytic Jacobian reports that it has none.

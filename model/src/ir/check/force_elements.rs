@@ -101,7 +101,11 @@ fn law(c: &mut Ctx, p: &Path, w: &str, d: &crate::ir::FrictionDamper) {
         c.positive(p.clone().key("slope"), &format!("{w}: slope"), d.slope);
     }
     if let Some(k) = d.axial_stiffness.filter(|_| d.law.is_arctan()) {
-        c.positive(p.clone().key("axial_stiffness"), &format!("{w}: axial_stiffness"), k);
+        c.positive(
+            p.clone().key("axial_stiffness"),
+            &format!("{w}: axial_stiffness"),
+            k,
+        );
     }
     if let Some(b) = d.breakaway {
         if !(b > 0.0 && b <= 1.0) {

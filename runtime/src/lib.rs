@@ -8,6 +8,7 @@
 pub mod clearance;
 pub mod energy;
 pub mod harmonic;
+pub mod mass;
 pub mod output;
 pub mod periodic;
 pub mod run;

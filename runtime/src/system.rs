@@ -4,6 +4,7 @@
 use crate::equations::{Equations, JacobianWork, Layout};
 use crate::ir::{EffectSet, Model};
 use crate::linalg::{cholesky_in_place, cholesky_solve};
+use crate::mass::LowRankMass;
 use crate::ode::{OdeSystem, PortedJacobian};
 use crate::speed::Speed;
 
@@ -34,6 +35,20 @@ pub trait Mechanical {
     }
     /// The constant M2 (n2 x n2, row-major).
     fn m2(&self) -> &[f64];
+    /// h alone and the element states' rates (M1 not formed), for a solve of M1 through its
+    /// structure. `false`: not provided (the caller takes `eval_states`).
+    #[allow(clippy::too_many_arguments)]
+    fn forces(
+        &mut self,
+        _t: f64,
+        _q: &[f64],
+        _qd: &[f64],
+        _z: &[f64],
+        _h: &mut [f64],
+        _zd: &mut [f64],
+    ) -> bool {
+        false
+    }
     /// Sensor channels (3 per sensor) from the state and its acceleration.
     fn sensors(&self, t: f64, q: &[f64], qd: &[f64], qdd: &[f64], out: &mut [f64]);
     /// Channel names, in the order of `sensors`.
@@ -131,6 +146,20 @@ impl Mechanical for Interpreter {
         self.eq.eval_states(&d, q, qd, z, m1, h);
         self.eq.state_rates(q, qd, z, zd);
     }
+    fn forces(
+        &mut self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        z: &[f64],
+        h: &mut [f64],
+        zd: &mut [f64],
+    ) -> bool {
+        let d = self.speed.drive(t);
+        self.eq.forces(&d, q, qd, z, h);
+        self.eq.state_rates(q, qd, z, zd);
+        true
+    }
     fn m2(&self) -> &[f64] {
         &self.m2
     }
@@ -187,6 +216,8 @@ pub struct FirstOrder<S: Mechanical> {
     /// The ported form's port count and work arrays (`Equations::ported_ports`), where it
     /// applies: the implicit methods then factorise n1 + r instead of n.
     ported: Option<(usize, JacobianWork)>,
+    /// M1 through its low-rank structure (`mass.rs`), where the back end gives h alone.
+    low_rank: Option<LowRankMass>,
 }
 
 impl<S: Mechanical> FirstOrder<S> {
@@ -211,9 +242,11 @@ impl<S: Mechanical> FirstOrder<S> {
             .equations()
             .filter(|_| m2_identity && !sys.has_acceleration_jacobians() && layout.nz == 0)
             .and_then(|eq| Some((eq.ported_ports()?, JacobianWork::new(eq))));
+        let low_rank = sys.equations().and_then(LowRankMass::new);
         FirstOrder {
             atol,
             ported,
+            low_rank,
             sys,
             layout,
             m1: vec![0.0; n1 * n1],
@@ -234,11 +267,28 @@ impl<S: Mechanical> FirstOrder<S> {
     /// without states: all of it). A mass block that is not positive definite yields NaN, which
     /// the integrators report as a non-finite state with its time.
     pub fn accelerations(&mut self, t: f64, q: &[f64], qd: &[f64], qdd: &mut [f64]) {
+        if self.low_rank.is_some() && self.sys.forces(t, q, qd, &[], &mut self.h, &mut []) {
+            return self.solve_low_rank(t, qdd);
+        }
         if self.layout.nz == 0 && self.sys.accelerations(t, q, qd, qdd) {
             return;
         }
         self.sys.eval(t, q, qd, &mut self.m1, &mut self.h);
         self.solve_mass(qdd);
+    }
+
+    /// q'' from the `h` just evaluated, M1 solved through its structure.
+    fn solve_low_rank(&mut self, t: f64, qdd: &mut [f64]) {
+        let (n1, n2) = (self.layout.n1, self.layout.n2);
+        let phi = self.sys.speed().drive(t).phi;
+        qdd.copy_from_slice(&self.h);
+        let lr = self.low_rank.as_mut().expect("called with a low-rank form");
+        if !lr.solve(phi, &mut qdd[..n1]) {
+            qdd[..n1].fill(f64::NAN);
+        }
+        if !self.m2_identity {
+            cholesky_solve(&self.l2, n2, &mut qdd[n1..]);
+        }
     }
 
     /// q'' and the element states' rates at the whole state y = [q; q'; z] into `qdd`, `zd`.
@@ -248,6 +298,9 @@ impl<S: Mechanical> FirstOrder<S> {
         let (qd, z) = rest.split_at(n);
         if z.is_empty() {
             return self.accelerations(t, q, qd, qdd);
+        }
+        if self.low_rank.is_some() && self.sys.forces(t, q, qd, z, &mut self.h, zd) {
+            return self.solve_low_rank(t, qdd);
         }
         self.sys
             .eval_states(t, q, qd, z, &mut self.m1, &mut self.h, zd);
@@ -421,6 +474,17 @@ impl<M: Mechanical + ?Sized> Mechanical for Box<M> {
     }
     fn m2(&self) -> &[f64] {
         (**self).m2()
+    }
+    fn forces(
+        &mut self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        z: &[f64],
+        h: &mut [f64],
+        zd: &mut [f64],
+    ) -> bool {
+        (**self).forces(t, q, qd, z, h, zd)
     }
     fn sensors(&self, t: f64, q: &[f64], qd: &[f64], qdd: &[f64], out: &mut [f64]) {
         (**self).sensors(t, q, qd, qdd, out)

@@ -16,6 +16,10 @@ use crate::scalar::Scalar;
 use crate::symbolic::{Graph, Sym, trace};
 use nalgebra::DMatrix;
 
+/// From this n1 on, M1 is solved through its low-rank structure at run time (the runtime's
+/// `mass.rs`) and the generated code gives h alone (`forces`); below it the Cholesky is as cheap.
+pub const LOW_RANK_MIN_N1: usize = 24;
+
 /// Relative bound on the fit's error at the check angles (of the largest |M1| entry). The fit of
 /// an exact trigonometric polynomial lands at round-off (about 1e-15).
 const FIT_TOL: f64 = 1e-12;
@@ -129,6 +133,16 @@ pub fn fit(eq: &Equations) -> Option<MassHarmonics> {
 }
 
 impl MassHarmonics {
+    /// Each rotor's angle ratio to the drum and its four matrices (n1^2, M1's row-major
+    /// order), the coefficients of cos, sin, cos 2, sin 2 of the rotor angle.
+    pub fn rotors(&self) -> impl Iterator<Item = (f64, [&[f64]; 4])> {
+        let e = self.constant.len();
+        self.ratios.iter().enumerate().map(move |(r, &ratio)| {
+            let a = |c: usize| &self.table[(4 * r + c) * e..(4 * r + c + 1) * e];
+            (ratio, [a(0), a(1), a(2), a(3)])
+        })
+    }
+
     /// M1 at phi over any scalar (`Sym` records the table as one `MatVec`).
     pub fn m1<T: Scalar>(&self, phi: T) -> Vec<T> {
         let mut m1: Vec<T> = self.constant.iter().map(|v| T::c(*v)).collect();

@@ -19,7 +19,7 @@ use crate::symbolic::{Emitter, Graph, Sym, derivative, fmt_f64, trace_params};
 use std::fmt::Write;
 
 mod free;
-mod mass;
+pub mod mass;
 pub use free::Free;
 pub use mass::MassHarmonics;
 
@@ -287,6 +287,23 @@ fn scene_source_free(eq: &Equations, name: &str, free: &Free, t: &Traced) -> (St
         }
     };
 
+    // h alone, for the run time's structured solve of M1 (large scenes only: it repeats h).
+    let forces_fn = if n1 >= mass::LOW_RANK_MIN_N1 {
+        let mut e = Emitter::new(g, with_states(state_inputs(n, &drive), nz));
+        e.assign("h", h);
+        e.assign("zd", zd);
+        format!(
+            "    /// h and the element states' rates, without M1.\n    #[inline]\n    pub fn forces(p: &[f64; {np}], d: &::washdyn_runtime::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], z: &[f64; {nz}], h: &mut [f64; {n}], zd: &mut [f64; {nz}]) {{\n{}    }}\n",
+            e.take()
+        )
+    } else {
+        String::new()
+    };
+    let forces_impl = if forces_fn.is_empty() {
+        String::new()
+    } else {
+        "    fn forces(&mut self, t: f64, q: &[f64], qd: &[f64], z: &[f64], h: &mut [f64], zd: &mut [f64]) -> bool {\n        let d = self.speed.drive(t);\n        Self::forces(&self.p, &d, q.try_into().expect(\"q\"), qd.try_into().expect(\"qd\"), z.try_into().expect(\"z\"), h.try_into().expect(\"h\"), zd.try_into().expect(\"zd\"));\n        true\n    }\n".to_string()
+    };
     let rt = "::washdyn_runtime";
     let (body_acc, body_jac, ops_acc, ops_jac) = match &t.acc {
         Solve::Traced(g, qdd, jq, jqd) => {
@@ -416,7 +433,7 @@ impl {name} {{
     pub fn accelerations(p: &[f64; {np}], d: &{rt}::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], qdd: &mut [f64; {n}]) {{
 {body_acc}    }}
 
-{jac_fn}
+{jac_fn}{forces_fn}
     /// Sensor channels from q, q', q''.
     #[inline]
     pub fn sensor_values(p: &[f64; {np}], d: &{rt}::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], qdd: &[f64; {n}], out: &mut [f64; {nc}]) {{
@@ -453,7 +470,7 @@ impl {rt}::system::Mechanical for {name} {{
         Self::accelerations(&self.p, &d, q.try_into().expect("q"), qd.try_into().expect("qd"), qdd.try_into().expect("qdd"));
         true
     }}
-{jac_impl}}}
+{forces_impl}{jac_impl}}}
 "#,
         effects = effects.join(", "),
         channels = channels.join(", "),

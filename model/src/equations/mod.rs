@@ -286,6 +286,12 @@ impl Equations {
         self.eval_terms(d, q, qd, z, Some(m1), h, Terms::All);
     }
 
+    /// h alone (length n, overwritten) at element states `z`: what a solve of M1 through its
+    /// structure needs (M1 is never formed).
+    pub fn forces<T: Scalar>(&self, d: &Drive<T>, q: &[T], qd: &[T], z: &[T], h: &mut [T]) {
+        self.eval_terms(d, q, qd, z, None, h, Terms::All);
+    }
+
     /// The element states' rates z' (length `layout.nz`, overwritten).
     pub fn state_rates<T: Scalar>(&self, q: &[T], qd: &[T], z: &[T], zd: &mut [T]) {
         let b = BodyState::new(q, qd);

@@ -138,10 +138,8 @@ impl LowRankMass {
             let (s1, c1) = th.sin_cos();
             let xs = [c1, s1, c1 * c1 - s1 * s1, 2.0 * s1 * c1];
             for ((c, p), x) in mats.iter().zip(xs) {
-                for k in 0..r * r {
-                    self.c[k] += x * c[k];
-                    self.g[k] += x * p[k];
-                }
+                axpy(x, c, &mut self.c);
+                axpy(x, p, &mut self.g);
             }
         }
         for i in 0..r {
@@ -149,26 +147,33 @@ impl LowRankMass {
         }
         // t = U^T y.
         self.t.fill(0.0);
-        for i in 0..n1 {
-            let (row, yi) = (&self.u[i * r..(i + 1) * r], x[i]);
-            for (t, u) in self.t.iter_mut().zip(row) {
-                *t += u * yi;
-            }
+        for (row, &yi) in self.u.chunks_exact(r).zip(&x[..n1]) {
+            axpy(yi, row, &mut self.t);
         }
         if lu_factor(&mut self.g, r, &mut self.piv).is_err() {
             return false;
         }
         lu_solve(&self.g, r, &self.piv, &mut self.t);
         // w = C (I + S C)^-1 t, x = y - V w.
-        for i in 0..r {
-            self.w[i] = (0..r).map(|j| self.c[i * r + j] * self.t[j]).sum();
+        for (w, row) in self.w.iter_mut().zip(self.c.chunks_exact(r)) {
+            *w = dot(row, &self.t);
         }
-        for i in 0..n1 {
-            let row = &self.v[i * r..(i + 1) * r];
-            x[i] -= row.iter().zip(&self.w).map(|(v, w)| v * w).sum::<f64>();
+        for (xi, row) in x[..n1].iter_mut().zip(self.v.chunks_exact(r)) {
+            *xi -= dot(row, &self.w);
         }
         true
     }
+}
+
+/// y += a x (iterators: no bounds checks, so it vectorises).
+fn axpy(a: f64, x: &[f64], y: &mut [f64]) {
+    for (y, x) in y.iter_mut().zip(x) {
+        *y += a * x;
+    }
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
 fn row_major(m: &DMatrix<f64>) -> Vec<f64> {

@@ -41,6 +41,7 @@ mod installed_binary;
 mod jacobians;
 mod model_files;
 mod parquet_roundtrip;
+mod presliding;
 mod rigid_physics;
 mod simulation;
 mod slurm;

@@ -60,10 +60,8 @@ impl LowRankMass {
         d.view_mut((0, 0), (RIGID, RIGID))
             .copy_from(&a0.view((0, 0), (RIGID, RIGID)));
         let e0 = &a0 - &d;
-        let terms: Vec<(f64, [DMatrix<f64>; 4])> = f
-            .rotors()
-            .map(|(ratio, a)| (ratio, a.map(mat)))
-            .collect();
+        let terms: Vec<(f64, [DMatrix<f64>; 4])> =
+            f.rotors().map(|(ratio, a)| (ratio, a.map(mat))).collect();
         // The deviations side by side: their joint column space.
         let mut wide = DMatrix::zeros(n1, n1 * (1 + 4 * terms.len()));
         wide.view_mut((0, 0), (n1, n1)).copy_from(&e0);

@@ -42,7 +42,7 @@ pub struct Query<'a> {
 /// with its modal data, less what does not enter the scene's equations: the model's name, its
 /// other scenes (the scene counts as its resolved effects and mode cut-off), the contacts
 /// unless the scene has `contact`, a friction damper's moving part unless the scene has its
-/// `damper_mass`, and the names of the data files (their content is in the IR). Every
+/// `damper_mass` and the parameters of the friction law the scene does not run, and the names of the data files (their content is in the IR). Every
 /// `elastic` entry stays: a rigid scene takes the drum's FE mass and inertia from its data.
 pub fn content_hash(model: &Model, scene: &EffectSet) -> String {
     let mut m = model.clone();
@@ -54,9 +54,18 @@ pub fn content_hash(model: &Model, scene: &EffectSet) -> String {
         m.contacts.clear();
     }
     for d in &mut m.friction_dampers {
-        if !(scene.has(&Effect::FrictionDampers) && scene.has(&Effect::DamperMass(d.name.clone())))
-        {
+        let massive =
+            scene.has(&Effect::FrictionDampers) && scene.has(&Effect::DamperMass(d.name.clone()));
+        if !massive {
             d.moving_part = None;
+        }
+        // The law the scene runs, with its parameters only (the moving part's friction is
+        // arctan's: its slope stays).
+        d.law = scene.friction_law(d.law);
+        if d.law.is_arctan() {
+            (d.axial_stiffness, d.breakaway) = (None, None);
+        } else if !massive {
+            d.slope = 0.0;
         }
     }
     for e in &mut m.elastic {

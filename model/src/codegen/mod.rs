@@ -302,7 +302,10 @@ fn scene_source_free(eq: &Equations, name: &str, free: &Free, t: &Traced) -> (St
     let forces_impl = if forces_fn.is_empty() {
         String::new()
     } else {
-        "    fn forces(&mut self, t: f64, q: &[f64], qd: &[f64], z: &[f64], h: &mut [f64], zd: &mut [f64]) -> bool {\n        let d = self.speed.drive(t);\n        Self::forces(&self.p, &d, q.try_into().expect(\"q\"), qd.try_into().expect(\"qd\"), z.try_into().expect(\"z\"), h.try_into().expect(\"h\"), zd.try_into().expect(\"zd\"));\n        true\n    }\n".to_string()
+        // No states given (an evaluation at the assembly state): z = 0, the rates dropped.
+        format!(
+            "    fn forces(&mut self, t: f64, q: &[f64], qd: &[f64], z: &[f64], h: &mut [f64], zd: &mut [f64]) -> bool {{\n        let d = self.speed.drive(t);\n        let z: [f64; {nz}] = z.try_into().unwrap_or([0.0; {nz}]);\n        let mut rates = [0.0; {nz}];\n        Self::forces(&self.p, &d, q.try_into().expect(\"q\"), qd.try_into().expect(\"qd\"), &z, h.try_into().expect(\"h\"), &mut rates);\n        if let Ok(zd) = <&mut [f64; {nz}]>::try_from(zd) {{\n            *zd = rates;\n        }}\n        true\n    }}\n"
+        )
     };
     let rt = "::washdyn_runtime";
     let (body_acc, body_jac, ops_acc, ops_jac) = match &t.acc {

@@ -105,6 +105,18 @@ impl FrictionDamper {
     }
 }
 
+impl FrictionDamper {
+    /// The rod's axis, a -> b: current (exact geometry) or at rest.
+    fn axis<T: Scalar>(&self, a: &Marker<T>, b: &Marker<T>, exact: bool) -> V<T> {
+        if exact {
+            let r = b.pos - a.pos;
+            r.scale(T::c(1.0) / r.dot(r).sqrt())
+        } else {
+            V::<T>::c(self.n0)
+        }
+    }
+}
+
 impl Element for FrictionDamper {
     const ELASTIC: bool = true;
     const DISSIPATIVE: bool = true;
@@ -133,23 +145,28 @@ impl Element for FrictionDamper {
         else {
             return T::zero();
         };
-        let n = if exact {
-            let r = b.pos - a.pos;
-            r.scale(T::c(1.0) / r.dot(r).sqrt())
-        } else {
-            V::<T>::c(self.n0)
-        };
+        let n = self.axis(a, b, exact);
         let z_ss = T::c(self.f_max) * (1.0 / stiffness);
-        ep_rate(z_ss, breakaway, z[state], n.dot(b.vel - a.vel))
+        let z = z.get(state).copied().unwrap_or(T::zero());
+        ep_rate(z_ss, breakaway, z, n.dot(b.vel - a.vel))
     }
 
-    fn stored_power(&self, z: &[f64], zd: &[f64]) -> f64 {
-        match self.law {
-            Axial::ElastoPlastic {
-                stiffness, state, ..
-            } => stiffness * z[state] * zd[state],
-            Axial::Arctan { .. } => 0.0,
-        }
+    fn state_dissipation(
+        &self,
+        a: &Marker<f64>,
+        b: &Marker<f64>,
+        exact: bool,
+        z: &[f64],
+        zd: &[f64],
+    ) -> f64 {
+        let Axial::ElastoPlastic {
+            stiffness, state, ..
+        } = self.law
+        else {
+            return 0.0;
+        };
+        let v = self.axis(a, b, exact).dot(b.vel - a.vel);
+        -stiffness * z[state] * (v - zd[state])
     }
 
     fn wrenches<T: Scalar>(

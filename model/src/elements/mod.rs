@@ -50,9 +50,16 @@ pub trait Element {
     fn state_rate<T: Scalar>(&self, _a: &Marker<T>, _b: &Marker<T>, _exact: bool, _z: &[T]) -> T {
         T::zero()
     }
-    /// The power stored in the element's state (its stored energy's rate), for the energy
-    /// balance's elastic category.
-    fn stored_power(&self, _z: &[f64], _zd: &[f64]) -> f64 {
+    /// The power the element's state dissipates (a presliding slider's -k z (v - z'), never
+    /// positive), for the energy balance's dissipated category.
+    fn state_dissipation(
+        &self,
+        _a: &Marker<f64>,
+        _b: &Marker<f64>,
+        _exact: bool,
+        _z: &[f64],
+        _zd: &[f64],
+    ) -> f64 {
         0.0
     }
 }

@@ -17,9 +17,9 @@
 //!   positions with their velocities set to zero, and the rest (friction, dampers, the
 //!   bearings' and the gasket's damping, a contact's Hunt-Crossley damping and its clamp:
 //!   `elements::contact` shows that part never positive). An element with a state of its own (a
-//!   presliding friction law's bushing deflection z) stores k z^2 / 2 there: its elastic work
-//!   is the bearings' at rest velocity at z = 0 minus k z z', and the slider's k z (v - z') is
-//!   dissipated.
+//!   presliding friction law's bushing deflection z) stores k z^2 / 2 there: the state force's
+//!   power is elastic but for the slider's -k z (v - z'), which the law makes never positive
+//!   and which is dissipated; the rest is split as for any element, at z = 0.
 //!
 //! Strain and elastic categories store energy (their work is minus a potential change);
 //! dissipated ones only take it (their work is never positive).
@@ -211,14 +211,22 @@ impl Equations {
                 mb.scatter(&b, h);
                 dot(qd, h)
             };
+            if p.e.state().is_some() {
+                // The state's force (its whole power, tilt terms too) stores but what its
+                // slider dissipates by the law; the rest is split as below at z = 0.
+                let total = power(&la, &lb, s.z, &mut w.h);
+                let without = power(&la, &lb, &[], &mut w.h);
+                let at_rest = power(&still(&la), &still(&lb), &[], &mut w.h0);
+                let (a, b) = (ma.state_of(&la), mb.state_of(&lb));
+                let slider =
+                    p.e.state_dissipation(&a, &b, self.exact_geometry, s.z, s.zd);
+                out.push(at_rest + (total - without - slider));
+                out.push(without - at_rest + slider);
+                continue;
+            }
             // An element without an elastic part has none at rest velocity (zero loads), and
-            // one that does not dissipate is its elastic part: one evaluation each. A state's
-            // force is in neither rest evaluation (z = 0 there): its stored share is -k z z'.
-            let stored = p.e.state().map(|_| -p.e.stored_power(s.z, s.zd));
-            let elastic = E::ELASTIC.then(|| {
-                let at_rest = if stored.is_some() { &[][..] } else { s.z };
-                power(&still(&la), &still(&lb), at_rest, &mut w.h0) + stored.unwrap_or(0.0)
-            });
+            // one that does not dissipate is its elastic part: one evaluation each.
+            let elastic = E::ELASTIC.then(|| power(&still(&la), &still(&lb), s.z, &mut w.h0));
             if let Some(e) = elastic {
                 out.push(e);
             }

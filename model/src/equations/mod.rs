@@ -292,8 +292,12 @@ impl Equations {
         self.eval_terms(d, q, qd, z, None, h, Terms::All);
     }
 
-    /// The element states' rates z' (length `layout.nz`, overwritten).
+    /// The element states' rates z' (length `layout.nz`, overwritten; an empty `zd` asks for
+    /// none).
     pub fn state_rates<T: Scalar>(&self, q: &[T], qd: &[T], z: &[T], zd: &mut [T]) {
+        if zd.is_empty() {
+            return;
+        }
         let b = BodyState::new(q, qd);
         for p in &self.friction_dampers {
             if let Some(i) = p.e.state() {

@@ -247,7 +247,7 @@ fn elastic_run_trajectories_agree() {
         2e-5,
         2000.0,
     );
-    // Measured MEASURED_ELASTIC (round-off of the two back ends' sums over 2500 steps).
+    // Measured 0: the same bits over 2500 steps (the bound leaves room for round-off).
     let worst = assert_same_signals(&a, &b, 1e-10);
     eprintln!("elastic scene: largest relative trajectory difference over 50 ms: {worst:.2e}");
 }

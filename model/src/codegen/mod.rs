@@ -20,8 +20,11 @@ use std::fmt::Write;
 
 mod free;
 pub mod mass;
+mod names;
 pub use free::Free;
 pub use mass::MassHarmonics;
+pub use names::type_name;
+use names::{state_inputs, with_states};
 
 /// Why code generation refused a model, and where in it (a free parameter: `free[k]`).
 #[derive(Clone, Debug, PartialEq)]
@@ -215,36 +218,6 @@ pub fn trace_free(eq: &Equations, stand_ins: &[f64]) -> Traced {
         acc,
         sensors: (g_s, ch),
     }
-}
-
-/// `rigid_low_speed` -> `RigidLowSpeed`.
-pub fn type_name(scene: &str) -> String {
-    let mut out = String::new();
-    for part in scene.split(['_', '-']).filter(|p| !p.is_empty()) {
-        let mut c = part.chars();
-        if let Some(f) = c.next() {
-            out.extend(f.to_uppercase());
-            out.push_str(c.as_str());
-        }
-    }
-    if out.is_empty() || out.starts_with(|c: char| c.is_ascii_digit()) {
-        out.insert_str(0, "Scene");
-    }
-    out
-}
-
-fn state_inputs(n: usize, extra: &[&str]) -> Vec<String> {
-    (0..n)
-        .map(|i| format!("q[{i}]"))
-        .chain((0..n).map(|i| format!("qd[{i}]")))
-        .chain(extra.iter().map(|s| s.to_string()))
-        .collect()
-}
-
-/// `state_inputs` followed by the element states z.
-fn with_states(mut names: Vec<String>, nz: usize) -> Vec<String> {
-    names.extend((0..nz).map(|i| format!("z[{i}]")));
-    names
 }
 
 /// Rust source of one scene's type, and its statistics.

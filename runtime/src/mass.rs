@@ -21,6 +21,9 @@ const RANK_TOL: f64 = 1e-15;
 /// The rigid coordinates that D keeps in a block of their own.
 const RIGID: usize = 6;
 
+/// A deviation projected on U: C = U^T A U and S C (r x r each, row-major).
+type Projected = (Vec<f64>, Vec<f64>);
+
 /// The low-rank form of M1 and its work arrays (allocated in `new`, never in `solve`).
 #[derive(Clone, Debug)]
 pub struct LowRankMass {
@@ -35,7 +38,7 @@ pub struct LowRankMass {
     c0: Vec<f64>,
     p0: Vec<f64>,
     /// Per rotor: its ratio and four (C, S C) pairs for cos, sin, cos 2, sin 2.
-    rotors: Vec<(f64, [(Vec<f64>, Vec<f64>); 4])>,
+    rotors: Vec<(f64, [Projected; 4])>,
     c: Vec<f64>,
     g: Vec<f64>,
     piv: Vec<usize>,

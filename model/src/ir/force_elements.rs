@@ -54,7 +54,7 @@ pub struct FrictionDamper {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub axial_stiffness: Option<f64>,
     /// The elasto-plastic law's breakaway deflection as a fraction of the sliding one
-    /// (Dupont et al. 2002: purely elastic below it); default `DEFAULT_BREAKAWAY`.
+    /// (Dupont et al. 2002: purely elastic below it), in (0, 1); default `DEFAULT_BREAKAWAY`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub breakaway: Option<f64>,
     /// Rubber bearings, N m/rad (both ends).

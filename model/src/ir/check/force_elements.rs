@@ -81,7 +81,7 @@ pub(super) fn friction_dampers<'a>(c: &mut Ctx, names: &mut Names<'a>, m: &'a Mo
 }
 
 /// A friction damper's law and its parameters: arctan needs a positive slope; elasto-plastic
-/// a positive, finite axial stiffness and a breakaway fraction in (0, 1].
+/// a positive, finite axial stiffness and a breakaway fraction in (0, 1).
 fn law(c: &mut Ctx, p: &Path, w: &str, d: &crate::ir::FrictionDamper) {
     match d.law {
         FrictionLaw::Arctan => c.positive(p.clone().key("slope"), &format!("{w}: slope"), d.slope),
@@ -107,13 +107,12 @@ fn law(c: &mut Ctx, p: &Path, w: &str, d: &crate::ir::FrictionDamper) {
             k,
         );
     }
-    if let Some(b) = d.breakaway {
-        if !(b > 0.0 && b <= 1.0) {
-            c.err(
-                p.clone().key("breakaway"),
-                format!("{w}: breakaway must be in (0, 1], got {b}"),
-            );
-        }
+    // Below 1: the transition's width (1 - b) z_ss divides the law's rate.
+    if let Some(b) = d.breakaway.filter(|b| !(*b > 0.0 && *b < 1.0)) {
+        c.err(
+            p.clone().key("breakaway"),
+            format!("{w}: breakaway must be in (0, 1), got {b}"),
+        );
     }
 }
 

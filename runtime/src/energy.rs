@@ -19,17 +19,11 @@ pub fn powers<S: Mechanical + ?Sized>(
 ) -> bool {
     let n = sys.layout().n();
     let (q, qd, z) = (&y[..n], &y[n..2 * n], &y[2 * n..]);
-    if !z.is_empty() {
-        sys.eval_states(t, q, qd, z, &mut w.m1p, &mut w.hs, &mut w.zd);
-    }
     let d = sys.speed().drive(t);
     let Some(eq) = sys.equations() else {
         return false;
     };
-    // Out and back without allocating (an empty Vec in between).
-    let zd = std::mem::take(&mut w.zd);
-    eq.powers(&d, q, qd, z, &zd, w, out);
-    w.zd = zd;
+    eq.powers(&d, q, qd, z, w, out);
     let n1 = eq.layout.n1;
     let dt = 1e-6;
     sys.eval(t + dt, q, qd, &mut w.m1p, &mut w.hs);

@@ -267,13 +267,32 @@ impl<S: Mechanical> FirstOrder<S> {
     /// without states: all of it). A mass block that is not positive definite yields NaN, which
     /// the integrators report as a non-finite state with its time.
     pub fn accelerations(&mut self, t: f64, q: &[f64], qd: &[f64], qdd: &mut [f64]) {
-        if self.low_rank.is_some() && self.sys.forces(t, q, qd, &[], &mut self.h, &mut []) {
+        self.solve(t, q, qd, &[], qdd, &mut []);
+    }
+
+    /// q'' and the element states' rates at the whole state y = [q; q'; z] into `qdd`, `zd`.
+    pub fn rates(&mut self, t: f64, y: &[f64], qdd: &mut [f64], zd: &mut [f64]) {
+        let n = self.layout.n();
+        let (q, rest) = y.split_at(n);
+        let (qd, z) = rest.split_at(n);
+        self.solve(t, q, qd, z, qdd, zd);
+    }
+
+    /// q'' and z' at element states `z` (empty: their assembly value, and no z'): M1 through
+    /// its structure where the back end gives h alone, else the back end's own q'' (a system
+    /// without states), else its M1 factorised here.
+    fn solve(&mut self, t: f64, q: &[f64], qd: &[f64], z: &[f64], qdd: &mut [f64], zd: &mut [f64]) {
+        if self.low_rank.is_some() && self.sys.forces(t, q, qd, z, &mut self.h, zd) {
             return self.solve_low_rank(t, qdd);
         }
-        if self.layout.nz == 0 && self.sys.accelerations(t, q, qd, qdd) {
+        if !z.is_empty() {
+            self.sys
+                .eval_states(t, q, qd, z, &mut self.m1, &mut self.h, zd);
+        } else if self.layout.nz == 0 && self.sys.accelerations(t, q, qd, qdd) {
             return;
+        } else {
+            self.sys.eval(t, q, qd, &mut self.m1, &mut self.h);
         }
-        self.sys.eval(t, q, qd, &mut self.m1, &mut self.h);
         self.solve_mass(qdd);
     }
 
@@ -289,22 +308,6 @@ impl<S: Mechanical> FirstOrder<S> {
         if !self.m2_identity {
             cholesky_solve(&self.l2, n2, &mut qdd[n1..]);
         }
-    }
-
-    /// q'' and the element states' rates at the whole state y = [q; q'; z] into `qdd`, `zd`.
-    pub fn rates(&mut self, t: f64, y: &[f64], qdd: &mut [f64], zd: &mut [f64]) {
-        let n = self.layout.n();
-        let (q, rest) = y.split_at(n);
-        let (qd, z) = rest.split_at(n);
-        if z.is_empty() {
-            return self.accelerations(t, q, qd, qdd);
-        }
-        if self.low_rank.is_some() && self.sys.forces(t, q, qd, z, &mut self.h, zd) {
-            return self.solve_low_rank(t, qdd);
-        }
-        self.sys
-            .eval_states(t, q, qd, z, &mut self.m1, &mut self.h, zd);
-        self.solve_mass(qdd);
     }
 
     /// q'' = M^-1 h from the `m1` and `h` just evaluated.

@@ -241,7 +241,7 @@ fn scene_source_free(eq: &Equations, name: &str, free: &Free, t: &Traced) -> (St
     let mh_inputs = with_states(state_inputs(n, &drive), nz);
     let (body_mh, ops_mh) = match &t.m1_harmonic {
         None => {
-            let mut e = Emitter::new(g, mh_inputs);
+            let mut e = Emitter::new(g, mh_inputs.clone());
             e.assign("m1", m1);
             e.assign("h", h);
             e.assign("zd", zd);
@@ -253,7 +253,7 @@ fn scene_source_free(eq: &Equations, name: &str, free: &Free, t: &Traced) -> (St
         Some((gm, m1h)) => {
             let mut em = Emitter::with_prefix(gm, state_inputs(n, &drive), "m_");
             em.assign("m1", m1h);
-            let mut e = Emitter::new(g, mh_inputs);
+            let mut e = Emitter::new(g, mh_inputs.clone());
             e.assign("h", h);
             e.assign("zd", zd);
             (em.take() + &e.take(), gm.op_count(m1h) + g.op_count(hz))
@@ -262,7 +262,7 @@ fn scene_source_free(eq: &Equations, name: &str, free: &Free, t: &Traced) -> (St
 
     // h alone, for the run time's structured solve of M1 (large scenes only: it repeats h).
     let forces_fn = if n1 >= mass::LOW_RANK_MIN_N1 {
-        let mut e = Emitter::new(g, with_states(state_inputs(n, &drive), nz));
+        let mut e = Emitter::new(g, mh_inputs);
         e.assign("h", h);
         e.assign("zd", zd);
         format!(

@@ -12,8 +12,8 @@
 //! alpha makes alpha z / z_ss = clamp((|z| - z_ba) / (z_ss - z_ba), 0, 1) while loading (v z >
 //! 0) and 0 while unloading: elastic below the breakaway deflection z_ba and on every reversal,
 //! an exponential approach to Fmax over (z_ss - z_ba) of stroke above it, so every branch of
-//! the hysteresis loop has a closed form (the tests hold the law to it). Rate independent; no drift under
-//! small vibration (purely elastic below z_ba); stuck, a spring; sliding, Coulomb.
+//! the hysteresis loop has a closed form (the tests hold the law to it). Rate independent; no
+//! drift under small vibration (purely elastic below z_ba); stuck, a spring; sliding, Coulomb.
 
 use super::Element;
 use crate::equations::{Drive, Marker, MarkerDef, Wrench, rest_axis};
@@ -103,9 +103,7 @@ impl FrictionDamper {
             bearing_damping: d.bearing_damping,
         }
     }
-}
 
-impl FrictionDamper {
     /// The rod's axis, a -> b: current (exact geometry) or at rest.
     fn axis<T: Scalar>(&self, a: &Marker<T>, b: &Marker<T>, exact: bool) -> V<T> {
         if exact {

@@ -11,7 +11,7 @@ mod spring;
 
 pub use contact::Contact;
 pub use damper_joint::{Axial, DamperJoint};
-pub use friction_damper::{Axial as FrictionAxial, FrictionDamper, ep_rate, friction_force};
+pub use friction_damper::{FrictionDamper, friction_force};
 pub use gasket::{Gasket, OMEGA_FLOOR, reference_speed};
 pub use linear_damper::LinearDamper;
 pub use spring::Spring;

@@ -61,7 +61,7 @@ pub struct EnergyWork {
     pub m1p: Vec<f64>,
     pub m1m: Vec<f64>,
     pub hs: Vec<f64>,
-    /// The element states' rates (their stored power).
+    /// The element states' rates (a slider's dissipation reads them).
     pub zd: Vec<f64>,
 }
 
@@ -140,7 +140,7 @@ impl Equations {
     /// The power of each category at (d, q, q'), in the order of `energy_categories`; they add
     /// up to q'^T h. The drive's share lacks q'^T M1' q' / 2, which needs M1 at neighbouring
     /// times ([`powers`] adds it).
-    /// `z`, `zd`: the element states and their rates (empty without states).
+    /// `z`: the element states (empty without states; their rates are taken here).
     #[allow(clippy::too_many_arguments)]
     pub fn powers(
         &self,
@@ -148,7 +148,6 @@ impl Equations {
         q: &[f64],
         qd: &[f64],
         z: &[f64],
-        zd: &[f64],
         w: &mut EnergyWork,
         out: &mut Vec<f64>,
     ) {
@@ -181,13 +180,17 @@ impl Equations {
         out[0] = without_g - fixed_weight - own;
         out[1] = with_g - without_g + fixed_weight;
         let st = BodyState::new(q, qd);
-        let s = States { z, zd };
+        // Out of the work arrays and back without allocating (an empty Vec in between).
+        let mut zd = std::mem::take(&mut w.zd);
+        self.state_rates(q, qd, z, &mut zd);
+        let s = States { z, zd: &zd };
         self.element_powers(&self.springs, &st, d, qd, s, w, out);
         self.element_powers(&self.dampers, &st, d, qd, s, w, out);
         self.element_powers(&self.friction_dampers, &st, d, qd, s, w, out);
         self.element_powers(&self.damper_joints, &st, d, qd, s, w, out);
         self.element_powers(&self.gaskets, &st, d, qd, s, w, out);
         self.element_powers(&self.contacts, &st, d, qd, s, w, out);
+        w.zd = zd;
     }
 
     #[allow(clippy::too_many_arguments)]

@@ -131,10 +131,10 @@ fn structured_jacobians_equal_the_whole_derivation_over_dual_numbers_on_every_sc
             continue;
         };
         let n1 = eq.layout.n1;
-        let mut j = PortedJacobian::new(n1, r, n - n1);
-        eq.force_jacobians_ported(
-            &d, &q, &qd, &mut w, &mut j.eq, &mut j.ev, &mut j.dq, &mut j.dv, &mut j.b2,
-        );
+        let mut j = PortedJacobian::new(n1, r, n - n1, 0);
+        let (jq, jv) = (&mut j.eq, &mut j.ev);
+        let (dq_, dv_) = (&mut j.dq, &mut j.dv);
+        eq.force_jacobians_ported(&d, (&q, &qd, &[]), &mut w, jq, jv, dq_, dv_, &mut j.b2);
         let mut m = vec![0.0; n * n];
         j.expand(&mut m, &mut dq, &mut dqd);
         for (name, a, b) in [("dh/dq", &dq, &sq), ("dh/dq'", &dqd, &sqd)] {
@@ -286,5 +286,94 @@ fn implicit_methods_take_the_same_steps_with_and_without_the_mass_form() {
         );
         agree(method, "dense mass form", &ported, &dense);
         agree(method, "first-order Jacobian", &ported, &first_order);
+    }
+}
+
+/// The ported form with element states (`elastic` on the dampers as built: four bushing
+/// deflections z) against central differences of the interpreter's h and z' at a state off
+/// rest: dh/dq, dh/dq', dz'/dq, dz'/dq' through the ports, and dh/dz, dz'/dz in E_v's state
+/// columns (`states.rs`), expanded to the dense (n + nz)^2 matrices.
+#[test]
+fn ported_jacobians_with_element_states_match_central_differences() {
+    let model = washdyn_models::built_in("reference").unwrap().unwrap();
+    let s = model.scene(Some("elastic")).unwrap();
+    assert_eq!(
+        s.friction_law(FrictionLaw::Arctan),
+        FrictionLaw::ElastoPlastic
+    );
+    let eq = Equations::new(&model, &s);
+    let (n, n1, nz) = (eq.layout.n(), eq.layout.n1, eq.layout.nz);
+    assert_eq!(nz, 4, "one deflection per damper");
+    let (q, qd) = off_rest(n);
+    // z_ss = Fmax / k = 3e-4 m, breakaway at 2.7e-4: two dampers on the elasto-plastic
+    // transition, two elastic; none at a kink of the law.
+    let z = [2.85e-4, -1.0e-4, -2.9e-4, 0.5e-4];
+    let d = Drive {
+        phi: 2.1,
+        omega: 146.6,
+        omega_dot: 3.0,
+    };
+    let r = eq.ported_ports().expect("elastic is ported");
+    let mut j = PortedJacobian::new(n1, r, n - n1, nz);
+    let mut w = JacobianWork::new(&eq);
+    let (jq, jv) = (&mut j.eq, &mut j.ev);
+    eq.force_jacobians_ported(
+        &d,
+        (&q, &qd, &z),
+        &mut w,
+        jq,
+        jv,
+        &mut j.dq,
+        &mut j.dv,
+        &mut j.b2,
+    );
+    let m = n + nz;
+    let (mut mm, mut aq, mut av) = (vec![0.0; m * m], vec![0.0; m * m], vec![0.0; m * m]);
+    j.expand(&mut mm, &mut aq, &mut av);
+    // [h; z'] at y = [q; q'; z].
+    let f = |y: &[f64]| -> Vec<f64> {
+        let mut out = vec![0.0; m];
+        let (h, zd) = out.split_at_mut(n);
+        eq.forces(&d, &y[..n], &y[n..2 * n], &y[2 * n..], h);
+        eq.state_rates(&y[..n], &y[n..2 * n], &y[2 * n..], zd);
+        out
+    };
+    let y: Vec<f64> = q.iter().chain(&qd).chain(&z).copied().collect();
+    // Column c of y (q, q' or z) against its matrix: q in A_q, q' and z in A_v.
+    let mut worst = [0.0f64; 3];
+    for c in 0..2 * n + nz {
+        let (jac, col, kind) = match c {
+            c if c < n => (&aq, c, 0),
+            c if c < 2 * n => (&av, c - n, 1),
+            c => (&av, c - n, 2),
+        };
+        let e = 1e-6 * y[c].abs().max(if kind == 2 { 1e-4 } else { 1e-3 });
+        let (mut yp, mut ym) = (y.clone(), y.clone());
+        yp[c] += e;
+        ym[c] -= e;
+        let (fp, fm) = (f(&yp), f(&ym));
+        let big = (0..m).fold(1e-9, |a: f64, i| a.max(jac[i * m + col].abs()));
+        for i in 0..m {
+            let fd = (fp[i] - fm[i]) / (2.0 * e);
+            // h's round-off over the step (the correction modes' large forces).
+            let noise = 10.0 * f64::EPSILON * fp[i].abs().max(fm[i].abs()) / e;
+            let err = ((jac[i * m + col] - fd).abs() - noise).max(0.0) / big;
+            worst[kind] = worst[kind].max(err);
+        }
+    }
+    eprintln!(
+        "ported with states: columns of q {:.1e}, q' {:.1e}, z {:.1e}",
+        worst[0], worst[1], worst[2]
+    );
+    // The z columns of A_q are zero by convention (z enters through A_v).
+    for i in 0..m {
+        for c in n..m {
+            assert_eq!(aq[i * m + c], 0.0, "A_q's state column {c}, row {i}");
+        }
+    }
+    // Central differences with a relative step of 1e-6: truncation about 1e-12 of the
+    // column. Measured: see the message; the bound is the differences' own error.
+    for (k, name) in ["q", "q'", "z"].iter().enumerate() {
+        assert!(worst[k] < 1e-6, "columns of {name}: {:e}", worst[k]);
     }
 }

@@ -440,12 +440,8 @@ impl<S: OdeSystem + ?Sized> Solver<S> for GeneralizedAlpha {
         self.jac_age = Jacobian::default();
         self.lu_h = 0.0;
         self.eta = 1.0;
-        // The ported form covers [q; q'] alone.
-        ported::prepare(
-            &mut self.ported,
-            &*sys,
-            Some(self.n).filter(|_| self.nz == 0),
-        );
+        // The ported form, with the trailing states after the ports.
+        ported::prepare(&mut self.ported, &*sys, Some(self.n), self.nz);
         self.h = start(
             sys,
             t0,

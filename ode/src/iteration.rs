@@ -59,7 +59,7 @@ impl IterationMatrix {
     /// `set_second_order`): the reduced solve of `ported.rs` is used then, when it is smaller.
     /// Allocates only the first time (or when the shape changes).
     pub fn set_ported<S: OdeSystem + ?Sized>(&mut self, sys: &S) {
-        super::ported::prepare(&mut self.ported, sys, self.half);
+        super::ported::prepare(&mut self.ported, sys, self.half, 0);
     }
 
     /// The last `jacobian` gave the ported pieces (the reduced solve is in use).

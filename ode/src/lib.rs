@@ -70,7 +70,8 @@ pub trait OdeSystem {
     /// For a second-order system whose coordinates split into q1 (the first n1, full mass
     /// matrix) and q2 (unit mass, own terms diagonal: modes on a fixed frame) that meet only
     /// through r port coordinates p = B2^T q2: `Some((n1, r))`. The implicit methods then
-    /// factorise an (n1 + r) matrix in place of the n x n mass form (`ported.rs`).
+    /// factorise an (n1 + r) matrix in place of the n x n mass form (`ported.rs`; plus the
+    /// trailing states for generalized-alpha).
     fn ported_shape(&self) -> Option<(usize, usize)> {
         None
     }

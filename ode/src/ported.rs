@@ -15,6 +15,12 @@
 //! and x2 = Delta^-1 (t2 - B2 (Fp1 x1 + Fpp y)): an LU of na instead of n (on the reference's
 //! `elastic`, 140 against 324), exact in exact arithmetic (any solution of the reduced system
 //! gives y = B2^T x2 by construction, so nothing is approximated).
+//!
+//! Trailing first-order element states z (nz, a friction damper's deflection) join q1 in the
+//! reduced system, after the ports: [q1; p; z], na = n1 + r + nz, unit "mass" on z. They meet
+//! q2 only through the ports too (an element reads and loads its markers), so the elimination
+//! is the same. Generalized-alpha advances z with its velocity update, so dh/dz and dz'/dz
+//! stand in E_v's z columns and dz'/dq in E_q's z rows.
 
 use super::lu::{SingularMatrix, lu_factor, lu_solve};
 
@@ -24,9 +30,12 @@ pub struct PortedJacobian {
     pub n1: usize,
     pub r: usize,
     pub n2: usize,
+    /// Trailing first-order states (0: the system is [q; q'] alone).
+    pub nz: usize,
     /// M1, n1 x n1.
     pub m1: Vec<f64>,
-    /// dh/dq and dh/dq' over [q1; p], na x na.
+    /// dh/dq and dh/dq' over [q1; p; z], na x na (z's rows: dz'/dq, dz'/dq'; z's columns in
+    /// `ev`: dh/dz, dz'/dz).
     pub eq: Vec<f64>,
     pub ev: Vec<f64>,
     /// The diagonals of q2's own terms in dh2/dq2 and dh2/dq2' (length n2).
@@ -38,12 +47,13 @@ pub struct PortedJacobian {
 
 impl PortedJacobian {
     /// Work arrays for the shape (allocates).
-    pub fn new(n1: usize, r: usize, n2: usize) -> Self {
-        let na = n1 + r;
+    pub fn new(n1: usize, r: usize, n2: usize, nz: usize) -> Self {
+        let na = n1 + r + nz;
         PortedJacobian {
             n1,
             r,
             n2,
+            nz,
             m1: vec![0.0; n1 * n1],
             eq: vec![0.0; na * na],
             ev: vec![0.0; na * na],
@@ -54,7 +64,7 @@ impl PortedJacobian {
     }
 
     pub fn na(&self) -> usize {
-        self.n1 + self.r
+        self.n1 + self.r + self.nz
     }
 
     /// Row i of B2: how q2's coordinate i moves the ports.
@@ -78,17 +88,22 @@ impl PortedJacobian {
         self.b2_row(i).iter().zip(e).map(|(b, x)| b * x).sum()
     }
 
-    /// The dense M (M2 = I), dh/dq and dh/dq' (n x n, n = n1 + n2) the pieces stand for: what
-    /// the tests hold the ported pieces to, and the dense route when asked.
+    /// The dense M (M2 = I, unit on z), dh/dq and dh/dq' over [q1; q2; z] ((n + nz)^2, n = n1
+    /// + n2) the pieces stand for: what the tests hold the ported pieces to.
     pub fn expand(&self, m: &mut [f64], hq: &mut [f64], hqd: &mut [f64]) {
         let (n1, r, n2, na) = (self.n1, self.r, self.n2, self.na());
-        let n = n1 + n2;
-        // T's rows of coordinate i over [q1; p]: e_i on q1, b2 row on p.
+        let nn = n1 + n2;
+        let n = nn + self.nz;
+        // T's rows of coordinate i over [q1; p; z]: e_i on q1 and z, b2 row on p.
         let t = |i: usize, a: usize| -> f64 {
-            match (i < n1, a < n1) {
-                (true, true) => f64::from(u8::from(i == a)),
-                (false, false) => self.b2[(i - n1) * r + (a - n1)],
-                _ => 0.0,
+            if i < n1 {
+                f64::from(u8::from(i == a))
+            } else if i >= nn {
+                f64::from(u8::from(a == i - nn + n1 + r))
+            } else if (n1..n1 + r).contains(&a) {
+                self.b2[(i - n1) * r + (a - n1)]
+            } else {
+                0.0
             }
         };
         m.fill(0.0);
@@ -118,8 +133,8 @@ impl PortedJacobian {
                 h[(n1 + k) * n + n1 + k] += d[k];
             }
         }
-        for k in 0..n2 {
-            m[(n1 + k) * n + n1 + k] = 1.0;
+        for k in n1..n {
+            m[k * n + k] = 1.0;
         }
     }
 }
@@ -194,6 +209,9 @@ impl PortedLu {
                 *w += a * m;
             }
         }
+        for i in n1 + r..na {
+            k[i * na + i] += a;
+        }
         for i in 0..n2 {
             let v = a - b * j.dv[i] - e * j.dq[i];
             if v == 0.0 || !v.is_finite() {
@@ -202,7 +220,7 @@ impl PortedLu {
             self.delta[i] = v;
         }
         let fp = &mut self.fp[..r * na];
-        fp.copy_from_slice(&k[n1 * na..]);
+        fp.copy_from_slice(&k[n1 * na..(n1 + r) * na]);
         let g = &mut self.g[..r * r];
         g.fill(0.0);
         for i in 0..n2 {
@@ -238,6 +256,7 @@ impl PortedLu {
     /// Jacobian the pieces stand for: the mass form's right-hand side t = d M b_v + c dh/dq b_q,
     /// the reduced solve for x_v, then x_q = (b_q + c x_v) / d (`iteration.rs`).
     pub fn solve(&mut self, j: &PortedJacobian, b: &mut [f64]) {
+        debug_assert_eq!(j.nz, 0, "the first-order methods' form is [q; q'] alone");
         let (n1, n2, na) = (j.n1, j.n2, j.na());
         let n = n1 + n2;
         let (c, d) = (self.c, self.d);
@@ -274,15 +293,18 @@ impl PortedLu {
         }
     }
 
-    /// Solve W x = t in place (t of length n), W the matrix of the last factorisation:
-    /// z = [t1; B2^T Delta^-1 t2], [x1; y] = K^-1 z, x2 = Delta^-1 (t2 - B2 (Fp1 x1 + Fpp y)).
+    /// Solve W x = t in place (t of length n + nz), W the matrix of the last factorisation:
+    /// u = [t1; B2^T Delta^-1 t2; tz], [x1; y; xz] = K^-1 u,
+    /// x2 = Delta^-1 (t2 - B2 (Fp1 x1 + Fpp y + Fpz xz)).
     pub fn solve_mass(&mut self, j: &PortedJacobian, t: &mut [f64]) {
         let (n1, r, n2, na) = (j.n1, j.r, j.n2, j.na());
         let (u, e) = (&mut self.u[..na], &mut self.e[..na]);
-        let (t1, t2) = t.split_at_mut(n1);
+        let (t1, rest) = t.split_at_mut(n1);
+        let (t2, tz) = rest.split_at_mut(n2);
         u[..n1].copy_from_slice(t1);
+        u[n1 + r..].copy_from_slice(tz);
         let delta = &self.delta[..n2];
-        j.ports_of(t2, |i, x| x / delta[i], &mut u[n1..]);
+        j.ports_of(t2, |i, x| x / delta[i], &mut u[n1..n1 + r]);
         lu_solve(&self.k[..na * na], na, &self.piv[..na], u);
         // w = Fp [x1; y] (into e's port part), x2 = Delta^-1 (t2 - B2 w).
         for a in 0..r {
@@ -296,16 +318,18 @@ impl PortedLu {
             t2[i] = (t2[i] - j.port_load(i, &e[n1..])) / self.delta[i];
         }
         t1.copy_from_slice(&u[..n1]);
+        tz.copy_from_slice(&u[n1 + r..]);
     }
 }
 
-/// The ported pieces and their factorisation for a second-order system of n positions, made
-/// (allocating) only when the shape is new; `None` where the system is not ported or the
-/// reduced system would not be smaller (n1 + r >= n).
+/// The ported pieces and their factorisation for a second-order system of n positions and nz
+/// trailing states, made (allocating) only when the shape is new; `None` where the system is
+/// not ported or the reduced system would not be smaller (n1 + r >= n).
 pub(crate) fn prepare<S: super::OdeSystem + ?Sized>(
     slot: &mut Option<(PortedJacobian, PortedLu)>,
     sys: &S,
     n: Option<usize>,
+    nz: usize,
 ) {
     let shape = match (n, sys.ported_shape()) {
         (Some(n), Some((n1, r))) if n1 <= n && n1 + r < n => Some((n1, r, n - n1)),
@@ -316,9 +340,9 @@ pub(crate) fn prepare<S: super::OdeSystem + ?Sized>(
         return;
     };
     match slot {
-        Some((j, _)) if (j.n1, j.r, j.n2) == (n1, r, n2) => {}
+        Some((j, _)) if (j.n1, j.r, j.n2, j.nz) == (n1, r, n2, nz) => {}
         slot => {
-            let j = PortedJacobian::new(n1, r, n2);
+            let j = PortedJacobian::new(n1, r, n2, nz);
             let mut lu = PortedLu::default();
             lu.reserve(&j);
             *slot = Some((j, lu));
@@ -326,7 +350,8 @@ pub(crate) fn prepare<S: super::OdeSystem + ?Sized>(
     }
 }
 
-/// M v (M = diag(M1, I)) into `out`: generalized-alpha's Newton residual in forces.
+/// M v (M = diag(M1, I), unit on the states too) into `out`: generalized-alpha's Newton
+/// residual in forces.
 pub(crate) fn mass_times(j: &PortedJacobian, v: &[f64], out: &mut [f64]) {
     let n1 = j.n1;
     for i in 0..n1 {
@@ -352,8 +377,8 @@ mod tests {
         ported: bool,
     }
 
-    fn pieces(n1: usize, r: usize, n2: usize) -> PortedJacobian {
-        let mut j = PortedJacobian::new(n1, r, n2);
+    fn pieces(n1: usize, r: usize, n2: usize, nz: usize) -> PortedJacobian {
+        let mut j = PortedJacobian::new(n1, r, n2, nz);
         let s = |k: usize, a: f64| ((k as f64) * a).sin();
         // M1 symmetric positive definite: A A^T + n1 I.
         for i in 0..n1 {
@@ -364,7 +389,7 @@ mod tests {
                 j.m1[i * n1 + l] = v + if i == l { n1 as f64 } else { 0.0 };
             }
         }
-        let na = n1 + r;
+        let na = j.na();
         for k in 0..na * na {
             j.eq[k] = -50.0 * s(k, 0.73) - if k % (na + 1) == 0 { 400.0 } else { 0.0 };
             j.ev[k] = -2.0 * s(k, 1.31);
@@ -416,7 +441,7 @@ mod tests {
     fn reduced_solve_matches_the_dense_mass_form() {
         for (n1, r, n2) in [(5, 3, 9), (7, 12, 20), (4, 6, 10), (1, 1, 2)] {
             let n = n1 + n2;
-            let mut j = pieces(n1, r, n2);
+            let mut j = pieces(n1, r, n2, 0);
             if r == 6 {
                 // Ports 3..6 read the same coordinates as ports 0..3.
                 for i in 0..n2 {
@@ -460,12 +485,13 @@ mod tests {
     }
 
     /// generalized-alpha's form, a M - b dh/dq' - e dh/dq with b^2 != a e (no (d, c) pair
-    /// gives it), solved in n-space against the dense LU of the expanded matrix.
+    /// gives it), solved in n-space against the dense LU of the expanded matrix, with and
+    /// without trailing states (n = n1 + n2 + nz).
     #[test]
     fn mass_solve_matches_the_dense_lu() {
-        for (n1, r, n2) in [(5, 3, 9), (7, 12, 20)] {
-            let n = n1 + n2;
-            let j = pieces(n1, r, n2);
+        for (n1, r, n2, nz) in [(5, 3, 9, 0), (7, 12, 20, 0), (5, 3, 9, 2), (7, 12, 20, 4)] {
+            let n = n1 + n2 + nz;
+            let j = pieces(n1, r, n2, nz);
             let (mut m, mut hq, mut hv) = (vec![0.0; n * n], vec![0.0; n * n], vec![0.0; n * n]);
             j.expand(&mut m, &mut hq, &mut hv);
             let (a, b, e) = (1.0, 0.8 * 0.002 * 0.6, 0.8 * 0.002 * 0.002 * 0.3);
@@ -484,7 +510,9 @@ mod tests {
             lu.solve_mass(&j, &mut x);
             let scale = x_dense.iter().fold(0.0f64, |s, v| s.max(v.abs()));
             let worst = (0..n).fold(0.0f64, |s, i| s.max((x[i] - x_dense[i]).abs() / scale));
-            println!("n1 {n1}, r {r}, n2 {n2}: ported mass solve against dense {worst:.1e}");
+            println!(
+                "n1 {n1}, r {r}, n2 {n2}, nz {nz}: ported mass solve against dense {worst:.1e}"
+            );
             // Measured 7.9e-16 at the worst (7, 12, 20); the bound is about 6x that.
             assert!(worst < 5e-15, "{worst:e}");
             // M v through the pieces against the dense M.

@@ -240,7 +240,7 @@ impl<S: Mechanical> FirstOrder<S> {
         }
         let ported = sys
             .equations()
-            .filter(|_| m2_identity && !sys.has_acceleration_jacobians() && layout.nz == 0)
+            .filter(|_| m2_identity && !sys.has_acceleration_jacobians())
             .and_then(|eq| Some((eq.ported_ports()?, JacobianWork::new(eq))));
         let low_rank = sys.equations().and_then(LowRankMass::new);
         FirstOrder {
@@ -415,16 +415,26 @@ impl<S: Mechanical> OdeSystem for FirstOrder<S> {
     fn ported_shape(&self) -> Option<(usize, usize)> {
         self.ported.as_ref().map(|(r, _)| (self.layout.n1, *r))
     }
-    /// M1 and the model's ported force Jacobians (`Equations::force_jacobians_ported`).
+    /// M1 and the model's ported force Jacobians (`Equations::force_jacobians_ported`), with
+    /// the element states' rows and columns.
     fn ported_jacobians(&mut self, t: f64, y: &[f64], j: &mut PortedJacobian) -> bool {
         let n = self.layout.n();
-        let (q, qd) = y.split_at(n);
+        let (q, rest) = y.split_at(n);
+        let (qd, z) = rest.split_at(n);
         let d = self.sys.speed().drive(t);
         let (Some(eq), Some((_, work))) = (self.sys.equations(), self.ported.as_mut()) else {
             return false;
         };
+        let (eqm, ev) = (&mut j.eq, &mut j.ev);
         eq.force_jacobians_ported(
-            &d, q, qd, work, &mut j.eq, &mut j.ev, &mut j.dq, &mut j.dv, &mut j.b2,
+            &d,
+            (q, qd, z),
+            work,
+            eqm,
+            ev,
+            &mut j.dq,
+            &mut j.dv,
+            &mut j.b2,
         );
         self.sys.eval(t, q, qd, &mut self.m1, &mut self.h);
         j.m1.copy_from_slice(&self.m1);

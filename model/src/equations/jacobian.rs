@@ -26,7 +26,7 @@ type D = Dual<LANES>;
 
 /// Lanes of an element's local Jacobian: at most two markers x four ports (u, alpha, W q,
 /// Phi q) x 3; an element with fewer input ports takes the smallest of these that fits.
-const LOCAL: [usize; 3] = [6, 12, 24];
+pub(super) const LOCAL: [usize; 3] = [6, 12, 24];
 
 /// Work arrays of `force_jacobians`, allocated once per system.
 #[derive(Clone, Debug)]
@@ -37,6 +37,8 @@ pub struct JacobianWork {
     h: Vec<D>,
     /// Two ports' load Jacobians chained through the input ports, 6 x n.
     x: Vec<f64>,
+    /// The element states as constants of the widest local lanes (`states.rs`).
+    z: Vec<Dual<{ LOCAL[2] }>>,
 }
 
 impl JacobianWork {
@@ -47,7 +49,8 @@ impl JacobianWork {
             qd: vec![D::c(0.0); n],
             m1: vec![D::c(0.0); n1 * n1],
             h: vec![D::c(0.0); n],
-            x: vec![0.0; 6 * n],
+            x: vec![0.0; 6 * (n + eq.layout.nz)],
+            z: vec![Dual::c(0.0); eq.layout.nz],
         }
     }
 }
@@ -55,7 +58,7 @@ impl JacobianWork {
 /// A constant linear map between a 3-vector at a marker and the generalised coordinates:
 /// identity on three columns (the tub's u or alpha) or mode-shape rows (W or Phi, per mode).
 #[derive(Clone, Copy)]
-enum Port<'a> {
+pub(super) enum Port<'a> {
     Rigid(usize),
     Modal(usize, &'a [[f64; 3]]),
 }
@@ -71,7 +74,7 @@ impl Port<'_> {
 
 /// Which local coordinate an input port seeds.
 #[derive(Clone, Copy)]
-enum Field {
+pub(super) enum Field {
     U,
     Alpha,
     W,
@@ -79,7 +82,7 @@ enum Field {
 }
 
 /// A marker's input ports (at most four; `None` past the last).
-fn inputs(m: &MarkerDef) -> [Option<(Port<'_>, Field)>; 4] {
+pub(super) fn inputs(m: &MarkerDef) -> [Option<(Port<'_>, Field)>; 4] {
     let mut out = [None; 4];
     let mut i = 0;
     if let Some(c) = m.frame {
@@ -96,23 +99,13 @@ fn inputs(m: &MarkerDef) -> [Option<(Port<'_>, Field)>; 4] {
 
 /// The local coordinates at one level (positions, or rates when `rate`) over `L`, seeded
 /// along lanes `3 lane0 + ...` for each input port, the other level constant.
-fn seeded<const N: usize>(
+pub(super) fn seeded<const N: usize>(
     m: &MarkerDef,
     l: &Local<f64>,
     rate: bool,
     lane0: usize,
 ) -> (Local<Dual<N>>, usize) {
-    let c = |v: V<f64>| V(v.0.map(Dual::<N>::c));
-    let mut out = Local {
-        u: c(l.u),
-        alpha: c(l.alpha),
-        w: c(l.w),
-        phi: c(l.phi),
-        ud: c(l.ud),
-        alphad: c(l.alphad),
-        wd: c(l.wd),
-        phid: c(l.phid),
-    };
+    let mut out = constant::<N>(l);
     let mut lane = lane0;
     for (_, field) in inputs(m).into_iter().flatten() {
         let v = match (field, rate) {
@@ -133,9 +126,24 @@ fn seeded<const N: usize>(
     (out, lane)
 }
 
+/// The local coordinates as constants over `Dual<N>`.
+pub(super) fn constant<const N: usize>(l: &Local<f64>) -> Local<Dual<N>> {
+    let c = |v: V<f64>| V(v.0.map(Dual::<N>::c));
+    Local {
+        u: c(l.u),
+        alpha: c(l.alpha),
+        w: c(l.w),
+        phi: c(l.phi),
+        ud: c(l.ud),
+        alphad: c(l.alphad),
+        wd: c(l.wd),
+        phid: c(l.phid),
+    }
+}
+
 /// A marker's output ports with the load's value there.
 #[allow(clippy::type_complexity)]
-fn outputs<'a, const N: usize>(
+pub(super) fn outputs<'a, const N: usize>(
     m: &'a MarkerDef,
     l: &Load<Dual<N>>,
 ) -> [Option<(Port<'a>, V<Dual<N>>)>; 4] {
@@ -155,7 +163,7 @@ fn outputs<'a, const N: usize>(
 
 /// A marker's ports (W then Phi on its modes) as the identity on its six port columns from
 /// `slot` (the ported form), or unchanged.
-fn ported<T: Copy>(
+pub(super) fn ported<T: Copy>(
     mut ports: [Option<(Port<'_>, T)>; 4],
     slot: Option<usize>,
 ) -> [Option<(Port<'_>, T)>; 4] {
@@ -198,31 +206,35 @@ impl Equations {
         }
         // Force elements by their local Jacobians.
         let st = BodyState::new(q, qd);
-        self.all_element_jacobians(&st, d, &mut w.x, hq, hqd, n, None);
+        self.all_element_jacobians(&st, d, (&mut w.x, &mut []), hq, hqd, n, None);
     }
 
     /// Every force element's Jacobian into hq / hqd (dimension `dim`); with `ports`, each
-    /// marker on subsystem 2 as six port columns of its own (`force_jacobians_ported`).
+    /// marker on subsystem 2 as six port columns of its own (`force_jacobians_ported`), and
+    /// with element states (`z` not empty) their rows and columns from `dim - nz` (`states.rs`).
     #[allow(clippy::too_many_arguments)]
     fn all_element_jacobians(
         &self,
         st: &BodyState<f64>,
         d: &Drive<f64>,
-        x: &mut [f64],
+        (x, z): (&mut [f64], &mut [Dual<{ LOCAL[2] }>]),
         hq: &mut [f64],
         hqd: &mut [f64],
         dim: usize,
         mut ports: Option<&mut usize>,
     ) {
-        let x = &mut *x;
-        self.element_jacobians(&self.springs, st, d, x, hq, hqd, dim, ports.as_deref_mut());
-        self.element_jacobians(&self.dampers, st, d, x, hq, hqd, dim, ports.as_deref_mut());
-        let fd = &self.friction_dampers;
-        self.element_jacobians(fd, st, d, x, hq, hqd, dim, ports.as_deref_mut());
-        let dj = &self.damper_joints;
-        self.element_jacobians(dj, st, d, x, hq, hqd, dim, ports.as_deref_mut());
-        self.element_jacobians(&self.gaskets, st, d, x, hq, hqd, dim, ports.as_deref_mut());
-        self.element_jacobians(&self.contacts, st, d, x, hq, hqd, dim, ports);
+        let w = &mut (x, z);
+        let p = ports.as_deref_mut();
+        self.element_jacobians(&self.springs, st, d, w, hq, hqd, dim, p);
+        let p = ports.as_deref_mut();
+        self.element_jacobians(&self.dampers, st, d, w, hq, hqd, dim, p);
+        let p = ports.as_deref_mut();
+        self.element_jacobians(&self.friction_dampers, st, d, w, hq, hqd, dim, p);
+        let p = ports.as_deref_mut();
+        self.element_jacobians(&self.damper_joints, st, d, w, hq, hqd, dim, p);
+        let p = ports.as_deref_mut();
+        self.element_jacobians(&self.gaskets, st, d, w, hq, hqd, dim, p);
+        self.element_jacobians(&self.contacts, st, d, w, hq, hqd, dim, ports);
     }
 
     /// Every force element's markers in the order `all_element_jacobians` visits them.
@@ -269,15 +281,15 @@ impl Equations {
     }
 
     /// The ported form of the force Jacobians (`washdyn_ode::ported`, r = `ported_ports`):
-    /// dh/dq and dh/dq' over [q1; p] (na x na, na = n1 + r) into `eq` and `ev`, the diagonals
-    /// of subsystem 2's own terms into `dq` and `dv`, and the ports' map B2 (n2 x r) into `b2`.
-    /// `T^T E T + diag(0, d)` is `force_jacobians`' result. Never allocates.
+    /// dh/dq and dh/dq' over [q1; p; z] (na x na, na = n1 + r + nz) at element states `z`
+    /// into `eq` and `ev` (the states' rows and columns: `states.rs`), the diagonals of
+    /// subsystem 2's own terms into `dq` and `dv`, and the ports' map B2 (n2 x r) into `b2`.
+    /// Without states, `T^T E T + diag(0, d)` is `force_jacobians`' result. Never allocates.
     #[allow(clippy::too_many_arguments)]
     pub fn force_jacobians_ported(
         &self,
         d: &Drive<f64>,
-        q: &[f64],
-        qd: &[f64],
+        (q, qd, z): (&[f64], &[f64], &[f64]),
         w: &mut JacobianWork,
         eq: &mut [f64],
         ev: &mut [f64],
@@ -287,7 +299,10 @@ impl Equations {
     ) {
         let (n, n1) = (self.layout.n(), self.layout.n1);
         let r = b2.len() / (n - n1);
-        let na = n1 + r;
+        let na = n1 + r + z.len();
+        for (zw, v) in w.z.iter_mut().zip(z) {
+            *zw = Dual::c(*v);
+        }
         eq.fill(0.0);
         ev.fill(0.0);
         self.seeded_passes(d, q, qd, w, eq, ev, (n1, na), 2 * n1, Terms::Bodies, |s| {
@@ -302,7 +317,8 @@ impl Equations {
         }
         let st = BodyState::new(q, qd);
         let mut next = 0;
-        self.all_element_jacobians(&st, d, &mut w.x, eq, ev, na, Some(&mut next));
+        let work = (&mut w.x[..], &mut w.z[..z.len()]);
+        self.all_element_jacobians(&st, d, work, eq, ev, na, Some(&mut next));
         debug_assert_eq!(next, r, "ports counted as visited");
         b2.fill(0.0);
         for (k, m) in self.port_markers().enumerate() {
@@ -405,7 +421,7 @@ impl Equations {
         list: &[Placed<E>],
         st: &BodyState<f64>,
         d: &Drive<f64>,
-        x: &mut [f64],
+        (x, z): &mut (&mut [f64], &mut [Dual<{ LOCAL[2] }>]),
         hq: &mut [f64],
         hqd: &mut [f64],
         dim: usize,
@@ -429,18 +445,23 @@ impl Equations {
             ins[4..].copy_from_slice(&ported(ib, slots[1]));
             let lanes = 3 * ins.iter().flatten().count();
             let a = (p, &ins, slots, st, d);
-            if lanes <= LOCAL[0] {
-                self.element_jacobian::<E, { LOCAL[0] }>(a, x, hq, hqd, dim);
+            // An element with a state (when the states are asked for) on the widest lanes,
+            // those of the states' constants.
+            if p.e.state().is_some() && !z.is_empty() {
+                self.element_jacobian::<E, { LOCAL[2] }>(a, x, z, hq, hqd, dim);
+            } else if lanes <= LOCAL[0] {
+                self.element_jacobian::<E, { LOCAL[0] }>(a, x, &mut [], hq, hqd, dim);
             } else if lanes <= LOCAL[1] {
-                self.element_jacobian::<E, { LOCAL[1] }>(a, x, hq, hqd, dim);
+                self.element_jacobian::<E, { LOCAL[1] }>(a, x, &mut [], hq, hqd, dim);
             } else {
-                self.element_jacobian::<E, { LOCAL[2] }>(a, x, hq, hqd, dim);
+                self.element_jacobian::<E, { LOCAL[2] }>(a, x, &mut [], hq, hqd, dim);
             }
         }
     }
 
     /// One element's loads over `Dual<N>` seeded along its markers' input ports `ins`, one
-    /// level at a time, chained through the ports' maps into hq / hqd.
+    /// level at a time, chained through the ports' maps into hq / hqd; with the element
+    /// states `z` (constants, not empty), its state's row and column too (`states.rs`).
     #[allow(clippy::type_complexity)]
     fn element_jacobian<E: Element, const N: usize>(
         &self,
@@ -452,6 +473,7 @@ impl Equations {
             &Drive<f64>,
         ),
         x: &mut [f64],
+        z: &mut [Dual<N>],
         hq: &mut [f64],
         hqd: &mut [f64],
         n: usize,
@@ -463,6 +485,9 @@ impl Equations {
         };
         let (ma, mb) = p.e.markers();
         let (la, lb) = (ma.local(st), mb.local(st));
+        // The element's state's row and column, after the coordinates (and ports).
+        let state = p.e.state().filter(|_| !z.is_empty());
+        let zrow = state.map(|s| n - z.len() + s);
         // Columns the element's inputs reach.
         let (mut c0, mut c1) = (n, 0);
         for &(port, _) in ins.iter().flatten() {
@@ -472,8 +497,13 @@ impl Equations {
         for rate in [false, true] {
             let (sa, next) = seeded::<N>(ma, &la, rate, 0);
             let (sb, _) = seeded::<N>(mb, &lb, rate, next);
-            let (ya, yb) = self.element_loads(p, &sa, &sb, &dl, &[]);
+            let (ya, yb) = self.element_loads(p, &sa, &sb, &dl, z);
             let h = if rate { &mut *hqd } else { &mut *hq };
+            if let Some(r) = zrow {
+                let (a, b) = (ma.state_of(&sa), mb.state_of(&sb));
+                let zd = p.e.state_rate(&a, &b, self.exact_geometry, z);
+                add_port_row(ins, &zd, &mut h[r * n..(r + 1) * n]);
+            }
             for ((m, y), slot) in [(ma, &ya), (mb, &yb)].into_iter().zip(slots) {
                 // The marker's ports in pairs sharing rows: (force, moment) on the tub's
                 // rigid rows, (W, Phi) on its modes (or its port rows).
@@ -486,28 +516,40 @@ impl Equations {
                     // (force or W port 0..3, moment or Phi port 3..6) of length n:
                     // the local 3 x 3 blocks times each input port's map.
                     for a in 0..6 {
-                        x[a * n + c0..a * n + c1].fill(0.0);
-                    }
-                    for (lane, &(port, _)) in ins.iter().flatten().enumerate() {
-                        for a in 0..6 {
-                            let v = if a < 3 { vf.0[a] } else { vm.0[a - 3] };
-                            let k = [0, 1, 2].map(|b| v.d[3 * lane + b]);
-                            let row = &mut x[a * n..(a + 1) * n];
-                            match port {
-                                Port::Rigid(c) => {
-                                    for b in 0..3 {
-                                        row[c + b] += k[b];
-                                    }
-                                }
-                                Port::Modal(s, rows) => {
-                                    for (xj, r) in row[s..s + rows.len()].iter_mut().zip(rows) {
-                                        *xj += k[0] * r[0] + k[1] * r[1] + k[2] * r[2];
-                                    }
-                                }
-                            }
-                        }
+                        let v = if a < 3 { vf.0[a] } else { vm.0[a - 3] };
+                        let row = &mut x[a * n..(a + 1) * n];
+                        row[c0..c1].fill(0.0);
+                        add_port_row(ins, &v, row);
                     }
                     scatter_rows(po, pm, x, c0, c1, n, h);
+                }
+            }
+        }
+        if let (Some(s), Some(r)) = (state, zrow) {
+            let l = (&la, &lb);
+            self.state_column(p, l, slots, (s, r), &dl, z, x, hqd, n);
+        }
+    }
+}
+
+/// row += d v / d(the element's local inputs) chained through the input ports' maps (lane k
+/// of `v` is the k-th present port's, three lanes each).
+pub(super) fn add_port_row<const N: usize>(
+    ins: &[Option<(Port<'_>, Field)>; 8],
+    v: &Dual<N>,
+    row: &mut [f64],
+) {
+    for (lane, &(port, _)) in ins.iter().flatten().enumerate() {
+        let k = [0, 1, 2].map(|b| v.d[3 * lane + b]);
+        match port {
+            Port::Rigid(c) => {
+                for b in 0..3 {
+                    row[c + b] += k[b];
+                }
+            }
+            Port::Modal(s, rows) => {
+                for (xj, r) in row[s..s + rows.len()].iter_mut().zip(rows) {
+                    *xj += k[0] * r[0] + k[1] * r[1] + k[2] * r[2];
                 }
             }
         }
@@ -517,7 +559,7 @@ impl Equations {
 /// h[rows, c0..c1] += P^T x for a pair of output ports on the same rows (the tub's force and
 /// moment rows, or a body's W and Phi rows), x holding six rows of length n (the first port's
 /// three, then the second's).
-fn scatter_rows(
+pub(super) fn scatter_rows(
     pf: Port<'_>,
     pm: Port<'_>,
     x: &[f64],

@@ -24,6 +24,7 @@ pub mod kinematics;
 mod part;
 mod scales;
 mod sensors;
+mod states;
 
 use crate::elements::{
     Contact, DamperJoint, Element, FrictionDamper, Gasket, LinearDamper, Spring,

@@ -48,6 +48,7 @@ fn main() {
             name: "elastic".into(),
             effects,
             max_order: None,
+            solver: None,
         });
         let eff = m.scene(Some("elastic")).unwrap();
         let t = Instant::now();

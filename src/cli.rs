@@ -44,14 +44,15 @@ pub struct Sim {
     pub t_end: Option<f64>,
     /// rk4 (fixed step), dopri5 (adaptive, explicit), sdirk4 (L-stable SDIRK), rodas4
     /// (L-stable Rosenbrock), galpha (generalized-alpha on the second-order equations), auto
-    /// (dopri5 while not stiff, rodas4 while stiff, switching both ways).
-    #[arg(long, default_value = "dopri5")]
-    pub integrator: Method,
+    /// (dopri5 while not stiff, rodas4 while stiff, switching both ways). Default: the scene's
+    /// own (`washdyn check` lists them; the elastic scenes: galpha), else dopri5.
+    #[arg(long)]
+    pub integrator: Option<Method>,
     /// Relative tolerance of the adaptive integrators (absolute: 1e-3 x this, in m, m/s and
     /// rad; a modal coordinate in the metres it moves a marker by). 1e-2 or looser warns: no
-    /// error class covers it.
-    #[arg(long, default_value_t = 1e-6)]
-    pub tol: f64,
+    /// error class covers it. Default: the scene's own with its method, else 1e-6.
+    #[arg(long)]
+    pub tol: Option<f64>,
     /// Fixed step of rk4, s (default 1e-4).
     #[arg(long)]
     pub step: Option<f64>,

@@ -2,7 +2,7 @@
 
 use crate::error::Error;
 use crate::results::{Format, SensorRecorder, StateRecorder};
-pub use crate::simulation::{Backend, integrator_options, resolve_model};
+pub use crate::simulation::{Backend, integrator_options, resolve_model, solver_for};
 use crate::simulation::{Settings, Simulation, Source};
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -19,8 +19,10 @@ pub struct RunArgs {
     pub model: String,
     pub t_end: Option<f64>,
     pub out: Option<PathBuf>,
-    pub integrator: Method,
-    pub tol: f64,
+    /// `None`: the scene's default (`Model::scene_solver`), else dopri5.
+    pub integrator: Option<Method>,
+    /// `None`: the scene's default tolerance when the method is the scene's, else 1e-6.
+    pub tol: Option<f64>,
     /// Fixed step for rk4, s.
     pub step: Option<f64>,
     /// Generalized-alpha's spectral radius at infinity (galpha only; default
@@ -99,13 +101,15 @@ pub fn run_command(
 }
 
 impl RunArgs {
-    /// The simulation settings these arguments and `ctl` give.
-    pub fn settings(&self, ctl: &RunControl) -> Settings {
+    /// The simulation settings these arguments and `ctl` give for `model` (whose scene may
+    /// name the method and tolerance).
+    pub fn settings(&self, ctl: &RunControl, model: &washdyn_runtime::ir::Model) -> Settings {
+        let (method, tol) = solver_for(model, self.scene.as_deref(), self.integrator, self.tol);
         Settings {
             scene: self.scene.clone(),
             backend: self.backend,
-            method: self.integrator,
-            tol: self.tol,
+            method,
+            tol,
             step: self.step,
             rho_inf: self.rho_inf,
             max_steps: self.max_steps,
@@ -123,7 +127,9 @@ impl RunArgs {
 
 /// The simulation `washdyn run` sets up for `args` (every setting checked; nothing written).
 pub fn run_simulation(args: &RunArgs, ctl: &RunControl) -> Result<Simulation, Error> {
-    Simulation::new(Source::load(&args.model)?, &args.settings(ctl))
+    let source = Source::load(&args.model)?;
+    let settings = args.settings(ctl, &source.model);
+    Simulation::new(source, &settings)
 }
 
 /// `washdyn run`: validate every setting (nothing is written before), integrate, stream
@@ -189,9 +195,10 @@ pub fn check_model(model: &Model) -> Result<String, Error> {
                 let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
                 let (u, a) = Equations::new(model, &scene).bodies.rigid_motion(&q);
                 let (u, a) = (norm(u), norm(a));
+                let (method, tol) = solver_for(model, Some(&name), None, None);
                 let msg = format!(
-                    "scene `{name}`: static rest position at t = 0: tub translation {:.2} mm, \
-                     rotation {a:.2e} rad",
+                    "scene `{name}` (default: {method} at {tol:e}): static rest position at \
+                     t = 0: tub translation {:.2} mm, rotation {a:.2e} rad",
                     u * 1e3
                 );
                 // A NaN compares false: test finiteness first, then the bounds negated.

@@ -157,10 +157,13 @@ fn command(cmd: Cmd) -> Result<ExitCode, Failure> {
             jobs,
         } => {
             let base = washdyn::simulation::Source::load(&model)?;
+            let scene = sim.scene.as_deref();
+            let (method, tol) =
+                washdyn::commands::solver_for(&base.model, scene, sim.integrator, sim.tol);
             let settings = Settings {
                 scene: sim.scene.clone(),
-                method: sim.integrator,
-                tol: sim.tol,
+                method,
+                tol,
                 step: sim.step,
                 rho_inf: sim.rho_inf,
                 max_steps: sim.max_steps,
@@ -202,7 +205,7 @@ fn command(cmd: Cmd) -> Result<ExitCode, Failure> {
             bar.finish_and_clear();
             let failed = res.iter().filter(|r| r.summary.status != "ok").count();
             // The set-up's own warning (a loose tolerance) is every variant's: said once.
-            let common = washdyn::accuracy::class::tolerance_warning(sim.integrator, sim.tol);
+            let common = washdyn::accuracy::class::tolerance_warning(method, tol);
             if let Some(w) = &common {
                 eprintln!("warning: {w}");
             }

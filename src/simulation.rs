@@ -168,6 +168,24 @@ pub struct Settings {
     pub variant: Option<String>,
 }
 
+/// The method and relative tolerance of a run: the caller's, else the scene's default
+/// (`Model::scene_solver`: its tolerance only with its own method), else dopri5 at 1e-6.
+pub fn solver_for(
+    model: &washdyn_runtime::ir::Model,
+    scene: Option<&str>,
+    method: Option<Method>,
+    tol: Option<f64>,
+) -> (Method, f64) {
+    let own = model
+        .scene_solver(scene)
+        .map(|s| (washdyn_runtime::run::method_of(s.method), s.tol));
+    let method = method.or(own.map(|o| o.0)).unwrap_or(Method::Dopri5);
+    let tol = tol
+        .or(own.filter(|o| o.0 == method).map(|o| o.1))
+        .unwrap_or(1e-6);
+    (method, tol)
+}
+
 impl Default for Settings {
     fn default() -> Self {
         Settings {

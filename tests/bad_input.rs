@@ -23,8 +23,8 @@ fn args(tag: &str) -> RunArgs {
         model: "reference".into(),
         t_end: Some(2.0),
         out: Some(out_dir(tag)),
-        integrator: Method::Dopri5,
-        tol: 1e-6,
+        integrator: Some(Method::Dopri5),
+        tol: Some(1e-6),
         step: None,
         rho_inf: None,
         backend: Some(Backend::Generated),
@@ -66,7 +66,7 @@ fn rk4_step_out_of_range_or_not_a_number() {
         .enumerate()
     {
         let a = RunArgs {
-            integrator: Method::Rk4,
+            integrator: Some(Method::Rk4),
             step: Some(h),
             ..args(&format!("step{i}"))
         };
@@ -89,7 +89,7 @@ fn step_with_an_adaptive_integrator() {
 fn rho_inf_out_of_range_or_without_galpha() {
     for (i, r) in [1.5, -0.1, f64::NAN, f64::INFINITY].into_iter().enumerate() {
         let a = RunArgs {
-            integrator: Method::GeneralizedAlpha,
+            integrator: Some(Method::GeneralizedAlpha),
             rho_inf: Some(r),
             ..args(&format!("rho{i}"))
         };
@@ -109,7 +109,7 @@ fn tolerance_out_of_range() {
         .enumerate()
     {
         let a = RunArgs {
-            tol,
+            tol: Some(tol),
             ..args(&format!("tol{i}"))
         };
         refused(&a, &RunControl::default(), "--tol");
@@ -202,9 +202,9 @@ fn output_beyond_the_size_limit_names_its_size() {
 #[test]
 fn every_violation_is_listed_at_once() {
     let a = RunArgs {
-        integrator: Method::Rk4,
+        integrator: Some(Method::Rk4),
         step: Some(f64::NAN),
-        tol: -1.0,
+        tol: Some(-1.0),
         t_end: Some(0.0),
         ..args("many")
     };
@@ -221,7 +221,7 @@ fn rk4_step_beyond_the_stability_limit_stops_at_the_start() {
     // the Jacobian's spectral radius about 4e3 1/s, so rk4 is stable only below ~7e-4 s
     // (and 1e-4 s, the default, runs).
     let a = RunArgs {
-        integrator: Method::Rk4,
+        integrator: Some(Method::Rk4),
         step: Some(1e-3),
         ..args("unstable")
     };
@@ -240,7 +240,7 @@ fn rk4_step_beyond_the_stability_limit_stops_at_the_start() {
     assert_eq!(o.summary.status, "failed");
     assert_eq!(o.summary.steps, 0);
     let ok = RunArgs {
-        integrator: Method::Rk4,
+        integrator: Some(Method::Rk4),
         step: Some(1e-4),
         t_end: Some(0.5),
         ..args("stable")

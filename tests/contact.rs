@@ -65,6 +65,7 @@ fn hard_model() -> Model {
             // and the dropped modes' static response to the element loads: the knock is
             // broadband, but every mode to 420 Hz (237 coordinates) took rodas4 456 s.
             max_order: Some(10.0),
+            solver: None,
         });
     }
     check(&m).unwrap_or_else(|e| panic!("{e:?}"));

@@ -32,6 +32,7 @@ fn variant(extra: &[&str]) -> Model {
         name: "s".into(),
         effects,
         max_order: None,
+        solver: None,
     }];
     m
 }

@@ -550,6 +550,7 @@ fn slow_resonance_passage_with_little_damping() {
             "element_geometry".into(),
         ],
         max_order: None,
+        solver: None,
     });
     let scene = m.scene(Some("lightly_damped")).unwrap();
     // [1.9e-8, 5.6e-8, 5.0e-7, 5.3e-7, 5.3e-7]

@@ -269,7 +269,8 @@ fn elastic_entries_are_checked_at_their_lines() {
 }
 
 /// The elastic machine's rules, each at its line: a rotor mounted off its axis, a force element
-/// on the drum, a drum sensor off the axis, a scene's non-positive `max_order`.
+/// on the drum, a drum sensor off the axis, a scene's non-positive `max_order` and a default
+/// tolerance no error class covers.
 #[test]
 fn elastic_machine_rules_have_lines() {
     let src = edited("mount = [-0.25, 0.0, 0.45]", "mount = [-0.25, 0.0, 0.30]")
@@ -283,7 +284,8 @@ fn elastic_machine_rules_have_lines() {
             "body = \"drum\"\npoint = [0.17, 0.1, 0.45]",
             1,
         )
-        .replacen("max_order = 12.0", "max_order = -1.0", 1);
+        .replacen("max_order = 12.0", "max_order = -1.0", 1)
+        .replacen("tol = 1e-6 }", "tol = 0.5 }", 1);
     let e = errors(&src);
     let has = |needle: &str, line: usize| {
         assert!(
@@ -306,5 +308,9 @@ fn elastic_machine_rules_have_lines() {
     has(
         "max_order must be positive, got -1",
         line_of(&src, "max_order = -1.0", 0),
+    );
+    has(
+        "solver.tol must be in (0, 1e-2), got 0.5",
+        line_of(&src, "tol = 0.5 }", 0),
     );
 }

@@ -16,8 +16,8 @@ fn args(scene: &str, method: Method, t_end: f64, energy: bool, out: &std::path::
         model: "reference".into(),
         t_end: Some(t_end),
         out: Some(out.to_path_buf()),
-        integrator: method,
-        tol: 1e-7,
+        integrator: Some(method),
+        tol: Some(1e-7),
         step: None,
         rho_inf: None,
         backend: Some(Backend::Generated),
@@ -75,7 +75,7 @@ fn every_method_completes_on_the_dampers_as_built() {
     let read = |m: Method, tol: f64| {
         let out = out_dir(&format!("m-{}", m.name()));
         let mut a = args("presliding", m, 2.0, false, &out);
-        a.tol = tol;
+        a.tol = Some(tol);
         if m == Method::Rk4 {
             a.step = Some(2e-4);
         }

@@ -22,8 +22,8 @@ fn args(tag: &str) -> RunArgs {
         model: "reference".into(),
         t_end: Some(2.0),
         out: Some(tmp(tag)),
-        integrator: Method::Dopri5,
-        tol: 1e-6,
+        integrator: Some(Method::Dopri5),
+        tol: Some(1e-6),
         step: None,
         rho_inf: None,
         backend: Some(Backend::Interpreted),
@@ -44,8 +44,8 @@ fn sweep_cfg(a: &RunArgs, tag: &str) -> SweepRun {
         out: tmp(tag),
         settings: Settings {
             scene: a.scene.clone(),
-            method: a.integrator,
-            tol: a.tol,
+            method: a.integrator.expect("the test names its method"),
+            tol: a.tol.expect("the test names its tolerance"),
             step: a.step,
             rho_inf: a.rho_inf,
             max_steps: a.max_steps,
@@ -81,10 +81,10 @@ fn run_and_sweep_build_the_same_simulation() {
         (Method::Auto, None, None, 5e-2),
     ] {
         let a = RunArgs {
-            integrator: method,
+            integrator: Some(method),
             step,
             rho_inf,
-            tol,
+            tol: Some(tol),
             ..args("same")
         };
         let r = run_simulation(&a, &RunControl::default()).unwrap();
@@ -120,9 +120,9 @@ fn run_and_sweep_build_the_same_simulation() {
 #[test]
 fn sweep_labels_generalized_alpha_like_run() {
     let a = RunArgs {
-        integrator: Method::GeneralizedAlpha,
+        integrator: Some(Method::GeneralizedAlpha),
         rho_inf: Some(0.5),
-        tol: 1e-5,
+        tol: Some(1e-5),
         t_end: Some(0.1),
         ..args("galpha")
     };
@@ -153,7 +153,7 @@ fn sweep_labels_generalized_alpha_like_run() {
 #[test]
 fn sweep_refuses_rk4_beyond_its_stability_limit_like_run() {
     let a = RunArgs {
-        integrator: Method::Rk4,
+        integrator: Some(Method::Rk4),
         step: Some(1e-3),
         ..args("rk4")
     };
@@ -391,4 +391,49 @@ fn exit_codes_follow_the_error() {
     let (code, err) = washdyn(&["sweep", "reference", "--jobs", "0", "--out", d]);
     assert_eq!(code, Some(2), "{err}");
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A run that names no method takes its scene's default (`solver` in the model file): the
+/// damper bodies' galpha, dopri5 elsewhere (every built-in scene names one). The scene's
+/// tolerance goes with its method only: a run naming another method gets 1e-6; a scene
+/// without a `solver`, dopri5 at 1e-6.
+#[test]
+fn runs_take_their_scenes_default_solver() {
+    use washdyn::commands::solver_for;
+    use washdyn_runtime::ir::{Integrator, SceneSolver};
+    let mut model = washdyn_models::built_in("reference").unwrap().unwrap();
+    let (galpha, dopri) = (Method::GeneralizedAlpha, Method::Dopri5);
+    for name in model.scene_names() {
+        let want = if name == "damper_mass" { galpha } else { dopri };
+        assert_eq!(
+            solver_for(&model, Some(&name), None, None),
+            (want, 1e-6),
+            "{name}"
+        );
+    }
+    assert_eq!(
+        solver_for(&model, None, None, None),
+        (dopri, 1e-6),
+        "the first scene"
+    );
+    let elastic = model
+        .scenes
+        .iter_mut()
+        .find(|s| s.name == "elastic")
+        .unwrap();
+    elastic.solver = Some(SceneSolver {
+        method: Integrator::Galpha,
+        tol: 1e-4,
+    });
+    let s = Some("elastic");
+    assert_eq!(solver_for(&model, s, None, None), (galpha, 1e-4));
+    assert_eq!(solver_for(&model, s, Some(galpha), None), (galpha, 1e-4));
+    assert_eq!(solver_for(&model, s, Some(dopri), None), (dopri, 1e-6));
+    assert_eq!(solver_for(&model, s, None, Some(1e-5)), (galpha, 1e-5));
+    model.scenes.iter_mut().for_each(|s| s.solver = None);
+    assert_eq!(
+        solver_for(&model, s, None, None),
+        (dopri, 1e-6),
+        "no solver named"
+    );
 }

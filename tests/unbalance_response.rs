@@ -54,6 +54,7 @@ fn linear_variant(rpm: f64, inertia: bool) -> Model {
         name: "linear".into(),
         effects,
         max_order: None,
+        solver: None,
     }];
     m
 }

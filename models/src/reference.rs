@@ -226,11 +226,14 @@ washdyn_macros::machine! {
         // bearing).
         sensor drum_front { body: drum, point: [0.17, 0.0, 0.45], kind: displacement }
 
+        // Each scene's default integration (`solver`), chosen by measuring the whole run-up
+        // (docs/performance.md, issue 48).
         scene full {
             effects: [
                 gyroscopic, unbalance.drum, unbalance.motor, friction_dampers, gasket_damping,
                 element_geometry, unbalance_inertia,
             ],
+            solver: { method: dopri5, tol: 1e-6 },
         }
         // `full` with the dampers as built: the slider in series with the end bushings
         // (elasto-plastic presliding, issue 48).
@@ -239,12 +242,14 @@ washdyn_macros::machine! {
                 gyroscopic, unbalance.drum, unbalance.motor, friction_dampers, gasket_damping,
                 element_geometry, unbalance_inertia, friction_law.elasto_plastic,
             ],
+            solver: { method: dopri5, tol: 1e-6 },
         }
         scene rigid_low_speed {
             effects: [
                 unbalance.drum, friction_dampers, gasket_damping, element_geometry,
                 unbalance_inertia,
             ],
+            solver: { method: dopri5, tol: 1e-6 },
         }
 
         // The seed paper's "two independent bodies": `full` with each damper's moving part as
@@ -256,6 +261,7 @@ washdyn_macros::machine! {
                 damper_mass.damper_front_right, damper_mass.damper_rear_left,
                 damper_mass.damper_rear_right,
             ],
+            solver: { method: galpha, tol: 1e-6 },
         }
 
         // `full` with the tub-cabinet contacts: the door ring knocks against the opening
@@ -265,6 +271,7 @@ washdyn_macros::machine! {
                 gyroscopic, unbalance.drum, unbalance.motor, friction_dampers, gasket_damping,
                 element_geometry, unbalance_inertia, contact,
             ],
+            solver: { method: dopri5, tol: 1e-6 },
         }
 
         // Elastic bodies (issue 8's FE models, `washdyn fe modal`): the tub free-free on its 6
@@ -290,6 +297,7 @@ washdyn_macros::machine! {
                 element_geometry, unbalance_inertia, elastic.tub, elastic.drum, elastic.cabinet,
                 centrifugal_stiffening, friction_law.elasto_plastic,
             ],
+            solver: { method: dopri5, tol: 1e-6 },
             max_order: 12.0,
         }
 
@@ -300,6 +308,7 @@ washdyn_macros::machine! {
                 element_geometry, unbalance_inertia, elastic.tub, elastic.drum, elastic.cabinet,
                 centrifugal_stiffening, friction_law.elasto_plastic,
             ],
+            solver: { method: dopri5, tol: 1e-6 },
             max_order: 20.0,
         }
 
@@ -312,6 +321,7 @@ washdyn_macros::machine! {
                 element_geometry, unbalance_inertia, elastic.drum, elastic.cabinet,
                 centrifugal_stiffening, friction_law.elasto_plastic,
             ],
+            solver: { method: dopri5, tol: 1e-6 },
             max_order: 12.0,
         }
     }

@@ -354,6 +354,7 @@ mod tests {
             name: "lti".into(),
             effects: effects.iter().map(|s| s.to_string()).collect(),
             max_order: None,
+            solver: None,
         });
         let scene = m.scene(Some("lti")).unwrap();
         Interpreter::new(&m, &scene)

@@ -113,6 +113,7 @@ pub fn linear_machine(model: &Model, spec: &LinearSpec) -> Model {
             "elastic.cabinet".into(),
         ],
         max_order: None,
+        solver: None,
     }];
     m
 }

@@ -14,6 +14,33 @@ pub struct Scene {
     /// `MODE_MARGIN` x this order x the highest drum speed (and at most the entry's `modes`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_order: Option<f64>,
+    /// The integration a run of this scene takes when it names none (`Model::scene_solver`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub solver: Option<SceneSolver>,
+}
+
+/// A scene's default integrator and relative tolerance, chosen by the accuracy study for what
+/// the scene holds (docs/accuracy.md): the elastic machine's kHz coordinates want an implicit
+/// method, the rigid one an explicit one. In a file: `solver = { method = "galpha", tol =
+/// 1e-4 }`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneSolver {
+    pub method: Integrator,
+    pub tol: f64,
+}
+
+/// The integrators by name, as a model file names them (the runtime maps each to its method;
+/// the model knows no integrator's code).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Integrator {
+    Rk4,
+    Dopri5,
+    Sdirk4,
+    Rodas4,
+    Galpha,
+    Auto,
 }
 
 /// Margin on the highest excitation frequency up to which a scene keeps modes (see
@@ -173,6 +200,14 @@ impl Model {
         } else {
             self.scenes.iter().map(|s| s.name.clone()).collect()
         }
+    }
+
+    /// The default integration of the scene `name` resolves to (`scene`'s rule), if it
+    /// declares one.
+    pub fn scene_solver(&self, name: Option<&str>) -> Option<SceneSolver> {
+        let first = self.scenes.first().map(|s| s.name.as_str());
+        let name = name.or(first)?;
+        self.scenes.iter().find(|s| s.name == name)?.solver
     }
 
     /// Resolve a scene by name (`None`: the first declared scene, or `full`). `full` always

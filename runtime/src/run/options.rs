@@ -6,6 +6,20 @@ use crate::equations::MarkerDef;
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 
+/// The method a model file's integrator name stands for (a scene's `solver`).
+pub fn method_of(i: crate::ir::Integrator) -> washdyn_ode::Method {
+    use crate::ir::Integrator as I;
+    use washdyn_ode::Method as M;
+    match i {
+        I::Rk4 => M::Rk4,
+        I::Dopri5 => M::Dopri5,
+        I::Sdirk4 => M::Sdirk4,
+        I::Rodas4 => M::Rodas4,
+        I::Galpha => M::GeneralizedAlpha,
+        I::Auto => M::Auto,
+    }
+}
+
 /// How the run starts.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Start {

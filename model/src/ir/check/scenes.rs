@@ -61,6 +61,18 @@ pub(super) fn scenes(c: &mut Ctx, m: &Model) {
                 o,
             );
         }
+        if let Some(v) = s.solver.as_ref().map(|v| v.tol) {
+            // The adaptive methods' range: below 1e-2, where an error class covers the run.
+            if !(v > 0.0 && v < 1e-2) {
+                c.err(
+                    p.clone().key("solver").key("tol"),
+                    format!(
+                        "scene `{}`: solver.tol must be in (0, 1e-2), got {v}",
+                        s.name
+                    ),
+                );
+            }
+        }
     }
 }
 

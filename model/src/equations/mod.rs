@@ -22,6 +22,7 @@ mod energy;
 mod jacobian;
 pub mod kinematics;
 mod part;
+mod ports;
 mod scales;
 mod sensors;
 mod states;

@@ -9,8 +9,8 @@
 //! No step size to choose; the tests hold the rows and columns to differences of the model's
 //! own h and z'.
 
-use super::jacobian::{constant, outputs, ported, scatter_rows};
 use super::kinematics::Local;
+use super::ports::{constant, outputs, ported, scatter_rows};
 use super::{Drive, Equations, Placed};
 use crate::dual::Dual;
 use crate::elements::Element;

@@ -215,7 +215,9 @@ fn implicit_steps<S: OdeSystem>(sys: &mut S, solver: &mut AnySolver) -> f64 {
 }
 
 /// rodas4, sdirk4 and generalized-alpha on the elastic scenes (generated), factorising the ported n1 + r matrix
-/// (`washdyn_ode::ported`) against the dense n x n mass form: 20 steps each.
+/// (`washdyn_ode::ported`) against the dense n x n mass form: 20 steps each. The elastic scenes'
+/// dampers carry states: generalized-alpha's ported matrix holds them (n1 + r + nz), its
+/// "dense" route differences the whole Jacobian, as sdirk4 and rodas4 do on both.
 fn ported(c: &mut Criterion) {
     for scene in ["elastic", "elastic_rigid_tub"] {
         let gen_ = || FirstOrder::new(washdyn_models::generated("reference", scene).unwrap());

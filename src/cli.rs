@@ -45,7 +45,7 @@ pub struct Sim {
     /// rk4 (fixed step), dopri5 (adaptive, explicit), sdirk4 (L-stable SDIRK), rodas4
     /// (L-stable Rosenbrock), galpha (generalized-alpha on the second-order equations), auto
     /// (dopri5 while not stiff, rodas4 while stiff, switching both ways). Default: the scene's
-    /// own (`washdyn check` lists them; the elastic scenes: galpha), else dopri5.
+    /// own (`washdyn check` lists them; the reference's `damper_mass`: galpha), else dopri5.
     #[arg(long)]
     pub integrator: Option<Method>,
     /// Relative tolerance of the adaptive integrators (absolute: 1e-3 x this, in m, m/s and

@@ -168,8 +168,14 @@ pub struct Settings {
     pub variant: Option<String>,
 }
 
+/// The method of a run that names none and whose scene names none.
+pub const DEFAULT_METHOD: Method = Method::Dopri5;
+/// The relative tolerance of a run that names none and whose scene names none for its method.
+pub const DEFAULT_TOL: f64 = 1e-6;
+
 /// The method and relative tolerance of a run: the caller's, else the scene's default
-/// (`Model::scene_solver`: its tolerance only with its own method), else dopri5 at 1e-6.
+/// (`Model::scene_solver`: its tolerance only with its own method), else [`DEFAULT_METHOD`] at
+/// [`DEFAULT_TOL`].
 pub fn solver_for(
     model: &washdyn_runtime::ir::Model,
     scene: Option<&str>,
@@ -179,10 +185,10 @@ pub fn solver_for(
     let own = model
         .scene_solver(scene)
         .map(|s| (washdyn_runtime::run::method_of(s.method), s.tol));
-    let method = method.or(own.map(|o| o.0)).unwrap_or(Method::Dopri5);
+    let method = method.or(own.map(|o| o.0)).unwrap_or(DEFAULT_METHOD);
     let tol = tol
         .or(own.filter(|o| o.0 == method).map(|o| o.1))
-        .unwrap_or(1e-6);
+        .unwrap_or(DEFAULT_TOL);
     (method, tol)
 }
 
@@ -191,8 +197,8 @@ impl Default for Settings {
         Settings {
             scene: None,
             backend: None,
-            method: Method::Dopri5,
-            tol: 1e-6,
+            method: DEFAULT_METHOD,
+            tol: DEFAULT_TOL,
             step: None,
             rho_inf: None,
             max_steps: None,

@@ -57,12 +57,7 @@ fn energy_balance_closes_and_both_back_ends_agree() {
     // Every category and the kinetic energy agree between the back ends: measured exactly
     // (the two runs take the same steps to the bit, and the balance evaluates the generated
     // code's M1 where the interpreter's own); the bound is round-off of the largest flow.
-    let scale = gn[3..].iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
-    let worst = gn[2..]
-        .iter()
-        .flatten()
-        .zip(int[2..].iter().flatten())
-        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    let (worst, scale) = crate::common::energy_difference(&gn, &int);
     eprintln!("back ends: {:.1e} of {scale:.3e} J", worst / scale);
     assert!(worst <= 1e-12 * scale, "{worst} of {scale}");
     // A dissipated category's work never rises (its energy taken only grows): the friction

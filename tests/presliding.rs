@@ -143,12 +143,7 @@ fn energy_balance_closes_with_the_bushings_and_the_slider() {
         // Measured: 1.36e-9 (generated), 1.34e-9 (interpreted).
         assert!(c < 2e-8, "{}: closure {c:.2e}", s.backend);
     }
-    let scale = gn[3..].iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
-    let worst = gn[2..]
-        .iter()
-        .flatten()
-        .zip(int[2..].iter().flatten())
-        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    let (worst, scale) = crate::common::energy_difference(&gn, &int);
     eprintln!("back ends: {:.1e} of {scale:.3e} J", worst / scale);
     // Measured: 1.6e-6 (the back ends' round-off differs with states, and each stick-slip
     // transition carries it on; without states the two take the same steps to the bit).

@@ -283,3 +283,16 @@ pub fn dataset_bytes(
     }
     files
 }
+
+/// Two back ends' energy tables (`energy.parquet`'s columns: time, rpm, the kinetic energy, then
+/// the categories) compared: the largest difference over the kinetic energy and every
+/// category, and the largest category value (the flow it is read against).
+pub fn energy_difference(a: &[Vec<f64>], b: &[Vec<f64>]) -> (f64, f64) {
+    let scale = a[3..].iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+    let worst = a[2..]
+        .iter()
+        .flatten()
+        .zip(b[2..].iter().flatten())
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    (worst, scale)
+}

@@ -205,16 +205,20 @@ impl Model {
     /// The default integration of the scene `name` resolves to (`scene`'s rule), if it
     /// declares one.
     pub fn scene_solver(&self, name: Option<&str>) -> Option<SceneSolver> {
-        let first = self.scenes.first().map(|s| s.name.as_str());
-        let name = name.or(first)?;
+        let name = self.scene_name(name);
         self.scenes.iter().find(|s| s.name == name)?.solver
+    }
+
+    /// The scene `name` stands for: itself, or the first declared scene, or `full`.
+    fn scene_name<'a>(&'a self, name: Option<&'a str>) -> &'a str {
+        name.unwrap_or_else(|| self.scenes.first().map_or("full", |s| s.name.as_str()))
     }
 
     /// Resolve a scene by name (`None`: the first declared scene, or `full`). `full` always
     /// exists and holds every effect. Unknown effects were rejected by the checker; here they are
     /// an error too, so an unchecked model cannot silently drop one.
     pub fn scene(&self, name: Option<&str>) -> Result<EffectSet, String> {
-        let name = name.unwrap_or_else(|| self.scenes.first().map_or("full", |s| s.name.as_str()));
+        let name = self.scene_name(name);
         if name == "full" && !self.scenes.iter().any(|s| s.name == "full") {
             return Ok(EffectSet {
                 name: "full".into(),

@@ -17,6 +17,7 @@ fn spectrum(
     m: &washdyn_runtime::ir::Model,
     scene: &washdyn_runtime::ir::EffectSet,
     count: usize,
+    explicit_part: bool,
 ) -> (usize, Vec<(f64, f64)>) {
     let mut sys = Interpreter::new(m, scene);
     let q = washdyn_runtime::statics::static_equilibrium(&mut sys, 0.0).expect("a rest position");
@@ -37,6 +38,26 @@ fn spectrum(
             fo.rhs(0.0, &yp, &mut fm);
             for i in 0..n {
                 jac[i * n + j] = (fp[i] - fm[i]) / (2.0 * e);
+            }
+        }
+    }
+    if explicit_part {
+        // J - J_I: the IMEX split's explicit remainder (`ode/imex.rs`), J_I = [[0, I],
+        // [-M1^-1 K, -M1^-1 D]] on the coordinates, 0 on the element states.
+        let nq = fo.layout().n();
+        let (mut m1, mut k, mut c) = (vec![0.0; nq * nq], vec![0.0; nq], vec![0.0; nq]);
+        let n1 = fo
+            .linear_part(0.0, &y, &mut m1, &mut k, &mut c)
+            .expect("a linear part");
+        let mut minv = nalgebra::DMatrix::<f64>::identity(nq, nq);
+        let m1 = nalgebra::DMatrix::from_row_slice(n1, n1, &m1[..n1 * n1]);
+        let m1i = m1.try_inverse().expect("M1 invertible");
+        minv.view_mut((0, 0), (n1, n1)).copy_from(&m1i);
+        for i in 0..nq {
+            jac[i * n + nq + i] -= 1.0;
+            for j in 0..nq {
+                jac[(nq + i) * n + j] += minv[(i, j)] * k[j];
+                jac[(nq + i) * n + nq + j] += minv[(i, j)] * c[j];
             }
         }
     }
@@ -76,21 +97,34 @@ fn main() {
             e.data = e.data.as_ref().map(|d| d.without_correction());
         }
     }
-    for (label, model, s) in [
-        (name.clone(), &m, &scene),
+    for (label, model, s, explicit) in [
+        (name.clone(), &m, &scene, false),
         (
             format!("{name} on friction_law.{}", law.name()),
             &m,
             &other_law,
+            false,
         ),
-        (format!("{name} without friction_dampers"), &m, &no_dampers),
+        (
+            format!("{name} without friction_dampers"),
+            &m,
+            &no_dampers,
+            false,
+        ),
         (
             format!("{name}, the cabinet's eigenmodes alone"),
             &eigen_only,
             &scene,
+            false,
+        ),
+        (
+            format!("{name}, imex's explicit part (J - J_I)"),
+            &m,
+            &scene,
+            true,
         ),
     ] {
-        let (n, ev) = spectrum(model, s, 8);
+        let (n, ev) = spectrum(model, s, 8, explicit);
         // A conjugate pair prints once, as re ± im i.
         let list: Vec<String> = ev
             .iter()

@@ -43,7 +43,8 @@ pub struct Sim {
     #[arg(long)]
     pub t_end: Option<f64>,
     /// rk4 (fixed step), dopri5 (adaptive, explicit), sdirk4 (L-stable SDIRK), rodas4
-    /// (L-stable Rosenbrock), galpha (generalized-alpha on the second-order equations), auto
+    /// (L-stable Rosenbrock), galpha (generalized-alpha on the second-order equations), imex
+    /// (the modal bodies' own terms implicit, the elements explicit: ARK4(3)6L[2]SA), auto
     /// (dopri5 while not stiff, rodas4 while stiff, switching both ways). Default: the scene's
     /// own (`washdyn check` lists them; the reference's `damper_mass`: galpha), else dopri5.
     #[arg(long)]

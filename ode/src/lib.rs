@@ -11,6 +11,7 @@ pub mod auto;
 mod common;
 pub mod dopri5;
 pub mod generalized_alpha;
+pub mod imex;
 mod iteration;
 pub mod lu;
 pub mod method;
@@ -27,6 +28,7 @@ mod tests;
 pub use auto::Auto;
 pub use dopri5::Dopri5;
 pub use generalized_alpha::GeneralizedAlpha;
+pub use imex::Imex;
 pub use method::{AnySolver, Method, UnknownMethod};
 pub use ported::PortedJacobian;
 pub use rk4::Rk4;
@@ -75,6 +77,22 @@ pub trait OdeSystem {
     fn ported_shape(&self) -> Option<(usize, usize)> {
         None
     }
+    /// The linear terms an IMEX method takes implicitly, for a second-order system y = [q; q';
+    /// z] (`second_order` is `Some(n)`): the mass block M1 (n1 x n1, row-major, into the
+    /// first n1^2 entries of `m1`; the coordinates after n1 have unit mass) at (t, y), and
+    /// each coordinate's own stiffness `k` and damping `c` (length n), so that the implicit
+    /// part is q' = q'', M1 q'' = -k q - c q' (e.g. the modal bodies' omega^2 and
+    /// 2 zeta omega). Returns n1; `None`: no such split (the IMEX method then refuses).
+    fn linear_part(
+        &mut self,
+        _t: f64,
+        _y: &[f64],
+        _m1: &mut [f64],
+        _k: &mut [f64],
+        _c: &mut [f64],
+    ) -> Option<usize> {
+        None
+    }
     /// The ported pieces at (t, y) into `j` (shaped by `ported_shape`). `false`: not
     /// available now (the methods fall back to `mass_jacobians`).
     fn ported_jacobians(&mut self, _t: f64, _y: &[f64], _j: &mut PortedJacobian) -> bool {
@@ -97,6 +115,8 @@ pub enum OdeError {
     Singular { t: f64 },
     #[error("the method needs a second-order system y = [q; q'] (at t = {t} s)")]
     NotSecondOrder { t: f64 },
+    #[error("the IMEX method needs the system's linear part (at t = {t} s)")]
+    NoLinearPart { t: f64 },
 }
 
 impl OdeError {
@@ -108,7 +128,8 @@ impl OdeError {
             | OdeError::NonFinite { t }
             | OdeError::StepBudget { t, .. }
             | OdeError::Singular { t }
-            | OdeError::NotSecondOrder { t } => t,
+            | OdeError::NotSecondOrder { t }
+            | OdeError::NoLinearPart { t } => t,
         }
     }
 }

@@ -18,11 +18,12 @@ use std::fmt;
 use std::str::FromStr;
 
 use super::{
-    Auto, Dopri5, GeneralizedAlpha, OdeError, OdeSystem, Options, Rk4, Rodas4, Sdirk4, Solver,
-    Stats, Stepper,
+    Auto, Dopri5, GeneralizedAlpha, Imex, OdeError, OdeSystem, Options, Rk4, Rodas4, Sdirk4,
+    Solver, Stats, Stepper,
 };
 
-/// The available integrators, named `rk4`, `dopri5`, `sdirk4`, `rodas4`, `galpha`, `auto`.
+/// The available integrators, named `rk4`, `dopri5`, `sdirk4`, `rodas4`, `galpha`, `imex`,
+/// `auto`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Method {
     Rk4,
@@ -31,17 +32,20 @@ pub enum Method {
     Rodas4,
     /// Generalized-alpha on the second-order equations.
     GeneralizedAlpha,
+    /// ARK4(3)6L[2]SA: the modal bodies' own linear terms implicit, the elements explicit.
+    Imex,
     /// dopri5 while not stiff, rodas4 while stiff (`ode/auto.rs`).
     Auto,
 }
 
 impl Method {
-    pub const ALL: [Method; 6] = [
+    pub const ALL: [Method; 7] = [
         Method::Rk4,
         Method::Dopri5,
         Method::Sdirk4,
         Method::Rodas4,
         Method::GeneralizedAlpha,
+        Method::Imex,
         Method::Auto,
     ];
 
@@ -52,6 +56,7 @@ impl Method {
             Method::Sdirk4 => "sdirk4",
             Method::Rodas4 => "rodas4",
             Method::GeneralizedAlpha => "galpha",
+            Method::Imex => "imex",
             Method::Auto => "auto",
         }
     }
@@ -61,7 +66,11 @@ impl Method {
     pub fn implicit(self) -> bool {
         matches!(
             self,
-            Method::Sdirk4 | Method::Rodas4 | Method::GeneralizedAlpha | Method::Auto
+            Method::Sdirk4
+                | Method::Rodas4
+                | Method::GeneralizedAlpha
+                | Method::Imex
+                | Method::Auto
         )
     }
 }
@@ -74,7 +83,7 @@ impl fmt::Display for Method {
 
 /// An unknown method name.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("unknown integrator `{0}` (expected rk4, dopri5, sdirk4, rodas4, galpha or auto)")]
+#[error("unknown integrator `{0}` (expected rk4, dopri5, sdirk4, rodas4, galpha, imex or auto)")]
 pub struct UnknownMethod(pub String);
 
 impl FromStr for Method {
@@ -96,6 +105,7 @@ macro_rules! dispatch {
             AnySolver::Sdirk4($s) => $e,
             AnySolver::Rodas4($s) => $e,
             AnySolver::GeneralizedAlpha($s) => $e,
+            AnySolver::Imex($s) => $e,
             AnySolver::Auto($s) => $e,
         }
     };
@@ -108,6 +118,7 @@ pub enum AnySolver {
     Sdirk4(Sdirk4),
     Rodas4(Rodas4),
     GeneralizedAlpha(GeneralizedAlpha),
+    Imex(Imex),
     Auto(Auto),
 }
 
@@ -122,6 +133,7 @@ impl AnySolver {
             Method::GeneralizedAlpha => {
                 AnySolver::GeneralizedAlpha(GeneralizedAlpha::new(dim, options))
             }
+            Method::Imex => AnySolver::Imex(Imex::new(dim, options)),
             Method::Auto => AnySolver::Auto(Auto::new(dim, options)),
         }
     }
@@ -133,6 +145,7 @@ impl AnySolver {
             AnySolver::Sdirk4(_) => Method::Sdirk4,
             AnySolver::Rodas4(_) => Method::Rodas4,
             AnySolver::GeneralizedAlpha(_) => Method::GeneralizedAlpha,
+            AnySolver::Imex(_) => Method::Imex,
             AnySolver::Auto(_) => Method::Auto,
         }
     }

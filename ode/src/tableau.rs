@@ -126,6 +126,100 @@ pub const SDIRK4: Tableau<5> = Tableau {
 /// The diagonal entry of [`SDIRK4`].
 pub const SDIRK4_GAMMA: f64 = 0.25;
 
+/// The additive pair ARK4(3)6L[2]SA of Kennedy & Carpenter (2003, Appl. Numer. Math. 44,
+/// 139-181, Tables 3-6), as SUNDIALS ARKODE lists it (ARK436L2SA_ERK/DIRK_6_3_4): an explicit
+/// tableau and an L-stable ESDIRK (gamma = 1/4) that share c, b and the embedded weights, so
+/// that y' = f_E + f_I advances as one method of order 4 (embedded 3). Stiffly accurate in the
+/// implicit part: b is the last row of `a`.
+pub const ARK436_E: Tableau<6> = Tableau {
+    a: [
+        [0.0; 6],
+        [0.5, 0.0, 0.0, 0.0, 0.0, 0.0],
+        [13861.0 / 62500.0, 6889.0 / 62500.0, 0.0, 0.0, 0.0, 0.0],
+        [
+            -116923316275.0 / 2393684061468.0,
+            -2731218467317.0 / 15368042101831.0,
+            9408046702089.0 / 11113171139209.0,
+            0.0,
+            0.0,
+            0.0,
+        ],
+        [
+            -451086348788.0 / 2902428689909.0,
+            -2682348792572.0 / 7519795681897.0,
+            12662868775082.0 / 11960479115383.0,
+            3355817975965.0 / 11060851509271.0,
+            0.0,
+            0.0,
+        ],
+        [
+            647845179188.0 / 3216320057751.0,
+            73281519250.0 / 8382639484533.0,
+            552539513391.0 / 3454668386233.0,
+            3354512671639.0 / 8306763924573.0,
+            4040.0 / 17871.0,
+            0.0,
+        ],
+    ],
+    b: ARK436_B,
+    b_hat: ARK436_B_HAT,
+    c: ARK436_C,
+    order: 4,
+    order_hat: 3,
+};
+
+/// The implicit half of [`ARK436_E`]'s pair (ESDIRK: the first stage is explicit).
+pub const ARK436_I: Tableau<6> = Tableau {
+    a: [
+        [0.0; 6],
+        [0.25, 0.25, 0.0, 0.0, 0.0, 0.0],
+        [8611.0 / 62500.0, -1743.0 / 31250.0, 0.25, 0.0, 0.0, 0.0],
+        [
+            5012029.0 / 34652500.0,
+            -654441.0 / 2922500.0,
+            174375.0 / 388108.0,
+            0.25,
+            0.0,
+            0.0,
+        ],
+        [
+            15267082809.0 / 155376265600.0,
+            -71443401.0 / 120774400.0,
+            730878875.0 / 902184768.0,
+            2285395.0 / 8070912.0,
+            0.25,
+            0.0,
+        ],
+        ARK436_B,
+    ],
+    b: ARK436_B,
+    b_hat: ARK436_B_HAT,
+    c: ARK436_C,
+    order: 4,
+    order_hat: 3,
+};
+
+/// The diagonal of [`ARK436_I`] (stages 2 to 6).
+pub const ARK436_GAMMA: f64 = 0.25;
+
+const ARK436_B: [f64; 6] = [
+    82889.0 / 524892.0,
+    0.0,
+    15625.0 / 83664.0,
+    69875.0 / 102672.0,
+    -2260.0 / 8211.0,
+    0.25,
+];
+const ARK436_B_HAT: [f64; 6] = [
+    4586570599.0 / 29645900160.0,
+    0.0,
+    178811875.0 / 945068544.0,
+    814220225.0 / 1159782912.0,
+    -3700637.0 / 11593932.0,
+    61727.0 / 225920.0,
+];
+const ARK436_C: [f64; 6] = [0.0, 0.5, 83.0 / 250.0, 31.0 / 50.0, 17.0 / 20.0, 1.0];
+
 /// A Rosenbrock method in Hairer's transformed variables u_i (Solving ODEs II, Section IV.7,
 /// eq. 7.4'): with W = I / (h gamma) - J,
 /// W u_i = f(t + c_i h, y + sum_j a_ij u_j) + sum_j (cm_ij / h) u_j + h d_i f_t,
@@ -347,6 +441,44 @@ pub(crate) mod tests {
                 k[i] = z * s / (1.0 - z * SDIRK4.a[i][i]);
             }
             let r = 1.0 + dot(&SDIRK4.b, &k);
+            assert!(r.abs() < 50.0 / z.abs(), "R({z}) = {r}");
+        }
+    }
+
+    /// Each half of ARK4(3)6L[2]SA is a Runge-Kutta method of order 4 (embedded 3) on its own;
+    /// the pair's coupling conditions (one half's A inside the other's trees) hold to order 4;
+    /// the implicit half is L-stable.
+    #[test]
+    fn ark436_halves_and_their_coupling_have_orders_4_and_3() {
+        for t in [&ARK436_E, &ARK436_I] {
+            check(t);
+            for i in 0..6 {
+                let row: f64 = t.a[i].iter().sum();
+                assert!((row - t.c[i]).abs() < 1e-14, "row sum {i}");
+            }
+        }
+        let (ae, ai) = (&ARK436_E.a, &ARK436_I.a);
+        let (b, c) = (&ARK436_B, &ARK436_C);
+        for (x, y) in [(ae, ai), (ai, ae)] {
+            // The mixed trees (the others hold per half, c being shared): order 3,
+            // b.(A_x A_y 1) = 1/6; order 4, b.(A_x A_y c) = 1/24.
+            let r = dot(b, &mat_vec(x, &mat_vec(y, &[1.0; 6])));
+            assert!((r - 1.0 / 6.0).abs() < 1e-12, "b A A 1 = {r}");
+            let r = dot(b, &mat_vec(x, &mat_vec(y, c)));
+            assert!((r - 1.0 / 24.0).abs() < 1e-10, "b A A c = {r}");
+        }
+        for i in 1..6 {
+            assert_eq!(ai[i][i], ARK436_GAMMA);
+        }
+        assert_eq!(ARK436_I.a[5], ARK436_B);
+        // L-stable: R(z) of the implicit half tends to 0 like 1/z.
+        for z in [-1e4, -1e8] {
+            let mut k = [0.0; 6];
+            for i in 0..6 {
+                let s = 1.0 + dot(&ai[i], &k);
+                k[i] = z * s / (1.0 - z * ai[i][i]);
+            }
+            let r = 1.0 + dot(b, &k);
             assert!(r.abs() < 50.0 / z.abs(), "R({z}) = {r}");
         }
     }

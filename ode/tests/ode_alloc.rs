@@ -64,6 +64,21 @@ fn run<S: OdeSystem>(
 #[test]
 fn integrators_do_not_allocate_after_construction() {
     for m in Method::ALL {
+        if m == Method::Imex {
+            // A problem with a linear part (HIRES and VDPOL name none), refactorisations as
+            // the step changes.
+            let mut sys = washdyn_ode::problems::Coupled {
+                omega: 1e4,
+                zeta: 0.02,
+            };
+            let mut solver = AnySolver::new(m, 4, Options::default());
+            let mut out = vec![0.0; 4];
+            let y0 = [0.1, 0.0, 0.0, 0.0];
+            let (allocs, steps) = run(&mut solver, &mut sys, &y0, &[0.5, 1.0], &mut out);
+            assert!(steps > 10, "{m}: only {steps} steps");
+            assert_eq!(allocs, 0, "{m} allocated {allocs} times");
+            continue;
+        }
         // HIRES, with the analytic and the finite-difference Jacobian (first order: not for
         // generalized-alpha, which refuses it).
         for analytic in [true, false] {

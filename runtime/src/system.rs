@@ -440,6 +440,32 @@ impl<S: Mechanical> OdeSystem for FirstOrder<S> {
         j.m1.copy_from_slice(&self.m1);
         true
     }
+    /// M1 from the back end and the modal bodies' omega^2 and 2 zeta omega (every body with
+    /// modes, both subsystems; zero on rigid coordinates). Only with M2 = I.
+    fn linear_part(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        m1: &mut [f64],
+        k: &mut [f64],
+        c: &mut [f64],
+    ) -> Option<usize> {
+        let (n1, n) = (self.layout.n1, self.layout.n());
+        if !self.m2_identity {
+            return None;
+        }
+        let eq = self.sys.equations()?;
+        k.fill(0.0);
+        c.fill(0.0);
+        for m in eq.bodies.list.iter().filter_map(|b| b.modal()) {
+            k[m.start..m.start + m.n].copy_from_slice(&m.omega2);
+            c[m.start..m.start + m.n].copy_from_slice(&m.damping);
+        }
+        let (q, qd) = (&y[..n], &y[n..2 * n]);
+        self.sys.eval(t, q, qd, &mut self.m1, &mut self.h);
+        m1[..n1 * n1].copy_from_slice(&self.m1);
+        Some(n1)
+    }
     /// J = [[0, I], [dq''/dq, dq''/dq']] when the back end has analytic Jacobians.
     fn jacobian(&mut self, t: f64, y: &[f64], jac: &mut [f64]) -> bool {
         let n = self.layout.n();

@@ -40,6 +40,7 @@ pub enum Integrator {
     Sdirk4,
     Rodas4,
     Galpha,
+    Imex,
     Auto,
 }
 

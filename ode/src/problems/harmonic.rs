@@ -32,4 +32,17 @@ impl OdeSystem for Harmonic {
         jac.copy_from_slice(&[0.0, 1.0, -self.omega * self.omega, 0.0]);
         true
     }
+    /// All of it: unit mass, omega^2 (an IMEX method then integrates it implicitly).
+    fn linear_part(
+        &mut self,
+        _t: f64,
+        _y: &[f64],
+        _m1: &mut [f64],
+        k: &mut [f64],
+        c: &mut [f64],
+    ) -> Option<usize> {
+        k[0] = self.omega * self.omega;
+        c[0] = 0.0;
+        Some(0)
+    }
 }

@@ -3,6 +3,7 @@
 //! and benchmarks can use them.
 
 pub mod blowup;
+pub mod coupled;
 pub mod exponential;
 pub mod harmonic;
 pub mod hires;
@@ -11,6 +12,7 @@ pub mod tailed;
 pub mod vdpol;
 
 pub use blowup::Blowup;
+pub use coupled::Coupled;
 pub use exponential::Exponential;
 pub use harmonic::Harmonic;
 pub use hires::Hires;

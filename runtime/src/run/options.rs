@@ -16,6 +16,7 @@ pub fn method_of(i: crate::ir::Integrator) -> washdyn_ode::Method {
         I::Sdirk4 => M::Sdirk4,
         I::Rodas4 => M::Rodas4,
         I::Galpha => M::GeneralizedAlpha,
+        I::Imex => M::Imex,
         I::Auto => M::Auto,
     }
 }

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regenerates the run-up table of the README: wall time, steps and right-hand-side evaluations of
+# Regenerates the run-up table of docs/performance-log.md: wall time, steps and right-hand-side evaluations of
 # the reference run-up (20 s and the full 178.375 s) for each integrator and back end, one run
 # at a time, release build, without plots. Usage: bash benches/runup_report.sh > report.md
 set -euo pipefail
@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 cargo build -q --release
 out=$(mktemp -d)
 # SCENES (default "full elastic") and TIMES (default "20 178.375") select the rows; rk4 runs
-# at the rigid scenes' step only (the elastic scene needs ~35 us, see README).
+# at the rigid scenes' step only (the elastic scene needs ~35 us, see docs/performance-log.md).
 scenes=${SCENES:-full elastic}
 times=${TIMES:-20 178.375}
 echo "| scene | t_end | backend | integrator | steps | rejected | rhs evals | sample evals | wall s |"

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The whole run-up with every mode of the modal data (issue 21's modes to 2 kHz): the reference
 # model file with a scene `every_mode`, `elastic` without `max_order` (405 coordinates; not a
-# built-in scene: README, "Elastic machine"), run interpreted.
+# built-in scene: docs/elastic-machine.md), run interpreted.
 # Usage: bash scripts/every-mode.sh OUT [washdyn run options]
 # Writes OUT/every.toml and the run into OUT/run. Without options it runs the measured
 # setting, `--integrator galpha --tol 1e-5` (801 937 steps, 6443 s on one core); any option

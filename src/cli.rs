@@ -10,7 +10,7 @@ use washdyn::results::Format;
 use washdyn_runtime::ode::Method;
 use washdyn_runtime::run::{Guard, Start};
 
-/// The exit codes (README, "Commands"), shown by `washdyn --help`.
+/// The exit codes (docs/commands.md), shown by `washdyn --help`.
 const EXIT_CODES: &str = "Exit codes:
   0    success
   1    a run stopped early (its output up to then is kept), or a sweep's or study's variant

@@ -1,6 +1,6 @@
 //! The errors of the commands above the runtime (`washdyn::Error`), one enum: what was refused
 //! or failed, with the option, file, field or time it concerns. `washdyn`'s exit code is a
-//! function of the variant (`src/main.rs`, `exit_code`; README, "Commands").
+//! function of the variant (`src/main.rs`, `exit_code`; docs/commands.md).
 
 use std::fmt;
 use std::path::PathBuf;

@@ -19,7 +19,7 @@ use washdyn::study::slurm::SlurmError;
 use washdyn_runtime::run::RunError;
 
 /// The exit code of an error: the one mapping (the table is `cli::EXIT_CODES`, shown by
-/// `washdyn --help`, and README's "Commands").
+/// `washdyn --help`, and docs/commands.md).
 fn exit_code(e: &Error) -> ExitCode {
     ExitCode::from(match e {
         Error::Integration {

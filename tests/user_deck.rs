@@ -173,7 +173,7 @@ fn a_users_mm_t_s_cabinet_deck_gives_the_committed_modes_and_runs_in_the_machine
     std::fs::write(dir.path().join("bad.toml"), bad).unwrap();
     let out = common::washdyn_in(&["fe", "deck", "bad.toml"], dir.path());
     let err = String::from_utf8_lossy(&out.stderr);
-    // Refused data: exit code 5 (README, "Commands").
+    // Refused data: exit code 5 (docs/commands.md).
     assert_eq!(out.status.code(), Some(5), "{err}");
     assert!(
         err.contains("bad.toml:14") && err.contains("no node set `NO_SUCH`"),

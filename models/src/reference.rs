@@ -314,7 +314,7 @@ washdyn_macros::machine! {
 
         // The same with the tub rigid: the drum's and the cabinet's modes. (With the elastic
         // tub the run-up meets the drum bouncing on the tub's bearing unit near 800 rpm and
-        // stops at the small-motion bound; see README, "Elastic machine".)
+        // stops at the small-motion bound; see docs/elastic-machine.md.)
         scene elastic_rigid_tub {
             effects: [
                 gyroscopic, unbalance.drum, unbalance.motor, friction_dampers, gasket_damping,

@@ -120,7 +120,7 @@ fn write(c: &mut Criterion) {
     let rows = kept.memory[0].len();
     let row = Row {
         outputs: s.outputs.none(),
-        status: summary.status.clone(),
+        status: summary.status,
         error: String::new(),
         error_class: String::new(),
         warnings: String::new(),

@@ -82,7 +82,9 @@ fn scaled(work: &Path, n: usize) -> Scaled {
     let outcomes = study::execute(&s, &plan, 1, &|_| {}).expect("the study runs");
     let execute = secs(t);
     assert!(
-        outcomes.iter().all(|o| o.status == "ok"),
+        outcomes
+            .iter()
+            .all(|o| o.status == washdyn_runtime::run::RunStatus::Ok),
         "every variant runs"
     );
     let t = Instant::now();

@@ -203,7 +203,10 @@ fn command(cmd: Cmd) -> Result<ExitCode, Failure> {
             };
             let res = washdyn::sweep::run_sweep(&base, vars, &cfg, &done)?;
             bar.finish_and_clear();
-            let failed = res.iter().filter(|r| r.summary.status != "ok").count();
+            let failed = res
+                .iter()
+                .filter(|r| r.summary.status != washdyn_runtime::run::RunStatus::Ok)
+                .count();
             // The set-up's own warning (a loose tolerance) is every variant's: said once.
             let common = washdyn::accuracy::class::tolerance_warning(method, tol);
             if let Some(w) = &common {

@@ -9,7 +9,7 @@ use std::path::Path;
 use std::process::ExitCode;
 use washdyn::Error;
 use washdyn::study::{self, Study, slurm};
-use washdyn_runtime::run::RunError;
+use washdyn_runtime::run::{RunError, RunStatus};
 
 /// Variants whose warnings or errors are printed at most; the rest are counted.
 const SHOWN: usize = 10;
@@ -111,7 +111,7 @@ fn report(
     // A study's variants often warn alike: the first few here, all in the summaries.
     let warned: Vec<&study::Outcome> = res
         .iter()
-        .filter(|o| o.status != "interrupted")
+        .filter(|o| o.status != RunStatus::Interrupted)
         .filter(|o| o.warnings.iter().any(|w| Some(w) != common.as_ref()))
         .collect();
     for o in warned.iter().take(SHOWN) {
@@ -125,7 +125,10 @@ fn report(
             warned.len() - SHOWN
         );
     }
-    let failed: Vec<&study::Outcome> = res.iter().filter(|o| o.status == "failed").collect();
+    let failed: Vec<&study::Outcome> = res
+        .iter()
+        .filter(|o| o.status == RunStatus::Failed)
+        .collect();
     for o in failed.iter().take(SHOWN) {
         eprintln!(
             "variant {} failed: {}",
@@ -133,11 +136,14 @@ fn report(
             o.error.as_deref().unwrap_or("")
         );
     }
-    let interrupted = res.len() < plan.todo.len() || res.iter().any(|o| o.status == "interrupted");
+    let interrupted =
+        res.len() < plan.todo.len() || res.iter().any(|o| o.status == RunStatus::Interrupted);
     println!(
         "ran {} variants ({} failed); summaries: {}/summary (washdyn study collect {} for one \
          table)",
-        res.iter().filter(|o| o.status != "interrupted").count(),
+        res.iter()
+            .filter(|o| o.status != RunStatus::Interrupted)
+            .count(),
         failed.len(),
         out.display(),
         out.display()

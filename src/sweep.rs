@@ -261,7 +261,7 @@ fn failed(base: &Source, v: &Variant, cfg: &SweepRun, error: Error) -> VariantRe
         (s.t_start, s.t_end.unwrap_or(f64::NAN)),
     );
     summary.model_files = base.files.clone();
-    summary.status = "failed".into();
+    summary.status = washdyn_runtime::run::RunStatus::Failed;
     summary.error = Some(error.to_string());
     VariantResult {
         name: v.name.clone(),
@@ -374,7 +374,7 @@ fn write_table(path: &Path, results: &[VariantResult]) -> Result<(), Error> {
         let m = &r.summary;
         let mut row = vec![
             r.name.clone(),
-            m.status.clone(),
+            m.status.name().to_string(),
             m.t_reached.to_string(),
             m.steps.to_string(),
             m.rhs_evals.to_string(),

@@ -237,7 +237,7 @@ fn rk4_step_beyond_the_stability_limit_stops_at_the_start() {
         ),
         "{e:?}"
     );
-    assert_eq!(o.summary.status, "failed");
+    assert_eq!(o.summary.status, washdyn_runtime::run::RunStatus::Failed);
     assert_eq!(o.summary.steps, 0);
     let ok = RunArgs {
         integrator: Some(Method::Rk4),
@@ -405,7 +405,7 @@ fn large_motion_warns_then_stops_with_its_time() {
         "{e:?}"
     );
     let s = &o.summary;
-    assert_eq!(s.status, "failed");
+    assert_eq!(s.status, washdyn_runtime::run::RunStatus::Failed);
     assert!(s.t_reached > 0.0 && s.t_reached < 40.0, "{}", s.t_reached);
     assert!(s.validity.max_rotation_rad > 0.25);
     // The elements' tub ends lie 0.21-0.31 m from the CoG (reference.toml), so 0.25 rad of
@@ -480,7 +480,10 @@ fn interrupt_writes_an_interrupted_summary() {
     })
     .unwrap();
     setter.join().unwrap();
-    assert_eq!(o.summary.status, "interrupted");
+    assert_eq!(
+        o.summary.status,
+        washdyn_runtime::run::RunStatus::Interrupted
+    );
     let e = o.error.unwrap();
     assert!(
         matches!(e, Error::Integration { t, source: RunError::Interrupted { .. } } if t == o.summary.t_reached),
@@ -520,7 +523,7 @@ fn a_run_without_progress_stops() {
         ),
         "{e:?}"
     );
-    assert_eq!(o.summary.status, "failed");
+    assert_eq!(o.summary.status, washdyn_runtime::run::RunStatus::Failed);
     std::fs::remove_dir_all(out_dir("stall")).ok();
 }
 

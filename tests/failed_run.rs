@@ -43,7 +43,7 @@ fn spent_step_budget_fails_with_time_and_keeps_output() {
     };
     let s = &o.summary;
     assert_eq!(t, s.t_reached);
-    assert_eq!(s.status, "failed");
+    assert_eq!(s.status, washdyn_runtime::run::RunStatus::Failed);
     // dopri5 at 1e-6 on `full` is a setting the study measured; a failed run claims no class.
     assert_eq!(s.error_class, None);
     assert!(s.t_reached > 0.0 && s.t_reached < 30.0, "{}", s.t_reached);

@@ -124,7 +124,7 @@ fn a_variant_runs_on_the_built_code_or_is_refused_by_name() {
         let mut sink = MemorySink::default();
         let (summary, err) = sim.integrate(&mut sink, &mut |_| {});
         assert!(err.is_none(), "{err:?}");
-        assert_eq!(summary.status, "ok");
+        assert_eq!(summary.status, washdyn_runtime::run::RunStatus::Ok);
         sink
     };
     let g = run(base.variant(variant()), Backend::Generated);

@@ -170,7 +170,10 @@ fn sweep_refuses_rk4_beyond_its_stability_limit_like_run() {
     let cfg = sweep_cfg(&a, "rk4-sweep");
     let res = washdyn::sweep::run_sweep(&base, vec![base_variant(&base)], &cfg, &|_| {}).unwrap();
     assert_eq!(limit(&res[0].error), run_limit);
-    assert_eq!(res[0].summary.status, "failed");
+    assert_eq!(
+        res[0].summary.status,
+        washdyn_runtime::run::RunStatus::Failed
+    );
     assert_eq!(res[0].summary.steps, 0);
     let table = std::fs::read_to_string(tmp("rk4-sweep").join("sweep.csv")).unwrap();
     assert!(

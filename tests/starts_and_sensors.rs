@@ -320,7 +320,7 @@ fn periodic_start_reports_progress_and_stops_on_interrupt() {
     .unwrap_err();
     println!("periodic start reports before the interrupt: {reports:?}");
     assert!(matches!(e, RunError::Interrupted { t } if t == 0.0), "{e}");
-    assert_eq!(summary.status, "interrupted");
+    assert_eq!(summary.status, washdyn_runtime::run::RunStatus::Interrupted);
     // One period integrated, its residual far above the tolerance (the mean-load rest is not
     // periodic at 600 rpm), then the flag.
     assert_eq!(reports.len(), 1);

@@ -28,7 +28,11 @@ fn run(file: &Path, out: &Path) -> Vec<String> {
     let plan = study::plan(&s, out).unwrap();
     let ran = Mutex::new(Vec::new());
     let res = study::execute(&s, &plan, 2, &|o| ran.lock().unwrap().push(o.id.clone())).unwrap();
-    assert!(res.iter().all(|o| o.status == "ok"), "{res:?}");
+    assert!(
+        res.iter()
+            .all(|o| o.status == washdyn_runtime::run::RunStatus::Ok),
+        "{res:?}"
+    );
     ran.into_inner().unwrap()
 }
 
@@ -351,7 +355,7 @@ fn a_failed_variant_has_its_row_and_runs_again() {
     let res = study::execute(&s, &plan, 2, &|_| {}).unwrap();
     let status: Vec<(&str, &str)> = res
         .iter()
-        .map(|o| (o.id.as_str(), o.status.as_str()))
+        .map(|o| (o.id.as_str(), o.status.name()))
         .collect();
     assert!(
         status.contains(&("0000", "ok")) && status.contains(&("0001", "failed")),

@@ -36,7 +36,10 @@ fn positions_sweep_writes_folders_and_table() {
         format: Format::Parquet,
     };
     let res = run_sweep(&source, vars, &cfg, &|_| {}).unwrap();
-    assert!(res.iter().all(|r| r.summary.status == "ok"));
+    assert!(
+        res.iter()
+            .all(|r| r.summary.status == washdyn_runtime::run::RunStatus::Ok)
+    );
     for v in ["front_0.6kg", "middle_0.6kg", "rear_0.6kg"] {
         assert!(out.join(v).join("sensors.parquet").exists(), "{v}");
     }
@@ -91,11 +94,14 @@ fn equal_variants_get_distinct_folders_and_a_bad_variant_its_own_row() {
         format: Format::Csv,
     };
     let res = run_sweep(&source, vars, &cfg, &|_| {}).unwrap();
-    assert_eq!(res[0].summary.status, "ok");
-    assert_eq!(res[1].summary.status, "ok");
+    assert_eq!(res[0].summary.status, washdyn_runtime::run::RunStatus::Ok);
+    assert_eq!(res[1].summary.status, washdyn_runtime::run::RunStatus::Ok);
     assert!(out.join("0.3kg").join("sensors.csv").exists());
     assert!(out.join("0.3kg_2").join("sensors.csv").exists());
-    assert_eq!(res[2].summary.status, "failed");
+    assert_eq!(
+        res[2].summary.status,
+        washdyn_runtime::run::RunStatus::Failed
+    );
     // The checker's finding at the unbalance's mass (the field it names).
     assert!(
         matches!(&res[2].error, Some(Error::Check { errors, .. })

@@ -209,7 +209,7 @@ fn a_rigid_drum_on_an_elastic_tub_passes_the_checker_and_runs() {
         &guard,
     )
     .unwrap_or_else(|(e, _)| panic!("{e}"));
-    assert_eq!(s.status, "ok");
+    assert_eq!(s.status, washdyn_runtime::run::RunStatus::Ok);
     // The door ring is watched with the tub's modes at MP_TUB1 and MP_TUB2; the gap with the
     // rigid drum's edge (its points on the drum's axis frame, turned by the tub's motion at the
     // bearing) against the tub's TUB_RING_k points.

@@ -31,7 +31,7 @@ use serde::{Deserialize, Serialize};
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
-use washdyn_runtime::run::Start;
+use washdyn_runtime::run::{RunStatus, Start};
 
 /// The three datasets' directories under the study's.
 pub const VARIANTS: &str = "variants";
@@ -124,8 +124,8 @@ impl Layout {
             Some(Column::Text(v)) => v.first().cloned(),
             _ => None,
         };
-        match text("status").as_deref() {
-            Some("ok")
+        match text("status").as_deref().and_then(RunStatus::parse) {
+            Some(RunStatus::Ok)
                 if self
                     .partition(VARIANTS, id)
                     .join("sensors.parquet")
@@ -133,7 +133,7 @@ impl Layout {
             {
                 State::Done
             }
-            Some("ok") => State::Missing,
+            Some(RunStatus::Ok) => State::Missing,
             Some(_) => State::Failed(text("error").unwrap_or_default()),
             None => State::Missing,
         }
@@ -397,7 +397,7 @@ pub fn summary_columns(outputs: &Outputs) -> Vec<(String, &'static str, bool)> {
 pub struct Row {
     /// In [`Outputs::columns`]' order; NaN is null.
     pub outputs: Vec<f64>,
-    pub status: String,
+    pub status: RunStatus,
     /// Empty where there is none.
     pub error: String,
     pub error_class: String,
@@ -440,13 +440,8 @@ pub fn write_summary(dir: &Path, study: &Study, v: &Variant, row: &Row) -> Resul
     let mut cols = vec![Column::Text(vec![v.id.clone()])];
     cols.extend(v.values.iter().map(|x| Column::F64(vec![*x])));
     cols.extend(row.outputs.iter().map(|x| Column::F64(vec![*x])));
-    for t in [
-        &row.status,
-        &row.error,
-        &row.error_class,
-        &row.warnings,
-        &row.backend,
-    ] {
+    cols.push(Column::Text(vec![row.status.name().to_string()]));
+    for t in [&row.error, &row.error_class, &row.warnings, &row.backend] {
         cols.push(Column::Text(vec![t.clone()]));
     }
     for x in [

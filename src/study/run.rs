@@ -14,6 +14,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
 use std::time::Instant;
 use washdyn_runtime::ir::Model;
+use washdyn_runtime::run::RunStatus;
 
 /// The back end that runs `variant` of `study`: a built-in model's generated code where the
 /// variant differs from it in free parameters only (`Model::free`: one build serves every such
@@ -75,8 +76,8 @@ pub fn plan(study: &Study, out: &Path) -> Result<Plan, Error> {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Outcome {
     pub id: String,
-    /// `ok`, `failed`, or `interrupted` (then nothing of it was kept).
-    pub status: String,
+    /// Interrupted: nothing of it was kept.
+    pub status: RunStatus,
     pub error: Option<String>,
     pub warnings: Vec<String>,
     pub wall_time_s: f64,
@@ -233,7 +234,7 @@ fn run_variant(study: &Study, layout: &Layout, v: &Variant) -> Result<Outcome, E
             sink.finish()
                 .map_err(|e| Error::io("write", sink.path(), e))?;
             phases.write_s += lap.next();
-            if summary.status == "interrupted" {
+            if summary.status == RunStatus::Interrupted {
                 return Ok(Outcome {
                     id: v.id.clone(),
                     status: summary.status,
@@ -253,7 +254,7 @@ fn run_variant(study: &Study, layout: &Layout, v: &Variant) -> Result<Outcome, E
             phases.outputs_s = lap.next();
             let row = Row {
                 outputs,
-                status: summary.status.clone(),
+                status: summary.status,
                 error: summary.error.clone().unwrap_or_default(),
                 error_class: summary.error_class.clone().unwrap_or_default(),
                 warnings: summary.warnings.join("\n"),
@@ -270,7 +271,7 @@ fn run_variant(study: &Study, layout: &Layout, v: &Variant) -> Result<Outcome, E
     dataset::write_timing(&tmp.dir(TIMING)?, &v.id, wall)?;
     let mut outcome = Outcome {
         id: v.id.clone(),
-        status: row.status.clone(),
+        status: row.status,
         error: (!row.error.is_empty()).then(|| row.error.clone()),
         warnings,
         wall_time_s: wall,
@@ -286,7 +287,7 @@ fn run_variant(study: &Study, layout: &Layout, v: &Variant) -> Result<Outcome, E
 fn failed_row(study: &Study, error: String, backend: Backend) -> Row {
     Row {
         outputs: study.outputs.none(),
-        status: "failed".into(),
+        status: RunStatus::Failed,
         error,
         error_class: String::new(),
         warnings: String::new(),

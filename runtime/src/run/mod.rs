@@ -101,10 +101,9 @@ where
         Ok(()) => Ok(summary),
         Err(e) => {
             summary.status = match e {
-                RunError::Interrupted { .. } => "interrupted",
-                _ => "failed",
-            }
-            .into();
+                RunError::Interrupted { .. } => RunStatus::Interrupted,
+                _ => RunStatus::Failed,
+            };
             summary.error = Some(e.to_string());
             summary.t_reached = e.time();
             Err((e, summary))

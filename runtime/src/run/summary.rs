@@ -75,8 +75,7 @@ pub struct Summary {
     pub rho_inf: Option<f64>,
     pub samples: u64,
     pub wall_time_s: f64,
-    /// "ok", "failed" or "interrupted".
-    pub status: String,
+    pub status: RunStatus,
     /// Largest tub motion against the linearisation's bounds.
     pub validity: Extremes,
     /// Times the motion left the linearisation's range (one message per quantity).
@@ -92,6 +91,40 @@ pub struct Summary {
     /// recovers with that model and refuses it if it changed. Empty for a built-in model.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub model_files: Vec<crate::ir::files::FileHash>,
+}
+
+/// How a run ended: `ok`, `failed` (the error and its time in the summary) or `interrupted`
+/// (Ctrl-C, SIGTERM, SIGHUP). Written lowercase in summary.json and a study's summaries.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum RunStatus {
+    Ok,
+    Failed,
+    Interrupted,
+}
+
+impl RunStatus {
+    /// As the files write it.
+    pub fn name(self) -> &'static str {
+        match self {
+            RunStatus::Ok => "ok",
+            RunStatus::Failed => "failed",
+            RunStatus::Interrupted => "interrupted",
+        }
+    }
+
+    /// From a file's text; `None` for anything else.
+    pub fn parse(s: &str) -> Option<RunStatus> {
+        [RunStatus::Ok, RunStatus::Failed, RunStatus::Interrupted]
+            .into_iter()
+            .find(|r| r.name() == s)
+    }
+}
+
+impl std::fmt::Display for RunStatus {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
 }
 
 impl Summary {
@@ -121,7 +154,7 @@ impl Summary {
             energy_closure: None,
             samples: 0,
             wall_time_s: 0.0,
-            status: "ok".into(),
+            status: RunStatus::Ok,
             validity: Extremes::default(),
             warnings: Vec::new(),
             error: None,
@@ -237,4 +270,23 @@ pub struct Labels {
     pub model: String,
     pub scene: String,
     pub backend: String,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::RunStatus;
+
+    /// The files' words (summary.json, a study's `status` column) and back: the three
+    /// statuses, lowercase in JSON, and nothing else parses.
+    #[test]
+    fn run_status_reads_back_what_the_files_write() {
+        for s in [RunStatus::Ok, RunStatus::Failed, RunStatus::Interrupted] {
+            assert_eq!(RunStatus::parse(s.name()), Some(s));
+            let json = serde_json::to_string(&s).unwrap();
+            assert_eq!(json, format!("\"{}\"", s.name()));
+            assert_eq!(serde_json::from_str::<RunStatus>(&json).unwrap(), s);
+        }
+        assert_eq!(RunStatus::parse("OK"), None);
+        assert_eq!(RunStatus::parse(""), None);
+    }
 }

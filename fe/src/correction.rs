@@ -26,8 +26,8 @@ use crate::mesh::Mesh;
 use crate::modal::{Shapes, point_reading_full};
 use nalgebra::DMatrix;
 use std::collections::{BTreeMap, HashMap};
-use washdyn_runtime::geom::f::{cross, norm, sub};
-use washdyn_runtime::ir::modal::{LoadCase, LoadKind, generalised_eigen};
+use washdyn_model::geom::f::{cross, norm, sub};
+use washdyn_model::ir::modal::{LoadCase, LoadKind, generalised_eigen};
 
 /// Nodal loads: (node id, value). A rigid part's ROT NODE carries a moment.
 pub type Loads = Vec<(usize, [f64; 3])>;

@@ -81,7 +81,7 @@ impl Field {
     pub fn new(
         mesh: &Mesh,
         modes: &[Shapes],
-        data: &washdyn_runtime::ir::modal::ModalData,
+        data: &washdyn_model::ir::modal::ModalData,
         stress: Option<&crate::stress::ModalStress>,
     ) -> Result<Field, String> {
         let ids = mesh.element_nodes();
@@ -258,7 +258,7 @@ impl Field {
     /// `subspace::SUBSPACE_TOLERANCE` (another mesh, deck or mode count).
     pub fn align(
         &self,
-        data: &washdyn_runtime::ir::modal::ModalData,
+        data: &washdyn_model::ir::modal::ModalData,
     ) -> Result<crate::subspace::Alignment, String> {
         let h = &self.header;
         let file = data.file_modes();
@@ -369,7 +369,7 @@ impl Field {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use washdyn_runtime::ir::modal::ModalData;
+    use washdyn_model::ir::modal::ModalData;
 
     /// A field recording `data`'s points with `w` changed by `f` (no nodes: `align` reads the
     /// header only).
@@ -417,7 +417,7 @@ mod tests {
     #[test]
     fn align_reprojects_turns_and_flips_and_refuses_another_basis() {
         let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../models/fe/drum.modal.toml");
-        let data = washdyn_runtime::ir::modal::read_file(std::path::Path::new(path), path).unwrap();
+        let data = washdyn_model::ir::modal::read_file(std::path::Path::new(path), path).unwrap();
         let n = data.modes();
         let al = field(&data, |_| {}).align(&data).unwrap();
         assert!(
@@ -462,7 +462,7 @@ mod tests {
     #[test]
     fn align_checks_the_file_modes_of_truncated_data() {
         let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../models/fe/drum.modal.toml");
-        let data = washdyn_runtime::ir::modal::read_file(std::path::Path::new(path), path).unwrap();
+        let data = washdyn_model::ir::modal::read_file(std::path::Path::new(path), path).unwrap();
         let mut cut = data.clone();
         cut.truncate(3, &[]);
         assert!(cut.modes() < data.modes());

@@ -6,8 +6,8 @@ use crate::consistent::MassMatrix;
 use crate::frd::Frd;
 use crate::mesh::Mesh;
 use std::collections::HashMap;
-use washdyn_runtime::geom::f::{add, cross, sub};
-use washdyn_runtime::ir::modal::{ElasticBodyKind, ModalData, ModalPoint, Support};
+use washdyn_model::geom::f::{add, cross, sub};
+use washdyn_model::ir::modal::{ElasticBodyKind, ModalData, ModalPoint, Support};
 
 /// Which modes to keep.
 #[derive(Clone, Copy, Debug)]

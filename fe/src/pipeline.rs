@@ -11,8 +11,8 @@ use crate::modal::{self, Keep};
 use crate::prestress::{self, Centrifugal};
 use nalgebra::DMatrix;
 use std::path::Path;
-use washdyn_runtime::geom::f::unit;
-use washdyn_runtime::ir::modal::{
+use washdyn_model::geom::f::unit;
+use washdyn_model::ir::modal::{
     Correction, ElasticBodyKind, GeometricStiffness, LoadCase, ModalData, Support, SupportSpring,
 };
 

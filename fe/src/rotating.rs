@@ -13,7 +13,7 @@ use crate::mesh::Mesh;
 use crate::modal::Shapes;
 use crate::prestress::{Centrifugal, loaded_set, write_loads};
 use nalgebra::DMatrix;
-use washdyn_runtime::ir::modal::{Elementary, GeometricStiffness};
+use washdyn_model::ir::modal::{Elementary, GeometricStiffness};
 
 /// sum dm W^T (E - e e^T) W (n x n, row-major): the spin-softening matrix per Omega^2.
 pub fn s_perp(elementary: &Elementary, n: usize, e: [f64; 3]) -> Vec<f64> {

@@ -6,9 +6,9 @@
 use crate::mesh::{Mesh, Rigid, Section};
 use crate::modal::{Reading, point_reading_full};
 use std::f64::consts::PI;
-use washdyn_runtime::geom::f::{add, sub};
-use washdyn_runtime::ir::modal::{ModalData, point_at};
-use washdyn_runtime::ir::{BodyRef, Model};
+use washdyn_model::geom::f::{add, sub};
+use washdyn_model::ir::modal::{ModalData, point_at};
+use washdyn_model::ir::{BodyRef, Model};
 
 /// The penalty springs' frequency with the mass they hold (Hz), and their length (m).
 const PENALTY_HZ: f64 = 1e5;

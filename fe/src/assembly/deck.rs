@@ -11,10 +11,10 @@ use crate::mesh::{Mesh, Section};
 use nalgebra::{Matrix6, SymmetricEigen};
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
-use washdyn_runtime::elements::reference_speed;
-use washdyn_runtime::geom::f::{add, norm, sub, unit};
-use washdyn_runtime::ir::modal::ModalData;
-use washdyn_runtime::ir::{BodyRef, Effect, EffectSet, Model};
+use washdyn_model::elements::reference_speed;
+use washdyn_model::geom::f::{add, norm, sub, unit};
+use washdyn_model::ir::modal::ModalData;
+use washdyn_model::ir::{BodyRef, Effect, EffectSet, Model};
 
 /// Eigen-decomposition of a symmetric positive semi-definite 6 x 6 matrix: (l_i, v_i) with
 /// l_i > 1e-9 `scale` (a matrix of round-off, such as D - beta K of a gasket whose D is
@@ -108,7 +108,7 @@ pub fn assemble(
             refuse.join(", ")
         ));
     }
-    fn data(e: &washdyn_runtime::ir::Elastic) -> Result<&ModalData, String> {
+    fn data(e: &washdyn_model::ir::Elastic) -> Result<&ModalData, String> {
         e.data
             .as_ref()
             .ok_or_else(|| format!("{}: modal data not resolved", e.name))
@@ -173,7 +173,7 @@ pub fn assemble(
     }
 
     // Springs and dampers between auxiliary nodes at their ends.
-    let end = |b: &mut Builder, a: &washdyn_runtime::ir::Attach| -> Result<usize, String> {
+    let end = |b: &mut Builder, a: &washdyn_model::ir::Attach| -> Result<usize, String> {
         let s = b.site(model, a.body, a.point)?;
         b.follower(&s, a.point)
     };

@@ -33,8 +33,8 @@ pub use rigid_drum::point_cloud;
 pub use solve::{Solution, solve};
 
 use crate::deck::Deck;
-use washdyn_runtime::geom::f::{norm, sub};
-use washdyn_runtime::ir::{LinearDamper, Model, Scene, SensorKind};
+use washdyn_model::geom::f::{norm, sub};
+use washdyn_model::ir::{LinearDamper, Model, Scene, SensorKind};
 
 /// The scene of `linear_machine`'s model.
 pub const SCENE: &str = "full_mesh";

@@ -4,7 +4,7 @@
 //! each with its test.
 
 use nalgebra::{Complex, SymmetricEigen};
-use washdyn_runtime::geom::f::cross;
+use washdyn_model::geom::f::cross;
 
 /// Six point masses of total `mass` with CoG `cog` and inertia tensor `inertia` (about the
 /// CoG): m / 6 at cog +- d_k e_k along the principal axes of the second moments J = tr(I) / 2 E

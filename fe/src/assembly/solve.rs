@@ -6,7 +6,7 @@ use super::Assembly;
 use nalgebra::Complex;
 use std::f64::consts::PI;
 use std::path::Path;
-use washdyn_runtime::ir::SensorKind;
+use washdyn_model::ir::SensorKind;
 
 /// ccx's answer: the assembled machine's eigenfrequencies and, per speed, every channel's
 /// complex amplitude (drum order 1, channel(t) = Re[a e^{i phi}], phi the drum angle).

@@ -11,12 +11,12 @@ pub mod tub;
 use crate::mesh::Mesh;
 use crate::modal::Keep;
 use crate::pipeline::{BodySpec, Spin};
-use washdyn_runtime::geom::f::{norm, sub};
-use washdyn_runtime::ir::attachments::attachments;
-use washdyn_runtime::ir::files::DataFiles;
-use washdyn_runtime::ir::modal::{ElasticBodyKind, LoadCase, POINT_TOLERANCE, Support};
-use washdyn_runtime::ir::toml_file::load_unresolved;
-use washdyn_runtime::ir::{BodyRef, Model};
+use washdyn_model::geom::f::{norm, sub};
+use washdyn_model::ir::attachments::attachments;
+use washdyn_model::ir::files::DataFiles;
+use washdyn_model::ir::modal::{ElasticBodyKind, LoadCase, POINT_TOLERANCE, Support};
+use washdyn_model::ir::toml_file::load_unresolved;
+use washdyn_model::ir::{BodyRef, Model};
 
 /// Patch radius for attachment and measurement points, m: a few element lengths, so a rigid
 /// fit of the patch gives a rotation as well as a translation.

@@ -8,8 +8,8 @@ use crate::lumping::RigidLump;
 use crate::mesh::Mesh;
 use crate::modal::Shapes;
 use nalgebra::DMatrix;
-use washdyn_runtime::geom::f::{add, cross, sub};
-use washdyn_runtime::ir::modal::Elementary;
+use washdyn_model::geom::f::{add, cross, sub};
+use washdyn_model::ir::modal::Elementary;
 
 /// One set of shapes at the matrix's rows, per component: W_a (rows x modes).
 type Dense = [DMatrix<f64>; 3];

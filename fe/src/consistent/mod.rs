@@ -28,7 +28,7 @@ mod rigid_body;
 use crate::lumping::{Lumped, RigidLump, Rule, gauss, rigid_parts, section_axes};
 use crate::mesh::Mesh;
 use nalgebra::DMatrix;
-use washdyn_runtime::geom::f::{add, cross, sub};
+use washdyn_model::geom::f::{add, cross, sub};
 
 /// Where a mass matrix comes from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

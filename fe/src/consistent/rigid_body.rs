@@ -6,7 +6,7 @@
 use super::MassMatrix;
 use crate::lumping::MassProps;
 use crate::mesh::Mesh;
-use washdyn_runtime::geom::f::{add, cross, sub};
+use washdyn_model::geom::f::{add, cross, sub};
 
 impl MassMatrix {
     /// The whole body's mass, CoG and inertia about the CoG: 1^T M 1, x^T M 1, x_a^T M x_b

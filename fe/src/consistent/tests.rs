@@ -5,7 +5,7 @@ use super::*;
 use crate::lumping::{HEX20, consistent_mass_props};
 use crate::mesh::{Material, Rigid, Section};
 use crate::modal::Shapes;
-use washdyn_runtime::geom::f::{add, cross, sub};
+use washdyn_model::geom::f::{add, cross, sub};
 
 fn steel() -> Material {
     Material {

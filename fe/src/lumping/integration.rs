@@ -5,7 +5,7 @@
 //! (`consistent/mod.rs`).
 
 use crate::mesh::{Mesh, Section};
-use washdyn_runtime::geom::f::{cross, norm};
+use washdyn_model::geom::f::{cross, norm};
 
 /// Gauss-Legendre points and weights on [-1, 1].
 const G3: [(f64, f64); 3] = [

@@ -170,7 +170,7 @@ pub fn element_mass(mesh: &Mesh) -> f64 {
 mod tests {
     use super::*;
     use crate::mesh::Material;
-    use washdyn_runtime::geom::f::norm;
+    use washdyn_model::geom::f::norm;
 
     fn steel() -> Material {
         Material {

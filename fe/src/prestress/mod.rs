@@ -48,7 +48,7 @@ use crate::deck::Deck;
 use crate::mesh::{Mesh, Section};
 use nalgebra::DMatrix;
 use std::collections::HashMap;
-use washdyn_runtime::geom::f::{dot, sub, unit};
+use washdyn_model::geom::f::{dot, sub, unit};
 
 /// Element set of every element with density: the centrifugal load and the stresses.
 pub const LOADED: &str = "WD_SPIN";

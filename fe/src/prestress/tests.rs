@@ -254,7 +254,7 @@ fn a_rigid_parts_stiffness_less_its_spin_softening_is_the_centrifugal_potentials
                     .iter()
                     .map(|&id| {
                         let rho = sub(m.nodes[id - 1], x0);
-                        (id, washdyn_runtime::geom::f::cross(th, rho))
+                        (id, washdyn_model::geom::f::cross(th, rho))
                     })
                     .collect(),
                 rot: [(r.rot_node, th)].into_iter().collect(),
@@ -275,7 +275,7 @@ fn a_rigid_parts_stiffness_less_its_spin_softening_is_the_centrifugal_potentials
                     rho
                 } else {
                     let e = th.map(|x| x / t);
-                    let ex = washdyn_runtime::geom::f::cross(e, rho);
+                    let ex = washdyn_model::geom::f::cross(e, rho);
                     let ed = dot(e, rho);
                     std::array::from_fn(|i| {
                         rho[i] * t.cos() + ex[i] * t.sin() + e[i] * ed * (1.0 - t.cos())
@@ -493,12 +493,12 @@ fn cantilever() -> (Mesh, Vec<usize>) {
 fn spinning(
     mesh: Mesh,
     modes: usize,
-    correction: Vec<washdyn_runtime::ir::modal::LoadCase>,
+    correction: Vec<washdyn_model::ir::modal::LoadCase>,
 ) -> crate::pipeline::BodySpec {
     crate::pipeline::BodySpec {
         name: "cantilever".into(),
-        kind: washdyn_runtime::ir::modal::ElasticBodyKind::Drum,
-        support: washdyn_runtime::ir::modal::Support::Clamped,
+        kind: washdyn_model::ir::modal::ElasticBodyKind::Drum,
+        support: washdyn_model::ir::modal::Support::Clamped,
         mesh,
         solve_modes: modes,
         keep: crate::modal::Keep {
@@ -626,7 +626,7 @@ fn a_spinning_bodys_correction_modes_stiffen_through_the_same_assembly() {
     let with = spinning(
         m,
         3,
-        vec![washdyn_runtime::ir::modal::LoadCase::force("TIP", z)],
+        vec![washdyn_model::ir::modal::LoadCase::force("TIP", z)],
     );
     let (a, _) = crate::pipeline::build(&plain, &dir.path().join("a").tap_mkdir()).unwrap();
     let (b, _) = crate::pipeline::build(&with, &dir.path().join("b").tap_mkdir()).unwrap();
@@ -635,7 +635,7 @@ fn a_spinning_bodys_correction_modes_stiffen_through_the_same_assembly() {
     let c = Centrifugal::new(omega, [0.0; 3], z);
     let (frd, _) =
         crate::rotating::solve_prestressed(&plain.mesh, dir.path(), "ccx", &c, 3).unwrap();
-    let err = |d: &washdyn_runtime::ir::modal::ModalData| -> Vec<f64> {
+    let err = |d: &washdyn_model::ir::modal::ModalData| -> Vec<f64> {
         let f = crate::rotating::reduced_frequencies(
             &d.frequencies,
             &d.elementary,

@@ -14,10 +14,10 @@ use crate::modal::Keep;
 use crate::pipeline::{BodySpec, Report, Spin, build};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
-use washdyn_runtime::ir::BodyRef;
-use washdyn_runtime::ir::attachments::{Attachment, attachments};
-use washdyn_runtime::ir::modal::{ElasticBodyKind, LoadCase, ModalData, Support};
-use washdyn_runtime::ir::toml_file::load_file_unresolved;
+use washdyn_model::ir::BodyRef;
+use washdyn_model::ir::attachments::{Attachment, attachments};
+use washdyn_model::ir::modal::{ElasticBodyKind, LoadCase, ModalData, Support};
+use washdyn_model::ir::toml_file::load_file_unresolved;
 
 /// The spec file, as written (SI units, whatever the deck's).
 #[derive(Clone, Debug, Deserialize)]
@@ -109,7 +109,7 @@ pub fn load(spec_path: &Path) -> Result<BodySpec, String> {
     let at = |span: Option<std::ops::Range<usize>>| {
         span.map_or(String::new(), |s| format!(":{}", line_of(&text, s.start)))
     };
-    let spec: UserSpec = washdyn_runtime::ir::modal::from_toml(&text)
+    let spec: UserSpec = washdyn_model::ir::modal::from_toml(&text)
         .map_err(|(span, m)| format!("{}{}: {m}", spec_path.display(), at(span)))?;
     // Where a field stands in the spec, for errors found after parsing.
     let line = |needle: &str| {
@@ -232,7 +232,7 @@ const AXIS_OFF_COG: f64 = 0.1;
 /// The spin axis passes through the body's centre of gravity, within `AXIS_OFF_COG` of the
 /// body's reach from it.
 fn axis_through_the_body(mesh: &crate::mesh::Mesh, spin: &Spin) -> Result<(), String> {
-    let off = |p: [f64; 3]| washdyn_runtime::geom::f::off_line(p, spin.axis_point, spin.axis);
+    let off = |p: [f64; 3]| washdyn_model::geom::f::off_line(p, spin.axis_point, spin.axis);
     let cog = crate::lumping::consistent_mass_props(mesh).cog;
     let reach = mesh.nodes.iter().map(|p| off(*p)).fold(0.0f64, f64::max);
     let d = off(cog);
@@ -351,7 +351,7 @@ pub fn build_checked(spec: &BodySpec, work: &Path) -> Result<(ModalData, Report,
 /// What `check`, `run` and `campbell` would refuse in the modal data (`modal::problems`): found
 /// here, before the file is written, not when it is read.
 fn refused(data: &ModalData) -> Vec<String> {
-    washdyn_runtime::ir::modal::problems(data)
+    washdyn_model::ir::modal::problems(data)
         .into_iter()
         .map(|p| format!("the modal data's {p}"))
         .collect()

@@ -5,9 +5,9 @@
 use super::PointSpec;
 use crate::mesh::Mesh;
 use std::path::Path;
-use washdyn_runtime::geom::f::{norm, sub};
-use washdyn_runtime::ir::attachments::Attachment;
-use washdyn_runtime::ir::modal::POINT_TOLERANCE;
+use washdyn_model::geom::f::{norm, sub};
+use washdyn_model::ir::attachments::Attachment;
+use washdyn_model::ir::modal::POINT_TOLERANCE;
 
 /// Farthest a model point may lie from the deck's structure and still be read on a patch
 /// about the nearest node, m: 1.6 x the farthest built-in patch (the tub's SPRING_3 lug point,
@@ -138,8 +138,8 @@ fn centroid(mesh: &Mesh, ids: &[usize]) -> [f64; 3] {
 mod tests {
     use super::*;
     use crate::bodies::{cabinet::Cabinet, reference_model};
-    use washdyn_runtime::ir::BodyRef;
-    use washdyn_runtime::ir::attachments::attachments;
+    use washdyn_model::ir::BodyRef;
+    use washdyn_model::ir::attachments::attachments;
 
     fn spec(name: &str, nset: Option<&str>, at: Option<[f64; 3]>) -> PointSpec {
         PointSpec {

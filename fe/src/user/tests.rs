@@ -108,7 +108,7 @@ fn a_correction_order_other_than_one_or_two_is_refused_at_its_line() {
 #[test]
 fn modal_data_the_checker_would_refuse_is_not_written() {
     let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../models/fe/drum.modal.toml");
-    let mut d = washdyn_runtime::ir::modal::read_file(&p, "drum.modal.toml").unwrap();
+    let mut d = washdyn_model::ir::modal::read_file(&p, "drum.modal.toml").unwrap();
     assert!(refused(&d).is_empty(), "{:?}", refused(&d));
     // The axis point in mm, as an unguarded spec once wrote it.
     d.geometric_stiffness.as_mut().unwrap().axis_point = [0.0, 0.0, 450.0];

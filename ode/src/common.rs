@@ -318,3 +318,54 @@ impl Trials {
         }
     }
 }
+
+/// Hairer's PI step size controller for the explicit and IMEX Runge-Kutta pairs (Solving ODEs
+/// II, Section IV.2; Gustafsson): a rejected step shrinks by clamp(0.9 err^-alpha, 0.2, 1), an
+/// accepted one grows by clamp(0.9 err^-alpha err_prev^beta, 0.2, fac_max) (at most 1 right
+/// after a rejection). alpha = 1 / (embedded order + 1) - 0.75 beta.
+#[derive(Clone, Copy, Debug)]
+pub struct PiControl {
+    alpha: f64,
+    beta: f64,
+    fac_max: f64,
+    /// The previous accepted error norm (the "I" part).
+    err_prev: f64,
+}
+
+impl PiControl {
+    const SAFETY: f64 = 0.9;
+    const FAC_MIN: f64 = 0.2;
+    const ERR_START: f64 = 1e-4;
+
+    /// For an embedded method of order `order_hat`, beta = 0.04.
+    pub fn new(order_hat: u32, fac_max: f64) -> Self {
+        let beta = 0.04;
+        PiControl {
+            alpha: 1.0 / (order_hat as f64 + 1.0) - 0.75 * beta,
+            beta,
+            fac_max,
+            err_prev: Self::ERR_START,
+        }
+    }
+
+    /// Forget the history (a restart at `init`).
+    pub fn reset(&mut self) {
+        self.err_prev = Self::ERR_START;
+    }
+
+    /// The step to retry with after step `h` was rejected with error norm `err` (> 1).
+    pub fn rejected(&self, h: f64, err: f64) -> f64 {
+        h * (Self::SAFETY * err.powf(-self.alpha)).clamp(Self::FAC_MIN, 1.0)
+    }
+
+    /// The growth factor after a step accepted with error norm `err`; remembers `err`.
+    pub fn accepted(&mut self, err: f64, trials: &Trials) -> f64 {
+        let fac = trials.accept_factor(
+            Self::SAFETY * err.max(1e-10).powf(-self.alpha) * self.err_prev.powf(self.beta),
+            Self::FAC_MIN,
+            self.fac_max,
+        );
+        self.err_prev = err.max(Self::ERR_START);
+        fac
+    }
+}

@@ -14,15 +14,12 @@
 //! implicit method would take larger steps.
 
 use super::common::{
-    Tolerance, Trials, after_landing, all_finite, error_norm, initial_step, propose_step,
+    PiControl, Tolerance, Trials, after_landing, all_finite, error_norm, initial_step, propose_step,
 };
 use super::tableau::{DOPRI5, DOPRI5_DENSE_D};
 use super::{OdeError, OdeSystem, Options, Solver, Stats, Stepper};
 
-const SAFETY: f64 = 0.9;
-const BETA: f64 = 0.04;
-const ALPHA: f64 = 0.2 - 0.75 * BETA;
-const FAC_MIN: f64 = 0.2;
+/// Largest growth of the step after an accepted one.
 const FAC_MAX: f64 = 10.0;
 /// Hairer's stiffness test: h rho above this is on the stability boundary ...
 const STIFF_H_RHO: f64 = 3.25;
@@ -41,8 +38,7 @@ pub struct Dopri5 {
     h: f64,
     /// Size of the last accepted step.
     h_last: f64,
-    /// Previous accepted error norm (the "I" part of the PI controller).
-    err_prev: f64,
+    control: PiControl,
     y: Vec<f64>,
     y_prev: Vec<f64>,
     y_new: Vec<f64>,
@@ -68,7 +64,7 @@ impl Dopri5 {
             t_prev: 0.0,
             h: 0.0,
             h_last: 0.0,
-            err_prev: 1e-4,
+            control: PiControl::new(DOPRI5.order_hat, FAC_MAX),
             y: v(),
             y_prev: v(),
             y_new: v(),
@@ -216,7 +212,7 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Dopri5 {
         self.t = t0;
         self.t_prev = t0;
         self.h_last = 0.0;
-        self.err_prev = 1e-4;
+        self.control.reset();
         self.y.copy_from_slice(y0);
         self.y_prev.copy_from_slice(y0);
         // Dense output before the first step is the constant y0.
@@ -268,19 +264,12 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Dopri5 {
             }
             if err > 1.0 {
                 trials.rejected(&mut self.stats);
-                let fac = (SAFETY * err.powf(-ALPHA)).clamp(FAC_MIN, 1.0);
-                self.h = h * fac;
+                self.h = self.control.rejected(h, err);
                 continue;
             }
 
             // Accepted: PI controller for the next step.
-            let err_c = err.max(1e-10);
-            let fac = trials.accept_factor(
-                SAFETY * err_c.powf(-ALPHA) * self.err_prev.powf(BETA),
-                FAC_MIN,
-                FAC_MAX,
-            );
-            self.err_prev = err.max(1e-4);
+            let fac = self.control.accepted(err, &trials);
             self.h = after_landing(
                 (h * fac).min(self.opts.h_max),
                 h_prop,

@@ -25,19 +25,15 @@
 //!   stage): six right-hand sides a step, as dopri5.
 
 use super::common::{
-    StartBuffers, Tolerance, Trials, after_landing, all_finite, error_norm, hermite_stepper,
-    propose_step, start,
+    PiControl, StartBuffers, Tolerance, Trials, after_landing, all_finite, error_norm,
+    hermite_stepper, propose_step, start,
 };
 use super::lu::{lu_factor, lu_solve};
 use super::tableau::{ARK436_E, ARK436_GAMMA, ARK436_I};
 use super::{OdeError, OdeSystem, Options, Solver, Stats};
 
 const STAGES: usize = 6;
-const SAFETY: f64 = 0.9;
-const BETA: f64 = 0.04;
-/// 1 / (embedded order + 1), less the PI share.
-const ALPHA: f64 = 0.25 - 0.75 * BETA;
-const FAC_MIN: f64 = 0.2;
+/// Largest growth of the step after an accepted one.
 const FAC_MAX: f64 = 5.0;
 /// A proposed growth below this keeps the factored step size.
 const KEEP_GROWTH: f64 = 1.2;
@@ -179,7 +175,7 @@ pub struct Imex {
     t: f64,
     t_prev: f64,
     h: f64,
-    err_prev: f64,
+    control: PiControl,
     y: Vec<f64>,
     y_prev: Vec<f64>,
     y_new: Vec<f64>,
@@ -207,7 +203,7 @@ impl Imex {
             t: 0.0,
             t_prev: 0.0,
             h: 0.0,
-            err_prev: 1e-4,
+            control: PiControl::new(ARK436_E.order_hat, FAC_MAX),
             y: v(),
             y_prev: v(),
             y_new: v(),
@@ -280,8 +276,7 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Imex {
         }
         self.t = t0;
         self.t_prev = t0;
-        self.err_prev = 1e-4;
-        self.lin.h = 0.0;
+        self.control.reset();
         self.h = start(
             sys,
             t0,
@@ -328,15 +323,10 @@ impl<S: OdeSystem + ?Sized> Solver<S> for Imex {
             }
             if err > 1.0 {
                 trials.rejected(&mut self.stats);
-                self.h = h * (SAFETY * err.powf(-ALPHA)).clamp(FAC_MIN, 1.0);
+                self.h = self.control.rejected(h, err);
                 continue;
             }
-            let fac = trials.accept_factor(
-                SAFETY * err.max(1e-10).powf(-ALPHA) * self.err_prev.powf(BETA),
-                FAC_MIN,
-                FAC_MAX,
-            );
-            self.err_prev = err.max(1e-4);
+            let fac = self.control.accepted(err, &trials);
             self.h = after_landing(
                 (h * fac).min(self.opts.h_max),
                 h_prop,

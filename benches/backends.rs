@@ -6,7 +6,7 @@
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 use std::io;
-use washdyn::simulation::integrator_options;
+use washdyn::spec::RunSpec;
 use washdyn_runtime::equations::{Equations, JacobianWork};
 use washdyn_runtime::ode::{AnySolver, Dopri5, Method, OdeSystem, Options, Solver, Stepper};
 use washdyn_runtime::output::SampleSink;
@@ -130,7 +130,7 @@ fn run_up<S: Mechanical>(sys: S) -> u64 {
     let mut sys = FirstOrder::new(sys);
     let n = 2 * sys.layout().n();
     // `washdyn run`'s options for dopri5 at its default tolerance (rtol 1e-6, atol 1e-9).
-    let opts = integrator_options(Method::Dopri5, 1e-6, None, None);
+    let opts = RunSpec::default().options(Method::Dopri5, 1e-6);
     let mut solver = Dopri5::new(n, opts);
     let ro = RunOptions {
         t_end: sys.sys.speed().end(),

@@ -12,7 +12,8 @@ use std::hint::black_box;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use washdyn::results::{Format, SensorRecorder};
-use washdyn::simulation::{Backend, Settings, Simulation};
+use washdyn::simulation::{Backend, Simulation};
+use washdyn::spec::RunSpec;
 use washdyn::study::dataset::{self, Row, SUMMARY, TIMING, VARIANTS};
 use washdyn::study::{self, Study, slurm};
 use washdyn_runtime::output::SampleSink;
@@ -80,12 +81,13 @@ fn setup(c: &mut Criterion) {
     g.bench_function("backend_for", |b| {
         b.iter(|| study::backend_for(black_box(&s), black_box(v)))
     });
-    let settings = Settings {
+    let spec = RunSpec {
         backend: Some(Backend::Generated),
-        ..v.settings(&s)
+        ..s.spec.clone()
     };
+    let ctl = v.control(&s);
     g.bench_function("simulation_new", |b| {
-        b.iter(|| Simulation::new(s.source.variant(model.clone()), &settings).unwrap())
+        b.iter(|| Simulation::new(s.source.variant(model.clone()), &spec, &ctl).unwrap())
     });
     g.finish();
 }
@@ -111,7 +113,12 @@ fn write(c: &mut Criterion) {
     let out = dir.path().join("out");
     let plan = study::plan(&s, &out).unwrap();
     let v = &plan.variants[0];
-    let sim = Simulation::new(s.source.variant(v.model(&s).unwrap()), &v.settings(&s)).unwrap();
+    let sim = Simulation::new(
+        s.source.variant(v.model(&s).unwrap()),
+        &s.spec,
+        &v.control(&s),
+    )
+    .unwrap();
     let kept_dir = dir.path().join("kept");
     std::fs::create_dir(&kept_dir).unwrap();
     let mut kept = SensorRecorder::deferred(&kept_dir, Format::Parquet);

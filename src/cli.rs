@@ -5,10 +5,9 @@ use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use washdyn::commands::Backend;
 use washdyn::results::Format;
-use washdyn_runtime::ode::Method;
-use washdyn_runtime::run::{Guard, Start};
+use washdyn::spec::RunSpec;
+use washdyn_runtime::run::Guard;
 
 /// The exit codes (docs/commands.md), shown by `washdyn --help`.
 const EXIT_CODES: &str = "Exit codes:
@@ -36,75 +35,11 @@ pub struct Cli {
     pub cmd: Cmd,
 }
 
-/// Settings of a simulation, shared by `run` and `sweep`.
-#[derive(clap::Args)]
-pub struct Sim {
-    /// End time, s (default: the end of the speed profile).
-    #[arg(long)]
-    pub t_end: Option<f64>,
-    /// rk4 (fixed step), dopri5 (adaptive, explicit), sdirk4 (L-stable SDIRK), rodas4
-    /// (L-stable Rosenbrock), galpha (generalized-alpha on the second-order equations), imex
-    /// (the modal bodies' own terms implicit, the elements explicit: ARK4(3)6L[2]SA), auto
-    /// (dopri5 while not stiff, rodas4 while stiff, switching both ways). Default: the scene's
-    /// own (`washdyn check` lists them; the reference's `damper_mass`: galpha), else dopri5.
-    #[arg(long)]
-    pub integrator: Option<Method>,
-    /// Relative tolerance of the adaptive integrators (absolute: 1e-3 x this, in m, m/s and
-    /// rad; a modal coordinate in the metres it moves a marker by). 1e-2 or looser warns: no
-    /// error class covers it. Default: the scene's own with its method, else 1e-6.
-    #[arg(long)]
-    pub tol: Option<f64>,
-    /// Fixed step of rk4, s (default 1e-4).
-    #[arg(long)]
-    pub step: Option<f64>,
-    /// galpha's spectral radius at infinity, in [0, 1] (default 0.8): 1 keeps the
-    /// unresolved high modes undamped, 0 removes them in one step.
-    #[arg(long)]
-    pub rho_inf: Option<f64>,
-    /// Step budget; the run stops with an error (keeping its output) when it is spent.
-    #[arg(long)]
-    pub max_steps: Option<u64>,
-    /// A scene of the model (default: its first scene).
-    #[arg(long)]
-    pub scene: Option<String>,
-    /// Sampling rate of the sensor file, Hz.
-    #[arg(long, default_value_t = 2000.0)]
-    pub sample_rate: f64,
-    /// Format of the result files: parquet (columnar, compact) or csv.
-    #[arg(long, default_value = "parquet")]
-    pub format: Format,
-    /// How the run starts: `static` (equilibrium under every load at t = 0, a rotating
-    /// unbalance's centrifugal force included as if it stood still), `mean` (at rest
-    /// under gravity and the mean loads at the start speed) or `periodic` (on the
-    /// periodic steady state by shooting; constant speed only).
-    #[arg(long, default_value = "static")]
-    pub start: Start,
-    /// Keep running when the tub motion exceeds 5 x the small-motion bounds (30 mm, 0.05 rad).
-    #[arg(long)]
-    pub no_validity_stop: bool,
-    /// Write sensor output beyond the 2 GB limit.
-    #[arg(long)]
-    pub allow_large_output: bool,
-    /// The progress guard: a run whose recent rate projects the rest of it beyond this many
-    /// seconds of wall time stops (keeping its output). Raise it for a run meant to take hours.
-    /// `inf` never stops.
-    #[arg(long, default_value_t = Guard::default().max_projected_s)]
-    pub max_projected_wall: f64,
-}
-
-impl Sim {
-    /// The guard of `run` and `sweep`: the validity stop unless `--no-validity-stop`, and Ctrl-C.
-    pub fn guard(&self) -> Guard {
-        Guard {
-            stop_factor: if self.no_validity_stop {
-                None
-            } else {
-                Guard::default().stop_factor
-            },
-            interrupt: Some(interrupt_flag()),
-            max_projected_s: self.max_projected_wall,
-            ..Guard::default()
-        }
+/// The guard of `run` and `sweep` beyond the specification's: Ctrl-C.
+pub fn guard() -> Guard {
+    Guard {
+        interrupt: Some(interrupt_flag()),
+        ..Guard::default()
     }
 }
 
@@ -124,21 +59,8 @@ pub fn interrupt_flag() -> Arc<AtomicBool> {
 pub enum Cmd {
     /// Simulate a run-up: writes DIR/sensors.parquet and DIR/summary.json.
     Run {
-        /// A built-in model (`reference`, `compact`) or a model file (.toml).
-        model: String,
         #[command(flatten)]
-        sim: Sim,
-        /// Output directory (default: out/<model name>).
-        #[arg(long)]
-        out: Option<PathBuf>,
-        /// Also write the energy balance by category (DIR/energy.parquet and energy.png): the
-        /// drive's work, gravity, each body's modal strain and damping, each element's stored
-        /// and dissipated energy, and the kinetic energy, every 10 ms.
-        #[arg(long)]
-        energy: bool,
-        /// generated (default for built-in models) or interpreted (default for model files).
-        #[arg(long)]
-        backend: Option<Backend>,
+        spec: RunSpec,
         /// Skip the analysis: order plots, cascades, speed plots, spectra and order tracks
         /// (DIR/analysis/).
         #[arg(long)]
@@ -149,10 +71,6 @@ pub enum Cmd {
         /// Also write cascades (time spectra over speed) and the spectra table.
         #[arg(long)]
         cascades: bool,
-        /// Also write the state at every sample (drum angle, q) to DIR/states.parquet, for
-        /// `washdyn fields`.
-        #[arg(long)]
-        states: bool,
     },
     /// Displacement fields on the FE meshes from a run's states (`run --states`), as VTK grids
     /// with a .pvd collection per body (ParaView).
@@ -300,8 +218,8 @@ pub enum Cmd {
     /// interpreter and `run`'s simulation options: one folder each and a comparison table
     /// DIR/sweep.csv.
     Sweep {
-        /// A built-in model or a model file.
-        model: String,
+        #[command(flatten)]
+        spec: RunSpec,
         /// Unbalance positions: front, middle, rear (comma-separated).
         #[arg(long, value_delimiter = ',')]
         positions: Vec<String>,
@@ -311,11 +229,6 @@ pub enum Cmd {
         /// Speed profile CSV files (time_s, rpm), comma-separated.
         #[arg(long, value_delimiter = ',')]
         profiles: Vec<PathBuf>,
-        #[command(flatten)]
-        sim: Sim,
-        /// Output directory (default: out/<model>-sweep).
-        #[arg(long)]
-        out: Option<PathBuf>,
         /// Parallel runs (default: all cores).
         #[arg(long)]
         jobs: Option<usize>,

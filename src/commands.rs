@@ -1,49 +1,18 @@
 //! The CLI's commands as library functions, so tests drive them without a subprocess.
 
 use crate::error::Error;
-use crate::results::{Format, SensorRecorder, StateRecorder};
-pub use crate::simulation::{Backend, integrator_options, resolve_model, solver_for};
-use crate::simulation::{Settings, Simulation, Source};
+use crate::results::{SensorRecorder, StateRecorder};
+pub use crate::simulation::{RunControl, resolve_model};
+use crate::simulation::{Simulation, Source};
+use crate::spec::Field;
+pub use crate::spec::{Backend, RunSpec};
 use std::fs;
 use std::path::{Path, PathBuf};
 use washdyn_runtime::equations::Equations;
 use washdyn_runtime::ir::modal::ModalData;
 use washdyn_runtime::ir::{DRUM, MOTOR, Model};
-use washdyn_runtime::ode::Method;
-use washdyn_runtime::run::{Guard, Progress, Start, Summary};
+use washdyn_runtime::run::{Guard, Progress, Summary};
 use washdyn_runtime::system::Interpreter;
-
-/// Settings of `washdyn run`.
-#[derive(Clone, Debug)]
-pub struct RunArgs {
-    pub model: String,
-    pub t_end: Option<f64>,
-    pub out: Option<PathBuf>,
-    /// `None`: the scene's default (`Model::scene_solver`), else dopri5.
-    pub integrator: Option<Method>,
-    /// `None`: the scene's default tolerance when the method is the scene's, else 1e-6.
-    pub tol: Option<f64>,
-    /// Fixed step for rk4, s.
-    pub step: Option<f64>,
-    /// Generalized-alpha's spectral radius at infinity (galpha only; default
-    /// `ode::generalized_alpha::DEFAULT_RHO_INF`).
-    pub rho_inf: Option<f64>,
-    pub backend: Option<Backend>,
-    pub scene: Option<String>,
-    pub sample_rate: f64,
-    /// Step budget (accepted and rejected); `None`: the integrators' default.
-    pub max_steps: Option<u64>,
-    /// Format of the sensor file.
-    pub format: Format,
-    /// Keep the samples in memory for the analysis.
-    pub keep_samples: bool,
-    /// Write the states (`states.parquet`) for field recovery.
-    pub states: bool,
-    /// Keep the energy balance by category (`energy.parquet`, summary's `energy_closure`).
-    pub energy: bool,
-    /// How the run starts: static equilibrium (default), or at rest under the mean loads.
-    pub start: Start,
-}
 
 /// Outcome of a run: where the files are, and the summary.
 pub struct RunOutcome {
@@ -82,76 +51,41 @@ pub fn write_summary(dir: &Path, summary: &Summary) -> Result<(), Error> {
     fs::write(&path, json + "\n").map_err(|e| Error::io("write", path, e))
 }
 
-/// What `run` watches and allows beyond [`RunArgs`].
-#[derive(Clone, Debug, Default)]
-pub struct RunControl {
-    /// Validity bounds, interrupt flag, progress budget.
-    pub guard: Guard,
-    pub allow_large_output: bool,
-    /// Band of the analysis that follows the run, Hz (the sample rate must resolve it).
-    pub analysis_band_hz: Option<f64>,
-}
-
 /// [`run_command_with`] with the default [`RunControl`].
 pub fn run_command(
-    args: &RunArgs,
+    spec: &RunSpec,
     progress: &mut dyn FnMut(Progress),
 ) -> Result<RunOutcome, Error> {
-    run_command_with(args, &RunControl::default(), progress)
+    run_command_with(spec, &RunControl::default(), progress)
 }
 
-impl RunArgs {
-    /// The simulation settings these arguments and `ctl` give for `model` (whose scene may
-    /// name the method and tolerance).
-    pub fn settings(&self, ctl: &RunControl, model: &washdyn_runtime::ir::Model) -> Settings {
-        let (method, tol) = solver_for(model, self.scene.as_deref(), self.integrator, self.tol);
-        Settings {
-            scene: self.scene.clone(),
-            backend: self.backend,
-            method,
-            tol,
-            step: self.step,
-            rho_inf: self.rho_inf,
-            max_steps: self.max_steps,
-            t_start: 0.0,
-            t_end: self.t_end,
-            sample_rate: self.sample_rate,
-            start: self.start,
-            guard: ctl.guard.clone(),
-            allow_large_output: ctl.allow_large_output,
-            analysis_band_hz: ctl.analysis_band_hz,
-            variant: None,
-        }
-    }
-}
-
-/// The simulation `washdyn run` sets up for `args` (every setting checked; nothing written).
-pub fn run_simulation(args: &RunArgs, ctl: &RunControl) -> Result<Simulation, Error> {
-    let source = Source::load(&args.model)?;
-    let settings = args.settings(ctl, &source.model);
-    Simulation::new(source, &settings)
+/// The simulation `washdyn run` sets up for `spec` (every setting checked; nothing written).
+pub fn run_simulation(spec: &RunSpec, ctl: &RunControl) -> Result<Simulation, Error> {
+    Simulation::new(Source::load(&spec.model)?, spec, ctl)
 }
 
 /// `washdyn run`: validate every setting (nothing is written before), integrate, stream
 /// `sensors.parquet` (or `.csv`), write `summary.json`. A failed integration still writes both
-/// and reports the error with its time.
+/// and reports the error with its time. The samples stay in memory for the analysis when
+/// `ctl` asks for one.
 pub fn run_command_with(
-    args: &RunArgs,
+    spec: &RunSpec,
     ctl: &RunControl,
     progress: &mut dyn FnMut(Progress),
 ) -> Result<RunOutcome, Error> {
-    let sim = run_simulation(args, ctl)?;
-    let out_dir = args
+    let sim = run_simulation(spec, ctl)?;
+    let out_dir = spec
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from("out").join(&sim.model().name));
     fs::create_dir_all(&out_dir).map_err(|e| Error::io("create", &out_dir, e))?;
     let motor_ratio = motor_ratio(sim.model());
-    let mut sink = SensorRecorder::new(&out_dir, args.format, args.keep_samples);
-    sink.states = args.states.then(|| StateRecorder::new(&out_dir));
-    sink.energy = args
+    let keep_samples = ctl.analysis_band_hz.is_some();
+    let mut sink = SensorRecorder::new(&out_dir, spec.format, keep_samples);
+    sink.states = spec.states.then(|| StateRecorder::new(&out_dir));
+    sink.energy = spec
         .energy
-        .then(|| crate::results::EnergyRecorder::new(&out_dir, args.format));
+        .then(|| crate::results::EnergyRecorder::new(&out_dir, spec.format));
     let (summary, error) = sim.integrate(&mut sink, progress);
     let finished = sink.finish();
     write_summary(&out_dir, &summary)?;
@@ -161,9 +95,7 @@ pub fn run_command_with(
         let opts = crate::analysis::AnalysisOptions::default();
         crate::analysis::plot::energy_plot(&t, &lines, &opts, &out_dir.join("energy"))?;
     }
-    let samples = args
-        .keep_samples
-        .then(|| (sink.names.clone(), std::mem::take(&mut sink.memory)));
+    let samples = keep_samples.then(|| (sink.names.clone(), std::mem::take(&mut sink.memory)));
     Ok(RunOutcome {
         out_dir,
         sensors: sink.path().to_path_buf(),
@@ -188,14 +120,18 @@ pub fn check_model(model: &Model) -> Result<String, Error> {
     for name in model.scene_names() {
         let scene = model
             .scene(Some(&name))
-            .map_err(|m| Error::setting("--scene", m))?;
+            .map_err(|m| Error::setting(Field::Scene, m))?;
         let mut sys = Interpreter::new(model, &scene);
         match washdyn_runtime::statics::static_equilibrium(&mut sys, 0.0) {
             Ok(q) => {
                 let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
                 let (u, a) = Equations::new(model, &scene).bodies.rigid_motion(&q);
                 let (u, a) = (norm(u), norm(a));
-                let (method, tol) = solver_for(model, Some(&name), None, None);
+                let spec = RunSpec {
+                    scene: Some(name.clone()),
+                    ..RunSpec::default()
+                };
+                let (method, tol) = spec.solver(model);
                 let msg = format!(
                     "scene `{name}` (default: {method} at {tol:e}): static rest position at \
                      t = 0: tub translation {:.2} mm, rotation {a:.2e} rad",

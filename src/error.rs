@@ -2,25 +2,13 @@
 //! or failed, with the option, file, field or time it concerns. `washdyn`'s exit code is a
 //! function of the variant (`src/main.rs`, `exit_code`; docs/commands.md).
 
+pub use crate::spec::Refusal;
+use crate::spec::{Field, Subject};
 use std::fmt;
 use std::path::PathBuf;
 use washdyn_runtime::ir::check::CheckError;
 use washdyn_runtime::ir::toml_file::ModelFileError;
 use washdyn_runtime::run::RunError;
-
-/// One refused setting: the option (as the command line spells it, `--tol`) and the message,
-/// which names its range or why.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Refusal {
-    pub option: &'static str,
-    pub message: String,
-}
-
-impl fmt::Display for Refusal {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.message)
-    }
-}
 
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
@@ -94,18 +82,24 @@ fn join<T: fmt::Display>(v: &[T]) -> String {
 }
 
 impl Error {
-    /// One refused setting.
-    pub fn setting(option: &'static str, message: impl Into<String>) -> Error {
-        Error::Settings(vec![Refusal {
-            option,
-            message: message.into(),
-        }])
+    /// One refused setting whose message names no other field.
+    pub fn setting(subject: impl Into<Subject>, message: impl Into<String>) -> Error {
+        Error::Settings(vec![Refusal::plain(subject, message)])
     }
 
-    /// The options a [`Error::Settings`] refuses (empty for other errors).
+    /// The options a [`Error::Settings`] refuses, as the command line spells them (empty for
+    /// other errors).
     pub fn options(&self) -> Vec<&'static str> {
         match self {
-            Error::Settings(r) => r.iter().map(|r| r.option).collect(),
+            Error::Settings(r) => r.iter().map(|r| r.subject.option()).collect(),
+            _ => Vec::new(),
+        }
+    }
+
+    /// The specification's fields a [`Error::Settings`] refuses.
+    pub fn fields(&self) -> Vec<Field> {
+        match self {
+            Error::Settings(r) => r.iter().filter_map(Refusal::field).collect(),
             _ => Vec::new(),
         }
     }

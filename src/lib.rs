@@ -11,9 +11,9 @@ pub mod fields;
 pub mod full_mesh;
 pub mod modes;
 pub mod simulation;
+pub mod spec;
 pub mod study;
 pub mod sweep;
-pub mod validate;
 pub mod vtk;
 
 pub use error::Error;

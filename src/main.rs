@@ -5,15 +5,15 @@ mod cli;
 mod study_cli;
 
 use clap::Parser;
-use cli::{Cli, Cmd, FeCmd, Sim};
+use cli::{Cli, Cmd, FeCmd};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use washdyn::Error;
 use washdyn::analysis::{AnalysisError, AnalysisOptions, analyse_file};
-use washdyn::commands::{RunArgs, RunControl, check_model, resolve_model, run_command_with};
-use washdyn::simulation::Settings;
+use washdyn::commands::{RunControl, check_model, resolve_model, run_command_with};
+use washdyn::spec::{Field, RunSpec};
 use washdyn::study::StudyError;
 use washdyn::study::slurm::SlurmError;
 use washdyn_runtime::run::RunError;
@@ -127,59 +127,31 @@ fn text<T>(command: &'static str, r: Result<T, String>) -> Result<T, Error> {
 fn command(cmd: Cmd) -> Result<ExitCode, Failure> {
     match cmd {
         Cmd::Run {
-            model,
-            sim,
-            out,
-            energy,
-            backend,
+            spec,
             no_plots,
             svg,
             cascades,
-            states,
         } => run(RunCli {
-            model,
-            out,
-            energy,
-            backend,
+            spec,
             no_plots,
             svg,
             cascades,
-            states,
-            sim,
         }),
         Cmd::Sweep {
-            model,
+            spec,
             positions,
             masses,
             profiles,
-            sim,
-            out,
             jobs,
         } => {
-            let base = washdyn::simulation::Source::load(&model)?;
-            let scene = sim.scene.as_deref();
-            let (method, tol) =
-                washdyn::commands::solver_for(&base.model, scene, sim.integrator, sim.tol);
-            let settings = Settings {
-                scene: sim.scene.clone(),
-                method,
-                tol,
-                step: sim.step,
-                rho_inf: sim.rho_inf,
-                max_steps: sim.max_steps,
-                t_end: sim.t_end,
-                sample_rate: sim.sample_rate,
-                start: sim.start,
-                guard: sim.guard(),
-                allow_large_output: sim.allow_large_output,
-                ..Settings::default()
-            };
+            let base = washdyn::simulation::Source::load(&spec.model)?;
+            let (method, tol) = spec.solver(&base.model);
             let cfg = washdyn::sweep::SweepRun {
-                out: out.unwrap_or_else(|| {
-                    PathBuf::from("out").join(format!("{}-sweep", base.model.name))
-                }),
-                settings,
-                format: sim.format,
+                spec,
+                control: washdyn::simulation::RunControl {
+                    guard: cli::guard(),
+                    ..Default::default()
+                },
                 jobs: jobs
                     .unwrap_or_else(|| std::thread::available_parallelism().map_or(2, |n| n.get())),
             };
@@ -227,7 +199,7 @@ fn command(cmd: Cmd) -> Result<ExitCode, Failure> {
                 "{} variants ({} failed); table: {}/sweep.csv",
                 res.len(),
                 failed,
-                cfg.out.display()
+                cfg.out(&base.model).display()
             );
             Ok(if failed == 0 {
                 ExitCode::SUCCESS
@@ -363,13 +335,13 @@ fn command(cmd: Cmd) -> Result<ExitCode, Failure> {
             quick,
         } => {
             if let Some(t) = t_end
-                && !(t > 0.0 && t <= washdyn::validate::T_END_MAX)
+                && !(t > 0.0 && t <= washdyn::spec::T_END_MAX)
             {
                 return Err(Error::setting(
-                    "--t-end",
+                    Field::TEnd,
                     format!(
                         "--t-end must be > 0 and at most {} s, got {t}",
-                        washdyn::validate::T_END_MAX
+                        washdyn::spec::T_END_MAX
                     ),
                 )
                 .into());
@@ -484,40 +456,17 @@ fn command(cmd: Cmd) -> Result<ExitCode, Failure> {
     }
 }
 
-/// `washdyn run`'s own options beside the simulation's.
+/// `washdyn run`'s own options beside the specification: the analysis after the run.
 struct RunCli {
-    model: String,
-    sim: Sim,
-    out: Option<PathBuf>,
-    energy: bool,
-    backend: Option<washdyn::commands::Backend>,
+    spec: RunSpec,
     no_plots: bool,
     svg: bool,
     cascades: bool,
-    states: bool,
 }
 
 /// `washdyn run`: the run, its summary on stdout and warnings on stderr, then the analysis.
 fn run(c: RunCli) -> Result<ExitCode, Failure> {
-    let sim = &c.sim;
-    let args = RunArgs {
-        model: c.model,
-        t_end: sim.t_end,
-        out: c.out,
-        integrator: sim.integrator,
-        tol: sim.tol,
-        step: sim.step,
-        rho_inf: sim.rho_inf,
-        backend: c.backend,
-        scene: sim.scene.clone(),
-        sample_rate: sim.sample_rate,
-        max_steps: sim.max_steps,
-        format: sim.format,
-        keep_samples: !c.no_plots,
-        states: c.states,
-        energy: c.energy,
-        start: sim.start,
-    };
+    let spec = &c.spec;
     let bar = ProgressBar::new(1000);
     bar.set_style(
         ProgressStyle::with_template("{bar:40} t = {msg} [{elapsed_precise}, ETA {eta}]")
@@ -535,11 +484,11 @@ fn run(c: RunCli) -> Result<ExitCode, Failure> {
         });
     };
     let ctl = RunControl {
-        guard: c.sim.guard(),
-        allow_large_output: sim.allow_large_output,
+        guard: cli::guard(),
         analysis_band_hz: (!c.no_plots).then_some(ANALYSIS_BAND_HZ),
+        variant: None,
     };
-    let outcome = run_command_with(&args, &ctl, &mut progress);
+    let outcome = run_command_with(spec, &ctl, &mut progress);
     bar.finish_and_clear();
     let o = outcome?;
     let s = &o.summary;
@@ -570,12 +519,12 @@ fn run(c: RunCli) -> Result<ExitCode, Failure> {
         let dir = o.out_dir.join("analysis");
         let opts = AnalysisOptions {
             motor_ratio: o.motor_ratio.unwrap_or(11.25),
-            format: sim.format,
+            format: spec.format,
             svg: c.svg,
             cascades: c.cascades,
             ..AnalysisOptions::default()
         };
-        match analyse_run(samples, sim.sample_rate, &dir, opts) {
+        match analyse_run(samples, spec.sample_rate, &dir, opts) {
             Ok(r) => {
                 let _ = writeln!(out, "{r}");
                 let _ = writeln!(out, "plots and tables in {}", dir.display());

@@ -1,13 +1,15 @@
-//! One simulation set-up for `run`, `sweep` and `accuracy` (and the tests that run what they
-//! run): the model and where it came from, the scene, the back end, the method and its
-//! [`Options`] (tolerances, rk4's step, rho_inf, step budget), the start, the window, the
-//! [`Guard`] (the caller's bounds and flags, plus rk4's stability check, the force elements'
-//! tub ends and the clearance watch) and the summary's labels. [`Simulation::new`] checks every
-//! setting before anything is written (`validate::check`, the scene, the back end, a periodic
-//! start's constant speed); [`Simulation::integrate`] runs it into a sink and completes the
-//! summary (model files, rho_inf, set-up warnings, the error class).
+//! One simulation set-up for `run`, `sweep`, `study` and `accuracy` (and the tests that run
+//! what they run) from a [`RunSpec`] as it is: the model and where it came from, the scene, the
+//! back end, the method and its [`Options`], the window, the [`Guard`] (the caller's bounds and
+//! flags, plus rk4's stability check, the force elements' tub ends and the clearance watch) and
+//! the summary's labels. [`Simulation::new`] checks every setting before anything is written
+//! (`RunSpec::validate`, the scene, the back end, a periodic start's constant speed);
+//! [`Simulation::integrate`] runs it into a sink and completes the summary (model files,
+//! rho_inf, set-up warnings, the error class).
 
 use crate::error::Error;
+pub use crate::spec::Backend;
+use crate::spec::{Context, Field, RunSpec};
 use std::path::Path;
 use washdyn_runtime::clearance::{Watch, element_tub_ends};
 use washdyn_runtime::equations::Equations;
@@ -19,33 +21,6 @@ use washdyn_runtime::output::SampleSink;
 use washdyn_runtime::run::{Guard, Labels, Progress, RunOptions, Start, Summary, run_guarded};
 use washdyn_runtime::system::{FirstOrder, Interpreter, Mechanical};
 
-/// Which evaluator of the equations runs.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Backend {
-    Interpreted,
-    Generated,
-}
-
-impl Backend {
-    pub fn name(self) -> &'static str {
-        match self {
-            Backend::Interpreted => "interpreted",
-            Backend::Generated => "generated",
-        }
-    }
-}
-
-impl std::str::FromStr for Backend {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s {
-            "interpreted" => Ok(Backend::Interpreted),
-            "generated" => Ok(Backend::Generated),
-            _ => Err(format!("unknown backend `{s}` (interpreted, generated)")),
-        }
-    }
-}
-
 /// A built-in model name or a path to a model file: the model, and whether it is built in.
 pub fn resolve_model(spec: &str) -> Result<(Model, bool), Error> {
     if let Some(m) = washdyn_models::built_in(spec) {
@@ -56,26 +31,6 @@ pub fn resolve_model(spec: &str) -> Result<(Model, bool), Error> {
         return Ok((load_file(p)?, false));
     }
     Err(Error::UnknownModel { spec: spec.into() })
-}
-
-/// The integrator settings the CLI documents: relative tolerance `tol`, absolute 1e-3 x `tol`
-/// (m, rad), RK4's fixed step `step` (default 1e-4 s), an optional step budget.
-pub fn integrator_options(
-    method: Method,
-    tol: f64,
-    step: Option<f64>,
-    max_steps: Option<u64>,
-) -> Options {
-    Options {
-        rtol: tol,
-        atol: tol * 1e-3,
-        h0: match method {
-            Method::Rk4 => step.unwrap_or(1e-4),
-            _ => step.unwrap_or(0.0),
-        },
-        max_steps: max_steps.unwrap_or(Options::default().max_steps),
-        ..Options::default()
-    }
 }
 
 /// A model and where it came from.
@@ -138,80 +93,17 @@ impl Source {
     }
 }
 
-/// What a simulation is asked to do: the CLI's run options. [`Default`] is the CLI's defaults.
-#[derive(Clone, Debug)]
-pub struct Settings {
-    /// `--scene` (default: the model's first scene).
-    pub scene: Option<String>,
-    /// `--backend` (default: generated for a built-in model, else interpreted).
-    pub backend: Option<Backend>,
-    pub method: Method,
-    pub tol: f64,
-    /// rk4's fixed step, s (default 1e-4).
-    pub step: Option<f64>,
-    /// galpha's spectral radius at infinity (default `Options::default().rho_inf`).
-    pub rho_inf: Option<f64>,
-    pub max_steps: Option<u64>,
-    /// Start of the window, s (the CLI: 0; the accuracy study's windows).
-    pub t_start: f64,
-    /// End of the window, s (default: the end of the speed profile).
-    pub t_end: Option<f64>,
-    pub sample_rate: f64,
-    pub start: Start,
-    /// The caller's bounds and flags (stop factor, interrupt, progress budget); the set-up
-    /// adds rk4's fixed step, the force elements' tub ends and the clearance watch.
+/// What a run watches and labels beyond its [`RunSpec`]: facts of the caller, not settings.
+#[derive(Clone, Debug, Default)]
+pub struct RunControl {
+    /// The caller's bounds and flags (stop factor, interrupt, stall window); the
+    /// specification sets the validity stop and the progress budget, the set-up adds rk4's
+    /// fixed step, the force elements' tub ends and the clearance watch.
     pub guard: Guard,
-    pub allow_large_output: bool,
     /// Band of an analysis after the run, Hz (the sample rate must resolve it).
     pub analysis_band_hz: Option<f64>,
-    /// A sweep's variant: the summary's model label becomes `<model>/<variant>`.
+    /// A sweep's or study's variant: the summary's model label becomes `<model>/<variant>`.
     pub variant: Option<String>,
-}
-
-/// The method of a run that names none and whose scene names none.
-pub const DEFAULT_METHOD: Method = Method::Dopri5;
-/// The relative tolerance of a run that names none and whose scene names none for its method.
-pub const DEFAULT_TOL: f64 = 1e-6;
-
-/// The method and relative tolerance of a run: the caller's, else the scene's default
-/// (`Model::scene_solver`: its tolerance only with its own method), else [`DEFAULT_METHOD`] at
-/// [`DEFAULT_TOL`].
-pub fn solver_for(
-    model: &washdyn_runtime::ir::Model,
-    scene: Option<&str>,
-    method: Option<Method>,
-    tol: Option<f64>,
-) -> (Method, f64) {
-    let own = model
-        .scene_solver(scene)
-        .map(|s| (washdyn_runtime::run::method_of(s.method), s.tol));
-    let method = method.or(own.map(|o| o.0)).unwrap_or(DEFAULT_METHOD);
-    let tol = tol
-        .or(own.filter(|o| o.0 == method).map(|o| o.1))
-        .unwrap_or(DEFAULT_TOL);
-    (method, tol)
-}
-
-impl Default for Settings {
-    fn default() -> Self {
-        Settings {
-            scene: None,
-            backend: None,
-            method: DEFAULT_METHOD,
-            tol: DEFAULT_TOL,
-            step: None,
-            rho_inf: None,
-            max_steps: None,
-            t_start: 0.0,
-            t_end: None,
-            sample_rate: 2000.0,
-            start: Start::Static,
-            guard: Guard::default(),
-            allow_large_output: false,
-            analysis_band_hz: None,
-            variant: None,
-        }
-    }
 }
 
 /// A checked simulation, ready to run.
@@ -250,56 +142,53 @@ impl std::fmt::Debug for Simulation {
 impl Simulation {
     /// Checks every setting against the model (nothing is written): the scene by name, then
     /// as [`Simulation::with_scene`].
-    pub fn new(source: Source, s: &Settings) -> Result<Simulation, Error> {
+    pub fn new(source: Source, spec: &RunSpec, ctl: &RunControl) -> Result<Simulation, Error> {
         let scene = source
             .model
-            .scene(s.scene.as_deref())
-            .map_err(|m| Error::setting("--scene", m))?;
-        Simulation::with_scene(source, scene, s)
+            .scene(spec.scene.as_deref())
+            .map_err(|m| Error::setting(Field::Scene, m))?;
+        Simulation::with_scene(source, scene, spec, ctl)
     }
 
     /// With a resolved scene (the accuracy study's changed mode cut-offs): the back end, the
-    /// settings' rules (`validate::check`, every violation at once), a periodic start's
+    /// specification's rules (`RunSpec::validate`, every violation at once), a periodic start's
     /// constant speed; then the options, guard, labels and warnings.
-    pub fn with_scene(source: Source, scene: EffectSet, s: &Settings) -> Result<Simulation, Error> {
-        let backend = s.backend.unwrap_or(if source.built_in.is_some() {
+    pub fn with_scene(
+        source: Source,
+        scene: EffectSet,
+        spec: &RunSpec,
+        ctl: &RunControl,
+    ) -> Result<Simulation, Error> {
+        let backend = spec.backend.unwrap_or(if source.built_in.is_some() {
             Backend::Generated
         } else {
             Backend::Interpreted
         });
         let mech = mechanical(&source, &scene, backend)?;
-        crate::validate::check(&crate::validate::Settings {
-            method: s.method,
-            t_end: s.t_end,
+        let (method, tol) = spec.solver(&source.model);
+        let cx = Context {
+            method,
+            tol,
             profile_end: mech.speed().end(),
-            tol: s.tol,
-            step: s.step,
-            rho_inf: s.rho_inf,
-            sample_rate: s.sample_rate,
-            max_steps: s.max_steps,
             channels: Some(mech.channel_names().len()),
-            analysis_band_hz: s.analysis_band_hz,
-            allow_large_output: s.allow_large_output,
-            max_projected_s: s.guard.max_projected_s,
-        })?;
-        if s.start == Start::Periodic {
-            washdyn_runtime::periodic::period(mech.speed(), s.t_start)
-                .map_err(|m| Error::setting("--start", m))?;
+            analysis_band_hz: ctl.analysis_band_hz,
+        };
+        spec.validate(&cx)?;
+        if spec.start == Start::Periodic {
+            washdyn_runtime::periodic::period(mech.speed(), spec.t_start)
+                .map_err(|m| Error::setting(Field::Start, m))?;
         }
-        let mut options = integrator_options(s.method, s.tol, s.step, s.max_steps);
-        if let Some(r) = s.rho_inf {
-            options.rho_inf = r;
-        }
+        let options = spec.options(method, tol);
         let model = &source.model;
         let eq = Equations::new(model, &scene);
         let guard = Guard {
-            fixed_step: (s.method == Method::Rk4).then_some(options.h0),
+            fixed_step: (method == Method::Rk4).then_some(options.h0),
             elements: element_tub_ends(model, &eq),
             watch: Watch::new(model, &eq),
-            ..s.guard.clone()
+            ..spec.guard(&ctl.guard)
         };
         let labels = Labels {
-            model: match &s.variant {
+            model: match &ctl.variant {
                 Some(v) => format!("{}/{v}", model.name),
                 None => model.name.clone(),
             },
@@ -307,21 +196,21 @@ impl Simulation {
             backend: backend.name().into(),
         };
         let run = RunOptions {
-            t_start: s.t_start,
-            t_end: s.t_end.unwrap_or_else(|| mech.speed().end()),
-            sample_rate: s.sample_rate,
-            start: s.start,
+            t_start: spec.t_start,
+            t_end: spec.end(&cx),
+            sample_rate: spec.sample_rate,
+            start: spec.start,
         };
-        let warnings = crate::accuracy::class::tolerance_warning(s.method, s.tol)
+        let warnings = crate::accuracy::class::tolerance_warning(method, tol)
             .into_iter()
             .collect();
         Ok(Simulation {
             source,
             scene,
             backend,
-            method: s.method,
+            method,
             options,
-            rho_inf: s.rho_inf,
+            rho_inf: spec.rho_inf,
             run,
             guard,
             labels,
@@ -440,7 +329,7 @@ fn mechanical(
             // The generated code is the scene as the model declares it.
             if model.scene(Some(&scene.name)).ok().as_ref() != Some(scene) {
                 return Err(Error::setting(
-                    "--backend",
+                    Field::Backend,
                     format!(
                         "scene `{}` was changed in memory: generated code exists for the \
                          scenes as declared; use --backend interpreted",
@@ -450,7 +339,7 @@ fn mechanical(
             }
             washdyn_models::generated(name, &scene.name).ok_or_else(|| {
                 Error::setting(
-                    "--backend",
+                    Field::Backend,
                     format!("no generated code for scene `{}`", scene.name),
                 )
             })
@@ -460,22 +349,22 @@ fn mechanical(
             match washdyn_models::generated_for(name, &scene.name, model) {
                 Some(Ok(m)) if model.scene(Some(&scene.name)).ok().as_ref() == Some(scene) => Ok(m),
                 Some(Ok(_)) => Err(Error::setting(
-                    "--backend",
+                    Field::Backend,
                     format!(
                         "scene `{}` was changed in memory: generated code exists for the \
                          scenes as declared; use --backend interpreted",
                         scene.name
                     ),
                 )),
-                Some(Err(why)) => Err(Error::setting("--backend", why)),
+                Some(Err(why)) => Err(Error::setting(Field::Backend, why)),
                 None => Err(Error::setting(
-                    "--backend",
+                    Field::Backend,
                     format!("no generated code for scene `{}`", scene.name),
                 )),
             }
         }
         (Backend::Generated, None) if source.files.is_empty() => Err(Error::setting(
-            "--backend",
+            Field::Backend,
             format!(
                 "model `{}` was built or changed in memory: generated code exists only for \
                  models compiled in with machine! as they are (built-in: {}); use --backend \
@@ -485,7 +374,7 @@ fn mechanical(
             ),
         )),
         (Backend::Generated, None) => Err(Error::setting(
-            "--backend",
+            Field::Backend,
             format!(
                 "`{}` is a model file: generated code exists only for models compiled in with \
                  machine! (built-in: {}); use --backend interpreted",

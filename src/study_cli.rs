@@ -27,7 +27,7 @@ pub fn study(cmd: StudyCmd) -> Result<ExitCode, Failure> {
             slurm,
         } => {
             let mut s = Study::load(&file)?;
-            s.settings.guard.interrupt = Some(interrupt_flag());
+            s.control.guard.interrupt = Some(interrupt_flag());
             let out = out.unwrap_or_else(|| s.default_out());
             if slurm.slurm {
                 return submit(&s, &out, &slurm);
@@ -104,7 +104,8 @@ fn report(
     out: &Path,
 ) -> Result<ExitCode, Failure> {
     // The set-up's own warning (a loose tolerance) is every variant's: said once.
-    let common = washdyn::accuracy::class::tolerance_warning(s.settings.method, s.settings.tol);
+    let (method, tol) = s.spec.solver(&s.source.model);
+    let common = washdyn::accuracy::class::tolerance_warning(method, tol);
     if let Some(w) = &common {
         eprintln!("warning: {w}");
     }
@@ -240,7 +241,7 @@ fn task(
     };
     study::check_jobs(jobs)?;
     let (mut s, plan) = slurm::task_plan(dir, &job, chunk, chunks)?;
-    s.settings.guard.interrupt = Some(interrupt_flag());
+    s.control.guard.interrupt = Some(interrupt_flag());
     let ids: Vec<&str> = plan.todo.iter().map(|v| v.id.as_str()).collect();
     println!(
         "slurm job {job} task {chunk} of {chunks}: variants {} on {jobs} threads",

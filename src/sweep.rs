@@ -6,8 +6,9 @@
 use crate::analysis::{AnalysisOptions, Channel, RunUp, Signals};
 use crate::commands::{motor_ratio, write_summary};
 use crate::error::Error;
-use crate::results::{Format, SensorRecorder};
-use crate::simulation::{Backend, Settings, Simulation, Source, integrator_options};
+use crate::results::{EnergyRecorder, SensorRecorder, StateRecorder};
+use crate::simulation::{Backend, RunControl, Simulation, Source};
+use crate::spec::RunSpec;
 use std::collections::HashSet;
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -175,14 +176,24 @@ pub struct VariantResult {
     pub peaks: Vec<(String, f64, f64)>,
 }
 
-/// Settings shared by every variant: a simulation's settings (`run`'s, without the back end:
-/// the interpreter runs every variant) and the sweep's own.
+/// What every variant runs with: `run`'s specification (its back end by default the
+/// interpreter, as for any variant; its output directory the sweep's), the caller's control
+/// and the sweep's parallel runs.
 #[derive(Clone, Debug)]
 pub struct SweepRun {
-    pub out: PathBuf,
-    pub settings: Settings,
+    pub spec: RunSpec,
+    pub control: RunControl,
     pub jobs: usize,
-    pub format: Format,
+}
+
+impl SweepRun {
+    /// The sweep's directory: the specification's, else `out/<model>-sweep`.
+    pub fn out(&self, base: &Model) -> PathBuf {
+        self.spec
+            .out
+            .clone()
+            .unwrap_or_else(|| PathBuf::from("out").join(format!("{}-sweep", base.name)))
+    }
 }
 
 /// Most parallel runs of a sweep: each is a thread with its own model, state and output
@@ -199,19 +210,18 @@ pub fn check_settings(base: &Source, cfg: &SweepRun) -> Result<(), Error> {
             format!("--jobs must be in [1, {MAX_JOBS}], got {}", cfg.jobs),
         ));
     }
-    Simulation::new(base.variant(base.model.clone()), &cfg.settings).map(|_| ())
+    Simulation::new(base.variant(base.model.clone()), &cfg.spec, &cfg.control).map(|_| ())
 }
 
-/// The simulation of variant `v` of `base`: the settings of `run` with the interpreter, the
-/// summary's model labelled `<model>/<variant>`.
+/// The simulation of variant `v` of `base`: `run`'s specification, the summary's model
+/// labelled `<model>/<variant>`.
 pub fn simulation(base: &Source, v: &Variant, cfg: &SweepRun) -> Result<Simulation, Error> {
     let model = v.checked()?;
-    let settings = Settings {
-        backend: Some(Backend::Interpreted),
+    let ctl = RunControl {
         variant: Some(v.name.clone()),
-        ..cfg.settings.clone()
+        ..cfg.control.clone()
     };
-    Simulation::new(base.variant(model.clone()), &settings)
+    Simulation::new(base.variant(model.clone()), &cfg.spec, &ctl)
 }
 
 /// Run every variant of `base` on `jobs` threads; `done` is called as each finishes. Writes
@@ -223,7 +233,8 @@ pub fn run_sweep(
     done: &(dyn Fn(&VariantResult) + Sync),
 ) -> Result<Vec<VariantResult>, Error> {
     use rayon::prelude::*;
-    fs::create_dir_all(&cfg.out).map_err(|e| Error::io("create", &cfg.out, e))?;
+    let out = cfg.out(&base.model);
+    fs::create_dir_all(&out).map_err(|e| Error::io("create", &out, e))?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(cfg.jobs.max(1))
         .build()
@@ -231,33 +242,30 @@ pub fn run_sweep(
     let results: Vec<VariantResult> = pool.install(|| {
         vars.par_iter()
             .map(|v| {
-                let r = run_one(base, v, cfg).unwrap_or_else(|e| failed(base, v, cfg, e));
+                let r = run_one(base, v, cfg, &out).unwrap_or_else(|e| failed(base, v, cfg, e));
                 done(&r);
                 r
             })
             .collect()
     });
-    write_table(&cfg.out.join("sweep.csv"), &results)?;
+    write_table(&out.join("sweep.csv"), &results)?;
     Ok(results)
 }
 
 /// The row of a variant that could not run.
 fn failed(base: &Source, v: &Variant, cfg: &SweepRun, error: Error) -> VariantResult {
     let model = v.model.as_ref().map_or(&base.model.name, |m| &m.name);
-    let s = &cfg.settings;
+    let s = &cfg.spec;
     let labels = Labels {
         model: format!("{model}/{}", v.name),
         scene: s.scene.clone().unwrap_or_default(),
-        backend: Backend::Interpreted.name().into(),
+        backend: s.backend.unwrap_or(Backend::Interpreted).name().into(),
     };
-    let mut options = integrator_options(s.method, s.tol, s.step, s.max_steps);
-    if let Some(r) = s.rho_inf {
-        options.rho_inf = r;
-    }
+    let (method, tol) = s.solver(&base.model);
     let mut summary = crate::simulation::unstarted_summary(
         &labels,
-        s.method,
-        &options,
+        method,
+        &s.options(method, tol),
         (s.t_start, s.t_end.unwrap_or(f64::NAN)),
     );
     summary.model_files = base.files.clone();
@@ -271,13 +279,18 @@ fn failed(base: &Source, v: &Variant, cfg: &SweepRun, error: Error) -> VariantRe
     }
 }
 
-fn run_one(base: &Source, v: &Variant, cfg: &SweepRun) -> Result<VariantResult, Error> {
+fn run_one(base: &Source, v: &Variant, cfg: &SweepRun, out: &Path) -> Result<VariantResult, Error> {
     let sim = simulation(base, v, cfg)?;
-    let dir = cfg.out.join(&v.name);
+    let dir = out.join(&v.name);
     fs::create_dir_all(&dir).map_err(|e| Error::io("create", &dir, e))?;
     let motor = motor_ratio(sim.model());
     let rate = sim.run.sample_rate;
-    let mut sink = SensorRecorder::new(&dir, cfg.format, true);
+    let mut sink = SensorRecorder::new(&dir, cfg.spec.format, true);
+    sink.states = cfg.spec.states.then(|| StateRecorder::new(&dir));
+    sink.energy = cfg
+        .spec
+        .energy
+        .then(|| EnergyRecorder::new(&dir, cfg.spec.format));
     let (summary, error) = sim.integrate(&mut sink, &mut |_| {});
     let finished = sink.finish();
     write_summary(&dir, &summary)?;

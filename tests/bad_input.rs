@@ -1,7 +1,7 @@
 //! Issue 7's table of bad inputs, row by row: each is refused before any file is created
 //! (`Error::Settings` naming the option, `Error::Model` naming the file), or stops with a typed
 //! error carrying the time (`Error::Integration`). The limits asserted are the ones
-//! `washdyn::validate`, the model checker and `run::Guard` document; the reference model is the
+//! `RunSpec::validate`, the model checker and `run::Guard` document; the reference model is the
 //! repository's own file.
 
 use std::path::PathBuf;
@@ -9,8 +9,9 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use washdyn::Error;
 use washdyn::commands::{
-    Backend, RunArgs, RunControl, check_model, resolve_model, run_command_with,
+    Backend, RunControl, RunSpec, check_model, resolve_model, run_command_with,
 };
+use washdyn::spec::Field;
 use washdyn_runtime::ode::Method;
 use washdyn_runtime::run::{Guard, RunError};
 
@@ -18,12 +19,12 @@ fn out_dir(tag: &str) -> PathBuf {
     std::env::temp_dir().join(format!("washdyn-bad-{tag}-{}", std::process::id()))
 }
 
-fn args(tag: &str) -> RunArgs {
-    RunArgs {
+fn args(tag: &str) -> RunSpec {
+    RunSpec {
         model: "reference".into(),
         t_end: Some(2.0),
         out: Some(out_dir(tag)),
-        integrator: Some(Method::Dopri5),
+        method: Some(Method::Dopri5),
         tol: Some(1e-6),
         step: None,
         rho_inf: None,
@@ -32,26 +33,26 @@ fn args(tag: &str) -> RunArgs {
         sample_rate: 200.0,
         max_steps: None,
         format: washdyn::results::Format::Parquet,
-        keep_samples: false,
         states: false,
         energy: false,
         start: washdyn_runtime::run::Start::Static,
+        ..RunSpec::default()
     }
 }
 
 /// Refused before anything is written: [`Error::Settings`] refusing `option` (every refusal
 /// names it) and the folder does not exist. Returns the refusals' messages.
-fn refused(a: &RunArgs, ctl: &RunControl, option: &str) -> Vec<String> {
+fn refused(a: &RunSpec, ctl: &RunControl, option: &str) -> Vec<String> {
     let dir = a.out.clone().unwrap();
     std::fs::remove_dir_all(&dir).ok();
     let msgs = match run_command_with(a, ctl, &mut |_| {}) {
         Ok(o) => panic!("ran (error {:?}), expected {option} refused", o.error),
         Err(Error::Settings(r)) => {
             assert!(
-                !r.is_empty() && r.iter().all(|r| r.option == option),
+                !r.is_empty() && r.iter().all(|r| r.subject.option() == option),
                 "{r:?}"
             );
-            r.into_iter().map(|r| r.message).collect()
+            r.into_iter().map(|r| r.to_string()).collect()
         }
         Err(e) => panic!("expected {option} refused, got {e:?}"),
     };
@@ -65,8 +66,8 @@ fn rk4_step_out_of_range_or_not_a_number() {
         .into_iter()
         .enumerate()
     {
-        let a = RunArgs {
-            integrator: Some(Method::Rk4),
+        let a = RunSpec {
+            method: Some(Method::Rk4),
             step: Some(h),
             ..args(&format!("step{i}"))
         };
@@ -76,7 +77,7 @@ fn rk4_step_out_of_range_or_not_a_number() {
 
 #[test]
 fn step_with_an_adaptive_integrator() {
-    let a = RunArgs {
+    let a = RunSpec {
         step: Some(1.0),
         ..args("step-dopri5")
     };
@@ -88,14 +89,14 @@ fn step_with_an_adaptive_integrator() {
 #[test]
 fn rho_inf_out_of_range_or_without_galpha() {
     for (i, r) in [1.5, -0.1, f64::NAN, f64::INFINITY].into_iter().enumerate() {
-        let a = RunArgs {
-            integrator: Some(Method::GeneralizedAlpha),
+        let a = RunSpec {
+            method: Some(Method::GeneralizedAlpha),
             rho_inf: Some(r),
             ..args(&format!("rho{i}"))
         };
         refused(&a, &RunControl::default(), "--rho-inf");
     }
-    let a = RunArgs {
+    let a = RunSpec {
         rho_inf: Some(0.5),
         ..args("rho-dopri5")
     };
@@ -108,7 +109,7 @@ fn tolerance_out_of_range() {
         .into_iter()
         .enumerate()
     {
-        let a = RunArgs {
+        let a = RunSpec {
             tol: Some(tol),
             ..args(&format!("tol{i}"))
         };
@@ -122,7 +123,7 @@ fn end_time_out_of_range() {
         .into_iter()
         .enumerate()
     {
-        let a = RunArgs {
+        let a = RunSpec {
             t_end: Some(t),
             ..args(&format!("tend{i}"))
         };
@@ -136,7 +137,7 @@ fn sample_rate_out_of_range_or_below_the_analysis_band() {
         .into_iter()
         .enumerate()
     {
-        let a = RunArgs {
+        let a = RunSpec {
             sample_rate: r,
             ..args(&format!("rate{i}"))
         };
@@ -147,7 +148,7 @@ fn sample_rate_out_of_range_or_below_the_analysis_band() {
         analysis_band_hz: Some(300.0),
         ..RunControl::default()
     };
-    let a = RunArgs {
+    let a = RunSpec {
         sample_rate: 1.0,
         ..args("rate-analysis")
     };
@@ -167,7 +168,7 @@ fn output_beyond_the_size_limit_names_its_size() {
         .count();
     let cols = 2 + 3 * sensors;
     let gb = (3600.0 * 1e5 + 1.0) * cols as f64 * 8.0 / 1e9;
-    let a = RunArgs {
+    let a = RunSpec {
         t_end: Some(3600.0),
         sample_rate: 1e5,
         ..args("size")
@@ -176,33 +177,28 @@ fn output_beyond_the_size_limit_names_its_size() {
     let size = format!("3.600e8 samples x {cols} columns = {gb:.1} GB");
     assert!(m[0].contains(&size), "{m:?} lacks {size}");
     // The flag lifts the limit (the rules alone: the run itself would take hours).
-    let s = washdyn::validate::Settings {
-        method: Method::Dopri5,
-        t_end: Some(3600.0),
-        profile_end: 178.375,
-        tol: 1e-6,
-        step: None,
-        rho_inf: None,
-        sample_rate: 1e5,
-        max_steps: None,
+    let cx = washdyn::spec::Context {
         channels: Some(21),
-        analysis_band_hz: None,
-        allow_large_output: true,
-        max_projected_s: 3600.0,
+        ..washdyn::spec::Context::bare(Method::Dopri5, 1e-6, 178.375)
     };
-    assert!(washdyn::validate::check(&s).is_ok());
-    let e = washdyn::validate::check(&washdyn::validate::Settings {
+    let s = RunSpec {
+        allow_large_output: true,
+        ..a
+    };
+    assert!(s.validate(&cx).is_ok());
+    let e = RunSpec {
         allow_large_output: false,
         ..s
-    })
+    }
+    .validate(&cx)
     .unwrap_err();
-    assert_eq!(e.options(), ["--allow-large-output"], "{e}");
+    assert_eq!(e.fields(), [Field::AllowLargeOutput], "{e}");
 }
 
 #[test]
 fn every_violation_is_listed_at_once() {
-    let a = RunArgs {
-        integrator: Some(Method::Rk4),
+    let a = RunSpec {
+        method: Some(Method::Rk4),
         step: Some(f64::NAN),
         tol: Some(-1.0),
         t_end: Some(0.0),
@@ -220,8 +216,8 @@ fn rk4_step_beyond_the_stability_limit_stops_at_the_start() {
     // 1e-3 s is inside the option's range, but the friction dampers' regularised slope makes
     // the Jacobian's spectral radius about 4e3 1/s, so rk4 is stable only below ~7e-4 s
     // (and 1e-4 s, the default, runs).
-    let a = RunArgs {
-        integrator: Some(Method::Rk4),
+    let a = RunSpec {
+        method: Some(Method::Rk4),
         step: Some(1e-3),
         ..args("unstable")
     };
@@ -239,8 +235,8 @@ fn rk4_step_beyond_the_stability_limit_stops_at_the_start() {
     );
     assert_eq!(o.summary.status, washdyn_runtime::run::RunStatus::Failed);
     assert_eq!(o.summary.steps, 0);
-    let ok = RunArgs {
-        integrator: Some(Method::Rk4),
+    let ok = RunSpec {
+        method: Some(Method::Rk4),
         step: Some(1e-4),
         t_end: Some(0.5),
         ..args("stable")
@@ -285,7 +281,7 @@ fn model_refused(path: &PathBuf, want: &str) {
         panic!("{} must be refused", path.display())
     };
     assert!(at_file(&e), "{e:?} lacks `{want}` at {file}");
-    let a = RunArgs {
+    let a = RunSpec {
         model: file.into(),
         backend: None,
         ..args("model")
@@ -380,7 +376,7 @@ fn large_motion_warns_then_stops_with_its_time() {
     // 5 kg (inside the checker's 5.5 kg limit) drives the tub past 30 mm in the hold phase and
     // past 5 x 0.05 rad at the resonance.
     let p = variant("unb5", "mass = 0.6\n", "mass = 5.0\n");
-    let a = RunArgs {
+    let a = RunSpec {
         model: p.to_str().unwrap().into(),
         backend: None,
         t_end: Some(40.0),
@@ -443,7 +439,7 @@ fn large_motion_warns_then_stops_with_its_time() {
         },
         ..RunControl::default()
     };
-    let b = RunArgs {
+    let b = RunSpec {
         t_end: Some(s.t_reached + 1.0),
         ..a.clone()
     };
@@ -464,7 +460,7 @@ fn interrupt_writes_an_interrupted_summary() {
         },
         ..RunControl::default()
     };
-    let a = RunArgs {
+    let a = RunSpec {
         t_end: Some(170.0),
         ..args("interrupt")
     };
@@ -502,13 +498,13 @@ fn a_run_without_progress_stops() {
     let ctl = RunControl {
         guard: Guard {
             stall_window_s: 0.05,
-            max_projected_s: 1e-3,
             ..Guard::default()
         },
         ..RunControl::default()
     };
-    let a = RunArgs {
+    let a = RunSpec {
         t_end: Some(170.0),
+        max_projected_wall: 1e-3,
         ..args("stall")
     };
     let o = run_command_with(&a, &ctl, &mut |_| {}).unwrap();
@@ -533,14 +529,11 @@ fn a_run_without_progress_stops() {
 #[test]
 fn the_progress_budget_is_refused_unless_positive() {
     for bad in [0.0, -3.0, f64::NAN] {
-        let ctl = RunControl {
-            guard: Guard {
-                max_projected_s: bad,
-                ..Guard::default()
-            },
-            ..RunControl::default()
+        let a = RunSpec {
+            max_projected_wall: bad,
+            ..args("budget")
         };
-        let m = refused(&args("budget"), &ctl, "--max-projected-wall");
+        let m = refused(&a, &RunControl::default(), "--max-projected-wall");
         let want = format!("--max-projected-wall must be > 0 s (inf: never stop), got {bad}");
         assert_eq!(m, [want]);
     }
@@ -559,21 +552,28 @@ fn the_progress_budget_is_refused_unless_positive() {
 #[test]
 fn sweep_settings_are_validated() {
     let base = washdyn::simulation::Source::load("reference").unwrap();
-    let cfg = |settings| washdyn::sweep::SweepRun {
-        out: out_dir("sweep"),
-        settings,
+    let cfg = |spec| washdyn::sweep::SweepRun {
+        spec,
+        control: RunControl::default(),
         jobs: 2,
-        format: washdyn::results::Format::Parquet,
     };
-    let bad = washdyn::simulation::Settings {
-        tol: f64::INFINITY,
+    let bad = RunSpec {
+        tol: Some(f64::INFINITY),
         t_end: Some(0.0),
         sample_rate: 1e9,
-        ..Default::default()
+        out: Some(out_dir("sweep")),
+        ..RunSpec::of("reference")
     };
     let e = washdyn::sweep::check_settings(&base, &cfg(bad)).unwrap_err();
-    assert_eq!(e.options(), ["--tol", "--t-end", "--sample-rate"], "{e}");
-    let ok = cfg(washdyn::simulation::Settings::default());
+    assert_eq!(
+        e.fields(),
+        [Field::Tol, Field::TEnd, Field::SampleRate],
+        "{e}"
+    );
+    let ok = cfg(RunSpec {
+        out: Some(out_dir("sweep")),
+        ..RunSpec::of("reference")
+    });
     assert!(washdyn::sweep::check_settings(&base, &ok).is_ok());
     let e = washdyn::sweep::check_settings(&base, &washdyn::sweep::SweepRun { jobs: 0, ..ok })
         .unwrap_err();
@@ -689,7 +689,7 @@ fn fe_and_campbell_arguments_are_refused_before_anything_is_written() {
 /// refused before anything is written.
 #[test]
 fn periodic_start_without_constant_speed() {
-    let a = RunArgs {
+    let a = RunSpec {
         start: washdyn_runtime::run::Start::Periodic,
         ..args("periodic")
     };

@@ -5,18 +5,18 @@
 //! category's energy only grows. The split's own checks (categories against the whole h, modal
 //! strain against omega^2 q^2 / 2) are in tests/hard_cases.rs.
 
-use washdyn::commands::{Backend, RunArgs, run_command};
+use washdyn::commands::{Backend, RunSpec, run_command};
 use washdyn::results::{Format, read_parquet_f64};
 use washdyn_runtime::ode::Method;
 
 fn run(backend: Backend, tag: &str) -> (washdyn_runtime::run::Summary, Vec<String>, Vec<Vec<f64>>) {
     let out = std::env::temp_dir().join(format!("washdyn-energy-{tag}-{}", std::process::id()));
     std::fs::remove_dir_all(&out).ok();
-    let args = RunArgs {
+    let args = RunSpec {
         model: "reference".into(),
         t_end: Some(3.0),
         out: Some(out.clone()),
-        integrator: Some(Method::Dopri5),
+        method: Some(Method::Dopri5),
         tol: Some(1e-7),
         step: None,
         rho_inf: None,
@@ -25,10 +25,10 @@ fn run(backend: Backend, tag: &str) -> (washdyn_runtime::run::Summary, Vec<Strin
         sample_rate: 100.0,
         max_steps: None,
         format: Format::Parquet,
-        keep_samples: false,
         states: false,
         energy: true,
         start: washdyn_runtime::run::Start::Static,
+        ..RunSpec::default()
     };
     let o = run_command(&args, &mut |_| {}).expect("the run starts");
     assert!(o.error.is_none(), "{:?}", o.error);

@@ -2,7 +2,7 @@
 //! the sensor file up to the failure and a summary that says why.
 
 use washdyn::Error;
-use washdyn::commands::{Backend, RunArgs, run_command};
+use washdyn::commands::{Backend, RunSpec, run_command};
 use washdyn::results::{Format, read_parquet_f64};
 use washdyn_runtime::ode::{Method, OdeError};
 use washdyn_runtime::run::RunError;
@@ -13,11 +13,11 @@ fn spent_step_budget_fails_with_time_and_keeps_output() {
     // does not do: the arctan friction force is bounded, so the instability saturates into a
     // wrong but finite chatter.)
     let out = std::env::temp_dir().join(format!("washdyn-fail-{}", std::process::id()));
-    let args = RunArgs {
+    let args = RunSpec {
         model: "reference".into(),
         t_end: Some(30.0),
         out: Some(out.clone()),
-        integrator: Some(Method::Dopri5),
+        method: Some(Method::Dopri5),
         tol: Some(1e-6),
         step: None,
         rho_inf: None,
@@ -26,10 +26,10 @@ fn spent_step_budget_fails_with_time_and_keeps_output() {
         sample_rate: 100.0,
         max_steps: Some(5000),
         format: Format::Parquet,
-        keep_samples: false,
         states: false,
         energy: false,
         start: washdyn_runtime::run::Start::Static,
+        ..RunSpec::default()
     };
     let o = run_command(&args, &mut |_| {}).expect("the run starts");
     let err = o.error.expect("the run must fail");

@@ -3,7 +3,8 @@
 //! them runs on the built code. The reference here is the interpreter on the variant: the same
 //! derivation at run time, which knows nothing of stand-ins or parameter arrays.
 
-use washdyn::simulation::{Backend, Settings, Simulation, Source};
+use washdyn::simulation::{Backend, RunControl, Simulation, Source};
+use washdyn::spec::RunSpec;
 use washdyn_runtime::ir::param::{resolve, set};
 use washdyn_runtime::output::MemorySink;
 use washdyn_runtime::system::{Interpreter, Mechanical};
@@ -112,15 +113,15 @@ fn generated_code_follows_its_free_parameters_in_every_scene() {
 #[test]
 fn a_variant_runs_on_the_built_code_or_is_refused_by_name() {
     let base = Source::load("reference").unwrap();
-    let settings = |backend| Settings {
+    let spec = |backend| RunSpec {
         backend: Some(backend),
         scene: Some("full".into()),
         t_end: Some(3.0),
         sample_rate: 500.0,
-        ..Settings::default()
+        ..RunSpec::default()
     };
     let run = |src: Source, backend| {
-        let sim = Simulation::new(src, &settings(backend)).unwrap();
+        let sim = Simulation::new(src, &spec(backend), &RunControl::default()).unwrap();
         let mut sink = MemorySink::default();
         let (summary, err) = sim.integrate(&mut sink, &mut |_| {});
         assert!(err.is_none(), "{err:?}");
@@ -156,7 +157,11 @@ fn a_variant_runs_on_the_built_code_or_is_refused_by_name() {
 
     let mut heavier = variant();
     heavier.tub.mass *= 1.1;
-    let Err(e) = Simulation::new(base.variant(heavier), &settings(Backend::Generated)) else {
+    let Err(e) = Simulation::new(
+        base.variant(heavier),
+        &spec(Backend::Generated),
+        &RunControl::default(),
+    ) else {
         panic!("tub mass is not free, yet the generated code took the variant");
     };
     let e = e.to_string();

@@ -24,13 +24,14 @@
 use std::time::Instant;
 use washdyn::Error;
 use washdyn::commands::resolve_model;
-use washdyn::simulation::{Settings, Simulation, Source, integrator_options};
+use washdyn::simulation::{RunControl, Simulation, Source};
+use washdyn::spec::RunSpec;
 use washdyn_runtime::energy::powers;
 use washdyn_runtime::equations::{Category, EnergyWork, Kind};
 use washdyn_runtime::ir::{EffectSet, Model, Scene};
 use washdyn_runtime::ode::{AnySolver, Method, OdeError, Solver, Stepper};
 use washdyn_runtime::output::MemorySink;
-use washdyn_runtime::run::{Guard, RunError, Start};
+use washdyn_runtime::run::{RunError, Start};
 use washdyn_runtime::statics::mean_load_equilibrium;
 use washdyn_runtime::system::{FirstOrder, Interpreter, Mechanical};
 
@@ -109,7 +110,11 @@ fn run(
     let mut y = vec![0.0; sys.layout().dim()];
     y[..n].copy_from_slice(&q0);
     // The options `washdyn run` gives the method (rtol tol, atol 1e-3 tol, the budget).
-    let opts = integrator_options(method, tol, None, Some(max_steps));
+    let opts = RunSpec {
+        max_steps: Some(max_steps),
+        ..RunSpec::default()
+    }
+    .options(method, tol);
     let mut solver = AnySolver::new(method, sys.layout().dim(), opts);
     let lay = sys.layout();
     let mut buf = Buffers {
@@ -347,22 +352,19 @@ pub(crate) fn check_rk4(
     (t0, t1): (f64, f64),
     budget: u64,
 ) -> Option<f64> {
-    let settings = Settings {
-        method: Method::Rk4,
+    let spec = RunSpec {
+        method: Some(Method::Rk4),
         max_steps: Some(budget),
         t_start: t0,
         t_end: Some(t1),
         sample_rate: 100.0,
         start: Start::MeanLoad,
-        guard: Guard {
-            stop_factor: None,
-            max_projected_s: f64::INFINITY,
-            ..Guard::default()
-        },
-        ..Settings::default()
+        validity_stop: false,
+        max_projected_wall: f64::INFINITY,
+        ..RunSpec::default()
     };
     let source = Source::in_memory(model.clone());
-    let sim = Simulation::with_scene(source, scene.clone(), &settings)
+    let sim = Simulation::with_scene(source, scene.clone(), &spec, &RunControl::default())
         .unwrap_or_else(|e| panic!("{case}: rk4 set-up: {e}"));
     let mut sink = MemorySink::default();
     let start = Instant::now();

@@ -7,7 +7,7 @@ use crate::common;
 
 use std::path::Path;
 use std::process::Command;
-use washdyn::commands::{Backend, RunArgs, run_command};
+use washdyn::commands::{Backend, RunControl, RunSpec, run_command_with};
 use washdyn::results::Format;
 use washdyn_runtime::ode::Method;
 
@@ -19,13 +19,22 @@ fn pyarrow() -> bool {
     common::required_tool(ok, "python3 with pyarrow", "pip install pyarrow")
 }
 
-/// The reference's default scene, generated, dopri5 at 1e-6, Parquet, samples kept.
-fn reference_run(dir: &Path, t_end: f64, sample_rate: f64, states: bool) -> RunArgs {
-    RunArgs {
+/// A run followed by an analysis up to the band `spec`'s sample rate resolves, as `washdyn
+/// run` without `--no-plots`: the samples kept.
+fn analysed(spec: &RunSpec) -> RunControl {
+    RunControl {
+        analysis_band_hz: Some(spec.sample_rate / 2.0),
+        ..RunControl::default()
+    }
+}
+
+/// The reference's default scene, generated, dopri5 at 1e-6, Parquet.
+fn reference_run(dir: &Path, t_end: f64, sample_rate: f64, states: bool) -> RunSpec {
+    RunSpec {
         model: "reference".into(),
         t_end: Some(t_end),
         out: Some(dir.to_path_buf()),
-        integrator: Some(Method::Dopri5),
+        method: Some(Method::Dopri5),
         tol: Some(1e-6),
         step: None,
         rho_inf: None,
@@ -34,10 +43,10 @@ fn reference_run(dir: &Path, t_end: f64, sample_rate: f64, states: bool) -> RunA
         sample_rate,
         max_steps: None,
         format: Format::Parquet,
-        keep_samples: true,
         states,
         energy: false,
         start: washdyn_runtime::run::Start::Static,
+        ..RunSpec::default()
     }
 }
 
@@ -48,7 +57,7 @@ fn sensor_file_reads_back_bit_for_bit_in_pyarrow() {
     }
     let dir = tempfile::tempdir().unwrap();
     let args = reference_run(dir.path(), 6.0, 500.0, false);
-    let o = run_command(&args, &mut |_| {}).unwrap();
+    let o = run_command_with(&args, &analysed(&args), &mut |_| {}).unwrap();
     assert!(o.error.is_none());
     let (names, cols) = o.samples.unwrap();
     // pyarrow writes every column's values as little-endian f64 bytes, one file per column.
@@ -146,7 +155,7 @@ fn analysis_tables_read_in_pyarrow() {
 fn states_file_holds_every_sample_with_the_drum_angle() {
     let dir = tempfile::tempdir().unwrap();
     let args = reference_run(dir.path(), 2.0, 1000.0, true);
-    let o = run_command(&args, &mut |_| {}).unwrap();
+    let o = run_command_with(&args, &analysed(&args), &mut |_| {}).unwrap();
     assert!(o.error.is_none());
     let (names, cols) = o.samples.unwrap();
     let s = washdyn::fields::States::read(&dir.path().join("states.parquet")).unwrap();

@@ -4,19 +4,19 @@
 //! energy and the slider's dissipation as categories, and both back ends agree. The law
 //! against its closed forms: model/src/elements/presliding_tests.rs.
 
-use washdyn::commands::{Backend, RunArgs, run_command};
+use washdyn::commands::{Backend, RunSpec, run_command};
 use washdyn::results::{Format, read_parquet_f64};
 use washdyn_runtime::ode::Method;
 use washdyn_runtime::run::spectral_radius;
 use washdyn_runtime::statics::static_equilibrium;
 use washdyn_runtime::system::{FirstOrder, Interpreter};
 
-fn args(scene: &str, method: Method, t_end: f64, energy: bool, out: &std::path::Path) -> RunArgs {
-    RunArgs {
+fn args(scene: &str, method: Method, t_end: f64, energy: bool, out: &std::path::Path) -> RunSpec {
+    RunSpec {
         model: "reference".into(),
         t_end: Some(t_end),
         out: Some(out.to_path_buf()),
-        integrator: Some(method),
+        method: Some(method),
         tol: Some(1e-7),
         step: None,
         rho_inf: None,
@@ -25,10 +25,10 @@ fn args(scene: &str, method: Method, t_end: f64, energy: bool, out: &std::path::
         sample_rate: 100.0,
         max_steps: None,
         format: Format::Parquet,
-        keep_samples: false,
         states: false,
         energy,
         start: washdyn_runtime::run::Start::Static,
+        ..RunSpec::default()
     }
 }
 

@@ -5,9 +5,9 @@
 
 use std::path::PathBuf;
 use washdyn::Error;
-use washdyn::commands::{Backend, RunArgs, RunControl, run_command, run_simulation};
+use washdyn::commands::{Backend, RunControl, RunSpec, run_command, run_simulation};
 use washdyn::results::Format;
-use washdyn::simulation::{Settings, Simulation, Source};
+use washdyn::simulation::{Simulation, Source};
 use washdyn::sweep::{SweepRun, SweepSpec, Variant, variants};
 use washdyn_runtime::ode::Method;
 use washdyn_runtime::run::{RunError, Start};
@@ -17,12 +17,12 @@ fn tmp(tag: &str) -> PathBuf {
 }
 
 /// `washdyn run reference` with the interpreter (the sweep's back end), 2 s at 200 Hz.
-fn args(tag: &str) -> RunArgs {
-    RunArgs {
+fn args(tag: &str) -> RunSpec {
+    RunSpec {
         model: "reference".into(),
         t_end: Some(2.0),
         out: Some(tmp(tag)),
-        integrator: Some(Method::Dopri5),
+        method: Some(Method::Dopri5),
         tol: Some(1e-6),
         step: None,
         rho_inf: None,
@@ -31,31 +31,23 @@ fn args(tag: &str) -> RunArgs {
         sample_rate: 200.0,
         max_steps: None,
         format: Format::Parquet,
-        keep_samples: false,
         states: false,
         energy: false,
         start: Start::Static,
+        ..RunSpec::default()
     }
 }
 
-/// The sweep's settings for the same options, as `washdyn sweep` builds them (main.rs).
-fn sweep_cfg(a: &RunArgs, tag: &str) -> SweepRun {
+/// The sweep's configuration for the same specification, as `washdyn sweep` builds it
+/// (main.rs): the specification itself, into another folder.
+fn sweep_cfg(a: &RunSpec, tag: &str) -> SweepRun {
     SweepRun {
-        out: tmp(tag),
-        settings: Settings {
-            scene: a.scene.clone(),
-            method: a.integrator.expect("the test names its method"),
-            tol: a.tol.expect("the test names its tolerance"),
-            step: a.step,
-            rho_inf: a.rho_inf,
-            max_steps: a.max_steps,
-            t_end: a.t_end,
-            sample_rate: a.sample_rate,
-            start: a.start,
-            ..Settings::default()
+        spec: RunSpec {
+            out: Some(tmp(tag)),
+            ..a.clone()
         },
+        control: RunControl::default(),
         jobs: 1,
-        format: Format::Parquet,
     }
 }
 
@@ -80,8 +72,8 @@ fn run_and_sweep_build_the_same_simulation() {
         (Method::Rk4, Some(5e-5), None, 1e-6),
         (Method::Auto, None, None, 5e-2),
     ] {
-        let a = RunArgs {
-            integrator: Some(method),
+        let a = RunSpec {
+            method: Some(method),
             step,
             rho_inf,
             tol: Some(tol),
@@ -119,8 +111,8 @@ fn run_and_sweep_build_the_same_simulation() {
 /// row of a variant refused before its run (its label was `generalizedalpha`, without rho_inf).
 #[test]
 fn sweep_labels_generalized_alpha_like_run() {
-    let a = RunArgs {
-        integrator: Some(Method::GeneralizedAlpha),
+    let a = RunSpec {
+        method: Some(Method::GeneralizedAlpha),
         rho_inf: Some(0.5),
         tol: Some(1e-5),
         t_end: Some(0.1),
@@ -152,8 +144,8 @@ fn sweep_labels_generalized_alpha_like_run() {
 /// tests/bad_input.rs), with the same limit, no step taken.
 #[test]
 fn sweep_refuses_rk4_beyond_its_stability_limit_like_run() {
-    let a = RunArgs {
-        integrator: Some(Method::Rk4),
+    let a = RunSpec {
+        method: Some(Method::Rk4),
         step: Some(1e-3),
         ..args("rk4")
     };
@@ -193,7 +185,7 @@ fn sweep_refuses_rk4_beyond_its_stability_limit_like_run() {
 #[test]
 fn sweep_variants_record_the_model_files() {
     let model = reference_file("files", None);
-    let a = RunArgs {
+    let a = RunSpec {
         model: model.to_str().unwrap().into(),
         backend: None,
         t_end: Some(0.2),
@@ -245,8 +237,8 @@ fn reference_file(tag: &str, edit: Option<(&str, &str)>) -> PathBuf {
 
 /// The class `run` would report for this model and settings (no run needed: the class depends
 /// on the set-up only, and a failed run reports none).
-fn class(model: &str, settings: &Settings) -> Option<String> {
-    Simulation::new(Source::load(model).unwrap(), settings)
+fn class(model: &str, spec: &RunSpec) -> Option<String> {
+    Simulation::new(Source::load(model).unwrap(), spec, &RunControl::default())
         .unwrap()
         .error_class()
 }
@@ -258,17 +250,17 @@ fn class(model: &str, settings: &Settings) -> Option<String> {
 /// (0.05 s, or 150 s), another scene, or a tolerance the study did not measure get none.
 #[test]
 fn error_class_only_for_the_studied_model_content_and_window() {
-    let full = Settings {
+    let full = RunSpec {
         scene: Some("full".into()),
-        ..Settings::default()
+        ..RunSpec::default()
     };
     let c = class("reference", &full).expect("the study's own setting");
     assert!(
         c.starts_with("1e-2 (docs/accuracy.md: dopri5 at 1e-6"),
         "{c}"
     );
-    let tighter = Settings {
-        tol: 1e-7,
+    let tighter = RunSpec {
+        tol: Some(1e-7),
         ..full.clone()
     };
     assert!(class("reference", &tighter).unwrap().starts_with("1e-3 "));
@@ -282,7 +274,7 @@ fn error_class_only_for_the_studied_model_content_and_window() {
     assert_eq!(class(changed.to_str().unwrap(), &full), None);
     // Other windows: a 0.05 s run, a 150 s run-up.
     for t in [0.05, 150.0] {
-        let short = Settings {
+        let short = RunSpec {
             t_end: Some(t),
             ..full.clone()
         };
@@ -291,12 +283,12 @@ fn error_class_only_for_the_studied_model_content_and_window() {
     // The study's elastic window starts at 150 s, so no run from 0 matches it; and a scene it
     // did not study, or two decades off its tolerances.
     for s in [
-        Settings {
+        RunSpec {
             scene: Some("rigid_low_speed".into()),
             ..full.clone()
         },
-        Settings {
-            tol: 1e-12,
+        RunSpec {
+            tol: Some(1e-12),
             ..full.clone()
         },
     ] {
@@ -309,7 +301,7 @@ fn error_class_only_for_the_studied_model_content_and_window() {
 /// End to end: the whole run-up with `run`'s defaults writes the class into summary.json.
 #[test]
 fn the_studied_run_up_reports_its_class() {
-    let a = RunArgs {
+    let a = RunSpec {
         backend: Some(Backend::Generated),
         t_end: None,
         ..args("class")
@@ -402,7 +394,15 @@ fn exit_codes_follow_the_error() {
 /// without a `solver`, dopri5 at 1e-6.
 #[test]
 fn runs_take_their_scenes_default_solver() {
-    use washdyn::commands::solver_for;
+    let solver_for = |model: &washdyn_runtime::ir::Model, scene: Option<&str>, method, tol| {
+        RunSpec {
+            scene: scene.map(String::from),
+            method,
+            tol,
+            ..RunSpec::default()
+        }
+        .solver(model)
+    };
     use washdyn_runtime::ir::{Integrator, SceneSolver};
     let mut model = washdyn_models::built_in("reference").unwrap().unwrap();
     let (galpha, dopri) = (Method::GeneralizedAlpha, Method::Dopri5);

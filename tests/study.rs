@@ -289,7 +289,7 @@ fn a_rerun_completes_the_study_to_the_same_bytes() {
 /// `[run]` is `run`'s settings.
 #[test]
 fn a_variant_at_the_base_values_is_the_base_run_to_the_bit() {
-    use washdyn::commands::{Backend, RunArgs, run_command};
+    use washdyn::commands::{Backend, RunSpec, run_command};
     let dir = tempfile::tempdir().unwrap();
     let file = study_file(
         dir.path(),
@@ -300,11 +300,11 @@ fn a_variant_at_the_base_values_is_the_base_run_to_the_bit() {
     );
     let out = dir.path().join("out");
     run(&file, &out);
-    let args = RunArgs {
+    let args = RunSpec {
         model: "reference".into(),
         t_end: Some(0.5),
         out: Some(dir.path().join("run")),
-        integrator: Some(washdyn_runtime::ode::Method::Dopri5),
+        method: Some(washdyn_runtime::ode::Method::Dopri5),
         tol: Some(1e-6),
         step: None,
         rho_inf: None,
@@ -313,10 +313,10 @@ fn a_variant_at_the_base_values_is_the_base_run_to_the_bit() {
         sample_rate: 200.0,
         max_steps: None,
         format: washdyn::results::Format::Parquet,
-        keep_samples: false,
         states: false,
         energy: false,
         start: washdyn_runtime::run::Start::Static,
+        ..RunSpec::default()
     };
     let o = run_command(&args, &mut |_| {}).unwrap();
     let read = washdyn::results::read_parquet_f64;

@@ -3,7 +3,8 @@
 
 use washdyn::Error;
 use washdyn::results::Format;
-use washdyn::simulation::{Settings, Source};
+use washdyn::simulation::{RunControl, Source};
+use washdyn::spec::RunSpec;
 use washdyn::sweep::{SweepRun, SweepSpec, run_sweep, variants};
 use washdyn_runtime::ode::Method;
 
@@ -24,16 +25,17 @@ fn positions_sweep_writes_folders_and_table() {
     );
     let out = std::env::temp_dir().join(format!("washdyn-sweep-{}", std::process::id()));
     let cfg = SweepRun {
-        out: out.clone(),
-        settings: Settings {
+        spec: RunSpec {
+            out: Some(out.clone()),
             t_end: Some(20.0),
-            method: Method::Dopri5,
-            tol: 1e-5,
+            method: Some(Method::Dopri5),
+            tol: Some(1e-5),
             sample_rate: 200.0,
-            ..Settings::default()
+            format: Format::Parquet,
+            ..RunSpec::of("reference")
         },
+        control: RunControl::default(),
         jobs: 2,
-        format: Format::Parquet,
     };
     let res = run_sweep(&source, vars, &cfg, &|_| {}).unwrap();
     assert!(
@@ -82,16 +84,17 @@ fn equal_variants_get_distinct_folders_and_a_bad_variant_its_own_row() {
     assert_eq!(names, ["0.3kg", "0.3kg_2", "-1kg"]);
     let out = std::env::temp_dir().join(format!("washdyn-sweep-dup-{}", std::process::id()));
     let cfg = SweepRun {
-        out: out.clone(),
-        settings: Settings {
+        spec: RunSpec {
+            out: Some(out.clone()),
             t_end: Some(2.0),
-            method: Method::Dopri5,
-            tol: 1e-5,
+            method: Some(Method::Dopri5),
+            tol: Some(1e-5),
             sample_rate: 200.0,
-            ..Settings::default()
+            format: Format::Csv,
+            ..RunSpec::of("reference")
         },
+        control: RunControl::default(),
         jobs: 2,
-        format: Format::Csv,
     };
     let res = run_sweep(&source, vars, &cfg, &|_| {}).unwrap();
     assert_eq!(res[0].summary.status, washdyn_runtime::run::RunStatus::Ok);

@@ -8,7 +8,8 @@
 //! work-precision plot per scene.
 
 use crate::error::Error;
-use crate::simulation::{Backend, Settings, Simulation, Source};
+use crate::simulation::{Backend, RunControl, Simulation, Source};
+use crate::spec::{Field, RunSpec};
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -65,7 +66,7 @@ impl std::str::FromStr for Window {
     /// `NAME` (the whole speed profile) or `NAME:T0:T1`; refused as `--scene`.
     fn from_str(s: &str) -> Result<Window, Error> {
         let parts: Vec<&str> = s.split(':').collect();
-        let refused = |why: String| Error::setting("--scene", format!("--scene `{s}`: {why}"));
+        let refused = |why: String| Error::setting(Field::Scene, format!("--scene `{s}`: {why}"));
         let num = |p: &str| {
             p.parse::<f64>()
                 .map_err(|_| refused(format!("`{p}` is not a time in s (NAME or NAME:T0:T1)")))
@@ -78,7 +79,7 @@ impl std::str::FromStr for Window {
             }),
             [name, a, b] => {
                 let (t0, t1) = (num(a)?, num(b)?);
-                let top = crate::validate::T_END_MAX;
+                let top = crate::spec::T_END_MAX;
                 if !(t0 >= 0.0 && t1 > t0 && t1 <= top) {
                     return Err(refused(format!("need 0 <= T0 < T1 <= {top} s")));
                 }
@@ -185,10 +186,12 @@ fn simulate(
     } else {
         (tol, None)
     };
-    let settings = Settings {
+    let spec = RunSpec {
+        model: source.spec.clone(),
+        scene: Some(scene.name.clone()),
         backend: Some(backend),
-        method,
-        tol,
+        method: Some(method),
+        tol: Some(tol),
         step,
         rho_inf,
         // A budget no setting of the study needs, so a hopeless one stops instead of hanging.
@@ -197,9 +200,9 @@ fn simulate(
         t_end: Some(w.t1),
         sample_rate: rate,
         start: Start::MeanLoad,
-        ..Settings::default()
+        ..RunSpec::default()
     };
-    let sim = Simulation::with_scene(source.clone(), scene.clone(), &settings)?;
+    let sim = Simulation::with_scene(source.clone(), scene.clone(), &spec, &RunControl::default())?;
     let mut mem = MemorySink::default();
     let (summary, error) = sim.integrate(&mut mem, &mut |_| {});
     Ok(Sim {
@@ -303,7 +306,7 @@ pub fn study(args: &AccuracyArgs, log: &mut dyn FnMut(&str)) -> Result<Study, Er
     for w in &args.windows {
         let scene = model
             .scene(Some(&w.scene))
-            .map_err(|m| Error::setting("--scene", m))?;
+            .map_err(|m| Error::setting(Field::Scene, m))?;
         let mut w = w.clone();
         if w.t1.is_nan() {
             w.t1 = model.speed.table.last().map_or(1.0, |r| r[0]);
@@ -444,7 +447,7 @@ pub fn study(args: &AccuracyArgs, log: &mut dyn FnMut(&str)) -> Result<Study, Er
                 }
                 let sc = model
                     .scene(Some(&other.name))
-                    .map_err(|m| Error::setting("--scene", m))?;
+                    .map_err(|m| Error::setting(Field::Scene, m))?;
                 let mut s = run_early(Method::Dopri5, 1e-7, &sc, backend)?;
                 s.mem = trim(&s.mem, skip, "tub");
                 s.summary.t_start = w.t0;

@@ -200,14 +200,15 @@ pub struct VariantRecord {
 
 impl Record {
     pub fn new(study: &Study, vars: &[Variant]) -> Record {
-        let s = &study.settings;
+        let s = &study.spec;
+        let (method, tol) = s.solver(&study.source.model);
         Record {
             model: study.model_spec.clone(),
             model_content: study.model_content.clone(),
             scene: study.scene.clone(),
             run: RunRecord {
-                method: s.method.name().to_string(),
-                tol: s.tol,
+                method: method.name().to_string(),
+                tol,
                 step: s.step,
                 rho_inf: s.rho_inf,
                 max_steps: s.max_steps,
@@ -215,7 +216,7 @@ impl Record {
                 t_end: study.t_end,
                 sample_rate: s.sample_rate,
                 start: start_name(s.start).to_string(),
-                validity_stop: s.guard.stop_factor.is_some(),
+                validity_stop: s.validity_stop,
                 allow_large_output: s.allow_large_output,
             },
             parameters: study

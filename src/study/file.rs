@@ -8,15 +8,14 @@ use super::design::{self, Axis, Design, Kind, Scale};
 use super::error::StudyError;
 use super::outputs::Outputs;
 use crate::error::Error;
-use crate::simulation::{Settings, Simulation, Source};
+use crate::simulation::{RunControl, Simulation, Source};
+use crate::spec::{Field, RunSpec, Spelling};
 use serde::Deserialize;
 use std::path::{Path as FsPath, PathBuf};
 use washdyn_runtime::ir::check::{Path, Seg};
 use washdyn_runtime::ir::modal::from_toml;
 use washdyn_runtime::ir::param::{self, Param};
 use washdyn_runtime::ir::toml_file::{Located, line_col, locate};
-use washdyn_runtime::ode::Method;
-use washdyn_runtime::run::{Guard, Start};
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -24,30 +23,13 @@ struct StudyFile {
     /// A built-in model's name, or a model file relative to the study file.
     model: String,
     scene: Option<String>,
+    /// `washdyn run`'s specification by its keys (`spec::Field::key`).
     #[serde(default)]
-    run: RunTable,
+    run: RunSpec,
     #[serde(default, rename = "parameter")]
     parameters: Vec<ParameterTable>,
     design: DesignTable,
     outputs: Option<OutputsTable>,
-}
-
-/// `washdyn run`'s options, by the names of `Settings`.
-#[derive(Default, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RunTable {
-    method: Option<String>,
-    tol: Option<f64>,
-    step: Option<f64>,
-    rho_inf: Option<f64>,
-    max_steps: Option<u64>,
-    t_start: Option<f64>,
-    t_end: Option<f64>,
-    sample_rate: Option<f64>,
-    start: Option<String>,
-    /// Stop a variant whose tub motion passes 5 x the small-motion bounds (default true).
-    validity_stop: Option<bool>,
-    allow_large_output: Option<bool>,
 }
 
 #[derive(Deserialize)]
@@ -100,7 +82,10 @@ pub struct Study {
     /// The scene's name and the end of the run, s (the profile's end unless `t_end`).
     pub scene: String,
     pub t_end: f64,
-    pub settings: Settings,
+    /// The specification every variant runs with (its model the study file's `model`).
+    pub spec: RunSpec,
+    /// The caller's guard (Ctrl-C); every variant's summary labelled with its id.
+    pub control: RunControl,
     pub parameters: Vec<Parameter>,
     pub design: Design,
     /// Design order: one row per variant, one value per parameter.
@@ -137,16 +122,12 @@ impl Problems<'_> {
     }
 }
 
-fn run_at(k: &str) -> Path {
-    Path::default().key("run").key(k)
-}
-
-/// Where a setting `Simulation::new` refuses sits in the study file.
-fn setting_path(option: &str) -> Path {
-    match option {
-        "--scene" => Path::default().key("scene"),
-        "--integrator" => run_at("method"),
-        o => run_at(&o.trim_start_matches("--").replace('-', "_")),
+/// Where a field of the specification sits in the study file.
+fn field_path(field: Field) -> Path {
+    if field.in_run_table() {
+        Path::default().key("run").key(field.key())
+    } else {
+        Path::default().key(field.key())
     }
 }
 
@@ -169,29 +150,24 @@ impl Study {
         let source = load_model(path, &parsed.model, &mut p)?;
         // Every problem at once: the settings, the parameters, the design; then the outputs,
         // which need the scene's channels.
-        let settings = settings(&parsed, &mut p);
+        let spec = RunSpec {
+            model: source.spec.clone(),
+            scene: parsed.scene.clone(),
+            ..parsed.run
+        };
         let parameters = parameters(&source, &parsed.parameters, &mut p);
-        let base = match Simulation::new(source.variant(source.model.clone()), &settings) {
+        let control = RunControl::default();
+        let base = match Simulation::new(source.variant(source.model.clone()), &spec, &control) {
             Ok(b) => Some(b),
             Err(Error::Settings(refusals)) => {
                 for r in refusals {
-                    p.at(&setting_path(r.option), r.message);
+                    let at = r.field().map_or_else(Path::default, field_path);
+                    p.at(&at, r.message(Spelling::File));
                 }
                 None
             }
             Err(e) => return Err(e),
         };
-        if let (Some(t0), Some(b)) = (parsed.run.t_start, &base)
-            && !(t0.is_finite() && t0 >= 0.0 && t0 < b.run.t_end)
-        {
-            p.at(
-                &run_at("t_start"),
-                format!(
-                    "t_start must be at least 0 and before the end of the run ({} s), got {t0}",
-                    b.run.t_end
-                ),
-            );
-        }
         let design = Design {
             kind: parsed.design.kind,
             samples: parsed.design.samples,
@@ -224,7 +200,8 @@ impl Study {
             scene: base.scene.name.clone(),
             t_end: base.run.t_end,
             source,
-            settings,
+            spec,
+            control,
             parameters,
             design,
             points,
@@ -294,47 +271,6 @@ fn load_model(study: &FsPath, spec: &str, p: &mut Problems) -> Result<Source, Er
         p.check()?;
     }
     Source::load(&path.display().to_string())
-}
-
-/// The `[run]` table as `Settings` (unset fields take `washdyn run`'s defaults).
-fn settings(f: &StudyFile, p: &mut Problems) -> Settings {
-    let r = &f.run;
-    let d = Settings::default();
-    let method = r.method.as_deref().map_or(d.method, |m| {
-        m.parse::<Method>().unwrap_or_else(|e| {
-            p.at(&run_at("method"), e.to_string());
-            d.method
-        })
-    });
-    let start = r.start.as_deref().map_or(d.start, |s| {
-        s.parse::<Start>().unwrap_or_else(|e| {
-            p.at(&run_at("start"), e);
-            d.start
-        })
-    });
-    let guard = Guard {
-        stop_factor: if r.validity_stop.unwrap_or(true) {
-            Guard::default().stop_factor
-        } else {
-            None
-        },
-        ..Guard::default()
-    };
-    Settings {
-        scene: f.scene.clone(),
-        method,
-        tol: r.tol.unwrap_or(d.tol),
-        step: r.step,
-        rho_inf: r.rho_inf,
-        max_steps: r.max_steps,
-        t_start: r.t_start.unwrap_or(d.t_start),
-        t_end: r.t_end,
-        sample_rate: r.sample_rate.unwrap_or(d.sample_rate),
-        start,
-        guard,
-        allow_large_output: r.allow_large_output.unwrap_or(false),
-        ..d
-    }
 }
 
 /// Every `[[parameter]]` resolved on the base model, with its levels or range checked.

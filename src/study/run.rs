@@ -9,6 +9,7 @@ use super::variants::{Variant, check_all, variants};
 use crate::error::Error;
 use crate::results::{Format, SensorRecorder};
 use crate::simulation::{Backend, Simulation};
+use crate::spec::RunSpec;
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
@@ -131,7 +132,7 @@ pub fn execute(
         .num_threads(jobs)
         .build()
         .map_err(|e| Error::refused("study", e.to_string()))?;
-    let stop = study.settings.guard.interrupt.clone();
+    let stop = study.control.guard.interrupt.clone();
     let stopped = || stop.as_ref().is_some_and(|f| f.load(Ordering::Relaxed));
     pool.install(|| {
         plan.todo
@@ -212,12 +213,13 @@ fn run_variant(study: &Study, layout: &Layout, v: &Variant) -> Result<Outcome, E
     let backend = model
         .as_ref()
         .map_or(Backend::Interpreted, |m| backend_of(study, m));
-    let settings = crate::simulation::Settings {
+    let spec = RunSpec {
         backend: Some(backend),
-        ..v.settings(study)
+        ..study.spec.clone()
     };
     let sim = model.and_then(|m| {
-        Simulation::new(study.source.variant(m), &settings).map_err(|e| e.to_string())
+        Simulation::new(study.source.variant(m), &spec, &v.control(study))
+            .map_err(|e| e.to_string())
     });
     phases.setup_s = lap.next();
     let (row, wall, warnings) = match sim {
@@ -292,7 +294,7 @@ fn failed_row(study: &Study, error: String, backend: Backend) -> Row {
         error_class: String::new(),
         warnings: String::new(),
         backend: backend.name().into(),
-        t_reached_s: study.settings.t_start,
+        t_reached_s: study.spec.t_start,
         steps: 0.0,
         rejected_steps: 0.0,
         rhs_evals: 0.0,

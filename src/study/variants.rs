@@ -7,7 +7,7 @@
 use super::error::{BadVariant, StudyError};
 use super::file::{Study, touches_speed};
 use crate::error::Error;
-use crate::simulation::{Settings, Simulation};
+use crate::simulation::{RunControl, Simulation};
 use rayon::prelude::*;
 use washdyn_runtime::ir::Model;
 use washdyn_runtime::ir::check::{CheckError, check};
@@ -78,11 +78,11 @@ impl Variant {
         Ok(model)
     }
 
-    /// The variant's settings: the study's, the summary labelled `<model>/<id>`.
-    pub fn settings(&self, study: &Study) -> Settings {
-        Settings {
+    /// The variant's control: the study's, the summary labelled `<model>/<id>`.
+    pub fn control(&self, study: &Study) -> RunControl {
+        RunControl {
             variant: Some(self.id.clone()),
-            ..study.settings.clone()
+            ..study.control.clone()
         }
     }
 }
@@ -103,7 +103,7 @@ pub fn check_all(study: &Study, vars: &[Variant]) -> Result<(), Error> {
                 return None;
             }
             let source = study.source.variant(model);
-            Simulation::new(source, &v.settings(study))
+            Simulation::new(source, &study.spec, &v.control(study))
                 .err()
                 .map(|e| BadVariant {
                     id: v.id.clone(),

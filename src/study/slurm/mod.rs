@@ -118,7 +118,7 @@ impl Options {
     pub fn check(&self) -> Result<(), Error> {
         let mut refusals = Vec::new();
         let mut refuse = |option: &'static str, message: String| {
-            refusals.push(crate::error::Refusal { option, message });
+            refusals.push(crate::error::Refusal::plain(option, message));
         };
         for (option, v) in [
             ("--tasks", self.tasks),

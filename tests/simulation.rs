@@ -360,7 +360,7 @@ fn a_tolerance_looser_than_every_class_warns() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
-/// One exit code per kind of error (cli.rs, EXIT_CODES; README): a refused setting 2, a model
+/// One exit code per kind of error (src/cli/mod.rs, EXIT_CODES; README): a refused setting 2, a model
 /// that is neither built in nor a file 3, a run that stopped (rk4 beyond its limit) 1.
 #[test]
 fn exit_codes_follow_the_error() {

@@ -68,7 +68,7 @@ pub struct RunSpec {
     /// (the modal bodies' own terms implicit, the elements explicit: ARK4(3)6L[2]SA), auto
     /// (dopri5 while not stiff, rodas4 while stiff, switching both ways). Default: the scene's
     /// own (`washdyn check` lists them; the reference's `damper_mass`: galpha), else dopri5.
-    #[arg(long = "integrator")]
+    #[arg(long = "integrator", value_name = "INTEGRATOR")]
     #[serde(default, deserialize_with = "parsed_opt")]
     pub method: Option<Method>,
     /// Relative tolerance of the adaptive integrators (absolute: 1e-3 x this, in m, m/s and

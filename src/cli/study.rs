@@ -1,15 +1,104 @@
-//! `washdyn study run | status | collect | task`: the study's progress bar and report on the
-//! terminal; the study itself is `washdyn::study` (on Slurm: `washdyn::study::slurm`).
+//! `washdyn study run | status | collect | task`: their arguments, the study's progress bar and
+//! report on the terminal; the study itself is `washdyn::study` (on Slurm:
+//! `washdyn::study::slurm`).
 
-use crate::cli::{SlurmArgs, StudyCmd, interrupt_flag};
-use crate::{Failure, wrote};
+use super::{Failure, interrupt_flag, wrote};
+use clap::Subcommand;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use washdyn::Error;
 use washdyn::study::{self, Study, slurm};
 use washdyn_runtime::run::{RunError, RunStatus};
+
+/// `washdyn study`'s arguments: one of its commands.
+#[derive(clap::Args)]
+pub struct Args {
+    #[command(subcommand)]
+    pub cmd: StudyCmd,
+}
+
+#[derive(Subcommand)]
+pub enum StudyCmd {
+    /// Check every variant, then run those not finished in DIR (missing or failed):
+    /// DIR/variants/variant=<id>/sensors.parquet, DIR/summary/variant=<id>/summary.parquet,
+    /// DIR/timing/variant=<id>/timing.parquet, with the study and its design beside them.
+    Run {
+        /// The study file.
+        study: PathBuf,
+        /// The study's directory (default: out/<study file's stem>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Parallel runs (default: all cores).
+        #[arg(long, conflicts_with = "slurm")]
+        jobs: Option<usize>,
+        #[command(flatten)]
+        slurm: SlurmArgs,
+    },
+    /// How many variants are done, failed (and why) and missing; with a study submitted to
+    /// Slurm, each job's tasks as `squeue` and `scontrol` see them.
+    Status {
+        /// The study's directory.
+        dir: PathBuf,
+    },
+    /// Every summary row in variant order with its wall time: DIR/summary.parquet and
+    /// DIR/summary.csv.
+    Collect {
+        /// The study's directory.
+        dir: PathBuf,
+    },
+    /// Internal: one array task of `study run --slurm` (DIR/slurm/job.sh runs it), the
+    /// variants of chunk K as its job's chunk file lists them.
+    #[command(hide = true)]
+    Task {
+        /// The study's directory.
+        dir: PathBuf,
+        /// This task's chunk (SLURM_ARRAY_TASK_ID).
+        #[arg(long)]
+        chunk: usize,
+        /// The job's chunks.
+        #[arg(long)]
+        chunks: usize,
+        /// The job (default: SLURM_ARRAY_JOB_ID).
+        #[arg(long)]
+        job: Option<String>,
+        /// Parallel runs (default: SLURM_CPUS_PER_TASK, else 1).
+        #[arg(long)]
+        jobs: Option<usize>,
+    },
+}
+
+/// `washdyn study run --slurm`'s options: the variants still to run as one Slurm job array.
+#[derive(clap::Args)]
+pub struct SlurmArgs {
+    /// Submit to Slurm (sbatch; SLURM_CONF names the cluster) instead of running here: the
+    /// variants still to run in N chunks, one array task each (DIR/slurm/job.sh), recorded in
+    /// DIR/slurm/jobs.json; prints the job id.
+    #[arg(long)]
+    pub slurm: bool,
+    /// Array tasks, N (default: one a variant still to run, at most 1000).
+    #[arg(long, requires = "slurm")]
+    pub tasks: Option<usize>,
+    /// Tasks running at once, K (`--array=0-(N-1)%K`; default: Slurm's).
+    #[arg(long, requires = "slurm")]
+    pub throttle: Option<usize>,
+    /// CPUs of each task (its variants run on as many threads).
+    #[arg(long, requires = "slurm")]
+    pub cpus_per_task: Option<usize>,
+    /// Memory of each task, sbatch's --mem (`500M`, `2G`).
+    #[arg(long, requires = "slurm")]
+    pub mem: Option<String>,
+    /// Time limit of each task, sbatch's --time (`30`, `1:00:00`, `1-00:00`).
+    #[arg(long, requires = "slurm")]
+    pub time: Option<String>,
+    /// Partition, sbatch's --partition.
+    #[arg(long, requires = "slurm")]
+    pub partition: Option<String>,
+    /// Wait for the array to end (polling squeue), then report as `study status` does.
+    #[arg(long, requires = "slurm")]
+    pub wait: bool,
+}
 
 /// Variants whose warnings or errors are printed at most; the rest are counted.
 const SHOWN: usize = 10;
@@ -18,8 +107,8 @@ const SHOWN: usize = 10;
 const POLL: std::time::Duration = std::time::Duration::from_secs(1);
 
 /// `washdyn study run | status | collect | task`.
-pub fn study(cmd: StudyCmd) -> Result<ExitCode, Failure> {
-    match cmd {
+pub fn study(a: Args) -> Result<ExitCode, Failure> {
+    match a.cmd {
         StudyCmd::Run {
             study: file,
             out,

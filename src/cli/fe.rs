@@ -1,0 +1,140 @@
+//! `washdyn fe solve | write | deck | modal | reference`: their arguments and what they print.
+
+use super::{Failure, text, wrote};
+use clap::Subcommand;
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+/// `washdyn fe`'s arguments: one of its commands.
+#[derive(clap::Args)]
+pub struct Args {
+    #[command(subcommand)]
+    pub cmd: FeCmd,
+}
+
+#[derive(Subcommand)]
+pub enum FeCmd {
+    /// Run ccx on a deck (`<job>.inp`; results beside it) and list the frequencies it found.
+    Solve { deck: PathBuf },
+    /// Write the built-in FE models (tub, drum, cabinet) as CalculiX decks.
+    Write {
+        /// Output directory.
+        #[arg(long, default_value = "out/fe")]
+        out: PathBuf,
+    },
+    /// Modal data from your own CalculiX deck: a spec (TOML: the deck and its units, the body
+    /// kind and support, the points, the modes, correction loads, the drum's spin; see
+    /// docs/modal-data.md) is solved like the built-in bodies and checked against the deck
+    /// (ccx's mass and centre of gravity, rigid-body modes, mass normalisation); writes
+    /// `<name>.modal.toml` (and `<name>.field.bin` with recovery) to `--out`.
+    Deck {
+        /// The spec file.
+        spec: PathBuf,
+        /// Where the modal data (and field) files go.
+        #[arg(long, default_value = "out/fe")]
+        out: PathBuf,
+        /// Scratch directory for decks and ccx results.
+        #[arg(long, default_value = "out/fe/work")]
+        work: PathBuf,
+    },
+    /// Solve the built-in FE models with ccx and write their modal data
+    /// (`<body>.modal.toml`) and a report; the decks and ccx's files go to `--work`.
+    Modal {
+        /// Where the modal data files go (the repository keeps them in models/fe).
+        #[arg(long, default_value = "out/fe")]
+        out: PathBuf,
+        /// Scratch directory for decks and ccx results.
+        #[arg(long, default_value = "out/fe/work")]
+        work: PathBuf,
+        /// Only these bodies (comma-separated: tub, drum, cabinet).
+        #[arg(long, value_delimiter = ',')]
+        only: Vec<String>,
+    },
+    /// The full-mesh reference: the linear machine assembled from the tub's and the cabinet's
+    /// meshes in CalculiX (`*STEADY STATE DYNAMICS`, drum order 1) against washdyn's Ritz model
+    /// of it, every sensor channel; writes full-mesh.md and full-mesh.json.
+    Reference {
+        /// A built-in model or a model file.
+        #[arg(long, default_value = "reference")]
+        model: String,
+        /// Output directory (the repository keeps the study in docs/).
+        #[arg(long, default_value = "out/full-mesh")]
+        out: PathBuf,
+        /// Scratch directory for the deck and ccx's files.
+        #[arg(long, default_value = "out/full-mesh/work")]
+        work: PathBuf,
+        /// ccx's mode counts (comma-separated, ascending; the last is the reference).
+        #[arg(long, value_delimiter = ',', default_values_t = washdyn::full_mesh::MODES)]
+        modes: Vec<usize>,
+        /// Drum speeds, rpm (comma-separated).
+        #[arg(long, value_delimiter = ',', default_values_t = washdyn::full_mesh::SPEEDS_RPM)]
+        speeds: Vec<f64>,
+        /// Skip the table of the Ritz model's convergence with its mode counts.
+        #[arg(long)]
+        no_convergence: bool,
+        /// Take ccx's answer for the last mode count from this file (a full-mesh.ccx.json an
+        /// earlier run wrote, e.g. the committed models/fe/full-mesh.ccx.json) instead of
+        /// solving; refused unless it came from the deck the code writes now.
+        #[arg(long)]
+        ccx_results: Option<PathBuf>,
+    },
+}
+
+pub fn fe(a: Args) -> Result<ExitCode, Failure> {
+    match a.cmd {
+        FeCmd::Write { out } => {
+            text("fe", washdyn::commands::fe_write(&out))?;
+            Ok(ExitCode::SUCCESS)
+        }
+        FeCmd::Deck { spec, out, work } => {
+            text("fe", washdyn::commands::fe_deck(&spec, &out, &work))?;
+            Ok(ExitCode::SUCCESS)
+        }
+        FeCmd::Modal { out, work, only } => {
+            text("fe", washdyn::commands::fe_modal(&out, &work, &only))?;
+            Ok(ExitCode::SUCCESS)
+        }
+        FeCmd::Reference {
+            model,
+            out,
+            work,
+            modes,
+            speeds,
+            no_convergence,
+            ccx_results,
+        } => {
+            let args = washdyn::full_mesh::Args {
+                model,
+                modes,
+                speeds_rpm: speeds,
+                spec: washdyn_fe::assembly::LinearSpec::default(),
+                work,
+                convergence: !no_convergence,
+                committed: ccx_results,
+            };
+            let study = text(
+                "fe",
+                washdyn::full_mesh::study(&args, &mut |l| println!("{l}")),
+            )?;
+            Ok(wrote(text("fe", washdyn::full_mesh::write(&study, &out))?))
+        }
+        FeCmd::Solve { deck } => {
+            let run = text("fe", washdyn_fe::ccx::run(&deck).map_err(|e| e.to_string()))?;
+            let dat = std::fs::read_to_string(run.dat()).unwrap_or_default();
+            let f = washdyn_fe::ccx::frequencies(&dat);
+            let mut out = std::io::stdout();
+            let _ = writeln!(
+                out,
+                "{}: solved in {:.2} s; {} eigenfrequencies (Hz):",
+                deck.display(),
+                run.wall_s,
+                f.len()
+            );
+            for (i, hz) in f.iter().enumerate() {
+                let _ = writeln!(out, "{:4} {hz:.6}", i + 1);
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+    }
+}

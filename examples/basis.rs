@@ -10,7 +10,8 @@
 //! committed data already reaches 1916 Hz. Then
 //! `cargo run --release --example basis -- DIR > docs/truncation-bodies.md`.
 
-use washdyn::accuracy::{BAND_HZ, TRUNCATION_CUTS_HZ};
+use washdyn::accuracy::TRUNCATION_CUTS_HZ;
+use washdyn::analysis::metrics::BAND_HZ;
 use washdyn::basis::{Damped, basis_error, cut, grid, ports};
 use washdyn_runtime::ir::BodyRef;
 use washdyn_runtime::ir::modal::{ModalData, read_file};

@@ -3,7 +3,7 @@
 //! against all the modal data's modes, at constant drum speeds on the steady state (2 s from
 //! rest under the mean loads, compared over the next second, sampled at 20 kHz so the tub's
 //! modes to 6.6 kHz do not alias). Errors: the sensor accelerations in the 300 Hz analysis
-//! band (`accuracy::band_error`), and drum orders 1-6 (Hann window, within 40 dB of the
+//! band (`analysis::metrics::band_error`), and drum orders 1-6 (Hann window, within 40 dB of the
 //! channel's strongest order). Regenerates docs/truncation.md:
 //! `cargo run --release --example truncation -- [RPM...] > docs/truncation.md`.
 //! With `--deep DIR` the reference is the model with each body's modal data from
@@ -15,7 +15,8 @@
 //! side by side on all cores (rayon), so their wall times are measured under the same load.
 
 use std::time::Instant;
-use washdyn::accuracy::{BAND_HZ, ORDER_FLOOR, TRUNCATION_CUTS_HZ, band_error, is_accel};
+use washdyn::accuracy::TRUNCATION_CUTS_HZ;
+use washdyn::analysis::metrics::{BAND_HZ, ORDER_FLOOR, band_error, is_accel};
 use washdyn::analysis::spectrum::Window;
 use washdyn_runtime::ir::EffectSet;
 use washdyn_runtime::ir::modal::read_file;

@@ -86,7 +86,9 @@ pub fn run_command_with(
     sink.energy = spec
         .energy
         .then(|| crate::results::EnergyRecorder::new(&out_dir, spec.format));
-    let (summary, error) = sim.integrate(&mut sink, progress);
+    let verdict = crate::accuracy::class::Verdict::of(&sim);
+    let (mut summary, error) = sim.integrate(&mut sink, progress);
+    verdict.apply(&mut summary, error.is_none());
     let finished = sink.finish();
     write_summary(&out_dir, &summary)?;
     finished.map_err(|e| Error::io("write", sink.path(), e))?;

@@ -5,7 +5,7 @@
 //! the summary's labels. [`Simulation::new`] checks every setting before anything is written
 //! (`RunSpec::validate`, the scene, the back end, a periodic start's constant speed);
 //! [`Simulation::integrate`] runs it into a sink and completes the summary (model files,
-//! rho_inf, set-up warnings, the error class).
+//! rho_inf).
 
 use crate::error::Error;
 pub use crate::spec::Backend;
@@ -119,8 +119,6 @@ pub struct Simulation {
     pub run: RunOptions,
     pub guard: Guard,
     pub labels: Labels,
-    /// Warnings of the set-up (a tolerance looser than every error class), the summary's first.
-    pub warnings: Vec<String>,
     /// The back end, taken by [`Simulation::integrate`].
     mech: Option<Box<dyn Mechanical + Send>>,
 }
@@ -201,9 +199,6 @@ impl Simulation {
             sample_rate: spec.sample_rate,
             start: spec.start,
         };
-        let warnings = crate::accuracy::class::tolerance_warning(method, tol)
-            .into_iter()
-            .collect();
         Ok(Simulation {
             source,
             scene,
@@ -214,7 +209,6 @@ impl Simulation {
             run,
             guard,
             labels,
-            warnings,
             mech: Some(mech),
         })
     }
@@ -239,18 +233,17 @@ impl Simulation {
         }
     }
 
-    /// The model files, rho_inf and set-up warnings a summary of this simulation records.
+    /// The model files and rho_inf a summary of this simulation records.
     fn label(&self, s: &mut Summary) {
         s.model_files = self.source.files.clone();
         if self.method == Method::GeneralizedAlpha {
             s.rho_inf = Some(self.options.rho_inf);
         }
-        s.warnings.splice(0..0, self.warnings.iter().cloned());
     }
 
     /// Integrates into `sink`: the summary, and the error when the run failed (the summary says
-    /// so too; what the sink received is kept). A run that completed gets the error class the
-    /// committed study measured for it ([`Simulation::error_class`]).
+    /// so too; what the sink received is kept). What the committed accuracy study says of the
+    /// setting is the caller's to add (`accuracy::class::Verdict`).
     pub fn integrate(
         mut self,
         sink: &mut dyn SampleSink,
@@ -273,31 +266,7 @@ impl Simulation {
             Err((e, s)) => (s, Some(Error::integration(e))),
         };
         self.label(&mut summary);
-        if error.is_none() {
-            summary.error_class = self.error_class();
-        }
         (summary, error)
-    }
-
-    /// The error class the committed study measured for this setting (`accuracy::class`):
-    /// the same model content, scene, method, tolerance and window; none off
-    /// generalized-alpha's default spectral radius (the study measured that one).
-    pub fn error_class(&self) -> Option<String> {
-        if self
-            .rho_inf
-            .is_some_and(|r| r != Options::default().rho_inf)
-        {
-            return None;
-        }
-        crate::accuracy::class::committed_class(
-            &crate::accuracy::class::Query {
-                scene: &self.scene.name,
-                method: self.method,
-                tol: self.class_tolerance(),
-                window: (self.run.t_start, self.run.t_end),
-            },
-            &mut || crate::accuracy::class::content_hash(&self.source.model, &self.scene),
-        )
     }
 }
 

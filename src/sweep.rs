@@ -291,7 +291,9 @@ fn run_one(base: &Source, v: &Variant, cfg: &SweepRun, out: &Path) -> Result<Var
         .spec
         .energy
         .then(|| EnergyRecorder::new(&dir, cfg.spec.format));
-    let (summary, error) = sim.integrate(&mut sink, &mut |_| {});
+    let verdict = crate::accuracy::class::Verdict::of(&sim);
+    let (mut summary, error) = sim.integrate(&mut sink, &mut |_| {});
+    verdict.apply(&mut summary, error.is_none());
     let finished = sink.finish();
     write_summary(&dir, &summary)?;
     finished.map_err(|e| Error::io("write", sink.path(), e))?;

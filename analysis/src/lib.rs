@@ -18,6 +18,7 @@
 pub mod angle;
 pub mod error;
 pub mod export;
+pub mod metrics;
 pub mod options;
 pub mod orders;
 pub mod plot;

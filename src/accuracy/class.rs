@@ -6,10 +6,12 @@
 
 use super::report::db;
 use super::{CLASSES, Study, Window};
+use crate::simulation::Simulation;
 use std::sync::OnceLock;
 use washdyn_runtime::ir::files::content_hash as fnv1a64;
 use washdyn_runtime::ir::{Effect, EffectSet, Model};
 use washdyn_runtime::ode::Method;
+use washdyn_runtime::run::Summary;
 
 /// The committed study (`docs/accuracy.json`), compiled in for the error class.
 const COMMITTED: &str = include_str!("../../docs/accuracy.json");
@@ -152,6 +154,56 @@ pub fn class_in(study: &Study, q: &Query, hash: &mut dyn FnMut() -> String) -> O
         w.window.t1,
         db(t.order_db)
     ))
+}
+
+/// What the committed study says of a simulation's setting: the warning for a tolerance no
+/// error class covers, and the class it measured for this setting. The commands that run
+/// (`run`, `sweep`, `study`) look it up for their summaries; the set-up knows no report.
+#[derive(Clone, Debug, Default)]
+pub struct Verdict {
+    pub warning: Option<String>,
+    pub class: Option<String>,
+}
+
+impl Verdict {
+    /// Of `sim`, before it runs.
+    pub fn of(sim: &Simulation) -> Verdict {
+        Verdict {
+            warning: tolerance_warning(sim.method, sim.options.rtol),
+            class: error_class(sim),
+        }
+    }
+
+    /// Into the summary of the run: the warning first, the class only for a run that completed.
+    pub fn apply(self, s: &mut Summary, completed: bool) {
+        if let Some(w) = self.warning {
+            s.warnings.insert(0, w);
+        }
+        if completed {
+            s.error_class = self.class;
+        }
+    }
+}
+
+/// The error class the committed study measured for `sim`'s setting: the same model content,
+/// scene, method, tolerance and window; none off generalized-alpha's default spectral radius
+/// (the study measured that one).
+pub fn error_class(sim: &Simulation) -> Option<String> {
+    if sim
+        .rho_inf
+        .is_some_and(|r| r != washdyn_runtime::ode::Options::default().rho_inf)
+    {
+        return None;
+    }
+    committed_class(
+        &Query {
+            scene: &sim.scene.name,
+            method: sim.method,
+            tol: sim.class_tolerance(),
+            window: (sim.run.t_start, sim.run.t_end),
+        },
+        &mut || content_hash(&sim.source.model, &sim.scene),
+    )
 }
 
 /// The warning for a tolerance no error class covers: `tol` at or above the loosest class

@@ -20,11 +20,11 @@ use washdyn_runtime::run::{Start, Summary};
 use washdyn_runtime::system::Interpreter;
 
 pub mod class;
-mod metrics;
 mod report;
 
-use metrics::{Tracks, band_rms_error, order_error, order_tracks, trim};
-pub use metrics::{band_error, is_accel, relative_rms, rms_error, track_error, track_error_above};
+use crate::analysis::metrics::{
+    Tracks, band_rms_error, order_error, order_tracks, rms_error, trim,
+};
 pub use report::{markdown, recommend, write};
 
 /// Sample rate of the method runs, Hz (the analysis band is 300 Hz).
@@ -32,17 +32,6 @@ const SAMPLE_RATE: f64 = 2000.0;
 /// Sample rate of the model comparisons (modal truncation, scenes), Hz: above twice the tub's
 /// highest mode (6.6 kHz), so that what one model has and the other lacks does not alias.
 const COMPARE_RATE: f64 = 20_000.0;
-/// The band of the model comparisons' acceleration error, Hz (`band_error`): the analysis
-/// band, where the order plots are.
-pub const BAND_HZ: f64 = 300.0;
-/// Orders compared in the order tracks.
-const ORDERS: [f64; 3] = [1.0, 2.0, 3.0];
-/// Blocks of an order track whose reference amplitude is below this fraction of the track's
-/// peak (-40 dB) are not compared: there the order is noise, and dB errors mean nothing.
-pub const ORDER_FLOOR: f64 = 1e-2;
-/// The strong part of an order track: at least this fraction of its peak (within 20 dB), where
-/// a model comparison's 0.1 dB target applies (issue 21).
-pub const STRONG_FLOOR: f64 = 0.1;
 /// Model comparisons (modal truncation, scenes) start this long before the window and compare
 /// only inside it, s: each model has its own start transient, which is not what is compared.
 const SETTLE: f64 = 2.0;

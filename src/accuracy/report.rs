@@ -1,6 +1,7 @@
 //! The study's report: `accuracy.md`, `accuracy.json` and the work-precision plots.
 
-use super::{BAND_HZ, CLASSES, COMPARE_RATE, SETTLE, Study, Trial, WindowStudy};
+use super::{CLASSES, COMPARE_RATE, SETTLE, Study, Trial, WindowStudy};
+use crate::analysis::metrics::BAND_HZ;
 use crate::analysis::plot::init_fonts;
 use crate::error::Error;
 use plotters::prelude::*;

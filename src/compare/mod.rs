@@ -8,8 +8,8 @@
 //! order analysis as `washdyn analyse` ([`RunUp`] on one [`AngleGrid`] per run, the same
 //! options for both); per channel and tracked order the report gives each run's peak over the
 //! run with its speed, the difference of the peaks in dB, and the largest difference along the
-//! track ([`crate::accuracy::track_error`], the accuracy study's -40 dB floor), and per
-//! acceleration channel the RMS difference relative to A ([`crate::accuracy::relative_rms`]).
+//! track ([`crate::analysis::metrics::track_error`], the accuracy study's -40 dB floor), and per
+//! acceleration channel the RMS difference relative to A ([`crate::analysis::metrics::relative_rms`]).
 //! A is the reference: dB = 20 log10(B / A).
 //!
 //! [`read_signals`]: crate::analysis::read_signals
@@ -22,10 +22,10 @@
 //! plots); the runs' input (`runs.rs`: reading a run directory, its cost, whether two runs can be
 //! compared) and the report (`report.rs`: compare.md and compare.json) have a file each.
 
-use crate::accuracy::{
+use crate::analysis::angle::{AngleGrid, Kernel};
+use crate::analysis::metrics::{
     BAND_HZ, ORDER_FLOOR, STRONG_FLOOR, band_error, relative_rms, track_error, track_error_above,
 };
-use crate::analysis::angle::{AngleGrid, Kernel};
 use crate::analysis::{
     AnalysisError, AnalysisOptions, Quantity, RunUp, Signals, plot, unique_stems,
 };

@@ -2,8 +2,8 @@
 //! differences, the runs' costs) and compare.json. Separate because it only formats what the
 //! comparison found.
 
-use crate::accuracy::BAND_HZ;
 use crate::analysis::AnalysisOptions;
+use crate::analysis::metrics::BAND_HZ;
 use crate::analysis::options::fmt_order;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};

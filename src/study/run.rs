@@ -231,7 +231,9 @@ fn run_variant(study: &Study, layout: &Layout, v: &Variant) -> Result<Outcome, E
             let rate = sim.run.sample_rate;
             let mut sink = SensorRecorder::deferred(&tmp.dir(VARIANTS)?, Format::Parquet);
             phases.write_s = lap.next();
-            let (summary, error) = sim.integrate(&mut sink, &mut |_| {});
+            let verdict = crate::accuracy::class::Verdict::of(&sim);
+            let (mut summary, error) = sim.integrate(&mut sink, &mut |_| {});
+            verdict.apply(&mut summary, error.is_none());
             phases.run_s = lap.next();
             sink.finish()
                 .map_err(|e| Error::io("write", sink.path(), e))?;

@@ -1,12 +1,24 @@
-//! The study's error measures: relative RMS of the acceleration channels (raw, or in the
-//! analysis band), and the order tracks' dB errors.
+//! The error measures of comparisons between runs (the accuracy study's, `washdyn compare`'s):
+//! relative RMS of the acceleration channels (raw, or in the analysis band), and the order
+//! tracks' dB errors.
 
-use super::{BAND_HZ, ORDER_FLOOR, ORDERS};
-use crate::analysis::{AnalysisOptions, Channel, RunUp, Signals};
+use crate::{AnalysisOptions, Channel, RunUp, Signals};
 use washdyn_runtime::output::MemorySink;
 
+/// The band of the acceleration error of model comparisons, Hz (`band_error`): the analysis
+/// band, where the order plots are.
+pub const BAND_HZ: f64 = 300.0;
+/// Orders compared in the order tracks.
+pub const ORDERS: [f64; 3] = [1.0, 2.0, 3.0];
+/// Blocks of an order track whose reference amplitude is below this fraction of the track's
+/// peak (-40 dB) are not compared: there the order is noise, and dB errors mean nothing.
+pub const ORDER_FLOOR: f64 = 1e-2;
+/// The strong part of an order track: at least this fraction of its peak (within 20 dB), where
+/// a model comparison's 0.1 dB target applies (issue 21).
+pub const STRONG_FLOOR: f64 = 0.1;
+
 /// `m` from `skip` samples on, with only the channels whose name starts with `prefix`.
-pub(super) fn trim(m: &MemorySink, skip: usize, prefix: &str) -> MemorySink {
+pub fn trim(m: &MemorySink, skip: usize, prefix: &str) -> MemorySink {
     let keep: Vec<usize> = (0..m.channels.len())
         .filter(|&c| m.channels[c].starts_with(prefix))
         .collect();
@@ -60,7 +72,7 @@ pub fn rms_error(x: &MemorySink, r: &MemorySink) -> Option<f64> {
 
 /// Largest `band_error` (to [`BAND_HZ`]) of `x` against `r` over the shared acceleration
 /// channels, both sampled at `rate`.
-pub(super) fn band_rms_error(x: &MemorySink, r: &MemorySink, rate: f64) -> Option<f64> {
+pub fn band_rms_error(x: &MemorySink, r: &MemorySink, rate: f64) -> Option<f64> {
     if x.time.len() != r.time.len() || x.time.is_empty() {
         return None;
     }
@@ -91,7 +103,7 @@ pub fn band_error(x: &[f64], r: &[f64], fs: f64, f_max: f64) -> Option<f64> {
     if x.len() != n || n < 2 {
         return None;
     }
-    let hann = crate::analysis::spectrum::Window::hann(n);
+    let hann = crate::spectrum::Window::hann(n);
     let w = hann.coeffs();
     let fft = realfft::RealFftPlanner::<f64>::new().plan_fft_forward(n);
     let spectrum = |v: Vec<f64>| {
@@ -110,11 +122,7 @@ pub fn band_error(x: &[f64], r: &[f64], fs: f64, f_max: f64) -> Option<f64> {
 }
 
 /// The order tracks of orders 1-3 of every acceleration channel.
-pub(super) fn order_tracks(
-    m: &MemorySink,
-    t0: f64,
-    rate: f64,
-) -> Vec<(String, Vec<Vec<Option<f64>>>)> {
+pub fn order_tracks(m: &MemorySink, t0: f64, rate: f64) -> Vec<(String, Vec<Vec<Option<f64>>>)> {
     let opts = AnalysisOptions {
         track_orders: ORDERS.to_vec(),
         motor_orders: 0,
@@ -151,11 +159,11 @@ pub(super) fn order_tracks(
     out
 }
 
-pub(super) type Tracks = Vec<(String, Vec<Vec<Option<f64>>>)>;
+pub type Tracks = Vec<(String, Vec<Vec<Option<f64>>>)>;
 
 /// Largest |20 log10(x / r)| over channels, orders and the blocks where the reference is within
 /// 40 dB of its track's peak.
-pub(super) fn order_error(x: &Tracks, r: &Tracks) -> Option<f64> {
+pub fn order_error(x: &Tracks, r: &Tracks) -> Option<f64> {
     let mut worst: Option<f64> = None;
     for (name, rt) in r {
         let Some((_, xt)) = x.iter().find(|(n, _)| n == name) else {

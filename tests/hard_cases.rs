@@ -2,13 +2,16 @@
 //! values, and the energy balance closes: the change of kinetic energy T = q'^T M(t) q' / 2
 //! equals the work of all generalised forces, W = integral of q'^T h + q'^T (dM/dt) q' / 2
 //! (the work-energy theorem for M(t) q'' = h: every spring, damper, friction, gravity, gasket
-//! and drive force is in h). W is integrated along each method's own dense output with
-//! 3-point Gauss-Legendre per step, so the closure measures the integration, not sampling.
-//! It is stated relative to the energy throughput, the integral of |P|. The balance is kept
-//! by category (`Equations::energy_categories`: drive, gravity, each body's modal strain and
-//! damping, each element's elastic and dissipated part), and each category is held to what no
-//! other computation here gives: the categories' powers add up to the whole h's at every node
-//! (two evaluations of the derivation, split and whole); a body's modal strain work is minus
+//! and drive force is in h). Every case runs as `washdyn run --energy` runs it (`Simulation`:
+//! the run driver's restarts at the speed profile's breakpoints and its energy balance, W
+//! integrated along each method's own dense output with 3-point Gauss-Legendre per step, so
+//! the closure measures the integration, not sampling), stated relative to the energy
+//! throughput, the integral of |P|. The balance is kept by category
+//! (`Equations::energy_categories`: drive, gravity, each body's modal strain and damping, each
+//! element's elastic and dissipated part), and each category is held to what no other
+//! computation here gives: the categories' powers add up to the whole h's, q'^T h + q'^T M1'
+//! q' / 2 by a difference in t, at the run's first and last states (two evaluations of the
+//! derivation, split and whole); a body's modal strain work is minus
 //! the change of omega^2 q^2 / 2 between the end states; a dissipated category never gives
 //! energy back (its work is <= 0). The explicit methods complete or stop with a typed error
 //! within their step budget: dopri5, and when it runs on its stability limit Hairer's test
@@ -29,23 +32,22 @@ use washdyn::spec::RunSpec;
 use washdyn_runtime::energy::powers;
 use washdyn_runtime::equations::{Category, EnergyWork, Kind};
 use washdyn_runtime::ir::{EffectSet, Model, Scene};
-use washdyn_runtime::ode::{AnySolver, Method, OdeError, Solver, Stepper};
-use washdyn_runtime::output::MemorySink;
+use washdyn_runtime::ode::{Method, OdeError};
+use washdyn_runtime::output::{MemorySink, SampleSink};
 use washdyn_runtime::run::{RunError, Start};
-use washdyn_runtime::statics::mean_load_equilibrium;
-use washdyn_runtime::system::{FirstOrder, Interpreter, Mechanical};
+use washdyn_runtime::system::{Interpreter, Mechanical};
 
 struct Outcome {
     method: Method,
     result: Result<(), OdeError>,
     steps: u64,
     wall_s: f64,
-    /// |T1 - T0 - W| / integral |P|.
+    /// The run's own |T1 - T0 - W| / throughput (`Summary::energy_closure`).
     closure: f64,
-    /// Each category with its work over the window, J.
+    /// Each category with its work over the window, J (the run's last energy row).
     categories: Vec<(Category, f64)>,
-    /// Largest |sum of the category powers - q'^T h - q'^T M1' q' / 2| at a node, relative to
-    /// |P| + the largest category's |power| there.
+    /// Largest |sum of the category powers - q'^T h - q'^T M1' q' / 2| at the states checked,
+    /// relative to |P| + the largest category's |power| there.
     split: f64,
     /// Largest |W_strain + Delta (omega^2 q^2 / 2)| of a body, relative to the throughput.
     strain: f64,
@@ -57,7 +59,8 @@ struct Outcome {
 }
 
 /// Kinetic energy and power at (t, y): T = q'^T M q' / 2, P = q'^T h + q'^T M' q' / 2, with
-/// M1' by a central difference in t (M1 depends on t only).
+/// M1' by a central difference in t (M1 depends on t only): the whole h, independent of the
+/// categories' split.
 fn energy_and_power(sys: &mut Interpreter, t: f64, y: &[f64], buf: &mut Buffers) -> (f64, f64) {
     let lay = sys.layout();
     let (n, n1, n2) = (lay.n(), lay.n1, lay.n2);
@@ -93,8 +96,52 @@ struct Buffers {
     zd: Vec<f64>,
 }
 
-/// Integrates `scene` of `model` over [t0, t1] from the mean-load rest (interpreted back end:
-/// the models are changed at run time), restarting at the speed profile's breakpoints.
+/// What the run gives the hard cases: the first and last state, whether every sample was
+/// finite, and the energy balance's categories and their work at its last row.
+#[derive(Default)]
+struct Kept {
+    first: Option<Vec<f64>>,
+    last: Vec<f64>,
+    finite: bool,
+    categories: Vec<Category>,
+    work: Vec<f64>,
+}
+
+impl SampleSink for Kept {
+    fn header(&mut self, _channels: &[String]) -> std::io::Result<()> {
+        self.finite = true;
+        Ok(())
+    }
+    fn sample(&mut self, _t: f64, _rpm: f64, values: &[f64]) -> std::io::Result<()> {
+        self.finite &= values.iter().all(|v| v.is_finite());
+        Ok(())
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+    fn state(&mut self, _t: f64, _phi: f64, q: &[f64]) -> std::io::Result<()> {
+        self.first.get_or_insert_with(|| q.to_vec());
+        self.finite &= q.iter().all(|v| v.is_finite());
+        self.last = q.to_vec();
+        Ok(())
+    }
+    fn wants_energy(&self) -> bool {
+        true
+    }
+    fn energy_header(&mut self, categories: &[Category]) -> std::io::Result<()> {
+        self.categories = categories.to_vec();
+        Ok(())
+    }
+    fn energy(&mut self, _t: f64, _rpm: f64, _kin: f64, work: &[f64]) -> std::io::Result<()> {
+        self.work = work.to_vec();
+        Ok(())
+    }
+}
+
+/// Runs `scene` of `model` over [t0, t1] as `washdyn run` does (`Simulation`: the run
+/// driver's restarts at the speed profile's breakpoints, its energy balance along the dense
+/// output), from the mean-load rest, interpreted (the models are changed at run time),
+/// without the validity stop and the progress guard. Every state sampled at 1 kHz.
 fn run(
     model: &Model,
     scene: &EffectSet,
@@ -103,85 +150,41 @@ fn run(
     (t0, t1): (f64, f64),
     max_steps: u64,
 ) -> Outcome {
-    let mut sys = FirstOrder::new(Interpreter::new(model, scene));
-    let n = sys.layout().n();
-    let q0 =
-        mean_load_equilibrium(&mut sys.sys, t0).unwrap_or_else(|e| panic!("rest position: {e}"));
-    let mut y = vec![0.0; sys.layout().dim()];
-    y[..n].copy_from_slice(&q0);
-    // The options `washdyn run` gives the method (rtol tol, atol 1e-3 tol, the budget).
-    let opts = RunSpec {
+    let spec = RunSpec {
+        method: Some(method),
+        tol: Some(tol),
         max_steps: Some(max_steps),
+        t_start: t0,
+        t_end: Some(t1),
+        sample_rate: 1000.0,
+        start: Start::MeanLoad,
+        validity_stop: false,
+        max_projected_wall: f64::INFINITY,
         ..RunSpec::default()
-    }
-    .options(method, tol);
-    let mut solver = AnySolver::new(method, sys.layout().dim(), opts);
-    let lay = sys.layout();
-    let mut buf = Buffers {
-        m1: vec![0.0; lay.n1 * lay.n1],
-        m1p: vec![0.0; lay.n1 * lay.n1],
-        m1m: vec![0.0; lay.n1 * lay.n1],
-        h: vec![0.0; n],
-        hp: vec![0.0; n],
-        zd: vec![0.0; lay.nz],
     };
-    let (kin0, _) = energy_and_power(&mut sys.sys, t0, &y, &mut buf);
-    let cats = sys.sys.eq.energy_categories();
-    let mut ew = EnergyWork::new(&sys.sys.eq);
-    let mut pw = Vec::new();
-    let mut works = vec![0.0; cats.len()];
-    let mut split = 0.0f64;
-    let strain0 = modal_strain(&sys.sys, &y[..n]);
-    let stops = sys.sys.speed().stops(t0, t1);
-    let (mut work, mut throughput) = (0.0, 0.0);
-    // 3-point Gauss-Legendre nodes and weights on [0, 1].
-    let g = (0.6f64).sqrt() / 2.0;
-    let nodes = [
-        (0.5 - g, 5.0 / 18.0),
-        (0.5, 8.0 / 18.0),
-        (0.5 + g, 5.0 / 18.0),
-    ];
-    let mut yi = vec![0.0; sys.layout().dim()];
+    let source = Source::in_memory(model.clone());
+    let sim = Simulation::with_scene(source, scene.clone(), &spec, &RunControl::default())
+        .unwrap_or_else(|e| panic!("{method}: set-up: {e}"));
+    let mut kept = Kept::default();
     let start = Instant::now();
-    let mut t = t0;
-    let mut result = Ok(());
-    'outer: for stop in stops {
-        if let Err(e) = solver.init(&mut sys, t, &y) {
-            result = Err(e);
-            break;
-        }
-        while solver.t() < stop {
-            if let Err(e) = solver.step(&mut sys, stop) {
-                result = Err(e);
-                break 'outer;
-            }
-            let (a, b) = (solver.t_prev(), solver.t());
-            for (x, w) in nodes {
-                let ti = a + x * (b - a);
-                solver.interpolate(ti, &mut yi);
-                let (_, p) = energy_and_power(&mut sys.sys, ti, &yi, &mut buf);
-                work += w * (b - a) * p;
-                throughput += w * (b - a) * p.abs();
-                assert!(powers(&mut sys.sys, ti, &yi, &mut ew, &mut pw));
-                let largest = pw.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-                let sum: f64 = pw.iter().sum();
-                split = split.max((sum - p).abs() / (p.abs() + largest).max(1e-300));
-                for (wk, pc) in works.iter_mut().zip(&pw) {
-                    *wk += w * (b - a) * pc;
-                }
-            }
-        }
-        t = solver.t();
-        y.copy_from_slice(solver.y());
-    }
+    let (summary, error) = sim.integrate(&mut kept, &mut |_| {});
     let wall_s = start.elapsed().as_secs_f64();
-    let y_end = solver.y().to_vec();
-    let finite = y_end.iter().all(|v| v.is_finite());
-    let (kin1, _) = energy_and_power(&mut sys.sys, solver.t(), &y_end, &mut buf);
-    let strain1 = modal_strain(&sys.sys, &y_end[..n]);
+    let result = match error {
+        None => Ok(()),
+        Some(Error::Integration {
+            source: RunError::Ode(e),
+            ..
+        }) => Err(e),
+        Some(e) => panic!("{method}: stopped with {e}, not the integrator's error"),
+    };
+    let mut sys = Interpreter::new(model, scene);
+    let q0 = kept.first.clone().unwrap_or_default();
+    let throughput = summary.energy_throughput.unwrap_or(0.0);
+    let split = split_at(&mut sys, &[(t0, &q0), (summary.t_reached, &kept.last)]);
+    let (strain0, strain1) = (modal_strain(&sys, &q0), modal_strain(&sys, &kept.last));
     let mut strain = 0.0f64;
     let mut dissipation_gain = 0.0f64;
-    for (c, wk) in cats.iter().zip(&works) {
+    for (c, wk) in kept.categories.iter().zip(&kept.work) {
         if let Some(body) = c.name.strip_suffix(" modal strain") {
             let dv = strain1[body] - strain0[body];
             strain = strain.max((wk + dv).abs() / throughput.max(1e-300));
@@ -190,21 +193,52 @@ fn run(
             dissipation_gain = dissipation_gain.max(wk / throughput.max(1e-300));
         }
     }
-    let st = solver.stats();
     Outcome {
         method,
         result,
-        steps: st.steps,
+        steps: summary.steps,
         wall_s,
-        closure: (kin1 - kin0 - work).abs() / throughput.max(1e-300),
-        categories: cats.into_iter().zip(works).collect(),
+        closure: summary.energy_closure.unwrap_or(f64::NAN),
+        categories: kept.categories.into_iter().zip(kept.work).collect(),
         split,
         strain,
         dissipation_gain,
         throughput,
-        finite,
-        stiff_at: st.stiff_at,
+        finite: kept.finite,
+        stiff_at: summary.stiff_at,
     }
+}
+
+/// The categories' powers against the whole h's (`energy_and_power`) at the given positions,
+/// each with velocities of every coordinate (a fixed pattern of 1e-3 scale) and the element
+/// states at zero: an identity of the derivation, so any state tests it.
+fn split_at(sys: &mut Interpreter, states: &[(f64, &Vec<f64>)]) -> f64 {
+    let lay = sys.layout();
+    let (n, nz) = (lay.n(), lay.nz);
+    let mut buf = Buffers {
+        m1: vec![0.0; lay.n1 * lay.n1],
+        m1p: vec![0.0; lay.n1 * lay.n1],
+        m1m: vec![0.0; lay.n1 * lay.n1],
+        h: vec![0.0; n],
+        hp: vec![0.0; n],
+        zd: vec![0.0; nz],
+    };
+    let mut ew = EnergyWork::new(&sys.eq);
+    let mut pw = Vec::new();
+    let mut worst = 0.0f64;
+    for &(t, q) in states {
+        let mut y = vec![0.0; 2 * n + nz];
+        y[..n].copy_from_slice(q);
+        for (k, v) in y[n..2 * n].iter_mut().enumerate() {
+            *v = 1e-3 * ((k as f64 * 0.7).sin() + 0.3);
+        }
+        let (_, p) = energy_and_power(sys, t, &y, &mut buf);
+        assert!(powers(sys, t, &y, &mut ew, &mut pw));
+        let largest = pw.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let sum: f64 = pw.iter().sum();
+        worst = worst.max((sum - p).abs() / (p.abs() + largest).max(1e-300));
+    }
+    worst
 }
 
 /// omega^2 q^2 / 2 of each modal body, by its name (an independent state function for the

@@ -17,14 +17,12 @@ use washdyn_runtime::ir::EffectSet;
 use washdyn_runtime::ode::Method;
 use washdyn_runtime::output::MemorySink;
 use washdyn_runtime::run::{Start, Summary};
-use washdyn_runtime::system::Interpreter;
 
 pub mod class;
 mod report;
+mod window;
 
-use crate::analysis::metrics::{
-    Tracks, band_rms_error, order_error, order_tracks, rms_error, trim,
-};
+use crate::analysis::metrics::{Tracks, band_rms_error, order_error, order_tracks, rms_error};
 pub use report::{markdown, recommend, write};
 
 /// Sample rate of the method runs, Hz (the analysis band is 300 Hz).
@@ -285,12 +283,6 @@ fn is_elastic(scene: &EffectSet) -> bool {
 pub fn study(args: &AccuracyArgs, log: &mut dyn FnMut(&str)) -> Result<Study, Error> {
     let source = Source::load(&args.model)?;
     let model = &source.model;
-    let built_in = source.built_in.is_some();
-    let backend = if built_in {
-        Backend::Generated
-    } else {
-        Backend::Interpreted
-    };
     let mut windows = Vec::new();
     for w in &args.windows {
         let scene = model
@@ -300,165 +292,7 @@ pub fn study(args: &AccuracyArgs, log: &mut dyn FnMut(&str)) -> Result<Study, Er
         if w.t1.is_nan() {
             w.t1 = model.speed.table.last().map_or(1.0, |r| r[0]);
         }
-        let elastic = is_elastic(&scene);
-        // A whole run-up: the comparisons that need their own long runs (back ends, modal
-        // truncation, scenes) are the short windows' job.
-        let long = w.t1 - w.t0 > LONG;
-        let run = |method: Method, tol: f64, scene: &EffectSet, b: Backend| {
-            simulate(&source, scene, b, method, tol, &w, None, SAMPLE_RATE)
-        };
-        // Reference and its confirmation by a different method (explicit against implicit).
-        // A whole elastic run-up: dopri5 runs on its stability limit there, far below 1e-8.
-        let (ref_tol, conf_tol) = if args.quick || (elastic && long) {
-            (1e-8, 1e-7)
-        } else if elastic {
-            (1e-9, 1e-8)
-        } else {
-            (1e-10, 1e-9)
-        };
-        let r = run(Method::Dopri5, ref_tol, &scene, backend)?;
-        if let Some(e) = &r.error {
-            return Err(Error::refused(
-                "accuracy",
-                format!("reference run failed: {e}"),
-            ));
-        }
-        let rt = order_tracks(&r.mem, w.t0, SAMPLE_RATE);
-        let reference = trial("dopri5", ref_tol, &r, Some((&r.mem, &rt)));
-        log(&format!(
-            "{}: reference dopri5 {ref_tol:e}, {:.2} s",
-            w.scene, reference.wall_s
-        ));
-        // A whole elastic run-up: rodas4 at 1e-7 would run for hours (it is held by accuracy
-        // as dopri5 is by stability, at about 15 000 steps per simulated second) and the
-        // run's stall guard stops it; dopri5 a decade looser confirms the reference there.
-        let conf_method = if elastic && long {
-            Method::Dopri5
-        } else {
-            Method::Rodas4
-        };
-        let c = run(conf_method, conf_tol, &scene, backend)?;
-        let confirmation = trial(conf_method.name(), conf_tol, &c, Some((&r.mem, &rt)));
-        log(&format!(
-            "{}: confirmation {conf_method} {conf_tol:e}: accel {:?}, orders {:?} dB, {}",
-            w.scene, confirmation.accel_err, confirmation.order_db, confirmation.status
-        ));
-        let mut trials = Vec::new();
-        for (m, tols) in sweep(args.quick, elastic, long) {
-            for tol in tols {
-                let s = run(m, tol, &scene, backend)?;
-                let t = trial(m.name(), tol, &s, Some((&r.mem, &rt)));
-                log(&format!(
-                    "{}: {} {tol:e}: {} steps, {:.3} s, accel {:?}, orders {:?} dB, {}",
-                    w.scene, m, t.steps, t.wall_s, t.accel_err, t.order_db, t.status
-                ));
-                trials.push(t);
-            }
-        }
-        // Generalized-alpha's numerical damping of the unresolved modes: each spectral radius
-        // at the tolerance of its error class 1e-3 (a whole run-up: left to the short windows).
-        let mut rho_inf = Vec::new();
-        if !long {
-            let tol = if elastic || args.quick { 1e-5 } else { 1e-6 };
-            for rho in RHO_INF {
-                let m = Method::GeneralizedAlpha;
-                let s = simulate(&source, &scene, backend, m, tol, &w, Some(rho), SAMPLE_RATE)?;
-                let t = trial(m.name(), tol, &s, Some((&r.mem, &rt)));
-                log(&format!(
-                    "{}: galpha {tol:e} rho_inf {rho}: {} steps, {:.3} s, accel {:?}, orders {:?} dB, {}",
-                    w.scene, t.steps, t.wall_s, t.accel_err, t.order_db, t.status
-                ));
-                rho_inf.push((rho, t));
-            }
-        }
-        // Generated against interpreted, dopri5 at 1e-6.
-        let backends = if built_in && !args.quick && !long {
-            let g = run(Method::Dopri5, 1e-6, &scene, Backend::Generated)?;
-            let i = run(Method::Dopri5, 1e-6, &scene, Backend::Interpreted)?;
-            let tg = trial("dopri5", 1e-6, &g, Some((&r.mem, &rt)));
-            // The interpreter against the generated run at the same setting: round-off only.
-            let gt = order_tracks(&g.mem, w.t0, SAMPLE_RATE);
-            let ti = trial("dopri5", 1e-6, &i, Some((&g.mem, &gt)));
-            log(&format!(
-                "{}: generated {:.3} s, interpreted {:.3} s, difference {:?}",
-                w.scene, tg.wall_s, ti.wall_s, ti.accel_err
-            ));
-            Some((tg, ti))
-        } else {
-            None
-        };
-        // Model comparisons run from SETTLE before the window and compare inside it.
-        let early = Window {
-            t0: (w.t0 - SETTLE).max(0.0),
-            ..w.clone()
-        };
-        let skip = ((w.t0 - early.t0) * COMPARE_RATE).round() as usize;
-        let run_early = |method: Method, tol: f64, scene: &EffectSet, b: Backend| {
-            simulate(&source, scene, b, method, tol, &early, None, COMPARE_RATE)
-        };
-        // Modal truncation (interpreted: any cut-off), against the finest.
-        let mut truncation = Vec::new();
-        if elastic && !args.quick && !long {
-            let finest = EffectSet {
-                mode_cutoff: None,
-                ..scene.clone()
-            };
-            let f = run_early(Method::Dopri5, 1e-7, &finest, Backend::Interpreted)?;
-            let fm = trim(&f.mem, skip, "");
-            let ft = order_tracks(&fm, w.t0, COMPARE_RATE);
-            for c in TRUNCATION_CUTS_HZ {
-                let sc = EffectSet {
-                    mode_cutoff: Some(c),
-                    ..scene.clone()
-                };
-                let n = Interpreter::new(model, &sc).eq.layout.n();
-                let mut s = run_early(Method::Dopri5, 1e-7, &sc, Backend::Interpreted)?;
-                s.mem = trim(&s.mem, skip, "");
-                s.summary.t_start = w.t0;
-                let t = trial("dopri5", 1e-7, &s, Some((&fm, &ft)));
-                log(&format!(
-                    "{}: modes to {c:.0} Hz ({n} coordinates): accel {:?}, orders {:?} dB, {:.2} s",
-                    w.scene, t.accel_err, t.order_db, t.wall_s
-                ));
-                truncation.push((c, n, t));
-            }
-        }
-        // Other scenes against this one (the full model is the elastic scene).
-        let mut scenes = Vec::new();
-        if elastic && !args.quick && !long {
-            // Tub channels only: the rigid scenes' cabinet is fixed and reads zero.
-            let e = run_early(Method::Dopri5, 1e-7, &scene, backend)?;
-            let em = trim(&e.mem, skip, "tub");
-            let et = order_tracks(&em, w.t0, COMPARE_RATE);
-            for other in &model.scenes {
-                if other.name == w.scene {
-                    continue;
-                }
-                let sc = model
-                    .scene(Some(&other.name))
-                    .map_err(|m| Error::setting(Field::Scene, m))?;
-                let mut s = run_early(Method::Dopri5, 1e-7, &sc, backend)?;
-                s.mem = trim(&s.mem, skip, "tub");
-                s.summary.t_start = w.t0;
-                let t = trial("dopri5", 1e-7, &s, Some((&em, &et)));
-                log(&format!(
-                    "{}: scene {} against it: accel {:?}, orders {:?} dB, {:.2} s",
-                    w.scene, other.name, t.accel_err, t.order_db, t.wall_s
-                ));
-                scenes.push((other.name.clone(), t));
-            }
-        }
-        windows.push(WindowStudy {
-            window: w.clone(),
-            model_hash: Some(class::content_hash(model, &scene)),
-            reference,
-            confirmation,
-            trials,
-            backends,
-            truncation,
-            scenes,
-            rho_inf,
-        });
+        windows.push(window::Stages::new(&source, scene, w, args.quick).study(log)?);
     }
     Ok(Study {
         model: model.name.clone(),

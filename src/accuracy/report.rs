@@ -55,154 +55,174 @@ pub fn markdown(s: &Study) -> String {
           blocks (where the reference is within 40 dB of the track's peak). Wall time is the \
           whole run (integration and sampling at 2 kHz). rk4's `tol` column is its step in s.\n\n";
     for w in &s.windows {
+        window_head(&mut m, w);
+        trials(&mut m, w);
+        method_extras(&mut m, w);
+        model_comparisons(&mut m, w);
+    }
+    m
+}
+
+/// A window's title, its model's content hash, the reference and its confirmation.
+fn window_head(m: &mut String, w: &WindowStudy) {
+    let _ = writeln!(
+        m,
+        "## Scene `{}`, t = {} .. {} s\n",
+        w.window.scene, w.window.t0, w.window.t1
+    );
+    if let Some(h) = &w.model_hash {
         let _ = writeln!(
             m,
-            "## Scene `{}`, t = {} .. {} s\n",
-            w.window.scene, w.window.t0, w.window.t1
+            "Model content hash `{h}` (`accuracy::class::content_hash`): a run reports \
+             an error class from this window only for this content.\n"
         );
-        if let Some(h) = &w.model_hash {
-            let _ = writeln!(
-                m,
-                "Model content hash `{h}` (`accuracy::class::content_hash`): a run reports \
-                 an error class from this window only for this content.\n"
-            );
+    }
+    let _ = writeln!(
+        m,
+        "Reference: dopri5 at rtol {:e}, {} steps, {:.2} s. Confirmation: {} at rtol {:e}, \
+         {} steps, {:.2} s; it differs from the reference by accel {} and orders {} dB.\n",
+        w.reference.tol,
+        w.reference.steps,
+        w.reference.wall_s,
+        w.confirmation.method,
+        w.confirmation.tol,
+        w.confirmation.steps,
+        w.confirmation.wall_s,
+        e(w.confirmation.accel_err),
+        db(w.confirmation.order_db)
+    );
+}
+
+/// The methods' trials, the work-precision plot, the cheapest setting per target.
+fn trials(m: &mut String, w: &WindowStudy) {
+    *m += "| method | tol | steps | rejected | f evals | Jacobians | LU | wall s | accel | orders dB | status |\n";
+    *m += "|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for t in &w.trials {
+        let _ = writeln!(
+            m,
+            "| {} | {:e} | {} | {} | {} | {} | {} | {:.3} | {} | {} | {} |",
+            t.method,
+            t.tol,
+            t.steps,
+            t.rejected,
+            t.rhs_evals,
+            t.jacobians,
+            t.lu,
+            t.wall_s,
+            e(t.accel_err),
+            db(t.order_db),
+            t.status
+        );
+    }
+    let _ = writeln!(
+        m,
+        "\n![work-precision {}](accuracy_{}.png)\n",
+        w.window.scene, w.window.scene
+    );
+    *m += "Cheapest measured setting for a target error on the accelerations:\n\n";
+    *m += "| target | setting | wall s | accel | orders dB |\n|---|---|---|---|---|\n";
+    for (c, t) in recommend(&w.trials) {
+        match t {
+            Some(t) => {
+                let _ = writeln!(
+                    m,
+                    "| {c:.0e} | `{}` | {:.3} | {} | {} |",
+                    setting(t),
+                    t.wall_s,
+                    e(t.accel_err),
+                    db(t.order_db)
+                );
+            }
+            None => {
+                let _ = writeln!(m, "| {c:.0e} | none measured | | | |");
+            }
         }
+    }
+    m.push('\n');
+}
+
+/// Generated against interpreted, and generalized-alpha's spectral radii.
+fn method_extras(m: &mut String, w: &WindowStudy) {
+    if let Some((g, i)) = &w.backends {
         let _ = writeln!(
             m,
-            "Reference: dopri5 at rtol {:e}, {} steps, {:.2} s. Confirmation: {} at rtol {:e}, \
-             {} steps, {:.2} s; it differs from the reference by accel {} and orders {} dB.\n",
-            w.reference.tol,
-            w.reference.steps,
-            w.reference.wall_s,
-            w.confirmation.method,
-            w.confirmation.tol,
-            w.confirmation.steps,
-            w.confirmation.wall_s,
-            e(w.confirmation.accel_err),
-            db(w.confirmation.order_db)
+            "Generated against interpreted (dopri5, rtol 1e-6): {:.3} s against {:.3} s, \
+             ratio {:.2}; the two runs differ by accel {} and orders {} dB.\n",
+            g.wall_s,
+            i.wall_s,
+            i.wall_s / g.wall_s,
+            e(i.accel_err),
+            db(i.order_db)
         );
-        m += "| method | tol | steps | rejected | f evals | Jacobians | LU | wall s | accel | orders dB | status |\n";
-        m += "|---|---|---|---|---|---|---|---|---|---|---|\n";
-        for t in &w.trials {
+    }
+    if let Some((_, t0)) = w.rho_inf.first() {
+        let _ = writeln!(
+            m,
+            "Generalized-alpha's spectral radius at infinity (`--rho-inf`; rtol {:e}): \
+             the amplitude it leaves a mode it does not resolve per step, 1 keeping such \
+             modes undamped, 0 removing them in one step; the default 0.8.\n",
+            t0.tol
+        );
+        *m += "| rho_inf | steps | rejected | wall s | accel | orders dB | status |\n|---|---|---|---|---|---|---|\n";
+        for (rho, t) in &w.rho_inf {
             let _ = writeln!(
                 m,
-                "| {} | {:e} | {} | {} | {} | {} | {} | {:.3} | {} | {} | {} |",
-                t.method,
-                t.tol,
+                "| {rho} | {} | {} | {:.3} | {} | {} | {} |",
                 t.steps,
                 t.rejected,
-                t.rhs_evals,
-                t.jacobians,
-                t.lu,
                 t.wall_s,
                 e(t.accel_err),
                 db(t.order_db),
                 t.status
             );
         }
+        m.push('\n');
+    }
+}
+
+/// The modal truncation and the other scenes.
+fn model_comparisons(m: &mut String, w: &WindowStudy) {
+    if !w.truncation.is_empty() {
         let _ = writeln!(
             m,
-            "\n![work-precision {}](accuracy_{}.png)\n",
-            w.window.scene, w.window.scene
+            "Modal truncation (interpreted, dopri5 rtol 1e-7, started {SETTLE} s before the \
+             window, compared inside it, sampled at {COMPARE_RATE} Hz; accel in the \
+             {BAND_HZ} Hz band), against all modes of the modal data \
+             (docs/truncation.md: the same at constant speeds):\n"
         );
-        m += "Cheapest measured setting for a target error on the accelerations:\n\n";
-        m += "| target | setting | wall s | accel | orders dB |\n|---|---|---|---|---|\n";
-        for (c, t) in recommend(&w.trials) {
-            match t {
-                Some(t) => {
-                    let _ = writeln!(
-                        m,
-                        "| {c:.0e} | `{}` | {:.3} | {} | {} |",
-                        setting(t),
-                        t.wall_s,
-                        e(t.accel_err),
-                        db(t.order_db)
-                    );
-                }
-                None => {
-                    let _ = writeln!(m, "| {c:.0e} | none measured | | | |");
-                }
-            }
+        *m += "| modes up to Hz | coordinates | wall s | accel | orders dB |\n|---|---|---|---|---|\n";
+        for (c, n, t) in &w.truncation {
+            let _ = writeln!(
+                m,
+                "| {c:.0} | {n} | {:.3} | {} | {} |",
+                t.wall_s,
+                e(t.accel_err),
+                db(t.order_db)
+            );
         }
         m.push('\n');
-        if let Some((g, i)) = &w.backends {
-            let _ = writeln!(
-                m,
-                "Generated against interpreted (dopri5, rtol 1e-6): {:.3} s against {:.3} s, \
-                 ratio {:.2}; the two runs differ by accel {} and orders {} dB.\n",
-                g.wall_s,
-                i.wall_s,
-                i.wall_s / g.wall_s,
-                e(i.accel_err),
-                db(i.order_db)
-            );
-        }
-        if let Some((_, t0)) = w.rho_inf.first() {
-            let _ = writeln!(
-                m,
-                "Generalized-alpha's spectral radius at infinity (`--rho-inf`; rtol {:e}): \
-                 the amplitude it leaves a mode it does not resolve per step, 1 keeping such \
-                 modes undamped, 0 removing them in one step; the default 0.8.\n",
-                t0.tol
-            );
-            m += "| rho_inf | steps | rejected | wall s | accel | orders dB | status |\n|---|---|---|---|---|---|---|\n";
-            for (rho, t) in &w.rho_inf {
-                let _ = writeln!(
-                    m,
-                    "| {rho} | {} | {} | {:.3} | {} | {} | {} |",
-                    t.steps,
-                    t.rejected,
-                    t.wall_s,
-                    e(t.accel_err),
-                    db(t.order_db),
-                    t.status
-                );
-            }
-            m.push('\n');
-        }
-        if !w.truncation.is_empty() {
-            let _ = writeln!(
-                m,
-                "Modal truncation (interpreted, dopri5 rtol 1e-7, started {SETTLE} s before the \
-                 window, compared inside it, sampled at {COMPARE_RATE} Hz; accel in the \
-                 {BAND_HZ} Hz band), against all modes of the modal data \
-                 (docs/truncation.md: the same at constant speeds):\n"
-            );
-            m += "| modes up to Hz | coordinates | wall s | accel | orders dB |\n|---|---|---|---|---|\n";
-            for (c, n, t) in &w.truncation {
-                let _ = writeln!(
-                    m,
-                    "| {c:.0} | {n} | {:.3} | {} | {} |",
-                    t.wall_s,
-                    e(t.accel_err),
-                    db(t.order_db)
-                );
-            }
-            m.push('\n');
-        }
-        if !w.scenes.is_empty() {
-            let _ = writeln!(
-                m,
-                "Scenes against `{}` (the full model), dopri5 rtol 1e-7, started {SETTLE} s \
-                 before the window and compared inside it, sampled at {COMPARE_RATE} Hz, \
-                 accel in the {BAND_HZ} Hz band, on the tub's channels (a rigid scene's \
-                 cabinet is fixed):\n",
-                w.window.scene
-            );
-            m += "| scene | wall s | accel | orders dB |\n|---|---|---|---|\n";
-            for (n, t) in &w.scenes {
-                let _ = writeln!(
-                    m,
-                    "| {n} | {:.3} | {} | {} |",
-                    t.wall_s,
-                    e(t.accel_err),
-                    db(t.order_db)
-                );
-            }
-            m.push('\n');
-        }
     }
-    m
+    if !w.scenes.is_empty() {
+        let _ = writeln!(
+            m,
+            "Scenes against `{}` (the full model), dopri5 rtol 1e-7, started {SETTLE} s \
+             before the window and compared inside it, sampled at {COMPARE_RATE} Hz, \
+             accel in the {BAND_HZ} Hz band, on the tub's channels (a rigid scene's \
+             cabinet is fixed):\n",
+            w.window.scene
+        );
+        *m += "| scene | wall s | accel | orders dB |\n|---|---|---|---|\n";
+        for (n, t) in &w.scenes {
+            let _ = writeln!(
+                m,
+                "| {n} | {:.3} | {} | {} |",
+                t.wall_s,
+                e(t.accel_err),
+                db(t.order_db)
+            );
+        }
+        m.push('\n');
+    }
 }
 
 /// A plot that could not be drawn or written.

@@ -242,6 +242,7 @@ where
                 })?;
                 // At the last row (a failed run keeps it); the end's below.
                 summary.energy_closure = Some(b.row_closure);
+                summary.energy_throughput = Some(b.throughput);
             }
             monitor.check(t, &solver.y()[..n], summary)?;
             monitor.elements(t, &solver.y()[..n], summary, worst);
@@ -275,6 +276,7 @@ where
     }
     if let Some(b) = balance.as_mut() {
         summary.energy_closure = Some(b.closure(&mut sys.sys, solver.t(), solver.y()));
+        summary.energy_throughput = Some(b.throughput);
     }
     progress(Progress {
         t: t_end,

@@ -70,6 +70,10 @@ pub struct Summary {
     /// sink kept the energy balance (`run --energy`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub energy_closure: Option<f64>,
+    /// The energy throughput the closure is relative to, J: the integral of |dT/dt| (the sum
+    /// of the categories' powers) over the run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub energy_throughput: Option<f64>,
     /// Generalized-alpha's spectral radius at infinity, when it ran.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub rho_inf: Option<f64>,
@@ -152,6 +156,7 @@ impl Summary {
             method_switches: 0,
             rho_inf: None,
             energy_closure: None,
+            energy_throughput: None,
             samples: 0,
             wall_time_s: 0.0,
             status: RunStatus::Ok,

@@ -7,12 +7,15 @@ use super::{InpError, InpProblem};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+/// A data line: its line number and its fields.
+pub(super) type DataLine = (usize, Vec<String>);
+
 /// One card: keyword, parameters (upper-cased keys; values as written, upper-cased where they
 /// name something), data lines with their line numbers, where it stands.
 pub(super) struct Card {
     pub(super) keyword: String,
     pub(super) params: Vec<(String, String)>,
-    pub(super) data: Vec<(usize, Vec<String>)>,
+    pub(super) data: Vec<DataLine>,
     pub(super) file: PathBuf,
     pub(super) line: usize,
 }
@@ -38,7 +41,7 @@ impl Card {
         })
     }
     /// The first data line, or an error naming the card.
-    pub(super) fn first(&self) -> Result<&(usize, Vec<String>), InpError> {
+    pub(super) fn first(&self) -> Result<&DataLine, InpError> {
         self.data.first().ok_or_else(|| {
             let keyword = self.keyword.clone();
             self.err(self.line, InpProblem::NoData { keyword })
@@ -60,10 +63,24 @@ pub(super) fn num(
     };
     let Ok(value) = s.replace(['d', 'D'], "e").parse::<f64>() else {
         let text = s.clone();
-        return Err(card.err(line, InpProblem::NotANumber { keyword, what, text }));
+        return Err(card.err(
+            line,
+            InpProblem::NotANumber {
+                keyword,
+                what,
+                text,
+            },
+        ));
     };
     if !value.is_finite() {
-        return Err(card.err(line, InpProblem::NotFinite { keyword, what, value }));
+        return Err(card.err(
+            line,
+            InpProblem::NotFinite {
+                keyword,
+                what,
+                value,
+            },
+        ));
     }
     Ok(value)
 }
@@ -71,7 +88,14 @@ pub(super) fn num(
 pub(super) fn int(card: &Card, line: usize, s: &str, what: &str) -> Result<i64, InpError> {
     s.parse().map_err(|_| {
         let (keyword, what, text) = (card.keyword.clone(), what.to_string(), s.to_string());
-        card.err(line, InpProblem::NotAnInteger { keyword, what, text })
+        card.err(
+            line,
+            InpProblem::NotAnInteger {
+                keyword,
+                what,
+                text,
+            },
+        )
     })
 }
 

@@ -53,10 +53,12 @@ pub enum InpProblem {
     SetNotAbove { keyword: String, set: String },
 
     // What the pipeline cannot take.
-    #[error("{keyword} is not supported in the model part (supported: *NODE, *ELEMENT, \
+    #[error(
+        "{keyword} is not supported in the model part (supported: *NODE, *ELEMENT, \
              *NSET, *ELSET, *MATERIAL, *ELASTIC, *DENSITY, *SHELL SECTION, *SOLID \
              SECTION, *BEAM SECTION, *MASS, *SPRING, *RIGID BODY, *BOUNDARY, \
-             *INCLUDE; steps are skipped)")]
+             *INCLUDE; steps are skipped)"
+    )]
     UnsupportedKeyword { keyword: String },
     #[error(
         "element type {kind} is not supported (supported: {}); \

@@ -1,7 +1,7 @@
 //! The deck reader against the decks the writer writes, in both unit systems, and its refusals.
 use super::*;
-use crate::mesh::{Material, Section};
 use crate::bodies::builtin;
+use crate::mesh::{Material, Section};
 
 fn close(a: f64, b: f64) -> bool {
     (a - b).abs() <= 1e-9 * a.abs().max(b.abs())
@@ -229,7 +229,15 @@ fn unsupported_or_broken_decks_name_file_and_line() {
         |p| matches!(p, InpProblem::UnsupportedKeyword { keyword } if keyword == "*EQUATION"),
         |p| matches!(p, InpProblem::NoNode { id: 9 }),
         |p| matches!(p, InpProblem::NoSection { id: 1, .. }),
-        |p| matches!(p, InpProblem::MaterialLacks { card: "*DENSITY", .. }),
+        |p| {
+            matches!(
+                p,
+                InpProblem::MaterialLacks {
+                    card: "*DENSITY",
+                    ..
+                }
+            )
+        },
         |p| matches!(p, InpProblem::Read(_)),
         |p| matches!(p, InpProblem::NotPositive { what: "height", .. }),
         |p| matches!(p, InpProblem::NotFinite { value, .. } if value.is_nan()),
@@ -237,7 +245,10 @@ fn unsupported_or_broken_decks_name_file_and_line() {
     for ((text, line, want), kind) in cases.into_iter().zip(kinds) {
         let e = deck_error(&text);
         assert!(kind(&e.problem), "{e:?}");
-        assert!(e.problem.to_string().contains(want), "want `{want}`, got: {e}");
+        assert!(
+            e.problem.to_string().contains(want),
+            "want `{want}`, got: {e}"
+        );
         assert_eq!(e.line, line, "{e}");
         if line > 0 {
             assert!(e.file.ends_with("user.inp"), "{e}");

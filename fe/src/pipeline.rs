@@ -150,39 +150,15 @@ pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), Error> 
         return Err(PipelineError::NoModeKept { body }.into());
     }
     let points: Vec<(&str, [f64; 3])> = spec.points.iter().map(|(s, p)| (s.as_str(), *p)).collect();
-    let mut correction = None;
-    let mut correction_solved: Option<crate::correction::Corrected> = None;
     let eigen = modes.len();
-    if !spec.correction.is_empty() {
-        // A free body gets inertia relief (`correction.rs`).
-        let c = crate::correction::correction_modes(
-            &spec.mesh,
-            &mass,
-            &modes,
-            &points,
-            &spec.correction,
-            spec.support == Support::FreeFree,
-            spec.three_d(),
-            spec.correction_order,
-            dir,
-            &format!("{}_correction", spec.name),
-        )?;
-        correction = Some((
-            Correction {
-                loads: spec.correction.clone(),
-                modes: c.shapes.len(),
-                participation: c.participation.clone(),
-            },
-            CorrectionReport {
-                frequencies: c.shapes.iter().map(|s| s.frequency_hz).collect(),
-                solve_s: c.solve_s,
-                reaction: c.reaction,
-            },
-        ));
-        let mut c = c;
-        modes.append(&mut c.shapes);
-        correction_solved = Some(c);
-    }
+    let (correction, correction_solved) = match correction_modes(spec, &mass, &modes, &points, dir)?
+    {
+        Some((record, mut c)) => {
+            modes.append(&mut c.shapes);
+            (Some(record), Some(c))
+        }
+        None => (None, None),
+    };
     let mut data = modal::Import {
         body: spec.kind,
         support: spec.support,
@@ -260,6 +236,48 @@ pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), Error> 
         data.elementary.g = Default::default();
     }
     Ok((data, report))
+}
+
+/// The correction modes as the modal data and the report record them.
+type CorrectionRecord = (Correction, CorrectionReport);
+
+/// The correction modes of `spec`'s load cases, if it has any (`correction.rs`; a free body
+/// gets inertia relief): their record in the modal data and the report, and the solve.
+fn correction_modes(
+    spec: &BodySpec,
+    mass: &consistent::MassMatrix,
+    modes: &[crate::modal::Shapes],
+    points: &[(&str, [f64; 3])],
+    dir: &Path,
+) -> Result<Option<(CorrectionRecord, crate::correction::Corrected)>, Error> {
+    if spec.correction.is_empty() {
+        return Ok(None);
+    }
+    let c = crate::correction::correction_modes(
+        &spec.mesh,
+        mass,
+        modes,
+        points,
+        &spec.correction,
+        spec.support == Support::FreeFree,
+        spec.three_d(),
+        spec.correction_order,
+        dir,
+        &format!("{}_correction", spec.name),
+    )?;
+    let record = (
+        Correction {
+            loads: spec.correction.clone(),
+            modes: c.shapes.len(),
+            participation: c.participation.clone(),
+        },
+        CorrectionReport {
+            frequencies: c.shapes.iter().map(|s| s.frequency_hz).collect(),
+            solve_s: c.solve_s,
+            reaction: c.reaction,
+        },
+    );
+    Ok(Some((record, c)))
 }
 
 /// A spinning body's K_G per Omega^2 on `modes` (the first `eigen` of them the eigenmodes of

@@ -225,7 +225,7 @@ pub fn fe_modal(out: &Path, work: &Path, only: &[String]) -> Result<(), String> 
         if !only.is_empty() && !only.contains(&b.name) {
             continue;
         }
-        let (data, r) = washdyn_fe::pipeline::build(&b, work)?;
+        let (data, r) = washdyn_fe::pipeline::build(&b, work).map_err(|e| e.to_string())?;
         let header = format!(
             "the {} (docs/modal-data.md), written by `washdyn fe modal`",
             b.name
@@ -259,11 +259,12 @@ fn write_modal(out: &Path, name: &str, header: &str, data: &ModalData) -> Result
 
 /// `washdyn fe deck`: a user's deck and spec to checked modal data (and field).
 pub fn fe_deck(spec: &Path, out: &Path, work: &Path) -> Result<(), String> {
-    let body = washdyn_fe::user::load(spec)?;
+    let body = washdyn_fe::user::load(spec).map_err(|e| e.to_string())?;
     for d in [out, work] {
         fs::create_dir_all(d).map_err(|e| format!("{}: {e}", d.display()))?;
     }
-    let (data, report, c) = washdyn_fe::user::build_checked(&body, work)?;
+    let (data, report, c) =
+        washdyn_fe::user::build_checked(&body, work).map_err(|e| e.to_string())?;
     let header = format!("`{}` from {} (washdyn fe deck)", body.name, spec.display());
     let line = write_modal(out, &body.name, &header, &data)?;
     print!("{report}");

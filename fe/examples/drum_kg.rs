@@ -22,7 +22,7 @@ fn main() -> Result<(), String> {
         .map_err(|_| "CCX_MODES")?;
     std::fs::create_dir_all(&out).map_err(|e| e.to_string())?;
     let t = std::time::Instant::now();
-    let (data, r) = washdyn_fe::pipeline::build(&spec, &out)?;
+    let (data, r) = washdyn_fe::pipeline::build(&spec, &out).map_err(|e| e.to_string())?;
     println!("{r}");
     println!("build {:.1} s", t.elapsed().as_secs_f64());
     let size = std::fs::metadata(out.join("drum.frd")).map_or(0, |m| m.len());
@@ -44,7 +44,8 @@ fn main() -> Result<(), String> {
                 "drum_reference",
                 &spec.spin.as_ref().ok_or("no spin")?.centrifugal(),
                 m,
-            )?;
+            )
+            .map_err(|e| e.to_string())?;
             println!(
                 "ccx prestressed reference, {m} modes: {:.1} s",
                 t.elapsed().as_secs_f64()

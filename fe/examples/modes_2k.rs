@@ -32,7 +32,7 @@ fn main() -> Result<(), String> {
     let out = std::path::Path::new(out);
     let work = out.join(format!("{body}_work"));
     std::fs::create_dir_all(&work).map_err(|e| e.to_string())?;
-    let (data, r) = washdyn_fe::pipeline::build(&spec, &work)?;
+    let (data, r) = washdyn_fe::pipeline::build(&spec, &work).map_err(|e| e.to_string())?;
     let p = out.join(format!("{body}.modal.toml"));
     std::fs::write(&p, data.to_toml()).map_err(|e| e.to_string())?;
     let f = &data.frequencies;

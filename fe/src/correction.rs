@@ -22,6 +22,7 @@
 //! Phi_r. That is the elastic (mean-axis) response the free-free modes describe.
 
 use crate::consistent::MassMatrix;
+use crate::error::{Error, PipelineError, Within};
 use crate::mesh::Mesh;
 use crate::modal::{Shapes, point_reading_full};
 use nalgebra::DMatrix;
@@ -117,7 +118,7 @@ fn nodal_load(
     set: &str,
     position: [f64; 3],
     load: &LoadCase,
-) -> Result<Loads, String> {
+) -> Result<Loads, PipelineError> {
     let d = load.direction;
     Ok(point_reading_full(mesh, set, position)?
         .into_iter()
@@ -184,7 +185,11 @@ fn add3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 /// Remove from `s` its rigid part in the mass `mass`: s - (v + omega x (x - c)) with
 /// [m E, 0; 0, I] [v; omega] = [sum dm s; sum dm (x - c) x s] (about the CoG c), so that the
 /// result is M-orthogonal to the six rigid motions.
-pub fn remove_rigid_motion(mesh: &Mesh, mass: &MassMatrix, s: &mut Shapes) -> Result<(), String> {
+pub fn remove_rigid_motion(
+    mesh: &Mesh,
+    mass: &MassMatrix,
+    s: &mut Shapes,
+) -> Result<(), PipelineError> {
     let p = mass.rigid_inertia(mesh);
     let el = mass.elementary(mesh, std::slice::from_ref(s))?;
     let lin: [f64; 3] = std::array::from_fn(|a| el.c[a][0]);
@@ -196,7 +201,7 @@ pub fn remove_rigid_motion(mesh: &Mesh, mass: &MassMatrix, s: &mut Shapes) -> Re
         first(0, 1) - first(1, 0),
     ];
     let i = nalgebra::Matrix3::from_fn(|r, c| p.inertia[r][c]);
-    let om = i.try_inverse().ok_or("the body's inertia is singular")?
+    let om = i.try_inverse().ok_or(PipelineError::SingularInertia)?
         * nalgebra::Vector3::from_column_slice(&ang);
     let (v, om) = (lin.map(|x| x / p.mass), [om[0], om[1], om[2]]);
     for (id, u) in s.w.iter_mut() {
@@ -217,7 +222,7 @@ pub fn remove_rigid_motion(mesh: &Mesh, mass: &MassMatrix, s: &mut Shapes) -> Re
 /// (the farthest from the centroid, the farthest from it, the farthest from the line through
 /// both; not in a rigid part), holding 3, 2 and 1 translations chosen so that the six
 /// constraints fix the six rigid motions best (largest determinant).
-pub fn determinate_support(mesh: &Mesh) -> Result<Vec<(usize, usize)>, String> {
+pub fn determinate_support(mesh: &Mesh) -> Result<Vec<(usize, usize)>, PipelineError> {
     let in_rigid: Vec<usize> = mesh
         .rigid
         .iter()
@@ -233,7 +238,7 @@ pub fn determinate_support(mesh: &Mesh) -> Result<Vec<(usize, usize)>, String> {
     nodes.sort_unstable();
     nodes.dedup();
     if nodes.len() < 3 {
-        return Err("a 3-2-1 support needs three structural nodes".into());
+        return Err(PipelineError::FewNodes);
     }
     let x = |id: usize| mesh.nodes[id - 1];
     let mut centre = [0.0; 3];
@@ -252,7 +257,7 @@ pub fn determinate_support(mesh: &Mesh) -> Result<Vec<(usize, usize)>, String> {
     let c = far(&|p| norm(cross(sub(p, x(a)), ab)));
     let len = norm(ab);
     if norm(cross(sub(x(c), x(a)), ab)) < 1e-6 * len * len {
-        return Err("the structural nodes are collinear: no 3-2-1 support".into());
+        return Err(PipelineError::Collinear);
     }
     // Rows: constrained (node, dof); columns: translations and rotations (times len) about A.
     let row = |id: usize, dof: usize| -> [f64; 6] {
@@ -281,9 +286,7 @@ pub fn determinate_support(mesh: &Mesh) -> Result<Vec<(usize, usize)>, String> {
     }
     let (det, s) = best.expect("nine candidates");
     if det < 1e-6 {
-        return Err(format!(
-            "no 3-2-1 support fixes the rigid motions (det {det:.1e})"
-        ));
+        return Err(PipelineError::NoSupport { det });
     }
     Ok(s.into_iter().map(|(id, d)| (id, d + 1)).collect())
 }
@@ -303,14 +306,15 @@ pub fn correction_modes(
     order: usize,
     dir: &std::path::Path,
     job: &str,
-) -> Result<Corrected, String> {
+) -> Result<Corrected, Error> {
     let unit = loads
         .iter()
         .map(|l| {
-            let p = points
-                .iter()
-                .find(|(n, _)| *n == l.point)
-                .ok_or_else(|| format!("load case at `{}`: no such point", l.point))?;
+            let p = points.iter().find(|(n, _)| *n == l.point).ok_or_else(|| {
+                PipelineError::NoLoadPoint {
+                    point: l.point.clone(),
+                }
+            })?;
             nodal_load(mesh, p.0, p.1, l)
         })
         .collect::<Result<Vec<_>, _>>()?;
@@ -350,7 +354,7 @@ pub fn correction_modes(
                     .collect();
                 Ok(if free { relieved(mesh, mass, &l) } else { l })
             })
-            .collect::<Result<Vec<Loads>, String>>()?;
+            .collect::<Result<Vec<Loads>, PipelineError>>()?;
         solved.append(residuals(
             mesh,
             mass,
@@ -454,7 +458,7 @@ fn residuals(
     stresses: bool,
     dir: &std::path::Path,
     job: &str,
-) -> Result<Residuals, String> {
+) -> Result<Residuals, Error> {
     let d = static_deck(mesh, forces, support, stresses);
     let mut solved = crate::modal::solve_deck(mesh, &d, dir, job)?;
     let statics_3d = if stresses {
@@ -463,18 +467,18 @@ fn residuals(
         Vec::new()
     };
     if solved.frd.statics.len() != forces.len() {
-        return Err(format!(
-            "{job}: ccx wrote {} static results for {} load cases",
-            solved.frd.statics.len(),
-            forces.len()
-        ));
+        return Err(PipelineError::StaticCount {
+            job: job.to_string(),
+            results: solved.frd.statics.len(),
+            cases: forces.len(),
+        }
+        .into());
     }
     let reaction = if support.is_empty() {
         None
     } else {
         // ccx's RF at a node is K u there: the reaction plus the node's own load.
-        let rf = crate::dat::reactions(&solved.dat, SUPPORT_SET)
-            .map_err(|e| format!("{job}.dat: {e}"))?;
+        let rf = crate::dat::reactions(&solved.dat, SUPPORT_SET).within(|| format!("{job}.dat"))?;
         let mut worst = 0.0f64;
         for (r, f) in rf.iter().zip(forces) {
             let top = f
@@ -490,10 +494,11 @@ fn residuals(
         }
         // ccx prints 7 digits: measured 1e-6 on a test body.
         if worst > 1e-4 {
-            return Err(format!(
-                "{job}: the 3-2-1 support carries {worst:.1e} of the largest load: the relieved \
-                 loads are not in equilibrium"
-            ));
+            return Err(PipelineError::NotInEquilibrium {
+                job: job.to_string(),
+                worst,
+            }
+            .into());
         }
         Some(worst)
     };

@@ -2,21 +2,23 @@
 //! "displacements (vx,vy,vz) for set NAME and time ..." with one line per node. For a rigid
 //! part's ROT NODE that "displacement" is the part's rotation vector (rad).
 
+use crate::error::ResultsError;
+
 /// One mode's printed nodes: (node id, three values).
 pub type Print = Vec<(usize, [f64; 3])>;
 
 /// Per eigenmode (in file order), the printed nodes of set `set` with their three values.
-pub fn node_prints(dat: &str, set: &str) -> Result<Vec<Print>, String> {
+pub fn node_prints(dat: &str, set: &str) -> Result<Vec<Print>, ResultsError> {
     node_table(dat, "displacements (vx,vy,vz)", set)
 }
 
 /// Per step (in file order), the reaction forces (`*NODE PRINT` / `RF`) of set `set`.
-pub fn reactions(dat: &str, set: &str) -> Result<Vec<Print>, String> {
+pub fn reactions(dat: &str, set: &str) -> Result<Vec<Print>, ResultsError> {
     node_table(dat, "forces (fx,fy,fz)", set)
 }
 
 /// The blocks "`what` for set SET and time ..." of a `.dat`, one line per node.
-fn node_table(dat: &str, what: &str, set: &str) -> Result<Vec<Print>, String> {
+fn node_table(dat: &str, what: &str, set: &str) -> Result<Vec<Print>, ResultsError> {
     let head = format!("for set {} and time", set.to_ascii_uppercase());
     let mut out = Vec::new();
     let mut lines = dat.lines().enumerate().peekable();
@@ -31,7 +33,11 @@ fn node_table(dat: &str, what: &str, set: &str) -> Result<Vec<Print>, String> {
         }
         while let Some((i, l)) = lines.next_if(|(_, l)| !l.trim().is_empty()) {
             let f: Vec<&str> = l.split_whitespace().collect();
-            let bad = || format!("line {}: not a node print: `{l}`", i + 1);
+            let bad = || ResultsError::NotAPrint {
+                line: i + 1,
+                what: "node",
+                text: l.to_string(),
+            };
             if f.len() != 4 {
                 return Err(bad());
             }
@@ -55,7 +61,7 @@ pub type ElementStresses = (usize, Vec<[f64; 6]>);
 /// `.dat` (`*EL PRINT, ELSET=SET` / `S`), per element in file order. ccx prints a shell's
 /// expanded brick in the shell's own axes unless the print asks for `GLOBAL=YES` (a line then
 /// ends with the orientation's name, `_shell_0000000001`: ignored here).
-pub fn element_stresses(dat: &str, set: &str) -> Result<Vec<ElementStresses>, String> {
+pub fn element_stresses(dat: &str, set: &str) -> Result<Vec<ElementStresses>, ResultsError> {
     let head = format!("for set {} and time", set.to_ascii_uppercase());
     let mut lines = dat.lines().enumerate().peekable();
     let Some(_) =
@@ -69,7 +75,11 @@ pub fn element_stresses(dat: &str, set: &str) -> Result<Vec<ElementStresses>, St
     let mut out: Vec<ElementStresses> = Vec::new();
     while let Some((i, l)) = lines.next_if(|(_, l)| !l.trim().is_empty()) {
         let f: Vec<&str> = l.split_whitespace().collect();
-        let bad = || format!("line {}: not a stress print: `{l}`", i + 1);
+        let bad = || ResultsError::NotAPrint {
+            line: i + 1,
+            what: "stress",
+            text: l.to_string(),
+        };
         if f.len() < 8 {
             return Err(bad());
         }

@@ -8,6 +8,7 @@
 //! shapes as f64 LE, mode-major: value[(k * nodes + i) * 3 + a], then the modal stresses at
 //! the stress points, mode-major: value[(k * points + p) * 6 + c].
 
+use crate::error::{Error, PipelineError, ResultsError};
 use crate::mesh::{Mesh, Section};
 use crate::modal::Shapes;
 use serde::{Deserialize, Serialize};
@@ -83,7 +84,7 @@ impl Field {
         modes: &[Shapes],
         data: &washdyn_model::ir::modal::ModalData,
         stress: Option<&crate::stress::ModalStress>,
-    ) -> Result<Field, String> {
+    ) -> Result<Field, PipelineError> {
         let ids = mesh.element_nodes();
         let ids: Vec<usize> = ids
             .into_iter()
@@ -115,7 +116,7 @@ impl Field {
                         index
                             .get(&e[i])
                             .copied()
-                            .ok_or_else(|| format!("node {} has no mode shape", e[i]))
+                            .ok_or(PipelineError::NoShape { node: e[i] })
                     })
                     .collect::<Result<_, _>>()?;
                 cells.push(Cell { vtk, nodes });
@@ -144,7 +145,7 @@ impl Field {
                 }
             }
         }
-        let p = data.points.first().ok_or("modal data without points")?;
+        let p = data.points.first().ok_or(PipelineError::NoPoints)?;
         let stress_start = starts(&stress_points);
         Ok(Field {
             header: FieldHeader {
@@ -196,9 +197,9 @@ impl Field {
         [s[0], s[1], s[2]]
     }
 
-    pub fn write(&self, path: &Path) -> Result<(), String> {
-        let err = |e: std::io::Error| format!("{}: {e}", path.display());
-        let head = serde_json::to_vec(&self.header).map_err(|e| e.to_string())?;
+    pub fn write(&self, path: &Path) -> Result<(), Error> {
+        let err = |e| Error::io(path)(e);
+        let head = serde_json::to_vec(&self.header).map_err(ResultsError::from)?;
         let mut f = std::io::BufWriter::new(std::fs::File::create(path).map_err(err)?);
         f.write_all(MAGIC).map_err(err)?;
         f.write_all(&(head.len() as u64).to_le_bytes())
@@ -210,31 +211,35 @@ impl Field {
         f.flush().map_err(err)
     }
 
-    pub fn read(path: &Path) -> Result<Field, String> {
-        let err = |e: String| format!("{}: {e}", path.display());
+    pub fn read(path: &Path) -> Result<Field, Error> {
+        let path_buf = || path.to_path_buf();
         let mut bytes = Vec::new();
         std::fs::File::open(path)
             .and_then(|mut f| f.read_to_end(&mut bytes))
-            .map_err(|e| err(e.to_string()))?;
+            .map_err(Error::io(path))?;
         if bytes.len() < 16 || &bytes[..8] != MAGIC {
-            return Err(err("not a washdyn field file".into()));
+            return Err(ResultsError::NotAField { path: path_buf() }.into());
         }
         let len = u64::from_le_bytes(bytes[8..16].try_into().expect("8 bytes")) as usize;
         let body = bytes
             .get(16..16 + len)
-            .ok_or_else(|| err("truncated header".into()))?;
+            .ok_or_else(|| ResultsError::TruncatedHeader { path: path_buf() })?;
         let header: FieldHeader =
-            serde_json::from_slice(body).map_err(|e| err(format!("header: {e}")))?;
+            serde_json::from_slice(body).map_err(|source| ResultsError::Header {
+                path: path_buf(),
+                source,
+            })?;
         let rest = &bytes[16 + len..];
         let stress_start = starts(&header.stress_points);
         let n_shapes = header.frequencies.len() * header.nodes.len() * 3;
         let n_stress = header.frequencies.len() * stress_start.last().unwrap_or(&0) * 6;
         if rest.len() != (n_shapes + n_stress) * 8 {
-            return Err(err(format!(
-                "{} values, expected {}",
-                rest.len() / 8,
-                n_shapes + n_stress
-            )));
+            return Err(ResultsError::FieldSize {
+                path: path_buf(),
+                values: rest.len() / 8,
+                expected: n_shapes + n_stress,
+            }
+            .into());
         }
         let mut values = rest
             .chunks_exact(8)
@@ -259,17 +264,16 @@ impl Field {
     pub fn align(
         &self,
         data: &washdyn_model::ir::modal::ModalData,
-    ) -> Result<crate::subspace::Alignment, String> {
+    ) -> Result<crate::subspace::Alignment, ResultsError> {
         let h = &self.header;
         let file = data.file_modes();
         let m = file.frequencies.len();
-        let regenerate = "regenerate both with `washdyn fe modal`";
         if m != self.modes() {
-            return Err(format!(
-                "the field of `{}` has {} modes, its modal data {m} ({regenerate})",
-                h.body,
-                self.modes(),
-            ));
+            return Err(ResultsError::FieldModes {
+                body: h.body.clone(),
+                field: self.modes(),
+                data: m,
+            });
         }
         let legacy = [(h.check_point.clone(), h.check_w.clone())];
         let recorded: &[(String, [Vec<f64>; 3])] = if h.points.is_empty() {
@@ -283,22 +287,19 @@ impl Field {
                 .points
                 .iter()
                 .position(|p| &p.name == name)
-                .ok_or_else(|| {
-                    format!(
-                        "the field of `{}` has a point `{name}` its modal data lacks ({regenerate})",
-                        h.body
-                    )
+                .ok_or_else(|| ResultsError::FieldPoint {
+                    body: h.body.clone(),
+                    point: name.clone(),
                 })?;
             for a in 0..3 {
                 let (f, d) = (&w[a], &file.w[i][a]);
                 if f.len() != m || d.len() != m {
-                    return Err(format!(
-                        "the field of `{}`: point `{name}` has {} values, its modal data {} \
-                         ({regenerate})",
-                        h.body,
-                        f.len(),
-                        d.len()
-                    ));
+                    return Err(ResultsError::FieldValues {
+                        body: h.body.clone(),
+                        point: name.clone(),
+                        field: f.len(),
+                        data: d.len(),
+                    });
                 }
                 rows.push((f, d));
             }
@@ -306,24 +307,11 @@ impl Field {
         let a = nalgebra::DMatrix::from_fn(rows.len(), m, |r, k| rows[r].0[k]);
         let b = nalgebra::DMatrix::from_fn(rows.len(), m, |r, k| rows[r].1[k]);
         let groups = crate::subspace::groups(&file.frequencies, file.eigenmodes);
-        crate::subspace::align(&a, &b, &groups).map_err(|g| {
-            let modes = if g.modes.len() == 1 {
-                format!("mode {}", g.modes.start + 1)
-            } else {
-                format!("modes {}-{}", g.modes.start + 1, g.modes.end)
-            };
-            format!(
-                "the field of `{}` has other mode shapes than its modal data: {modes} ({:.6} Hz) \
-                 at the data's {} points: largest principal angle sin {:.1e}, residual after the \
-                 best rotation {:.1e} (allowed {:e}; a turn or sign flip within a group of \
-                 equal frequencies is re-projected, not refused; {regenerate})",
-                h.body,
-                file.frequencies[g.modes.start],
-                recorded.len(),
-                g.sin_angle,
-                g.residual,
-                crate::subspace::SUBSPACE_TOLERANCE
-            )
+        crate::subspace::align(&a, &b, &groups).map_err(|fit| ResultsError::FieldShapes {
+            body: h.body.clone(),
+            frequency: file.frequencies[fit.modes.start],
+            fit,
+            points: recorded.len(),
         })
     }
 
@@ -447,6 +435,11 @@ mod tests {
             .align(&data)
             .unwrap_err();
         assert!(
+            matches!(&e, ResultsError::FieldShapes { fit, .. } if fit.modes.start == 2),
+            "{e}"
+        );
+        let e = e.to_string();
+        assert!(
             e.contains("the field of `drum` has other mode shapes") && e.contains("mode 3 "),
             "{e}"
         );
@@ -455,7 +448,8 @@ mod tests {
         fewer.file_modes = None;
         fewer.basis = None;
         let e = field(&data, |_| {}).align(&fewer).unwrap_err();
-        assert!(e.contains("modes, its modal data"), "{e}");
+        assert!(matches!(e, ResultsError::FieldModes { .. }), "{e}");
+        assert!(e.to_string().contains("modes, its modal data"), "{e}");
     }
 
     /// Truncated data keeps the file's modes at the points: a field of the file aligns with it.

@@ -3,6 +3,8 @@
 //! line nodes of beams, not ccx's expanded 3-D nodes). Fixed width: a record key (` -1`), the
 //! node number (I10) and values (E12.5 each; negative numbers touch their neighbour).
 
+use crate::error::ResultsError;
+
 /// One eigenmode: its number, frequency and nodal displacements (mass-normalised, as ccx writes
 /// them), in the order of the file.
 #[derive(Clone, Debug, PartialEq)]
@@ -30,8 +32,12 @@ pub struct Frd {
 }
 
 /// A ` -1` record: node id and N values (3 for coordinates and displacements, 6 for stresses).
-fn record<const N: usize>(l: &str, line: usize) -> Result<(usize, [f64; N]), String> {
-    let bad = |what: &str| format!("line {line}: {what} in `{l}`");
+fn record<const N: usize>(l: &str, line: usize) -> Result<(usize, [f64; N]), ResultsError> {
+    let bad = |what| ResultsError::Record {
+        line,
+        what,
+        text: l.to_string(),
+    };
     let id = l
         .get(3..13)
         .and_then(|s| s.trim().parse::<usize>().ok())
@@ -53,7 +59,9 @@ type Block = (
     Option<Vec<(usize, [f64; 6])>>,
 );
 
-fn result_block<'a>(lines: &mut impl Iterator<Item = (usize, &'a str)>) -> Result<Block, String> {
+fn result_block<'a>(
+    lines: &mut impl Iterator<Item = (usize, &'a str)>,
+) -> Result<Block, ResultsError> {
     let (mut disp, mut stress) = (None, None);
     let (mut is_disp, mut is_stress) = (false, false);
     for (k, l) in lines {
@@ -81,7 +89,8 @@ fn result_block<'a>(lines: &mut impl Iterator<Item = (usize, &'a str)>) -> Resul
 }
 
 /// Parse an `.frd` text; errors name the line.
-pub fn parse(text: &str) -> Result<Frd, String> {
+pub fn parse(text: &str) -> Result<Frd, ResultsError> {
+    let bad = |k: usize, what| ResultsError::Line { line: k + 1, what };
     let mut frd = Frd::default();
     let mut lines = text.lines().enumerate().peekable();
     while let Some((i, l)) = lines.next() {
@@ -107,18 +116,15 @@ pub fn parse(text: &str) -> Result<Frd, String> {
                         .split_whitespace()
                         .nth(1)
                         .and_then(|x| x.parse::<usize>().ok())
-                        .ok_or_else(|| format!("line {}: no element number", k + 1))?;
+                        .ok_or_else(|| bad(k, "no element number"))?;
                     frd.elements.push((n, Vec::new()));
                 } else if l.starts_with(" -2") {
                     let e = frd
                         .elements
                         .last_mut()
-                        .ok_or_else(|| format!("line {}: nodes before an element", k + 1))?;
+                        .ok_or_else(|| bad(k, "nodes before an element"))?;
                     for x in l.split_whitespace().skip(1) {
-                        e.1.push(
-                            x.parse()
-                                .map_err(|_| format!("line {}: bad node number", k + 1))?,
-                        );
+                        e.1.push(x.parse().map_err(|_| bad(k, "bad node number"))?);
                     }
                 }
             }
@@ -132,7 +138,10 @@ pub fn parse(text: &str) -> Result<Frd, String> {
             let frequency_hz = f
                 .get(2)
                 .and_then(|s| s.parse::<f64>().ok())
-                .ok_or_else(|| format!("line {}: no frequency in `{l}`", i + 1))?;
+                .ok_or_else(|| ResultsError::NoFrequency {
+                    line: i + 1,
+                    text: l.to_string(),
+                })?;
             // The mode number ends the field before `MODAL`.
             let number = f
                 .iter()

@@ -13,6 +13,7 @@ pub mod consistent;
 pub mod correction;
 pub mod dat;
 pub mod deck;
+pub mod error;
 pub mod field;
 pub mod frd;
 pub mod inp;
@@ -25,3 +26,5 @@ pub mod rotating;
 pub mod stress;
 pub mod subspace;
 pub mod user;
+
+pub use error::Error;

@@ -3,6 +3,7 @@
 //! inertia), and the mode shapes at the named points (a rigid fit of each node set).
 
 use crate::consistent::MassMatrix;
+use crate::error::{Error, PipelineError, Within};
 use crate::frd::Frd;
 use crate::mesh::Mesh;
 use std::collections::HashMap;
@@ -35,13 +36,12 @@ pub fn select(
     frd: &Frd,
     prints: &[Vec<(usize, [f64; 3])>],
     keep: Keep,
-) -> Result<Vec<Shapes>, String> {
+) -> Result<Vec<Shapes>, PipelineError> {
     if !prints.is_empty() && prints.len() != frd.modes.len() {
-        return Err(format!(
-            "the .dat prints nodes for {} modes, the .frd has {}",
-            prints.len(),
-            frd.modes.len()
-        ));
+        return Err(PipelineError::PrintCount {
+            dat: prints.len(),
+            frd: frd.modes.len(),
+        });
     }
     let rot_ids: Vec<usize> = mesh.rigid.iter().map(|r| r.rot_node).collect();
     let mut out = Vec::new();
@@ -139,18 +139,21 @@ pub fn point(
     nset: &str,
     position: [f64; 3],
     modes: &[Shapes],
-) -> Result<ModalPoint, String> {
+) -> Result<ModalPoint, PipelineError> {
     let ids = mesh
         .nsets
         .get(nset)
-        .ok_or_else(|| format!("no node set {nset}"))?;
+        .ok_or_else(|| PipelineError::NoNodeSet {
+            set: nset.to_string(),
+        })?;
     let n = modes.len();
     let mut w: [Vec<f64>; 3] = std::array::from_fn(|_| vec![0.0; n]);
     let mut phi: [Vec<f64>; 3] = std::array::from_fn(|_| vec![0.0; n]);
     let mut used = 0;
     for (k, m) in modes.iter().enumerate() {
-        let (u, th, c) = rigid_fit(mesh, ids, &m.w)
-            .ok_or_else(|| format!("node set {nset}: no node has a mode shape"))?;
+        let (u, th, c) = rigid_fit(mesh, ids, &m.w).ok_or_else(|| PipelineError::NoShapeInSet {
+            set: nset.to_string(),
+        })?;
         used = ids.iter().filter(|id| m.w.contains_key(id)).count();
         let wp = add(u, cross(th, sub(position, c)));
         for a in 0..3 {
@@ -176,11 +179,17 @@ pub type Reading = Vec<(usize, [[f64; 3]; 3], [[f64; 3]; 3])>;
 /// (node, R_i, T_i) per node. A force F at the point does the work of nodal forces R_i^T F, a
 /// moment C that of T_i^T C: the consistent loads that the equations apply through the point's
 /// W and Phi.
-pub fn point_reading_full(mesh: &Mesh, nset: &str, position: [f64; 3]) -> Result<Reading, String> {
+pub fn point_reading_full(
+    mesh: &Mesh,
+    nset: &str,
+    position: [f64; 3],
+) -> Result<Reading, PipelineError> {
     let ids = mesh
         .nsets
         .get(nset)
-        .ok_or_else(|| format!("no node set {nset}"))?;
+        .ok_or_else(|| PipelineError::NoNodeSet {
+            set: nset.to_string(),
+        })?;
     let mut out = Vec::with_capacity(ids.len());
     for &id in ids {
         let (mut r, mut t) = ([[0.0; 3]; 3], [[0.0; 3]; 3]);
@@ -207,7 +216,7 @@ pub fn point_reading(
     mesh: &Mesh,
     nset: &str,
     position: [f64; 3],
-) -> Result<TranslationReading, String> {
+) -> Result<TranslationReading, PipelineError> {
     Ok(point_reading_full(mesh, nset, position)?
         .into_iter()
         .map(|(id, r, _)| (id, r))
@@ -228,7 +237,7 @@ pub struct Import<'a> {
 }
 
 impl Import<'_> {
-    pub fn modal_data(&self) -> Result<ModalData, String> {
+    pub fn modal_data(&self) -> Result<ModalData, PipelineError> {
         let props = self.mass.mass_props(self.mesh);
         let points = self
             .points
@@ -278,7 +287,7 @@ pub fn solve(
     job: &str,
     modes: usize,
     stresses: bool,
-) -> Result<Solved, String> {
+) -> Result<Solved, Error> {
     solve_with(mesh, dir, job, modes, stresses, false)
 }
 
@@ -290,7 +299,7 @@ pub fn solve_keeping_3d(
     dir: &std::path::Path,
     job: &str,
     modes: usize,
-) -> Result<Solved, String> {
+) -> Result<Solved, Error> {
     solve_with(mesh, dir, job, modes, true, true)
 }
 
@@ -301,7 +310,7 @@ fn solve_with(
     modes: usize,
     stresses: bool,
     keep: bool,
-) -> Result<Solved, String> {
+) -> Result<Solved, Error> {
     let mut s = solve_deck(mesh, &mesh.frequency_deck(modes, stresses), dir, job)?;
     if stresses {
         let (points, unfolded) = crate::stress::mid_surface(mesh, &mut s.frd)?;
@@ -320,20 +329,18 @@ pub fn solve_deck(
     deck: &crate::deck::Deck,
     dir: &std::path::Path,
     job: &str,
-) -> Result<Solved, String> {
+) -> Result<Solved, Error> {
     let text = deck.text();
     let deck = dir.join(format!("{job}.inp"));
-    std::fs::write(&deck, text).map_err(|e| format!("{}: {e}", deck.display()))?;
-    let run = crate::ccx::run(&deck).map_err(|e| e.to_string())?;
-    let read = |p: std::path::PathBuf| {
-        std::fs::read_to_string(&p).map_err(|e| format!("{}: {e}", p.display()))
-    };
-    let frd = crate::frd::parse(&read(run.frd())?).map_err(|e| format!("{job}.frd: {e}"))?;
+    std::fs::write(&deck, text).map_err(Error::io(&deck))?;
+    let run = crate::ccx::run(&deck)?;
+    let read = |p: std::path::PathBuf| std::fs::read_to_string(&p).map_err(Error::io(p));
+    let frd = crate::frd::parse(&read(run.frd())?).within(|| format!("{job}.frd"))?;
     let dat = read(run.dat())?;
     let prints = if mesh.rigid.is_empty() {
         Vec::new()
     } else {
-        crate::dat::node_prints(&dat, "WD_PRINT").map_err(|e| format!("{job}.dat: {e}"))?
+        crate::dat::node_prints(&dat, "WD_PRINT").within(|| format!("{job}.dat"))?
     };
     Ok(Solved {
         run,

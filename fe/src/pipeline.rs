@@ -5,6 +5,7 @@
 //! CLI's `washdyn fe modal` runs this for the built-in bodies.
 
 use crate::consistent;
+use crate::error::{Error, PipelineError, Within};
 use crate::lumping::{MassProps, lump};
 use crate::mesh::Mesh;
 use crate::modal::{self, Keep};
@@ -134,7 +135,7 @@ pub struct CorrectionReport {
 }
 
 /// Build `spec` in `dir` (the deck and ccx's files land there).
-pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), String> {
+pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), Error> {
     // One solve gives the shapes and, for recovery, the stresses (`stress.rs`); a spinning
     // body's keeps its 3-D shapes for the geometric stiffness.
     let mut solved = if spec.spin.is_some() {
@@ -145,42 +146,19 @@ pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), String>
     let mass = consistent::consistent(&spec.mesh);
     let mut modes = modal::select(&spec.mesh, &solved.frd, &solved.prints, spec.keep)?;
     if modes.is_empty() {
-        return Err(format!("{}: no mode kept", spec.name));
+        let body = spec.name.clone();
+        return Err(PipelineError::NoModeKept { body }.into());
     }
     let points: Vec<(&str, [f64; 3])> = spec.points.iter().map(|(s, p)| (s.as_str(), *p)).collect();
-    let mut correction = None;
-    let mut correction_solved: Option<crate::correction::Corrected> = None;
     let eigen = modes.len();
-    if !spec.correction.is_empty() {
-        // A free body gets inertia relief (`correction.rs`).
-        let c = crate::correction::correction_modes(
-            &spec.mesh,
-            &mass,
-            &modes,
-            &points,
-            &spec.correction,
-            spec.support == Support::FreeFree,
-            spec.three_d(),
-            spec.correction_order,
-            dir,
-            &format!("{}_correction", spec.name),
-        )?;
-        correction = Some((
-            Correction {
-                loads: spec.correction.clone(),
-                modes: c.shapes.len(),
-                participation: c.participation.clone(),
-            },
-            CorrectionReport {
-                frequencies: c.shapes.iter().map(|s| s.frequency_hz).collect(),
-                solve_s: c.solve_s,
-                reaction: c.reaction,
-            },
-        ));
-        let mut c = c;
-        modes.append(&mut c.shapes);
-        correction_solved = Some(c);
-    }
+    let (correction, correction_solved) = match correction_modes(spec, &mass, &modes, &points, dir)?
+    {
+        Some((record, mut c)) => {
+            modes.append(&mut c.shapes);
+            (Some(record), Some(c))
+        }
+        None => (None, None),
+    };
     let mut data = modal::Import {
         body: spec.kind,
         support: spec.support,
@@ -260,6 +238,48 @@ pub fn build(spec: &BodySpec, dir: &Path) -> Result<(ModalData, Report), String>
     Ok((data, report))
 }
 
+/// The correction modes as the modal data and the report record them.
+type CorrectionRecord = (Correction, CorrectionReport);
+
+/// The correction modes of `spec`'s load cases, if it has any (`correction.rs`; a free body
+/// gets inertia relief): their record in the modal data and the report, and the solve.
+fn correction_modes(
+    spec: &BodySpec,
+    mass: &consistent::MassMatrix,
+    modes: &[crate::modal::Shapes],
+    points: &[(&str, [f64; 3])],
+    dir: &Path,
+) -> Result<Option<(CorrectionRecord, crate::correction::Corrected)>, Error> {
+    if spec.correction.is_empty() {
+        return Ok(None);
+    }
+    let c = crate::correction::correction_modes(
+        &spec.mesh,
+        mass,
+        modes,
+        points,
+        &spec.correction,
+        spec.support == Support::FreeFree,
+        spec.three_d(),
+        spec.correction_order,
+        dir,
+        &format!("{}_correction", spec.name),
+    )?;
+    let record = (
+        Correction {
+            loads: spec.correction.clone(),
+            modes: c.shapes.len(),
+            participation: c.participation.clone(),
+        },
+        CorrectionReport {
+            frequencies: c.shapes.iter().map(|s| s.frequency_hz).collect(),
+            solve_s: c.solve_s,
+            reaction: c.reaction,
+        },
+    );
+    Ok(Some((record, c)))
+}
+
 /// A spinning body's K_G per Omega^2 on `modes` (the first `eigen` of them the eigenmodes of
 /// `solved`, the rest the correction modes of `correction`): ccx's static centrifugal stresses
 /// and displacements integrated over its bricks with the shapes at its 3-D nodes
@@ -272,21 +292,23 @@ fn geometric_stiffness(
     modes: &[modal::Shapes],
     eigen: usize,
     correction: Option<&crate::correction::Corrected>,
-) -> Result<(GeometricStiffness, PrestressReport), String> {
+) -> Result<(GeometricStiffness, PrestressReport), Error> {
     let name = &spec.name;
     let c = spin.centrifugal();
     let (pre, _) = prestress::solve(&spec.mesh, &c, dir, &format!("{name}_prestress"))?;
     let unfolded = solved
         .unfolded
         .as_ref()
-        .ok_or_else(|| format!("{name}: the eigen solve kept no 3-D shapes"))?;
+        .ok_or_else(|| PipelineError::No3dShapes { body: name.clone() })?;
     pre.same_bricks(&solved.frd.elements, &format!("{name}: the eigen solve"))?;
     let kept = modal::kept(&solved.frd, spec.keep);
     if kept.len() != eigen {
-        return Err(format!(
-            "{name}: {} eigenmodes kept, {eigen} shapes",
-            kept.len()
-        ));
+        return Err(PipelineError::KeptShapes {
+            body: name.clone(),
+            kept: kept.len(),
+            shapes: eigen,
+        }
+        .into());
     }
     let mut basis: Vec<&[(usize, [f64; 3])]> =
         kept.iter().map(|&i| &unfolded.modes[i][..]).collect();
@@ -297,9 +319,7 @@ fn geometric_stiffness(
         Some(_) if spec.support == Support::FreeFree => {
             // Its static solutions less their rigid motion would need that motion at the 3-D
             // nodes too; no spinning body is free.
-            return Err(format!(
-                "{name}: a free spinning body with correction modes"
-            ));
+            return Err(PipelineError::FreeSpinning { body: name.clone() }.into());
         }
         Some(cor) => {
             pre.same_bricks(&cor.elements_3d, &format!("{name}: the correction solve"))?;
@@ -316,11 +336,9 @@ fn geometric_stiffness(
     };
     let (rows, cols) = t.as_ref().map_or((eigen, eigen), |t| t.shape());
     if basis.len() != rows || modes.len() != cols {
-        return Err(format!(
-            "{name}: the shapes and their 3-D basis differ in number"
-        ));
+        return Err(PipelineError::BasisCount { body: name.clone() }.into());
     }
-    let (ks, ku) = pre.stiffness(&basis).map_err(|e| format!("{name}: {e}"))?;
+    let (ks, ku) = pre.stiffness(&basis).within(|| name.clone())?;
     let (ks, ku) = match &t {
         Some(t) => (t.transpose() * ks * t, t.transpose() * ku * t),
         None => (ks, ku),
@@ -364,7 +382,7 @@ fn geometric_stiffness(
 pub fn support_springs(
     mesh: &Mesh,
     points: &[(&str, [f64; 3])],
-) -> Result<Vec<SupportSpring>, String> {
+) -> Result<Vec<SupportSpring>, PipelineError> {
     let mut out: Vec<SupportSpring> = Vec::new();
     let mut missing = None;
     for part in &mesh.parts {
@@ -396,10 +414,10 @@ pub fn support_springs(
     if let Some((part, node)) = missing
         && !out.is_empty()
     {
-        return Err(format!(
-            "{part}: the spring to the ground at node {node} is at no one-node point, while \
-             others are (add a point there, as FOOT_k)"
-        ));
+        return Err(PipelineError::LoneSpring {
+            part: part.to_string(),
+            node,
+        });
     }
     let order = |s: &SupportSpring| points.iter().position(|(p, _)| *p == s.point);
     out.sort_by_key(order);
@@ -415,18 +433,20 @@ fn write_field(
     data: &ModalData,
     solved: &mut modal::Solved,
     correction: Option<&crate::correction::Corrected>,
-) -> Result<(), String> {
+) -> Result<(), Error> {
     let eigen = data.eigenmodes();
     let points = solved
         .expanded
         .take()
-        .ok_or_else(|| format!("{}: the solve wrote no 3-D output", spec.name))?;
+        .ok_or_else(|| PipelineError::No3dOutput {
+            body: spec.name.clone(),
+        })?;
     let mut stress =
         crate::stress::modal_stresses(&solved.frd, points, &modes[..eigen], solved.run.wall_s)
-            .map_err(|e| format!("{}: {e}", spec.name))?;
+            .within(|| spec.name.clone())?;
     if let Some(c) = correction {
         let more = crate::stress::correction_stresses(&modes[..eigen], &stress, c)
-            .map_err(|e| format!("{}: {e}", spec.name))?;
+            .within(|| spec.name.clone())?;
         stress.per_mode.extend(more);
     }
     crate::field::Field::new(&spec.mesh, modes, data, Some(&stress))?

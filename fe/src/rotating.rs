@@ -8,6 +8,7 @@
 //! S_perp = sum dm W^T (E - e e^T) W from the elementary matrices (the equations' own spin
 //! softening).
 
+use crate::error::{Error, PipelineError};
 use crate::frd::Frd;
 use crate::mesh::Mesh;
 use crate::modal::Shapes;
@@ -60,7 +61,7 @@ pub fn solve_prestressed(
     job: &str,
     c: &Centrifugal,
     modes: usize,
-) -> Result<(Frd, Vec<Shapes>), String> {
+) -> Result<(Frd, Vec<Shapes>), Error> {
     let deck = prestressed_deck(mesh, c, modes);
     let solved = crate::modal::solve_deck(mesh, &deck, dir, job)?;
     let keep = crate::modal::Keep {
@@ -161,7 +162,7 @@ pub fn try_campbell(
     elementary: &Elementary,
     kg: &GeometricStiffness,
     omega: f64,
-) -> Result<Vec<f64>, String> {
+) -> Result<Vec<f64>, PipelineError> {
     let n = frequencies.len();
     let g = gyroscopic(elementary, n, kg.axis);
     let k = spinning_stiffness(frequencies, elementary, kg, omega);
@@ -174,10 +175,10 @@ pub fn try_campbell(
         }
     }
     if a.iter().any(|v| !v.is_finite()) {
-        return Err("the reduced matrices are not finite".into());
+        return Err(PipelineError::NotFinite);
     }
     let schur = nalgebra::linalg::Schur::try_new(a, f64::EPSILON, SCHUR_ITERATIONS)
-        .ok_or("the eigenvalue iteration did not converge")?;
+        .ok_or(PipelineError::NoConvergence)?;
     let mut f: Vec<f64> = schur
         .complex_eigenvalues()
         .iter()
@@ -198,7 +199,7 @@ pub fn coriolis_reference(
     job: &str,
     c: &Centrifugal,
     modes: usize,
-) -> Result<Vec<(f64, char)>, String> {
+) -> Result<Vec<(f64, char)>, Error> {
     let mut d = mesh.model_deck();
     loaded_set(&mut d, mesh);
     d.line("*STEP").line("*STATIC");
@@ -217,9 +218,9 @@ pub fn coriolis_reference(
         .line(&load)
         .line("*END STEP");
     let deck = dir.join(format!("{job}.inp"));
-    std::fs::write(&deck, d.text()).map_err(|e| format!("{}: {e}", deck.display()))?;
-    let run = crate::ccx::run(&deck).map_err(|e| e.to_string())?;
-    let dat = std::fs::read_to_string(run.dat()).map_err(|e| e.to_string())?;
+    std::fs::write(&deck, d.text()).map_err(Error::io(&deck))?;
+    let run = crate::ccx::run(&deck)?;
+    let dat = std::fs::read_to_string(run.dat())?;
     Ok(parse_complex(&dat))
 }
 

@@ -9,6 +9,7 @@
 //! at an original node is the mean of its expanded nodes over the thickness (`mid_surface`),
 //! as ccx's own 2-D output forms it.
 
+use crate::error::PipelineError;
 use crate::frd::Frd;
 use crate::mesh::Mesh;
 use crate::modal::Shapes;
@@ -26,21 +27,21 @@ pub struct ModalStress {
 
 /// Original node -> expanded nodes, by element: each node of ccx's element `k` goes to the
 /// nearest node of our element `k` (numbered as `Mesh::model_deck` numbers them).
-pub fn associate(mesh: &Mesh, frd: &Frd) -> Result<HashMap<usize, Vec<usize>>, String> {
+pub fn associate(mesh: &Mesh, frd: &Frd) -> Result<HashMap<usize, Vec<usize>>, PipelineError> {
     let ours: Vec<&Vec<usize>> = mesh.parts.iter().flat_map(|p| &p.elements).collect();
     let coords: HashMap<usize, [f64; 3]> = frd.nodes.iter().copied().collect();
     let mut out: HashMap<usize, Vec<usize>> = HashMap::new();
     for (k, exp) in &frd.elements {
         let orig = ours
             .get(k - 1)
-            .ok_or_else(|| format!("ccx element {k} is not in the mesh"))?;
+            .ok_or(PipelineError::UnknownElement { element: *k })?;
         for n in exp {
             let owner = if orig.contains(n) {
                 *n
             } else {
                 let x = coords
                     .get(n)
-                    .ok_or_else(|| format!("expanded node {n} has no coordinates"))?;
+                    .ok_or(PipelineError::NoCoordinates { node: *n })?;
                 *orig
                     .iter()
                     .min_by(|a, b| {
@@ -77,7 +78,7 @@ pub fn associate(mesh: &Mesh, frd: &Frd) -> Result<HashMap<usize, Vec<usize>>, S
 pub fn mid_surface(
     mesh: &Mesh,
     frd: &mut Frd,
-) -> Result<(HashMap<usize, Vec<usize>>, Unfolded), String> {
+) -> Result<(HashMap<usize, Vec<usize>>, Unfolded), PipelineError> {
     let points = associate(mesh, frd)?;
     let coords: HashMap<usize, [f64; 3]> = frd.nodes.iter().copied().collect();
     // Per original node: (expanded node, weight); the middle node sits at the original node.
@@ -169,13 +170,13 @@ pub fn modal_stresses(
     points: HashMap<usize, Vec<usize>>,
     kept: &[Shapes],
     solve_s: f64,
-) -> Result<ModalStress, String> {
+) -> Result<ModalStress, PipelineError> {
     if frd.stresses.len() != frd.modes.len() {
-        return Err(format!(
-            "{} stress blocks for {} modes (not a 3-D solve?)",
-            frd.stresses.len(),
-            frd.modes.len()
-        ));
+        return Err(PipelineError::StressBlocks {
+            blocks: frd.stresses.len(),
+            cases: frd.modes.len(),
+            what: "modes",
+        });
     }
     let mut next = 0;
     let mut per_mode = Vec::with_capacity(kept.len());
@@ -183,7 +184,7 @@ pub fn modal_stresses(
         // `modal::select` copies the frequency of the mode it keeps: the same value.
         let i = (next..frd.modes.len())
             .find(|&i| frd.modes[i].frequency_hz == s.frequency_hz)
-            .ok_or_else(|| format!("no mode at {} Hz in the solve", s.frequency_hz))?;
+            .ok_or(PipelineError::NoModeAt { hz: s.frequency_hz })?;
         next = i + 1;
         per_mode.push(frd.stresses[i].iter().copied().collect());
     }
@@ -203,13 +204,14 @@ pub fn correction_stresses(
     modes: &[Shapes],
     eigen: &ModalStress,
     c: &crate::correction::Corrected,
-) -> Result<Vec<HashMap<usize, [f64; 6]>>, String> {
+) -> Result<Vec<HashMap<usize, [f64; 6]>>, PipelineError> {
     let j = c.forces.len();
     if c.static_stresses.len() != j {
-        return Err(format!(
-            "{} stress blocks for {j} load cases (not a 3-D solve?)",
-            c.static_stresses.len()
-        ));
+        return Err(PipelineError::StressBlocks {
+            blocks: c.static_stresses.len(),
+            cases: j,
+            what: "load cases",
+        });
     }
     let residual: Vec<HashMap<usize, [f64; 6]>> = c
         .static_stresses

@@ -23,7 +23,7 @@ pub(super) fn modal(
     field: &Field,
     notes: &mut Vec<String>,
 ) -> Result<(usize, DMatrix<f64>), String> {
-    let al = field.align(b.data())?;
+    let al = field.align(b.data()).map_err(|e| e.to_string())?;
     let changed = al.changed();
     if !changed.is_empty() {
         let groups: Vec<String> = changed

@@ -39,7 +39,7 @@ impl Recovery {
             if !path.exists() || (body.frame == Frame::Fixed && body.modal().is_none()) {
                 continue;
             }
-            let field = Field::read(&path)?;
+            let field = Field::read(&path).map_err(|e| e.to_string())?;
             let modes = body
                 .modal()
                 .map(|b| modal(b, &field, &mut notes))

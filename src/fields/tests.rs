@@ -50,7 +50,14 @@ fn bad_requests_are_refused() {
     // Not a field file.
     std::fs::write(dir.path().join("tub.field.bin"), b"garbage").unwrap();
     let e = washdyn_fe::field::Field::read(&dir.path().join("tub.field.bin")).unwrap_err();
-    assert!(e.contains("not a washdyn field file"), "{e}");
+    assert!(
+        matches!(
+            e,
+            washdyn_fe::Error::Results(washdyn_fe::error::ResultsError::NotAField { .. })
+        ),
+        "{e}"
+    );
+    assert!(e.to_string().contains("not a washdyn field file"), "{e}");
 }
 
 /// A run on a model file: `fields` without --model takes the file summary.json names, and

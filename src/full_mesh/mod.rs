@@ -222,7 +222,8 @@ pub fn study(args: &Args, log: &mut dyn FnMut(&str)) -> Result<Study, String> {
             modes: n,
             speeds_rpm: args.speeds_rpm.clone(),
         };
-        let a = assembly::assemble(&lin, &scene, mesh("tub")?, mesh("cabinet")?, &settings)?;
+        let a = assembly::assemble(&lin, &scene, mesh("tub")?, mesh("cabinet")?, &settings)
+            .map_err(|e| e.to_string())?;
         log(&format!(
             "ccx: the assembled machine ({} mesh nodes, {} auxiliary), {n} modes, {} speeds ...",
             a.mesh_nodes,
@@ -249,7 +250,8 @@ pub fn study(args: &Args, log: &mut dyn FnMut(&str)) -> Result<Study, String> {
                 s
             }
             _ => {
-                let s = assembly::solve(&a, &args.work, &format!("full_mesh_{n}"))?;
+                let s = assembly::solve(&a, &args.work, &format!("full_mesh_{n}"))
+                    .map_err(|e| e.to_string())?;
                 log(&format!(
                     "  {:.1} s; {} modes up to {:.1} Hz",
                     s.wall_s,

@@ -3,6 +3,8 @@
 //! fit of its FE node set (followers, point-mass carriers, scalar dofs). Separate from the deck
 //! (`deck.rs`) as the mechanics of the ties, which the deck only calls.
 
+use super::AssemblyError;
+use crate::error::{Error, PipelineError};
 use crate::mesh::{Mesh, Rigid, Section};
 use crate::modal::{Reading, point_reading_full};
 use std::f64::consts::PI;
@@ -64,7 +66,7 @@ impl<'a> Builder<'a> {
     }
 
     /// (node in the assembly, R_i, T_i) of the rigid fit of `s`.
-    fn reading(&self, s: &Site) -> Result<Reading, String> {
+    fn reading(&self, s: &Site) -> Result<Reading, PipelineError> {
         let b = self.body(s.tub);
         Ok(point_reading_full(b.mesh, &s.set, s.at)?
             .into_iter()
@@ -74,7 +76,7 @@ impl<'a> Builder<'a> {
 
     /// A new node at `p` whose translation follows the site (a rigid part's point, or the
     /// rigid fit of the set by equations).
-    pub(super) fn follower(&mut self, s: &Site, p: [f64; 3]) -> Result<usize, String> {
+    pub(super) fn follower(&mut self, s: &Site, p: [f64; 3]) -> Result<usize, Error> {
         let id = self.mesh.fresh_node(p);
         if let Some(r) = self.rigid_of(s) {
             let set = format!("{}{}", self.body(s.tub).prefix, r.nset);
@@ -99,7 +101,7 @@ impl<'a> Builder<'a> {
         p: [f64; 3],
         kg: f64,
         k: usize,
-    ) -> Result<usize, String> {
+    ) -> Result<usize, Error> {
         if self.rigid_of(s).is_some() {
             return self.follower(s, p);
         }
@@ -122,12 +124,10 @@ impl<'a> Builder<'a> {
 
     /// The site's reading as three rows (one per component) of (node, dof, coefficient), of
     /// the translation or of the `rotation`.
-    pub(super) fn rows(&self, s: &Site, rotation: bool) -> Result<Rows, String> {
+    pub(super) fn rows(&self, s: &Site, rotation: bool) -> Result<Rows, Error> {
         if self.rigid_of(s).is_some() {
-            return Err(format!(
-                "node set {} is a rigid part: only masses and sensors can attach there",
-                s.set
-            ));
+            let set = s.set.clone();
+            return Err(AssemblyError::RigidPart { set }.into());
         }
         let mut rows: Rows = Default::default();
         for (id, r, t) in self.reading(s)? {
@@ -164,26 +164,29 @@ impl<'a> Builder<'a> {
     }
 
     /// Where a model point on `body` reads the FE model.
-    pub(super) fn site(&self, model: &Model, body: BodyRef, p: [f64; 3]) -> Result<Site, String> {
-        let find = |tub: bool, q: [f64; 3]| -> Result<(String, [f64; 3]), String> {
+    pub(super) fn site(
+        &self,
+        model: &Model,
+        body: BodyRef,
+        p: [f64; 3],
+    ) -> Result<Site, AssemblyError> {
+        let find = |tub: bool, q: [f64; 3]| -> Result<(String, [f64; 3]), AssemblyError> {
             let b = self.body(tub);
-            let mp = point_at(b.data, q).ok_or_else(|| {
-                format!(
-                    "no modal point of the {} at {q:?}",
-                    if tub { "tub" } else { "cabinet" }
-                )
+            let mp = point_at(b.data, q).ok_or(AssemblyError::NoModalPoint {
+                body: if tub { "tub" } else { "cabinet" },
+                at: q,
             })?;
             let set = b.mesh.nsets.get(&mp.name).ok_or_else(|| {
-                format!("the mesh has no node set {} (stale modal data?)", mp.name)
+                let set = mp.name.clone();
+                AssemblyError::StaleSet { set }
             })?;
             // The modal data and the mesh must be one (a set regenerated since has another size).
             if set.len() != mp.nodes {
-                return Err(format!(
-                    "node set {} has {} nodes, the modal data's point {}: regenerate the modal data",
-                    mp.name,
-                    set.len(),
-                    mp.nodes
-                ));
+                return Err(AssemblyError::SetSize {
+                    set: mp.name.clone(),
+                    mesh: set.len(),
+                    data: mp.nodes,
+                });
             }
             Ok((mp.name.clone(), mp.position))
         };
@@ -202,18 +205,18 @@ impl<'a> Builder<'a> {
                     at: add(at, sub(p, mount)),
                 })
             }
-            BodyRef::DamperPart(_) => Err("a damper's moving part is not on a mesh".into()),
+            BodyRef::DamperPart(_) => Err(AssemblyError::DamperPart),
         }
     }
 }
 
-fn drum_mount(model: &Model) -> Result<[f64; 3], String> {
+fn drum_mount(model: &Model) -> Result<[f64; 3], AssemblyError> {
     model
         .rotors
         .iter()
         .find(|r| r.name == "drum")
         .map(|r| r.mount_point())
-        .ok_or_else(|| "the model has no rotor `drum`".to_string())
+        .ok_or(AssemblyError::NoDrum)
 }
 
 /// Merge `mesh` into `into`: nodes after the existing ones, parts, sets and materials prefixed.

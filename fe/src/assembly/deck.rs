@@ -6,7 +6,9 @@
 
 use super::builder::{Body, Builder, Dashpot, Rows, Site, Term, merge};
 use super::rigid_drum::{point_cloud, unbalance_force};
-use super::{Assembly, SensorNode, Settings};
+use super::{Assembly, AssemblyError, SensorNode, Settings};
+use crate::deck::Deck;
+use crate::error::Error;
 use crate::mesh::{Mesh, Section};
 use nalgebra::{Matrix6, SymmetricEigen};
 use std::collections::BTreeMap;
@@ -14,7 +16,7 @@ use std::f64::consts::PI;
 use washdyn_model::elements::reference_speed;
 use washdyn_model::geom::f::{add, norm, sub, unit};
 use washdyn_model::ir::modal::ModalData;
-use washdyn_model::ir::{BodyRef, Effect, EffectSet, Model};
+use washdyn_model::ir::{BodyRef, Effect, EffectSet, Elastic, Gasket, Model};
 
 /// Eigen-decomposition of a symmetric positive semi-definite 6 x 6 matrix: (l_i, v_i) with
 /// l_i > 1e-9 `scale` (a matrix of round-off, such as D - beta K of a gasket whose D is
@@ -24,20 +26,30 @@ fn decompose(
     what: &str,
     k: &[[f64; 6]; 6],
     scale: f64,
-) -> Result<Vec<(f64, [f64; 6])>, String> {
+) -> Result<Vec<(f64, [f64; 6])>, AssemblyError> {
     let m = Matrix6::from_fn(|i, j| k[i][j]);
     let tol = 1e-9 * scale;
     if (m - m.transpose()).amax() > tol {
-        return Err(format!("gasket {name}: {what} is not symmetric"));
+        let (name, what) = (name.to_string(), what.to_string());
+        let problem = "is not symmetric";
+        return Err(AssemblyError::Gasket {
+            name,
+            what,
+            problem,
+        });
     }
     let e = SymmetricEigen::new(m);
     let mut out = Vec::new();
     for i in 0..6 {
         let l = e.eigenvalues[i];
         if l < -tol {
-            return Err(format!(
-                "gasket {name}: {what} is not positive semi-definite"
-            ));
+            let (name, what) = (name.to_string(), what.to_string());
+            let problem = "is not positive semi-definite";
+            return Err(AssemblyError::Gasket {
+                name,
+                what,
+                problem,
+            });
         }
         if l > tol {
             let v = e.eigenvectors.column(i);
@@ -59,23 +71,88 @@ pub fn assemble(
     tub: &Mesh,
     cabinet: &Mesh,
     settings: &Settings,
-) -> Result<Assembly, String> {
+) -> Result<Assembly, Error> {
     let entry = |name: &str| {
         model
             .elastic
             .iter()
             .find(|e| e.name == name)
             .filter(|_| scene.has(&Effect::Elastic(name.into())))
-            .ok_or_else(|| format!("the scene must make the {name} elastic"))
+            .ok_or_else(|| AssemblyError::NotElastic { body: name.into() })
     };
     let (et, ec) = (entry("tub")?, entry("cabinet")?);
-    // What ccx's linear machine has, and washdyn's must have too.
     let beta = et.stiffness_damping;
+    linear(model, scene, [et, ec])?;
+    fn data(e: &Elastic) -> Result<&ModalData, AssemblyError> {
+        e.data.as_ref().ok_or_else(|| AssemblyError::Unresolved {
+            body: e.name.clone(),
+        })
+    }
+    let mut b = Builder {
+        tub: Body {
+            mesh: tub,
+            data: data(et)?,
+            offset: 0,
+            prefix: "T_",
+        },
+        cabinet: Body {
+            mesh: cabinet,
+            data: data(ec)?,
+            offset: tub.nodes.len(),
+            prefix: "C_",
+        },
+        mesh: Mesh::new(
+            "washdyn full-mesh machine: tub and cabinet meshes, rigid drum, linear elements",
+        ),
+        equations: Vec::new(),
+        pairs: Vec::new(),
+        held: Vec::new(),
+        ground: Vec::new(),
+    };
+    merge(&mut b.mesh, tub, "T_");
+    merge(&mut b.mesh, cabinet, "C_");
+    let (mesh_nodes, mesh_elements) = (b.mesh.nodes.len(), b.mesh.element_count());
+    let mut mass = b.tub.data.mass + b.cabinet.data.mass;
+    carried_masses(&mut b, model, &mut mass)?;
+    springs_and_dampers(&mut b, model)?;
+    for (gi, g) in model.gaskets.iter().enumerate() {
+        gasket(&mut b, model, scene, settings, beta, gi, g)?;
+    }
+    let loads = unbalances(&mut b, model, scene)?;
+    let sensors = sensors(&mut b, model)?;
+    let mut d = b.mesh.model_deck();
+    ties(&mut d, &b);
+    steps(&mut d, &loads, settings, beta);
+    let point_mass = b
+        .mesh
+        .parts
+        .iter()
+        .map(|p| match p.section {
+            Section::Mass { kg } => kg * p.elements.len() as f64,
+            _ => 0.0,
+        })
+        .sum();
+    Ok(Assembly {
+        deck: d,
+        sensors,
+        settings: settings.clone(),
+        beta,
+        aux_nodes: b.mesh.nodes.len() - mesh_nodes,
+        mesh_nodes,
+        mesh_elements,
+        mass,
+        point_mass,
+    })
+}
+
+/// What ccx's linear machine has, and washdyn's must have too: refused otherwise, all named.
+fn linear(model: &Model, scene: &EffectSet, elastic: [&Elastic; 2]) -> Result<(), AssemblyError> {
+    let beta = elastic[0].stiffness_damping;
     let mut refuse = Vec::new();
     if model.gravity != [0.0; 3] {
         refuse.push("gravity (its load stiffness)".to_string());
     }
-    for e in [et, ec] {
+    for e in elastic {
         if e.damping != 0.0 || e.support_damping.is_some() || e.stiffness_damping != beta {
             refuse.push(format!(
                 "the {}'s damping other than one Rayleigh beta for tub and cabinet",
@@ -103,44 +180,15 @@ pub fn assemble(
         }
     }
     if !refuse.is_empty() {
-        return Err(format!(
-            "the full-mesh deck is a linear machine; this one has {} (use `linear_machine`)",
-            refuse.join(", ")
-        ));
+        return Err(AssemblyError::NotLinear { found: refuse });
     }
-    fn data(e: &washdyn_model::ir::Elastic) -> Result<&ModalData, String> {
-        e.data
-            .as_ref()
-            .ok_or_else(|| format!("{}: modal data not resolved", e.name))
-    }
-    let mut b = Builder {
-        tub: Body {
-            mesh: tub,
-            data: data(et)?,
-            offset: 0,
-            prefix: "T_",
-        },
-        cabinet: Body {
-            mesh: cabinet,
-            data: data(ec)?,
-            offset: tub.nodes.len(),
-            prefix: "C_",
-        },
-        mesh: Mesh::new(
-            "washdyn full-mesh machine: tub and cabinet meshes, rigid drum, linear elements",
-        ),
-        equations: Vec::new(),
-        pairs: Vec::new(),
-        held: Vec::new(),
-        ground: Vec::new(),
-    };
-    merge(&mut b.mesh, tub, "T_");
-    merge(&mut b.mesh, cabinet, "C_");
-    let (mesh_nodes, mesh_elements) = (b.mesh.nodes.len(), b.mesh.element_count());
-    let mut mass = b.tub.data.mass + b.cabinet.data.mass;
+    Ok(())
+}
 
-    // Carried masses: the drum's FE mass (its modal data) as six point masses with its mass,
-    // CoG and inertia; other rotors as a point mass on their axis (as `Equations::new`).
+/// Carried masses: the drum's FE mass (its modal data) as six point masses with its mass,
+/// CoG and inertia; other rotors as a point mass on their axis (as `Equations::new`); their
+/// masses added to `mass`.
+fn carried_masses(b: &mut Builder, model: &Model, mass: &mut f64) -> Result<(), Error> {
     let mut point_masses: Vec<([f64; 3], f64, [f64; 3])> = Vec::new(); // (at, kg, mount)
     for r in &model.rotors {
         let drum = model
@@ -155,7 +203,7 @@ pub fn assemble(
         if m == 0.0 {
             continue;
         }
-        mass += m;
+        *mass += m;
         for (p, kg) in point_cloud(m, c, inertia) {
             point_masses.push((p, kg, r.mount_point()));
         }
@@ -171,14 +219,17 @@ pub fn assemble(
             .part(&format!("WD_MASS_{k}"), Section::Mass { kg: *kg })
             .elements = vec![vec![id]];
     }
+    Ok(())
+}
 
-    // Springs and dampers between auxiliary nodes at their ends.
-    let end = |b: &mut Builder, a: &washdyn_model::ir::Attach| -> Result<usize, String> {
+/// Springs and dampers between auxiliary nodes at their ends.
+fn springs_and_dampers(b: &mut Builder, model: &Model) -> Result<(), Error> {
+    let end = |b: &mut Builder, a: &washdyn_model::ir::Attach| -> Result<usize, Error> {
         let s = b.site(model, a.body, a.point)?;
         b.follower(&s, a.point)
     };
     for (i, s) in model.springs.iter().enumerate() {
-        let (na, nb) = (end(&mut b, &s.a)?, end(&mut b, &s.b)?);
+        let (na, nb) = (end(b, &s.a)?, end(b, &s.b)?);
         b.pairs.push((
             format!("WD_SPRING_{i}"),
             "SPRINGA",
@@ -197,7 +248,7 @@ pub fn assemble(
         {
             continue;
         }
-        let (na, nb) = (end(&mut b, &d.a)?, end(&mut b, &d.b)?);
+        let (na, nb) = (end(b, &d.a)?, end(b, &d.b)?);
         b.pairs.push((
             format!("WD_DAMPER_{i}"),
             "DASHPOTA",
@@ -206,96 +257,116 @@ pub fn assemble(
             Dashpot::Constant(d.damping),
         ));
     }
+    Ok(())
+}
 
-    // The gasket: scalar coordinates v_i . [u_a - u_b; theta_a - theta_b].
-    for (gi, g) in model.gaskets.iter().enumerate() {
-        let (sa, sb) = (b.site(model, g.a, g.point)?, b.site(model, g.b, g.point)?);
-        let rows = |b: &Builder, s: &Site| -> Result<[Rows; 2], String> {
-            Ok([b.rows(s, false)?, b.rows(s, true)?])
-        };
-        let (ra, rb) = (rows(&b, &sa)?, rows(&b, &sb)?);
-        let combine = |v: &[f64; 6]| -> Vec<Term> {
-            let mut acc: BTreeMap<(usize, usize), f64> = BTreeMap::new();
-            for (rs, sign) in [(&ra, 1.0), (&rb, -1.0)] {
-                for (block, r) in rs.iter().enumerate() {
-                    for a in 0..3 {
-                        for &(n, d, c) in &r[a] {
-                            *acc.entry((n, d)).or_default() += sign * v[3 * block + a] * c;
-                        }
+/// Gasket `gi`: scalar coordinates v_i . [u_a - u_b; theta_a - theta_b], a spring on each
+/// of K's eigenvectors and, with the scene's gasket damping, dashpots on D - beta K's and on
+/// the hysteretic S K S's.
+fn gasket(
+    b: &mut Builder,
+    model: &Model,
+    scene: &EffectSet,
+    settings: &Settings,
+    beta: f64,
+    gi: usize,
+    g: &Gasket,
+) -> Result<(), Error> {
+    let (sa, sb) = (b.site(model, g.a, g.point)?, b.site(model, g.b, g.point)?);
+    let rows = |b: &Builder, s: &Site| -> Result<[Rows; 2], Error> {
+        Ok([b.rows(s, false)?, b.rows(s, true)?])
+    };
+    let (ra, rb) = (rows(b, &sa)?, rows(b, &sb)?);
+    let combine = |v: &[f64; 6]| -> Vec<Term> {
+        let mut acc: BTreeMap<(usize, usize), f64> = BTreeMap::new();
+        for (rs, sign) in [(&ra, 1.0), (&rb, -1.0)] {
+            for (block, r) in rs.iter().enumerate() {
+                for a in 0..3 {
+                    for &(n, d, c) in &r[a] {
+                        *acc.entry((n, d)).or_default() += sign * v[3 * block + a] * c;
                     }
                 }
             }
-            acc.into_iter().map(|((n, d), c)| (n, d, c)).collect()
-        };
-        for (i, (l, v)) in decompose(&g.name, "stiffness", &g.stiffness, amax(&g.stiffness))?
+        }
+        acc.into_iter().map(|((n, d), c)| (n, d, c)).collect()
+    };
+    for (i, (l, v)) in decompose(&g.name, "stiffness", &g.stiffness, amax(&g.stiffness))?
+        .iter()
+        .enumerate()
+    {
+        let id = b.scalar(g.point, combine(v));
+        b.mesh
+            .part(
+                &format!("WD_GASKET_{gi}_K{i}"),
+                Section::Ground { dof: 1, k: *l },
+            )
+            .elements = vec![vec![id]];
+    }
+    if !scene.has(&Effect::GasketDamping) {
+        return Ok(());
+    }
+    // Rayleigh's beta K share is ccx's: the dashpots carry D - beta K.
+    let mut d = g.damping;
+    for i in 0..6 {
+        for j in 0..6 {
+            d[i][j] -= beta * g.stiffness[i][j];
+        }
+    }
+    let viscous = decompose(&g.name, "damping less beta K", &d, amax(&g.damping))?;
+    for (i, (c, v)) in viscous.iter().enumerate() {
+        let dashpot = Dashpot::Constant(*c);
+        grounded_dashpot(
+            b,
+            g.point,
+            format!("WD_GASKET_{gi}_D{i}"),
+            combine(v),
+            dashpot,
+        );
+    }
+    // The hysteretic part S K S acts as the viscous S K S / Omega_ref at the drum
+    // speed (`elements::Gasket`): frequency-dependent dashpots, exact at the steps'
+    // frequencies (ccx interpolates its table linearly in cycles/time).
+    let h = g.hysteretic_damping();
+    if h.iter().flatten().any(|v| *v != 0.0) {
+        for (i, (mu, v)) in decompose(&g.name, "S K S", &h, amax(&h))?
             .iter()
             .enumerate()
         {
-            let id = b.scalar(g.point, combine(v));
-            b.mesh
-                .part(
-                    &format!("WD_GASKET_{gi}_K{i}"),
-                    Section::Ground { dof: 1, k: *l },
-                )
-                .elements = vec![vec![id]];
-        }
-        if scene.has(&Effect::GasketDamping) {
-            // Rayleigh's beta K share is ccx's: the dashpots carry D - beta K.
-            let mut d = g.damping;
-            for i in 0..6 {
-                for j in 0..6 {
-                    d[i][j] -= beta * g.stiffness[i][j];
-                }
-            }
-            for (i, (c, v)) in decompose(&g.name, "damping less beta K", &d, amax(&g.damping))?
+            let table = settings
+                .speeds_rpm
                 .iter()
-                .enumerate()
-            {
-                let id = b.scalar(g.point, combine(v));
-                let ground = b.mesh.fresh_node(add(g.point, [1.0, 0.0, 0.0]));
-                b.ground.push(ground);
-                b.pairs.push((
-                    format!("WD_GASKET_{gi}_D{i}"),
-                    "DASHPOTA",
-                    id,
-                    ground,
-                    Dashpot::Constant(*c),
-                ));
-            }
-            // The hysteretic part S K S acts as the viscous S K S / Omega_ref at the drum
-            // speed (`elements::Gasket`): frequency-dependent dashpots, exact at the steps'
-            // frequencies (ccx interpolates its table linearly in cycles/time).
-            let h = g.hysteretic_damping();
-            if h.iter().flatten().any(|v| *v != 0.0) {
-                for (i, (mu, v)) in decompose(&g.name, "S K S", &h, amax(&h))?
-                    .iter()
-                    .enumerate()
-                {
-                    let id = b.scalar(g.point, combine(v));
-                    let ground = b.mesh.fresh_node(add(g.point, [1.0, 0.0, 0.0]));
-                    b.ground.push(ground);
-                    let table = settings
-                        .speeds_rpm
-                        .iter()
-                        .map(|rpm| {
-                            let w = rpm * PI / 30.0;
-                            (mu / reference_speed(w), w / (2.0 * PI))
-                        })
-                        .collect();
-                    b.pairs.push((
-                        format!("WD_GASKET_{gi}_H{i}"),
-                        "DASHPOTA",
-                        id,
-                        ground,
-                        Dashpot::Table(table),
-                    ));
-                }
-            }
+                .map(|rpm| {
+                    let w = rpm * PI / 30.0;
+                    (mu / reference_speed(w), w / (2.0 * PI))
+                })
+                .collect();
+            let dashpot = Dashpot::Table(table);
+            grounded_dashpot(
+                b,
+                g.point,
+                format!("WD_GASKET_{gi}_H{i}"),
+                combine(v),
+                dashpot,
+            );
         }
     }
+    Ok(())
+}
 
-    // The unbalances of the drum's order 1 (ratio 1) as forces at their axial position.
-    let mut loads: Vec<(usize, [f64; 3], f64, [f64; 3])> = Vec::new(); // node, e, m, r0
+/// A dashpot named `set` from a scalar coordinate (`terms`) at `point` to a held node.
+fn grounded_dashpot(b: &mut Builder, point: [f64; 3], set: String, terms: Vec<Term>, c: Dashpot) {
+    let id = b.scalar(point, terms);
+    let ground = b.mesh.fresh_node(add(point, [1.0, 0.0, 0.0]));
+    b.ground.push(ground);
+    b.pairs.push((set, "DASHPOTA", id, ground, c));
+}
+
+/// An unbalance load: node, axis e, mass, radius r0.
+type Load = (usize, [f64; 3], f64, [f64; 3]);
+
+/// The unbalances of the drum's order 1 (ratio 1) as forces at their axial position.
+fn unbalances(b: &mut Builder, model: &Model, scene: &EffectSet) -> Result<Vec<Load>, Error> {
+    let mut loads: Vec<Load> = Vec::new();
     for u in &model.unbalances {
         if !scene.has(&Effect::Unbalance(u.rotor.clone())) {
             continue;
@@ -304,7 +375,10 @@ pub fn assemble(
             .rotors
             .iter()
             .find(|r| r.name == u.rotor)
-            .ok_or_else(|| format!("unbalance {}: no rotor {}", u.name, u.rotor))?;
+            .ok_or_else(|| AssemblyError::NoRotor {
+                unbalance: u.name.clone(),
+                rotor: u.rotor.clone(),
+            })?;
         if r.ratio != 1.0 {
             continue;
         }
@@ -323,10 +397,13 @@ pub fn assemble(
         loads.push((id, e, u.mass, sub(rho, axial)));
     }
     if loads.is_empty() {
-        return Err("no drum-order-1 unbalance in the scene".into());
+        return Err(AssemblyError::NoUnbalance.into());
     }
+    Ok(loads)
+}
 
-    // Sensors.
+/// The sensors' nodes (set WD_SENSORS); the held and grounded nodes' sets and boundaries.
+fn sensors(b: &mut Builder, model: &Model) -> Result<Vec<SensorNode>, Error> {
     let mut sensors = Vec::new();
     for s in &model.sensors {
         let site = b.site(model, s.body, s.point)?;
@@ -349,9 +426,11 @@ pub fn assemble(
         b.mesh.add_to_set("WD_GROUND", &g);
         b.mesh.fixed.push(("WD_GROUND".into(), 1, 3));
     }
+    Ok(sensors)
+}
 
-    // The deck: the merged mesh, then equations and the two-node elements.
-    let mut d = b.mesh.model_deck();
+/// After the merged mesh: the equations and the two-node elements.
+fn ties(d: &mut Deck, b: &Builder) {
     d.line("*EQUATION");
     for eq in &b.equations {
         d.line(&eq.len().to_string());
@@ -391,10 +470,15 @@ pub fn assemble(
             }
         }
     }
+}
+
+/// The `*FREQUENCY` step, then one `*STEADY STATE DYNAMICS` step per speed with the
+/// unbalances' loads.
+fn steps(d: &mut Deck, loads: &[Load], settings: &Settings, beta: f64) {
     // Loads per unit Omega^2 (the unbalance's pattern), real or imaginary part, scaled.
     let load_lines = |scale: f64, imaginary: bool| -> Vec<String> {
         let mut out = Vec::new();
-        for (node, e, m, r0) in &loads {
+        for (node, e, m, r0) in loads {
             let f = unbalance_force(*m, 1.0, *e, *r0, 1.0);
             for (a, fa) in f.iter().enumerate() {
                 let v = scale * if imaginary { fa.im } else { fa.re };
@@ -435,24 +519,4 @@ pub fn assemble(
             .line("U")
             .line("*END STEP");
     }
-    let point_mass = b
-        .mesh
-        .parts
-        .iter()
-        .map(|p| match p.section {
-            Section::Mass { kg } => kg * p.elements.len() as f64,
-            _ => 0.0,
-        })
-        .sum();
-    Ok(Assembly {
-        deck: d,
-        sensors,
-        settings: settings.clone(),
-        beta,
-        aux_nodes: b.mesh.nodes.len() - mesh_nodes,
-        mesh_nodes,
-        mesh_elements,
-        mass,
-        point_mass,
-    })
 }

@@ -25,10 +25,12 @@
 
 mod builder;
 mod deck;
+mod error;
 mod rigid_drum;
 mod solve;
 
 pub use deck::assemble;
+pub use error::AssemblyError;
 pub use rigid_drum::point_cloud;
 pub use solve::{Solution, solve};
 

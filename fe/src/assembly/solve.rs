@@ -2,7 +2,8 @@
 //! mass and the sensors' complex amplitudes back (`solve`, `Solution`). Separate from the deck
 //! (`deck.rs`) as the one part that needs CalculiX.
 
-use super::Assembly;
+use super::{Assembly, AssemblyError};
+use crate::error::{Error, Within};
 use nalgebra::Complex;
 use std::f64::consts::PI;
 use std::path::Path;
@@ -25,29 +26,33 @@ pub struct Solution {
 
 /// Write the deck as `<dir>/<job>.inp`, run ccx, read the eigenfrequencies and the sensors'
 /// amplitudes back.
-pub fn solve(a: &Assembly, dir: &Path, job: &str) -> Result<Solution, String> {
+pub fn solve(a: &Assembly, dir: &Path, job: &str) -> Result<Solution, Error> {
     let path = dir.join(format!("{job}.inp"));
-    std::fs::write(&path, a.deck.text()).map_err(|e| format!("{}: {e}", path.display()))?;
+    std::fs::write(&path, a.deck.text()).map_err(Error::io(&path))?;
     // Every core: the assembled machine's eigen-solve is most of the reference's time.
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let run = crate::ccx::run_threads(&path, threads).map_err(|e| e.to_string())?;
-    let dat = std::fs::read_to_string(run.dat()).map_err(|e| format!("{job}.dat: {e}"))?;
-    let prints =
-        crate::dat::node_prints(&dat, "WD_SENSORS").map_err(|e| format!("{job}.dat: {e}"))?;
+    let run = crate::ccx::run_threads(&path, threads)?;
+    let dat = std::fs::read_to_string(run.dat()).within(|| format!("{job}.dat"))?;
+    let prints = crate::dat::node_prints(&dat, "WD_SENSORS").within(|| format!("{job}.dat"))?;
     // The real and imaginary parts per speed, the last 2 n prints (ccx prints nothing else
     // for the set: the request is made in the steady-state steps).
     let n = a.settings.speeds_rpm.len();
     if prints.len() != 2 * n {
-        return Err(format!(
-            "{job}.dat: {} sensor prints for {n} speeds (real and imaginary each)",
-            prints.len()
-        ));
+        return Err(AssemblyError::SensorPrints {
+            job: job.to_string(),
+            prints: prints.len(),
+            speeds: n,
+        }
+        .into());
     }
     let get = |p: &[(usize, [f64; 3])], node: usize| {
         p.iter()
             .find(|(id, _)| *id == node)
             .map(|(_, v)| *v)
-            .ok_or_else(|| format!("{job}.dat: sensor node {node} not printed"))
+            .ok_or_else(|| AssemblyError::NotPrinted {
+                job: job.to_string(),
+                node,
+            })
     };
     let mut channels = Vec::new();
     for (s, rpm) in a.settings.speeds_rpm.iter().enumerate() {

@@ -11,7 +11,9 @@
 //! the suspended body (55 kg, CoG, inertia): `Tub::balanced`.
 
 use super::drum::{Seat, aluminium, steel};
-use super::geometry::{beam_line, brick_grid, on_circle, piecewise, polar_bricks, shell_grid};
+use super::geometry::{
+    Grid2, beam_line, brick_grid, on_circle, piecewise, polar_bricks, shell_grid,
+};
 use crate::mesh::{Material, Mesh, Rigid, Section};
 use std::f64::consts::PI;
 
@@ -156,41 +158,43 @@ impl Tub {
         let mut m = Mesh::new(
             "washdyn tub: S8R shell, C3D20 bearing unit and counterweights, stator on B32 truss",
         );
+        let cylinder = self.shell(&mut m);
+        self.bearing_unit(&mut m);
+        self.counterweights(&mut m);
+        self.stator(&mut m, &cylinder);
+        m
+    }
+
+    /// The shell: cylinder, back wall, front ring and collar (its edge the set GASKET).
+    /// Returns the cylinder's grid, where the stator's truss is anchored.
+    fn shell(&self, m: &mut Mesh) -> Grid2 {
         let (r, zc, nc, na) = (self.radius, self.axis_z, self.n_circ, self.n_axial);
         let shell = Section::Shell {
             thickness: self.thickness,
             material: steel(),
         };
         let (xb, xf) = (self.x_back, self.x_front);
-        let dx = (xf - xb) / na as f64;
-        let dth = 2.0 * PI / nc as f64;
-        let cylinder = shell_grid(&mut m, "TUB_SHELL", &shell, na, nc, true, |u, v| {
+        let cylinder = shell_grid(m, "TUB_SHELL", &shell, na, nc, true, |u, v| {
             on_circle(xb + (xf - xb) * u, 0.0, zc, r, 2.0 * PI * v)
         });
         // Back wall: outer annulus, and the part over the carrier plate and the housing's front
         // face (sharing their nodes), open for the shaft inside the front bearing.
         let (rh, ro) = (self.housing_outer, self.hub_outer);
         let ri = self.front_bore;
-        shell_grid(&mut m, "TUB_BACK", &shell, 3, nc, true, |u, v| {
+        shell_grid(m, "TUB_BACK", &shell, 3, nc, true, |u, v| {
             on_circle(xb, 0.0, zc, ro + (r - ro) * u, -2.0 * PI * v)
         });
         let mut inner = vec![ri, 0.5 * (ri + rh)];
         inner.extend((0..=5).map(|k| rh + (ro - rh) * k as f64 / 5.0));
-        shell_grid(
-            &mut m,
-            "TUB_BACK",
-            &shell,
-            inner.len() - 1,
-            nc,
-            true,
-            |u, v| on_circle(xb, 0.0, zc, piecewise(&inner, u), -2.0 * PI * v),
-        );
+        shell_grid(m, "TUB_BACK", &shell, inner.len() - 1, nc, true, |u, v| {
+            on_circle(xb, 0.0, zc, piecewise(&inner, u), -2.0 * PI * v)
+        });
         // Front ring and collar.
         let rc = self.collar_radius;
-        shell_grid(&mut m, "TUB_FRONT", &shell, 1, nc, true, |u, v| {
+        shell_grid(m, "TUB_FRONT", &shell, 1, nc, true, |u, v| {
             on_circle(xf, 0.0, zc, rc + (r - rc) * u, 2.0 * PI * v)
         });
-        let collar = shell_grid(&mut m, "TUB_FRONT", &shell, 4, nc, true, |u, v| {
+        let collar = shell_grid(m, "TUB_FRONT", &shell, 4, nc, true, |u, v| {
             on_circle(xf + (self.x_collar - xf) * u, 0.0, zc, rc, 2.0 * PI * v)
         });
         let edge: Vec<usize> = collar
@@ -199,7 +203,14 @@ impl Tub {
             .map(|(_, &id)| id)
             .collect();
         m.add_to_set("GASKET", &edge);
-        // Bearing unit: the carrier plate behind the back wall, on the housing.
+        cylinder
+    }
+
+    /// The bearing unit: the carrier plate behind the back wall, on the housing; the bore's
+    /// nodes inside both seats the set BEARING.
+    fn bearing_unit(&self, m: &mut Mesh) {
+        let (zc, nc, xb) = (self.axis_z, self.n_circ, self.x_back);
+        let (rh, ro, ri) = (self.housing_outer, self.hub_outer, self.front_bore);
         let alu = Section::Solid {
             material: aluminium(),
         };
@@ -207,7 +218,7 @@ impl Tub {
         let full = (0.0, 2.0 * PI, nc);
         let plate: Vec<f64> = (0..=5).map(|k| rh + (ro - rh) * k as f64 / 5.0).collect();
         polar_bricks(
-            &mut m,
+            m,
             "TUB_BEARING_UNIT",
             &alu,
             zc,
@@ -217,22 +228,14 @@ impl Tub {
         );
         let xs = self.housing_stations();
         let mid = 0.5 * (ri + rh);
-        polar_bricks(
-            &mut m,
-            "TUB_BEARING_UNIT",
-            &alu,
-            zc,
-            &[ri, mid, rh],
-            &xs,
-            full,
-        );
+        polar_bricks(m, "TUB_BEARING_UNIT", &alu, zc, &[ri, mid, rh], &xs, full);
         let rear: Vec<f64> = xs
             .iter()
             .copied()
             .filter(|&x| x <= self.bore_step + 1e-9)
             .collect();
         let rb = self.rear_bore;
-        polar_bricks(&mut m, "TUB_BEARING_UNIT", &alu, zc, &[rb, ri], &rear, full);
+        polar_bricks(m, "TUB_BEARING_UNIT", &alu, zc, &[rb, ri], &rear, full);
         // BEARING: the bore's nodes inside both seats.
         let seat = |m: &Mesh, s: Seat, radius: f64| -> Vec<usize> {
             let (x0, x1) = s.ends();
@@ -244,11 +247,18 @@ impl Tub {
                 })
                 .collect()
         };
-        let front = seat(&m, self.front_seat, ri);
-        let back = seat(&m, self.rear_seat, rb);
+        let front = seat(m, self.front_seat, ri);
+        let back = seat(m, self.rear_seat, rb);
         m.add_to_set("BEARING", &front);
         m.add_to_set("BEARING", &back);
-        // Counterweights: concrete sectors on the shell, top front and bottom.
+    }
+
+    /// Counterweights: concrete sectors on the shell, top front and bottom, and on the collar.
+    fn counterweights(&self, m: &mut Mesh) {
+        let (r, zc, nc, na) = (self.radius, self.axis_z, self.n_circ, self.n_axial);
+        let (xb, xf, rc) = (self.x_back, self.x_front, self.collar_radius);
+        let dx = (xf - xb) / na as f64;
+        let dth = 2.0 * PI / nc as f64;
         let cw = Section::Solid {
             material: concrete(),
         };
@@ -267,7 +277,7 @@ impl Tub {
                 );
             };
         sector(
-            &mut m,
+            m,
             "TUB_COUNTERWEIGHT",
             0.0,
             self.top_half_span,
@@ -275,7 +285,7 @@ impl Tub {
             self.top_thickness,
         );
         sector(
-            &mut m,
+            m,
             "TUB_COUNTERWEIGHT",
             PI,
             self.bottom_half_span,
@@ -287,7 +297,7 @@ impl Tub {
             let (a0, span) = (-(half as f64) * dth, 2.0 * half as f64 * dth);
             let (x0, x1, h) = (xf, self.x_collar, self.collar_thickness);
             brick_grid(
-                &mut m,
+                m,
                 "TUB_COUNTERWEIGHT",
                 &cw,
                 [1, 2 * half, 4],
@@ -295,13 +305,18 @@ impl Tub {
                 |u, v, w| on_circle(x0 + (x1 - x0) * w, 0.0, zc, rc + h * u, a0 + span * v),
             );
         }
-        // Motor stator: a small carrier block below the tub, held by a six-member truss from
-        // the bearing unit's bottom; the stator's point masses and the carrier's lower face
-        // form one rigid part (ccx carries a rigid part's rotation only through solid nodes).
+    }
+
+    /// Motor stator: a small carrier block below the tub, held by a six-member truss from
+    /// the bearing unit's bottom; the stator's point masses and the carrier's lower face
+    /// form one rigid part (ccx carries a rigid part's rotation only through solid nodes).
+    fn stator(&self, m: &mut Mesh, cylinder: &Grid2) {
+        let (nc, xb) = (self.n_circ, self.x_back);
+        let dx = (self.x_front - xb) / self.n_axial as f64;
         let sc = self.stator_centre;
         let cz = sc[2] - 0.08;
         let carrier = brick_grid(
-            &mut m,
+            m,
             "TUB_STATOR_CARRIER",
             &Section::Solid {
                 material: aluminium(),
@@ -339,7 +354,7 @@ impl Tub {
         for (k, &t) in top.iter().enumerate() {
             for &a in [anchors[k], anchors[(k + 1) % 4]].iter() {
                 let (p, q) = (m.nodes[t - 1], m.nodes[a - 1]);
-                beam_line(&mut m, "TUB_TRUSS", &member, p, q, 2);
+                beam_line(m, "TUB_TRUSS", &member, p, q, 2);
             }
         }
         // The stator's mass on a ring about the motor axis (x), in the y-z plane.
@@ -376,6 +391,5 @@ impl Tub {
             ref_node,
             rot_node,
         });
-        m
     }
 }

@@ -4,6 +4,7 @@
 //! data is formed with, dense over the modes where the matrix is sparse.
 
 use super::{MassMatrix, dot};
+use crate::error::PipelineError;
 use crate::lumping::RigidLump;
 use crate::mesh::Mesh;
 use crate::modal::Shapes;
@@ -15,13 +16,13 @@ use washdyn_model::ir::modal::Elementary;
 type Dense = [DMatrix<f64>; 3];
 impl MassMatrix {
     /// The shapes at the rows, per component; every row needs a shape.
-    fn dense(&self, modes: &[Shapes]) -> Result<Dense, String> {
+    fn dense(&self, modes: &[Shapes]) -> Result<Dense, PipelineError> {
         let mut w: Dense = std::array::from_fn(|_| DMatrix::zeros(self.ids.len(), modes.len()));
         for (k, m) in modes.iter().enumerate() {
             for (i, id) in self.ids.iter().enumerate() {
                 let v =
                     m.w.get(id)
-                        .ok_or_else(|| format!("node {id} has mass but no mode shape"))?;
+                        .ok_or(PipelineError::NoShapeAtMass { node: *id })?;
                 for a in 0..3 {
                     w[a][(i, k)] = v[a];
                 }
@@ -55,7 +56,7 @@ impl MassMatrix {
     /// of mass m, CoG c and second moments J about c, moving with W_c + theta x rho (the paper's
     /// expansion, fig. 3): m W_c,a; m c_a W_c,b + (theta x J_a)_b with J_a = row a of J;
     /// m W_c,a,k W_c,b,l + sum_df eps_acd eps_bef theta_c,k theta_e,l J_df.
-    pub fn elementary(&self, mesh: &Mesh, modes: &[Shapes]) -> Result<Elementary, String> {
+    pub fn elementary(&self, mesh: &Mesh, modes: &[Shapes]) -> Result<Elementary, PipelineError> {
         let n = modes.len();
         let w = self.dense(modes)?;
         let mw: Dense = std::array::from_fn(|a| self.mul(&w[a]));
@@ -113,7 +114,7 @@ impl MassMatrix {
         mesh: &Mesh,
         modes: &[Shapes],
         el: &mut Elementary,
-    ) -> Result<(), String> {
+    ) -> Result<(), PipelineError> {
         let n = modes.len();
         for r in self.rigid.iter().filter(|r| r.mass > 0.0) {
             let j = second_moments(&r.inertia);
@@ -150,7 +151,12 @@ impl MassMatrix {
 
     /// The mass inner products A^T M B of two sets of shapes (every component, rigid parts
     /// included: m W_c,k . W_c,l + theta_k^T I theta_l).
-    pub fn inner(&self, mesh: &Mesh, a: &[Shapes], b: &[Shapes]) -> Result<DMatrix<f64>, String> {
+    pub fn inner(
+        &self,
+        mesh: &Mesh,
+        a: &[Shapes],
+        b: &[Shapes],
+    ) -> Result<DMatrix<f64>, PipelineError> {
         let (wa, wb) = (self.dense(a)?, self.dense(b)?);
         let mut p = DMatrix::zeros(a.len(), b.len());
         for c in 0..3 {
@@ -188,7 +194,11 @@ impl MassMatrix {
 
     /// The inertial load M s of a shape as nodal loads (`load_of`): what a second static
     /// solve K x = M s needs for the next Krylov vector of the correction modes.
-    pub fn shape_load(&self, mesh: &Mesh, s: &Shapes) -> Result<Vec<(usize, [f64; 3])>, String> {
+    pub fn shape_load(
+        &self,
+        mesh: &Mesh,
+        s: &Shapes,
+    ) -> Result<Vec<(usize, [f64; 3])>, PipelineError> {
         let w = self.dense(std::slice::from_ref(s))?;
         let u: [Vec<f64>; 3] = std::array::from_fn(|a| w[a].column(0).iter().copied().collect());
         let parts = self
@@ -196,7 +206,7 @@ impl MassMatrix {
             .iter()
             .filter(|r| r.mass > 0.0)
             .map(|r| Ok((r.rot_node, rigid_motion(mesh, r, s)?)))
-            .collect::<Result<Vec<_>, String>>()?;
+            .collect::<Result<Vec<_>, PipelineError>>()?;
         Ok(self.load_of(mesh, &u, |r| {
             parts
                 .iter()
@@ -207,7 +217,7 @@ impl MassMatrix {
     }
 
     /// max |W^T M W - E| of `modes`: how far the matrix is from the one ccx normalised with.
-    pub fn normalisation_error(&self, mesh: &Mesh, modes: &[Shapes]) -> Result<f64, String> {
+    pub fn normalisation_error(&self, mesh: &Mesh, modes: &[Shapes]) -> Result<f64, PipelineError> {
         let p = self.inner(mesh, modes, modes)?;
         Ok((0..p.nrows())
             .flat_map(|k| (0..p.ncols()).map(move |l| (k, l)))
@@ -235,14 +245,18 @@ fn second_moments(i: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
 }
 
 /// A rigid part's motion in one mode: translation of its CoG and rotation.
-fn rigid_motion(mesh: &Mesh, r: &RigidLump, s: &Shapes) -> Result<([f64; 3], [f64; 3]), String> {
+fn rigid_motion(
+    mesh: &Mesh,
+    r: &RigidLump,
+    s: &Shapes,
+) -> Result<([f64; 3], [f64; 3]), PipelineError> {
     let theta = *s
         .rot
         .get(&r.rot_node)
-        .ok_or_else(|| format!("no rotation printed for ROT NODE {}", r.rot_node))?;
+        .ok_or(PipelineError::NoRotation { node: r.rot_node })?;
     let w_ref =
         *s.w.get(&r.ref_node)
-            .ok_or_else(|| format!("no displacement for REF NODE {}", r.ref_node))?;
+            .ok_or(PipelineError::NoReference { node: r.ref_node })?;
     let arm = sub(r.cog, mesh.nodes[r.ref_node - 1]);
     Ok((add(w_ref, cross(theta, arm)), theta))
 }

@@ -3,16 +3,19 @@
 //! and set members of a card's data, refused with file and line. Separate from the reader
 //! (`mod.rs`) as the syntax, which knows no keyword's meaning.
 
-use super::DeckError;
+use super::{InpError, InpProblem};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+
+/// A data line: its line number and its fields.
+pub(super) type DataLine = (usize, Vec<String>);
 
 /// One card: keyword, parameters (upper-cased keys; values as written, upper-cased where they
 /// name something), data lines with their line numbers, where it stands.
 pub(super) struct Card {
     pub(super) keyword: String,
     pub(super) params: Vec<(String, String)>,
-    pub(super) data: Vec<(usize, Vec<String>)>,
+    pub(super) data: Vec<DataLine>,
     pub(super) file: PathBuf,
     pub(super) line: usize,
 }
@@ -24,23 +27,25 @@ impl Card {
             .find(|(k, _)| k == key)
             .map(|(_, v)| v.as_str())
     }
-    pub(super) fn err(&self, line: usize, message: impl Into<String>) -> DeckError {
-        DeckError {
+    pub(super) fn err(&self, line: usize, problem: InpProblem) -> InpError {
+        InpError {
             file: self.file.clone(),
             line,
-            message: message.into(),
+            problem,
         }
     }
-    pub(super) fn need(&self, key: &str) -> Result<String, DeckError> {
-        self.param(key)
-            .map(str::to_uppercase)
-            .ok_or_else(|| self.err(self.line, format!("{} needs {key}=", self.keyword)))
+    pub(super) fn need(&self, key: &str) -> Result<String, InpError> {
+        self.param(key).map(str::to_uppercase).ok_or_else(|| {
+            let (keyword, key) = (self.keyword.clone(), key.to_string());
+            self.err(self.line, InpProblem::NeedsParameter { keyword, key })
+        })
     }
     /// The first data line, or an error naming the card.
-    pub(super) fn first(&self) -> Result<&(usize, Vec<String>), DeckError> {
-        self.data
-            .first()
-            .ok_or_else(|| self.err(self.line, format!("{} has no data line", self.keyword)))
+    pub(super) fn first(&self) -> Result<&DataLine, InpError> {
+        self.data.first().ok_or_else(|| {
+            let keyword = self.keyword.clone();
+            self.err(self.line, InpProblem::NoData { keyword })
+        })
     }
 }
 
@@ -51,38 +56,57 @@ pub(super) fn num(
     fields: &[String],
     i: usize,
     what: &str,
-) -> Result<f64, DeckError> {
-    let s = fields
-        .get(i)
-        .ok_or_else(|| card.err(line, format!("{}: missing {what}", card.keyword)))?;
-    let v: f64 = s.replace(['d', 'D'], "e").parse().map_err(|_| {
-        card.err(
+) -> Result<f64, InpError> {
+    let (keyword, what) = (card.keyword.clone(), what.to_string());
+    let Some(s) = fields.get(i) else {
+        return Err(card.err(line, InpProblem::MissingField { keyword, what }));
+    };
+    let Ok(value) = s.replace(['d', 'D'], "e").parse::<f64>() else {
+        let text = s.clone();
+        return Err(card.err(
             line,
-            format!("{}: {what} `{s}` is not a number", card.keyword),
-        )
-    })?;
-    if !v.is_finite() {
-        return Err(card.err(line, format!("{}: {what} is {v}", card.keyword)));
+            InpProblem::NotANumber {
+                keyword,
+                what,
+                text,
+            },
+        ));
+    };
+    if !value.is_finite() {
+        return Err(card.err(
+            line,
+            InpProblem::NotFinite {
+                keyword,
+                what,
+                value,
+            },
+        ));
     }
-    Ok(v)
+    Ok(value)
 }
 
-pub(super) fn int(card: &Card, line: usize, s: &str, what: &str) -> Result<i64, DeckError> {
+pub(super) fn int(card: &Card, line: usize, s: &str, what: &str) -> Result<i64, InpError> {
     s.parse().map_err(|_| {
+        let (keyword, what, text) = (card.keyword.clone(), what.to_string(), s.to_string());
         card.err(
             line,
-            format!("{}: {what} `{s}` is not an integer", card.keyword),
+            InpProblem::NotAnInteger {
+                keyword,
+                what,
+                text,
+            },
         )
     })
 }
 
 /// Split the deck into cards, following `*INCLUDE` (relative to the including file).
-pub(super) fn cards(path: &Path, out: &mut Vec<Card>, depth: usize) -> Result<(), DeckError> {
-    let text = std::fs::read_to_string(path).map_err(|e| DeckError {
+pub(super) fn cards(path: &Path, out: &mut Vec<Card>, depth: usize) -> Result<(), InpError> {
+    let at = |line: usize, problem: InpProblem| InpError {
         file: path.to_path_buf(),
-        line: 0,
-        message: format!("cannot read: {e}"),
-    })?;
+        line,
+        problem,
+    };
+    let text = std::fs::read_to_string(path).map_err(|e| at(0, InpProblem::Read(e)))?;
     let mut continued = false;
     for (k, raw) in text.lines().enumerate() {
         let line = k + 1;
@@ -100,18 +124,11 @@ pub(super) fn cards(path: &Path, out: &mut Vec<Card>, depth: usize) -> Result<()
             }
             if keyword == "*INCLUDE" {
                 let Some((_, inc)) = params.iter().find(|(k, _)| k == "INPUT") else {
-                    return Err(DeckError {
-                        file: path.to_path_buf(),
-                        line,
-                        message: "*INCLUDE needs INPUT=".into(),
-                    });
+                    let (keyword, key) = ("*INCLUDE".into(), "INPUT".into());
+                    return Err(at(line, InpProblem::NeedsParameter { keyword, key }));
                 };
                 if depth > 8 {
-                    return Err(DeckError {
-                        file: path.to_path_buf(),
-                        line,
-                        message: "*INCLUDE nested deeper than 8 (a cycle?)".into(),
-                    });
+                    return Err(at(line, InpProblem::IncludeTooDeep));
                 }
                 let inc = path
                     .parent()
@@ -132,11 +149,7 @@ pub(super) fn cards(path: &Path, out: &mut Vec<Card>, depth: usize) -> Result<()
             continue;
         }
         let Some(card) = out.last_mut() else {
-            return Err(DeckError {
-                file: path.to_path_buf(),
-                line,
-                message: "data before the first keyword".into(),
-            });
+            return Err(at(line, InpProblem::DataBeforeKeyword));
         };
         let fields: Vec<String> = l
             .split(',')
@@ -161,7 +174,7 @@ pub(super) fn members(
     card: &Card,
     sets: &BTreeMap<String, Vec<i64>>,
     generate: bool,
-) -> Result<Vec<i64>, DeckError> {
+) -> Result<Vec<i64>, InpError> {
     let mut ids = Vec::new();
     for (line, f) in &card.data {
         if generate {
@@ -172,7 +185,7 @@ pub(super) fn members(
                 None => 1,
             };
             if step <= 0 || b < a {
-                return Err(card.err(*line, "GENERATE needs first <= last and a positive step"));
+                return Err(card.err(*line, InpProblem::BadGenerate));
             }
             ids.extend((a..=b).step_by(step as usize));
             continue;
@@ -183,10 +196,8 @@ pub(super) fn members(
                 Err(_) => {
                     let name = s.to_uppercase();
                     let set = sets.get(&name).ok_or_else(|| {
-                        card.err(
-                            *line,
-                            format!("{}: no set `{s}` defined above", card.keyword),
-                        )
+                        let (keyword, set) = (card.keyword.clone(), s.clone());
+                        card.err(*line, InpProblem::SetNotAbove { keyword, set })
                     })?;
                     ids.extend(set);
                 }

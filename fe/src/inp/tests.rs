@@ -1,6 +1,7 @@
 //! The deck reader against the decks the writer writes, in both unit systems, and its refusals.
 use super::*;
 use crate::bodies::builtin;
+use crate::mesh::{Material, Section};
 
 fn close(a: f64, b: f64) -> bool {
     (a - b).abs() <= 1e-9 * a.abs().max(b.abs())
@@ -149,7 +150,7 @@ fn mm_t_s_numbers_read_as_si() {
     }
 }
 
-fn deck_error(text: &str) -> DeckError {
+fn deck_error(text: &str) -> InpError {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("user.inp");
     std::fs::write(&path, text).unwrap();
@@ -222,9 +223,32 @@ fn unsupported_or_broken_decks_name_file_and_line() {
         ),
         (format!("{NODES}4, nan, 0, 0\n"), 5, "coordinate is NaN"),
     ];
-    for (text, line, want) in cases {
+    // The refusals as their variants (what a caller matches), in the order of `cases`.
+    let kinds: [fn(&InpProblem) -> bool; 8] = [
+        |p| matches!(p, InpProblem::UnsupportedElement { kind, .. } if kind == "C3D10"),
+        |p| matches!(p, InpProblem::UnsupportedKeyword { keyword } if keyword == "*EQUATION"),
+        |p| matches!(p, InpProblem::NoNode { id: 9 }),
+        |p| matches!(p, InpProblem::NoSection { id: 1, .. }),
+        |p| {
+            matches!(
+                p,
+                InpProblem::MaterialLacks {
+                    card: "*DENSITY",
+                    ..
+                }
+            )
+        },
+        |p| matches!(p, InpProblem::Read(_)),
+        |p| matches!(p, InpProblem::NotPositive { what: "height", .. }),
+        |p| matches!(p, InpProblem::NotFinite { value, .. } if value.is_nan()),
+    ];
+    for ((text, line, want), kind) in cases.into_iter().zip(kinds) {
         let e = deck_error(&text);
-        assert!(e.message.contains(want), "want `{want}`, got: {e}");
+        assert!(kind(&e.problem), "{e:?}");
+        assert!(
+            e.problem.to_string().contains(want),
+            "want `{want}`, got: {e}"
+        );
         assert_eq!(e.line, line, "{e}");
         if line > 0 {
             assert!(e.file.ends_with("user.inp"), "{e}");

@@ -45,6 +45,7 @@ pub mod hex20;
 mod tests;
 
 use crate::deck::Deck;
+use crate::error::{Error, PipelineError, Within};
 use crate::mesh::{Mesh, Section};
 use nalgebra::DMatrix;
 use std::collections::HashMap;
@@ -210,7 +211,7 @@ impl Prestress {
         frd: &crate::frd::Frd,
         dat: &str,
         solve_s: f64,
-    ) -> Result<Prestress, String> {
+    ) -> Result<Prestress, Error> {
         let all = bricks_of(&frd.elements);
         // Our element k (numbered as `Mesh::model_deck` numbers them) is ccx's k.
         let lame: Vec<Option<(f64, f64)>> = mesh
@@ -226,27 +227,25 @@ impl Prestress {
             .collect();
         let stresses = crate::dat::element_stresses(dat, LOADED)?;
         if stresses.is_empty() {
-            return Err(format!("no stresses of set {LOADED} in the .dat"));
+            return Err(PipelineError::NoPrestress { set: LOADED }.into());
         }
         let mut bricks = Vec::with_capacity(stresses.len());
         for (number, stress) in stresses {
-            let nodes = *all.get(&number).ok_or_else(|| {
-                format!(
-                    "element {number}: ccx solved it as no 20-node brick (the geometric \
-                     stiffness takes C3D20, C3D20R and the shells and beams ccx expands into them)"
-                )
-            })?;
+            let nodes = *all
+                .get(&number)
+                .ok_or(PipelineError::NotABrick { element: number })?;
             if hex20::rule_of(stress.len()).is_none() {
-                return Err(format!(
-                    "element {number}: {} integration points (C3D20R has 8, C3D20 27)",
-                    stress.len()
-                ));
+                return Err(PipelineError::IntegrationPoints {
+                    element: number,
+                    points: stress.len(),
+                }
+                .into());
             }
             let lame = lame
                 .get(number - 1)
                 .copied()
                 .flatten()
-                .ok_or_else(|| format!("element {number}: no material in the mesh"))?;
+                .ok_or(PipelineError::NoMaterial { element: number })?;
             bricks.push(Brick {
                 number,
                 nodes,
@@ -262,18 +261,18 @@ impl Prestress {
             .copied()
             .collect();
         if coords.len() != used.len() {
-            return Err("the .frd lacks coordinates of some bricks' nodes".into());
+            return Err(PipelineError::LacksCoordinates.into());
         }
         let u0: HashMap<usize, [f64; 3]> = frd
             .statics
             .first()
-            .ok_or("the .frd has no static displacements")?
+            .ok_or(PipelineError::NoStatics)?
             .iter()
             .filter(|(id, _)| used.contains(id))
             .copied()
             .collect();
         if u0.len() != used.len() {
-            return Err("the .frd lacks static displacements of some bricks' nodes".into());
+            return Err(PipelineError::LacksStatics.into());
         }
         Ok(Prestress {
             centrifugal: *c,
@@ -288,14 +287,18 @@ impl Prestress {
     /// Fails unless ccx's 3-D model of another solve of the same mesh (its `.frd`'s elements)
     /// has the same bricks with the same nodes: shapes at its nodes can then be integrated over
     /// these bricks.
-    pub fn same_bricks(&self, elements: &[(usize, Vec<usize>)], what: &str) -> Result<(), String> {
+    pub fn same_bricks(
+        &self,
+        elements: &[(usize, Vec<usize>)],
+        what: &str,
+    ) -> Result<(), PipelineError> {
         let theirs = bricks_of(elements);
         for b in &self.bricks {
             if theirs.get(&b.number) != Some(&b.nodes) {
-                return Err(format!(
-                    "{what}: ccx expanded element {} otherwise than in the prestress solve",
-                    b.number
-                ));
+                return Err(PipelineError::OtherExpansion {
+                    what: what.to_string(),
+                    element: b.number,
+                });
             }
         }
         Ok(())
@@ -313,7 +316,7 @@ impl Prestress {
     pub fn stiffness(
         &self,
         shapes: &[&[(usize, [f64; 3])]],
-    ) -> Result<(DMatrix<f64>, DMatrix<f64>), String> {
+    ) -> Result<(DMatrix<f64>, DMatrix<f64>), PipelineError> {
         let n = shapes.len();
         // Node id -> row of u: u[row * 3n + 3k + c] is component c of shape k.
         let rows: HashMap<usize, usize> = self
@@ -333,10 +336,10 @@ impl Prestress {
         }
         if let Some(i) = u.iter().position(|v| v.is_nan()) {
             let id = rows.iter().find(|(_, r)| **r == i / stride).map(|x| *x.0);
-            return Err(format!(
-                "shape {} has no displacement at ccx's node {id:?}",
-                (i % stride) / 3
-            ));
+            return Err(PipelineError::NoDisplacement {
+                shape: (i % stride) / 3,
+                node: id,
+            });
         }
         // Per Gauss point the n x 9 gradients A9 (A9[k, 3i + j] = d u_k,i / d x_j) and
         // B9 = A9 (E x sigma) w det J: K_sigma += B9 A9^T; and sym(grad u_k) A6 (6: xx, yy,
@@ -370,8 +373,9 @@ impl Prestress {
             let (lam, mu) = brick.lame;
             let rule = hex20::rule_of(brick.stress.len()).expect("checked on reading");
             for ((p, w), s) in rule.iter().zip(&brick.stress) {
-                let (g, det) = hex20::spatial_gradient(&x, *p)
-                    .ok_or_else(|| format!("element {}: det J <= 0", brick.number))?;
+                let (g, det) = hex20::spatial_gradient(&x, *p).ok_or(PipelineError::Jacobian {
+                    element: brick.number,
+                })?;
                 let sig = [[s[0], s[3], s[5]], [s[3], s[1], s[4]], [s[5], s[4], s[2]]];
                 let mut g0 = [[0.0; 3]; 3];
                 for (node, gn) in g.iter().enumerate() {
@@ -440,7 +444,7 @@ pub fn rigid_parts(
     mesh: &Mesh,
     loads: &[(usize, [f64; 3])],
     modes: &[crate::modal::Shapes],
-) -> Result<DMatrix<f64>, String> {
+) -> Result<DMatrix<f64>, PipelineError> {
     let n = modes.len();
     let mut k = DMatrix::<f64>::zeros(n, n);
     for r in &mesh.rigid {
@@ -464,10 +468,11 @@ pub fn rigid_parts(
             .iter()
             .map(|m| {
                 m.rot.get(&r.rot_node).copied().ok_or_else(|| {
-                    format!("a mode has no rotation of rigid part {} (ROT NODE)", r.nset)
+                    let set = r.nset.clone();
+                    PipelineError::NoRigidRotation { set }
                 })
             })
-            .collect::<Result<Vec<[f64; 3]>, String>>()?;
+            .collect::<Result<Vec<[f64; 3]>, PipelineError>>()?;
         for p in 0..n {
             for q in 0..n {
                 let mut v = 0.0;
@@ -490,7 +495,7 @@ pub fn point_mass_softening(
     mesh: &Mesh,
     modes: &[crate::modal::Shapes],
     axis: [f64; 3],
-) -> Result<DMatrix<f64>, String> {
+) -> Result<DMatrix<f64>, PipelineError> {
     let e = unit(axis);
     let n = modes.len();
     let mut s = DMatrix::<f64>::zeros(n, n);
@@ -504,11 +509,11 @@ pub fn point_mass_softening(
                 .map(|m| {
                     let v =
                         *m.w.get(&el[0])
-                            .ok_or_else(|| format!("no mode shape at point mass node {}", el[0]))?;
+                            .ok_or(PipelineError::NoShapeAtPointMass { node: el[0] })?;
                     let along = dot(v, e);
                     Ok((v, std::array::from_fn(|i| v[i] - along * e[i])))
                 })
-                .collect::<Result<Vec<([f64; 3], [f64; 3])>, String>>()?;
+                .collect::<Result<Vec<([f64; 3], [f64; 3])>, PipelineError>>()?;
             for p in 0..n {
                 for q in 0..n {
                     s[(p, q)] += kg * dot(w[p].1, w[q].0);
@@ -525,15 +530,13 @@ pub fn solve(
     c: &Centrifugal,
     dir: &std::path::Path,
     job: &str,
-) -> Result<(Prestress, crate::frd::Frd), String> {
+) -> Result<(Prestress, crate::frd::Frd), Error> {
     let path = dir.join(format!("{job}.inp"));
-    std::fs::write(&path, deck(mesh, c).text()).map_err(|e| format!("{}: {e}", path.display()))?;
-    let run = crate::ccx::run(&path).map_err(|e| e.to_string())?;
-    let read = |p: std::path::PathBuf| {
-        std::fs::read_to_string(&p).map_err(|e| format!("{}: {e}", p.display()))
-    };
-    let frd = crate::frd::parse(&read(run.frd())?).map_err(|e| format!("{job}.frd: {e}"))?;
+    std::fs::write(&path, deck(mesh, c).text()).map_err(Error::io(&path))?;
+    let run = crate::ccx::run(&path)?;
+    let read = |p: std::path::PathBuf| std::fs::read_to_string(&p).map_err(Error::io(p));
+    let frd = crate::frd::parse(&read(run.frd())?).within(|| format!("{job}.frd"))?;
     let dat = read(run.dat())?;
-    let p = Prestress::read(c, mesh, &frd, &dat, run.wall_s).map_err(|e| format!("{job}: {e}"))?;
+    let p = Prestress::read(c, mesh, &frd, &dat, run.wall_s).within(|| job.to_string())?;
     Ok((p, frd))
 }

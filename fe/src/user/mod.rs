@@ -6,8 +6,12 @@
 //! centre of gravity (EMAS) against the mass the modal data integrates, the rigid-body modes a
 //! free body must have, and the mass normalisation of the kept modes.
 
+mod error;
 mod points;
 
+pub use error::{SpecError, SpecProblem};
+
+use crate::error::{Error, PipelineError};
 use crate::inp::{self, Units};
 use crate::lumping::continuum_mass_props;
 use crate::modal::Keep;
@@ -103,63 +107,23 @@ fn line_of(text: &str, at: usize) -> usize {
 
 /// Read the spec and its deck into a [`BodySpec`]. Errors name the file and line (spec or
 /// deck) and the set or field.
-pub fn load(spec_path: &Path) -> Result<BodySpec, String> {
-    let text = std::fs::read_to_string(spec_path)
-        .map_err(|e| format!("{}: cannot read: {e}", spec_path.display()))?;
-    let at = |span: Option<std::ops::Range<usize>>| {
-        span.map_or(String::new(), |s| format!(":{}", line_of(&text, s.start)))
+pub fn load(spec_path: &Path) -> Result<BodySpec, Error> {
+    let err = |line, problem| SpecError {
+        file: spec_path.to_path_buf(),
+        line,
+        problem,
     };
-    let spec: UserSpec = washdyn_model::ir::modal::from_toml(&text)
-        .map_err(|(span, m)| format!("{}{}: {m}", spec_path.display(), at(span)))?;
+    let text = std::fs::read_to_string(spec_path).map_err(|e| err(None, SpecProblem::Read(e)))?;
+    let spec: UserSpec = washdyn_model::ir::modal::from_toml(&text).map_err(|(span, m)| {
+        let line = span.map(|s| line_of(&text, s.start));
+        err(line, SpecProblem::Toml(m))
+    })?;
     // Where a field stands in the spec, for errors found after parsing.
-    let line = |needle: &str| {
-        text.find(needle)
-            .map_or(String::new(), |i| format!(":{}", line_of(&text, i)))
-    };
-    let bad = |needle: &str, m: String| format!("{}{}: {m}", spec_path.display(), line(needle));
+    let bad = |needle: &str, problem| err(text.find(needle).map(|i| line_of(&text, i)), problem);
     let dir = spec_path.parent().unwrap_or(Path::new("."));
     let deck = dir.join(&spec.deck);
-    let mut mesh = inp::read(&deck, spec.units).map_err(|e| e.to_string())?;
-    if spec.solve_modes == 0 || spec.keep.max_modes == 0 || spec.keep.max_modes > spec.solve_modes {
-        return Err(bad(
-            "solve_modes",
-            format!(
-                "need 0 < keep.max_modes ({}) <= solve_modes ({})",
-                spec.keep.max_modes, spec.solve_modes
-            ),
-        ));
-    }
-    if !(spec.keep.max_hz > 0.0 && spec.keep.rigid_below_hz >= 0.0) {
-        return Err(bad("max_hz", "keep.max_hz must be positive".into()));
-    }
-    if !(1..=2).contains(&spec.correction_order) {
-        return Err(bad(
-            "correction_order",
-            format!(
-                "correction_order is 1 (the static give) or 2 (also K^-1 M of it), not {}",
-                spec.correction_order
-            ),
-        ));
-    }
-    let free = spec.support == Support::FreeFree;
-    if free != (spec.body == ElasticBodyKind::Tub)
-        || (spec.spin.is_some()) != (spec.body == ElasticBodyKind::Drum)
-    {
-        return Err(bad(
-            "body",
-            format!(
-                "a {:?} is held {:?} and {} (tub: free_free; drum: clamped, with [spin]; \
-                 cabinet: on_springs or clamped)",
-                spec.body,
-                spec.support,
-                if spec.spin.is_some() {
-                    "spins"
-                } else {
-                    "does not spin"
-                }
-            ),
-        ));
-    }
+    let mut mesh = inp::read(&deck, spec.units)?;
+    check_counts(&spec).map_err(|(needle, problem)| bad(needle, problem))?;
     let attachments = match &spec.model {
         Some(file) => model_attachments(&dir.join(file), spec.body, &bad)?,
         None => Vec::new(),
@@ -167,28 +131,18 @@ pub fn load(spec_path: &Path) -> Result<BodySpec, String> {
     let points = points::points(&spec.points, &attachments, &mut mesh, &deck, &bad)?;
     for c in &spec.correction {
         if !points.iter().any(|(n, _)| *n == c.point) {
-            return Err(bad(
-                &format!("\"{}\"", c.point),
-                format!(
-                    "correction: no point `{}` in `points`{}",
-                    c.point,
-                    if spec.model.is_some() {
-                        " or the model's"
-                    } else {
-                        ""
-                    }
-                ),
-            ));
+            let problem = SpecProblem::NoCorrectionPoint {
+                point: c.point.clone(),
+                with_model: spec.model.is_some(),
+            };
+            return Err(bad(&format!("\"{}\"", c.point), problem).into());
         }
     }
     let spin = match spec.spin {
         Some(s) => {
             let n = s.axis.iter().map(|v| v * v).sum::<f64>().sqrt();
             if !(n.is_finite() && n > 0.0 && s.reference_rpm > 0.0) {
-                return Err(bad(
-                    "[spin]",
-                    "spin: needs a nonzero axis and a positive reference_rpm".into(),
-                ));
+                return Err(bad("[spin]", SpecProblem::SpinAxis).into());
             }
             let spin = Spin {
                 axis_point: s.axis_point,
@@ -219,6 +173,34 @@ pub fn load(spec_path: &Path) -> Result<BodySpec, String> {
     })
 }
 
+/// The spec's counts, frequencies and kind of body against each other: the field's needle
+/// in the spec and what is wrong.
+fn check_counts(spec: &UserSpec) -> Result<(), (&'static str, SpecProblem)> {
+    let (keep, solve) = (spec.keep.max_modes, spec.solve_modes);
+    if solve == 0 || keep == 0 || keep > solve {
+        return Err(("solve_modes", SpecProblem::ModeCounts { keep, solve }));
+    }
+    if !(spec.keep.max_hz > 0.0 && spec.keep.rigid_below_hz >= 0.0) {
+        return Err(("max_hz", SpecProblem::MaxHz));
+    }
+    if !(1..=2).contains(&spec.correction_order) {
+        let order = spec.correction_order;
+        return Err(("correction_order", SpecProblem::CorrectionOrder { order }));
+    }
+    let free = spec.support == Support::FreeFree;
+    if free != (spec.body == ElasticBodyKind::Tub)
+        || (spec.spin.is_some()) != (spec.body == ElasticBodyKind::Drum)
+    {
+        let problem = SpecProblem::Support {
+            body: spec.body,
+            support: spec.support,
+            spins: spec.spin.is_some(),
+        };
+        return Err(("body", problem));
+    }
+    Ok(())
+}
+
 /// Farthest the body's centre of gravity may lie from the spin axis, as a fraction of the
 /// body's reach from the axis (its farthest node): a drum turns about its own axis, balanced
 /// (the laundry's unbalance is the model's, not the FE body's). A gross mistake passes far
@@ -227,11 +209,11 @@ pub fn load(spec_path: &Path) -> Result<BodySpec, String> {
 /// drum's centre (0.72), the wrong axis direction (0.26). Such an axis made modal data that
 /// `campbell` then refused (mm), or a Campbell diagram of the wrong body without a word
 /// (through the origin: 103.4 Hz for the lowest mode at 1400 rpm where ccx has 97.4).
-const AXIS_OFF_COG: f64 = 0.1;
+pub(crate) const AXIS_OFF_COG: f64 = 0.1;
 
 /// The spin axis passes through the body's centre of gravity, within `AXIS_OFF_COG` of the
 /// body's reach from it.
-fn axis_through_the_body(mesh: &crate::mesh::Mesh, spin: &Spin) -> Result<(), String> {
+fn axis_through_the_body(mesh: &crate::mesh::Mesh, spin: &Spin) -> Result<(), SpecProblem> {
     let off = |p: [f64; 3]| washdyn_model::geom::f::off_line(p, spin.axis_point, spin.axis);
     let cog = crate::lumping::consistent_mass_props(mesh).cog;
     let reach = mesh.nodes.iter().map(|p| off(*p)).fold(0.0f64, f64::max);
@@ -239,16 +221,12 @@ fn axis_through_the_body(mesh: &crate::mesh::Mesh, spin: &Spin) -> Result<(), St
     if d.is_finite() && d <= AXIS_OFF_COG * reach {
         return Ok(());
     }
-    Err(format!(
-        "spin: the axis through axis_point {:?} m along {:?} passes {d:.3} m from the \
-         body's centre of gravity {cog:.3?} m, {:.0} % of the body's reach from it (at most \
-         {:.0} %: a drum turns about its own axis); the spec is in SI units (m), whatever the \
-         deck's",
-        spin.axis_point,
-        spin.axis,
-        100.0 * d / reach,
-        100.0 * AXIS_OFF_COG
-    ))
+    Err(SpecProblem::AxisOffCog {
+        spin: Box::new(spin.clone()),
+        off: d,
+        cog,
+        reach,
+    })
 }
 
 /// The points `model` attaches to the body of kind `kind`, its modal data unread; errors name
@@ -257,8 +235,8 @@ fn model_attachments(
     model: &Path,
     kind: ElasticBodyKind,
     bad: points::Bad,
-) -> Result<Vec<Attachment>, String> {
-    let m = load_file_unresolved(model).map_err(|e| e.to_string())?;
+) -> Result<Vec<Attachment>, Error> {
+    let m = load_file_unresolved(model)?;
     let body = match kind {
         ElasticBodyKind::Tub => BodyRef::Tub,
         ElasticBodyKind::Drum => BodyRef::Drum,
@@ -266,16 +244,11 @@ fn model_attachments(
     };
     let found = attachments(&m, body);
     if found.is_empty() {
-        return Err(bad(
-            "model =",
-            format!(
-                "the model {} attaches nothing to the {} where a scene makes it elastic \
-                 (`elastic.{}`)",
-                model.display(),
-                body.name(),
-                body.name()
-            ),
-        ));
+        let problem = SpecProblem::AttachesNothing {
+            model: model.to_path_buf(),
+            body: body.name(),
+        };
+        return Err(bad("model =", problem).into());
     }
     Ok(found)
 }
@@ -298,11 +271,11 @@ pub struct Checked {
 /// free body, normalisation within 5e-3 (the built-in bodies measure 3.8e-5 to 1.2e-3
 /// (models/fe/report.txt): ccx expands S8R shells to 3-D bricks, whose mass the mid-surface
 /// integral does not hold exactly).
-pub fn build_checked(spec: &BodySpec, work: &Path) -> Result<(ModalData, Report, Checked), String> {
+pub fn build_checked(spec: &BodySpec, work: &Path) -> Result<(ModalData, Report, Checked), Error> {
     let (data, report) = build(spec, work)?;
-    let e = report
-        .emas
-        .ok_or_else(|| format!("{}: no EMAS totals in ccx's .dat", spec.name))?;
+    let e = report.emas.ok_or_else(|| PipelineError::NoEmas {
+        body: spec.name.clone(),
+    })?;
     let ours = continuum_mass_props(&spec.mesh);
     let cog = (0..3)
         .map(|i| (e.cog[i] - ours.cog[i]).powi(2))
@@ -343,7 +316,8 @@ pub fn build_checked(spec: &BodySpec, work: &Path) -> Result<(ModalData, Report,
     }
     wrong.extend(refused(&data));
     if !wrong.is_empty() {
-        return Err(format!("{}: {}", spec.name, wrong.join("; ")));
+        let (body, failures) = (spec.name.clone(), wrong);
+        return Err(PipelineError::Checks { body, failures }.into());
     }
     Ok((data, report, checked))
 }

@@ -2,7 +2,7 @@
 //! model attaches to the body (`ir::attachments`, the list the model checker matches against
 //! the modal data), so the spec need not repeat the model's positions.
 
-use super::PointSpec;
+use super::{PointSpec, SpecError, SpecProblem};
 use crate::mesh::Mesh;
 use std::path::Path;
 use washdyn_model::geom::f::{norm, sub};
@@ -17,7 +17,7 @@ const FAR: f64 = 0.15;
 
 /// Where an error in the spec stands: `bad(needle, message)` names the spec's file and the line
 /// of `needle`.
-pub type Bad<'a> = &'a dyn Fn(&str, String) -> String;
+pub type Bad<'a> = &'a dyn Fn(&str, SpecProblem) -> SpecError;
 
 /// The body's points as (node set, position): the spec's in its order, then each of the
 /// model's attachments that no spec point covers, named after the model's item in upper case.
@@ -34,17 +34,15 @@ pub fn points(
     mesh: &mut Mesh,
     deck: &Path,
     bad: Bad,
-) -> Result<Vec<(String, [f64; 3])>, String> {
+) -> Result<Vec<(String, [f64; 3])>, SpecError> {
     let named = |name: &str| model.iter().find(|a| a.name.eq_ignore_ascii_case(name));
     let mut points: Vec<(String, [f64; 3])> = Vec::new();
     for p in spec {
         let line = format!("\"{}\"", p.name);
         let attach = named(&p.name);
         if p.at.is_some_and(|at| !at.iter().all(|v| v.is_finite())) {
-            return Err(bad(
-                &line,
-                format!("point `{}`: `at` is not finite", p.name),
-            ));
+            let point = p.name.clone();
+            return Err(bad(&line, SpecProblem::PointNotFinite { point }));
         }
         let name = attach.map_or(p.name.clone(), |a| a.name.to_uppercase());
         let at = match (&p.nset, p.at, attach) {
@@ -54,14 +52,12 @@ pub fn points(
                     .get(&set.to_uppercase())
                     .cloned()
                     .ok_or_else(|| {
-                        bad(
-                            &format!("\"{set}\""),
-                            format!(
-                                "point `{}`: the deck {} has no node set `{set}`",
-                                p.name,
-                                deck.display()
-                            ),
-                        )
+                        let problem = SpecProblem::PointSet {
+                            point: p.name.clone(),
+                            deck: deck.to_path_buf(),
+                            set: set.clone(),
+                        };
+                        bad(&format!("\"{set}\""), problem)
                     })?;
                 if set.to_uppercase() != name {
                     mesh.add_to_set(&name, &ids);
@@ -75,28 +71,20 @@ pub fn points(
                 at
             }
             (None, None, _) => {
-                return Err(bad(
-                    &line,
-                    format!("point `{}`: give nset, or a finite `at`, or both", p.name),
-                ));
+                let point = p.name.clone();
+                return Err(bad(&line, SpecProblem::PointUnplaced { point }));
             }
         };
         if let Some(a) = attach {
             let off = norm(sub(at, a.point));
             if off > POINT_TOLERANCE {
-                return Err(bad(
-                    &line,
-                    format!(
-                        "point `{}` at {at:?} is {:.1} mm from where the model puts it ({}, \
-                         `{}`: {:?}); the model checker matches within {} mm",
-                        p.name,
-                        off * 1e3,
-                        a.what,
-                        a.path,
-                        a.point,
-                        POINT_TOLERANCE * 1e3
-                    ),
-                ));
+                let problem = SpecProblem::PointOff {
+                    point: p.name.clone(),
+                    at,
+                    off,
+                    model: Box::new(a.clone()),
+                };
+                return Err(bad(&line, problem));
             }
         }
         points.push((name, at));
@@ -109,15 +97,8 @@ pub fn points(
         }
         let off = crate::bodies::set_or_patch(mesh, &name, a.point);
         if off > FAR {
-            return Err(bad(
-                "model =",
-                format!(
-                    "the model's {} (`{}`) at {:?} is {off:.3} m from the deck's nearest \
-                     structural node: a patch there would not be the part it attaches to; map \
-                     it to a node set of the deck, {{ name = \"{}\", nset = \"...\" }}",
-                    a.what, a.path, a.point, a.name
-                ),
-            ));
+            let model = Box::new(a.clone());
+            return Err(bad("model =", SpecProblem::FarFromStructure { model, off }));
         }
         points.push((name, a.point));
     }
@@ -156,7 +137,12 @@ mod tests {
     fn the_model_gives_the_points_the_spec_leaves_out() {
         let model = attachments(&reference_model(), BodyRef::Cabinet);
         let mesh = Cabinet::default().mesh();
-        let bad = |needle: &str, m: String| format!("spec.toml[{needle}]: {m}");
+        // The needle as the line: where `load` puts the line the needle is found on.
+        let bad = |needle: &str, problem| SpecError {
+            file: format!("spec.toml[{needle}]").into(),
+            line: None,
+            problem,
+        };
         let deck = Path::new("deck.inp");
         let mut maps = vec![spec("door_gasket", Some("GASKET"), None)];
         for (k, d) in ["front_left", "front_right", "rear_left", "rear_right"]
@@ -208,6 +194,10 @@ mod tests {
         off.push(spec("spring_front", None, Some([0.12, 0.01, 0.82])));
         let err = points(&off, &model, &mut mesh.clone(), deck, &bad).unwrap_err();
         assert!(
+            matches!(&err.problem, SpecProblem::PointOff { point, .. } if point == "spring_front")
+        );
+        let err = err.to_string();
+        assert!(
             err.starts_with("spec.toml[\"spring_front\"]: point `spring_front`")
                 && err.contains("10.0 mm from where the model puts it (springs `spring_front`")
                 && err.contains("springs[2].b.point"),
@@ -217,6 +207,8 @@ mod tests {
         // Left to a patch, the gasket's point (the door opening's centre) is 0.20 m from the
         // nearest node: refused, naming the set to map.
         let err = points(&maps[1..], &model, &mut mesh.clone(), deck, &bad).unwrap_err();
+        assert!(matches!(&err.problem, SpecProblem::FarFromStructure { .. }));
+        let err = err.to_string();
         assert!(
             err.contains("gasket `door_gasket`") && err.contains("0.202 m"),
             "{err}"

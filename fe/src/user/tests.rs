@@ -79,9 +79,10 @@ fn a_spin_axis_off_the_drum_is_refused_at_its_line() {
     ] {
         let e = load_with(point, axis).unwrap_err();
         assert!(
-            e.contains("drum.toml:12: spin: the axis")
-                && e.contains(&format!("{share} of the body's reach"))
-                && e.contains("SI units (m)"),
+            e.to_string().contains("drum.toml:12: spin: the axis")
+                && e.to_string()
+                    .contains(&format!("{share} of the body's reach"))
+                && e.to_string().contains("SI units (m)"),
             "{e}"
         );
     }
@@ -100,7 +101,8 @@ fn a_correction_order_other_than_one_or_two_is_refused_at_its_line() {
     std::fs::write(&p, text).unwrap();
     let e = load(&p).unwrap_err();
     assert!(
-        e.contains("drum.toml:8: correction_order is 1 (the static give) or 2"),
+        e.to_string()
+            .contains("drum.toml:8: correction_order is 1 (the static give) or 2"),
         "{e}"
     );
 }

@@ -7,7 +7,8 @@
 //! unbalances (a load case, not a part of the machine), about the static equilibrium at t = 0
 //! with the drum at rest; friction released (f_max = 0: a sliding damper's only stiffness is
 //! its bushings'), bushings, springs (with their preload's lateral stiffness) and the gasket's
-//! stiffness in; undamped. M from the derivation, K = -dh/dq by central differences.
+//! stiffness in; undamped. M and K = -dh/dq (its symmetric part) from the one linearisation
+//! (`washdyn_runtime::linearise`: the exact force Jacobians).
 
 use crate::commands::resolve_model;
 use nalgebra::DMatrix;
@@ -15,7 +16,8 @@ use std::path::{Path, PathBuf};
 use washdyn_runtime::clearance::DoorRing;
 use washdyn_runtime::equations::Equations;
 use washdyn_runtime::ir::{BodyRef, Model};
-use washdyn_runtime::system::{Interpreter, Mechanical};
+use washdyn_runtime::linearise::Linearisation;
+use washdyn_runtime::system::Interpreter;
 
 /// One rigid mode.
 #[derive(Clone, Debug)]
@@ -75,9 +77,9 @@ pub fn rigid_modes(model: &Model, scene: Option<&str>) -> Result<Modes, String> 
     }
     let eq = Equations::new(&m, &eff);
     let mut sys = Interpreter::new(&m, &eff);
-    let q0 = washdyn_runtime::statics::static_equilibrium(&mut sys, 0.0)?;
-    let (mm, k) = linearise(&mut sys, &q0);
-    let (x, lambda) = washdyn_runtime::ir::modal::generalised_eigen(&mm, &k);
+    let lin = Linearisation::at_rest(&mut sys, 0.0)?;
+    let (mm, k) = (&lin.m, 0.5 * (&lin.k + lin.k.transpose()));
+    let (x, lambda) = washdyn_runtime::ir::modal::generalised_eigen(mm, &k);
 
     let p0 = eq.p0();
     let rel = |p: [f64; 3]| [p[0] - p0[0], p[1] - p0[1], p[2] - p0[2]];
@@ -128,7 +130,7 @@ pub fn rigid_modes(model: &Model, scene: Option<&str>) -> Result<Modes, String> 
             .map(|s| norm(displacement(&shape, *s)))
             .fold(0.0f64, f64::max);
         // Sign: the largest coordinate (in energy) positive.
-        let energy = energy_shares(&mm, &shape);
+        let energy = energy_shares(mm, &shape);
         let lead = (0..6)
             .max_by(|&a, &b| energy[a].total_cmp(&energy[b]))
             .unwrap_or(0);
@@ -152,34 +154,6 @@ pub fn rigid_modes(model: &Model, scene: Option<&str>) -> Result<Modes, String> 
         normalised_to,
         modes,
     })
-}
-
-/// M1 and the symmetric part of K = -dh/dq (6 x 6, rigid tub) at q0, q' = 0, t = 0.
-fn linearise(sys: &mut Interpreter, q0: &[f64]) -> (DMatrix<f64>, DMatrix<f64>) {
-    let n = sys.layout().n();
-    let n1 = sys.layout().n1;
-    let mut m1 = vec![0.0; n1 * n1];
-    let mut h = vec![0.0; n];
-    let zero = vec![0.0; n];
-    sys.eval(0.0, q0, &zero, &mut m1, &mut h);
-    let mm = DMatrix::from_row_slice(n1, n1, &m1);
-    let mut k = DMatrix::zeros(n, n);
-    // 1e-6 (m, rad): the central difference's truncation error of the elements' geometric
-    // nonlinearity ~ eps^2 against round-off ~ 1e-16 / eps, both below 1e-9 relative.
-    let eps = 1e-6;
-    let (mut hp, mut hm) = (vec![0.0; n], vec![0.0; n]);
-    for j in 0..n {
-        let mut q = q0.to_vec();
-        q[j] = q0[j] + eps;
-        sys.eval(0.0, &q, &zero, &mut m1, &mut hp);
-        q[j] = q0[j] - eps;
-        sys.eval(0.0, &q, &zero, &mut m1, &mut hm);
-        for i in 0..n {
-            k[(i, j)] = -(hp[i] - hm[i]) / (2.0 * eps);
-        }
-    }
-    let k = 0.5 * (&k + k.transpose());
-    (mm, k)
 }
 
 /// u + alpha x s.

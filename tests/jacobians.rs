@@ -377,3 +377,61 @@ fn ported_jacobians_with_element_states_match_central_differences() {
         assert!(worst[k] < 1e-6, "columns of {name}: {:e}", worst[k]);
     }
 }
+
+/// Largest |a - b| relative to b's largest entry.
+fn rel_max(a: &nalgebra::DMatrix<f64>, b: &nalgebra::DMatrix<f64>) -> f64 {
+    (a - b).amax() / b.amax().max(f64::MIN_POSITIVE)
+}
+
+/// The production linearisation (`washdyn_runtime::linearise`: the exact force Jacobians, what
+/// `washdyn modes` and the harmonic steady state stand on) against the tests' one difference
+/// path (`common::differences`, step 1e-6), where the two are taken: `washdyn modes`' rigid
+/// machine about its static equilibrium (unbalances off, friction released), and the elastic
+/// machine at 1000 rpm about q = 0 (friction released: the arctan law's slope at v = 0 is no
+/// place for a difference). The difference's own error bounds the agreement: truncation
+/// eps^2 h''' / 6 ~ 1e-12 / L^2 of K for the elements' geometry (lengths L ~ 0.1 m) and
+/// round-off 1e-16 |h| / eps against the stiff correction modes' forces.
+#[test]
+fn linearisation_matches_the_tests_central_differences() {
+    use crate::common;
+    use washdyn_runtime::linearise::Linearisation;
+    let mut model = washdyn_models::built_in("reference").unwrap().unwrap();
+    model.unbalances.clear();
+    for d in &mut model.friction_dampers {
+        d.f_max = 0.0;
+    }
+    let mut rigid = model.clone();
+    rigid.elastic.clear();
+    let mut sys = Interpreter::new(&rigid, &rigid.scene(None).unwrap());
+    let lin = Linearisation::at_rest(&mut sys, 0.0).unwrap();
+    let dif = common::differences(&sys.eq, &lin.drive, lin.q0.as_slice(), 1e-6);
+    let (ek, em) = (rel_max(&lin.k, &dif.k), rel_max(&lin.m, &dif.m));
+    let sym = |k: &nalgebra::DMatrix<f64>| 0.5 * (k + k.transpose());
+    let fa = common::frequencies(&lin.m, &sym(&lin.k));
+    let fb = common::frequencies(&dif.m, &sym(&dif.k));
+    let ef = fa
+        .iter()
+        .zip(&fb)
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs() / b));
+    eprintln!("modes' machine: K {ek:.1e}, M {em:.1e}, frequencies {ef:.1e}\n  {fa:?}\n  {fb:?}");
+    // Measured: K 3.3e-11, frequencies 2.4e-11 (what `washdyn modes` moved by when it left
+    // these differences for the exact Jacobians); the elastic machine K 2.0e-14, C 4.4e-11.
+    assert_eq!(em, 0.0, "M1 is the same evaluation");
+    assert!(ek < 1e-9, "K: {ek:e}");
+    assert!(ef < 1e-9, "frequencies: {ef:e}");
+
+    let s = model.scene(Some("elastic")).unwrap();
+    let sys = Interpreter::new(&model, &s);
+    let n = sys.layout().n();
+    let d = Drive {
+        phi: 0.0,
+        omega: 1000.0 * std::f64::consts::PI / 30.0,
+        omega_dot: 0.0,
+    };
+    let lin = Linearisation::new(&sys.eq, sys.m2(), &d, &vec![0.0; n]);
+    let dif = common::differences(&sys.eq, &d, &vec![0.0; n], 1e-6);
+    let (ek, ec) = (rel_max(&lin.k, &dif.k), rel_max(&lin.c, &dif.c));
+    eprintln!("elastic machine at 1000 rpm: K {ek:.1e}, C {ec:.1e}");
+    assert!(ek < 1e-9, "K: {ek:e}");
+    assert!(ec < 1e-9, "C: {ec:e}");
+}

@@ -5,16 +5,16 @@
 //!
 //! At constant speed Omega a scene without angle-dependent mass (rigid drum, unbalances as
 //! prescribed forces), without friction and with linearised elements is
-//! M q'' + C q' + K q = f(t): M = diag(M1, M2), K = -dh/dq and C = -dh/dq' (central differences
-//! of the interpreter's `Equations::eval::<f64>`; exact for an affine h up to round-off), f the
-//! drive's loads. Order k of f, F_k = (2 / N) sum_n h(q0, 0, t_n) e^{-i k Omega t_n} over
+//! M q'' + C q' + K q = f(t): M = diag(M1, M2), K = -dh/dq and C = -dh/dq' (the one
+//! linearisation, `linearise::Linearisation`: the exact force Jacobians), f the drive's loads. Order k of f, F_k = (2 / N) sum_n h(q0, 0, t_n) e^{-i k Omega t_n} over
 //! [`MEAN_REVOLUTIONS`] drum revolutions (so the motor's order 11.25 falls on a bin too), gives
 //! q(t) = q0 + Re[X_k e^{i k Omega t}] with (K - w^2 M + i w C) X_k = F_k, w = k Omega, and the
 //! drum angle phi = Omega t (0 at t = 0). Sensors are linear in q, q', q'' when the scene
 //! linearises its elements: a channel's amplitude is the sensor of Re X plus i times the sensor
 //! of Im X.
 
-use crate::equations::{Drive, Equations, JacobianWork};
+use crate::equations::{Drive, Equations};
+use crate::linearise::Linearisation;
 use crate::statics::MEAN_REVOLUTIONS;
 use crate::system::{Interpreter, Mechanical};
 use nalgebra::{Complex, DMatrix, DVector};
@@ -101,20 +101,6 @@ fn drive(omega: f64, t: f64) -> Drive<f64> {
     }
 }
 
-/// K = -dh/dq and C = -dh/dq' at (q, 0, t): the exact force Jacobians the implicit methods
-/// use (`Equations::force_jacobians`).
-fn jacobians(eq: &Equations, omega: f64, t: f64, q: &[f64]) -> (DMatrix<f64>, DMatrix<f64>) {
-    let n = eq.layout.n();
-    let (mut hq, mut hqd) = (vec![0.0; n * n], vec![0.0; n * n]);
-    let zero = vec![0.0; n];
-    let mut work = JacobianWork::new(eq);
-    eq.force_jacobians(&drive(omega, t), q, &zero, &mut work, &mut hq, &mut hqd);
-    (
-        -DMatrix::from_row_slice(n, n, &hq),
-        -DMatrix::from_row_slice(n, n, &hqd),
-    )
-}
-
 /// Relative difference of two matrices (max entry over the larger max entry).
 fn rel(a: &DMatrix<f64>, b: &DMatrix<f64>) -> f64 {
     let s = a.amax().max(b.amax()).max(f64::MIN_POSITIVE);
@@ -138,7 +124,7 @@ pub fn linearise(sys: &Interpreter, omega: f64) -> Result<Linear, HarmonicError>
     if omega.abs() < 1e-9 {
         return Err(HarmonicError::NoSpeed);
     }
-    let (n, n1, n2) = (eq.layout.n(), eq.layout.n1, eq.layout.n2);
+    let (n, n1) = (eq.layout.n(), eq.layout.n1);
     let not_lti = |why: String| HarmonicError::NotLti {
         scene: eq.scene.name.clone(),
         why,
@@ -146,26 +132,21 @@ pub fn linearise(sys: &Interpreter, omega: f64) -> Result<Linear, HarmonicError>
     let ts = times(omega);
     let third = [ts[0], ts[ts.len() / 3], ts[2 * ts.len() / 3]];
     let zero = vec![0.0; n];
-    // M1 at the three instants.
-    let mut m1s = Vec::new();
-    let mut h = vec![0.0; n];
-    for &t in &third {
-        let mut m1 = vec![0.0; n1 * n1];
-        eq.eval(&drive(omega, t), &zero, &zero, &mut m1, &mut h);
-        m1s.push(DMatrix::from_row_slice(n1, n1, &m1));
-    }
-    for m in &m1s[1..] {
-        let r = rel(m, &m1s[0]);
+    // The linearisation about 0 at the three instants: M1 the same, then K and C.
+    let at = |t: f64, q: &[f64]| Linearisation::new(eq, sys.m2(), &drive(omega, t), q);
+    let mut lins: Vec<Linearisation> = third.iter().map(|&t| at(t, &zero)).collect();
+    let m1 = |l: &Linearisation| l.m.view((0, 0), (n1, n1)).into_owned();
+    for l in &lins[1..] {
+        let r = rel(&m1(l), &m1(&lins[0]));
         if r > 1e-12 {
             return Err(not_lti(format!(
                 "M1 changes over the period (relative {r:.1e})"
             )));
         }
     }
-    let (k0, c0) = jacobians(eq, omega, third[0], &zero);
-    for &t in &third[1..] {
-        let (k, c) = jacobians(eq, omega, t, &zero);
-        let r = rel(&k, &k0).max(rel(&c, &c0));
+    let (k0, c0) = (lins[0].k.clone(), lins[0].c.clone());
+    for l in &lins[1..] {
+        let r = rel(&l.k, &k0).max(rel(&l.c, &c0));
         if r > 1e-9 {
             return Err(not_lti(format!(
                 "the stiffness or damping changes over the period (relative {r:.1e})"
@@ -175,9 +156,10 @@ pub fn linearise(sys: &Interpreter, omega: f64) -> Result<Linear, HarmonicError>
     // The mean-load rest: mean over the DFT's samples of h(q0, 0, t) = 0, one Newton step from
     // 0 (exact for an affine h).
     let mut mean = DVector::<f64>::zeros(n);
-    let mut m1 = vec![0.0; n1 * n1];
+    let mut m1s = vec![0.0; n1 * n1];
+    let mut h = vec![0.0; n];
     for &t in &ts {
-        eq.eval(&drive(omega, t), &zero, &zero, &mut m1, &mut h);
+        eq.eval(&drive(omega, t), &zero, &zero, &mut m1s, &mut h);
         for i in 0..n {
             mean[i] += h[i] / ts.len() as f64;
         }
@@ -187,18 +169,17 @@ pub fn linearise(sys: &Interpreter, omega: f64) -> Result<Linear, HarmonicError>
         .lu()
         .solve(&mean)
         .ok_or_else(|| not_lti("singular stiffness (a free rigid-body motion?)".into()))?;
-    let (k, c) = jacobians(eq, omega, third[0], q0.as_slice());
-    let r = rel(&k, &k0).max(rel(&c, &c0));
+    let lin = at(third[0], q0.as_slice());
+    let r = rel(&lin.k, &k0).max(rel(&lin.c, &c0));
     if r > 1e-9 {
         return Err(not_lti(format!(
             "the stiffness or damping at the rest differs from that at 0 (relative {r:.1e}): \
              h is not affine"
         )));
     }
-    let mut m = DMatrix::zeros(n, n);
-    m.view_mut((0, 0), (n1, n1)).copy_from(&m1s[0]);
-    m.view_mut((n1, n1), (n2, n2))
-        .copy_from(&DMatrix::from_row_slice(n2, n2, sys.m2()));
+    // M1 depends on t only: M is the one checked above.
+    let m = lins.swap_remove(0).m;
+    let Linearisation { c, k, .. } = lin;
     Ok(Linear { omega, q0, m, c, k })
 }
 

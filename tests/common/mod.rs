@@ -6,7 +6,6 @@ pub mod builtin;
 
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 use washdyn_runtime::ir::{BodyRef, Model};
-use washdyn_runtime::system::{Interpreter, Mechanical};
 
 pub fn skew(s: Vector3<f64>) -> Matrix3<f64> {
     Matrix3::new(0.0, -s.z, s.y, s.z, 0.0, -s.x, -s.y, s.x, 0.0)
@@ -127,32 +126,6 @@ pub fn frequencies(mm: &DMatrix<f64>, k: &DMatrix<f64>) -> Vec<f64> {
     ev
 }
 
-/// M and K = -dh/dq of the interpreter at rest (t, q = 0, q' = 0), K by central differences.
-pub fn linearise(sys: &mut Interpreter, t: f64) -> (DMatrix<f64>, DMatrix<f64>) {
-    let n = sys.layout().n();
-    let n1 = sys.layout().n1;
-    let mut m1 = vec![0.0; n1 * n1];
-    let mut h = vec![0.0; n];
-    let q0 = vec![0.0; n];
-    sys.eval(t, &q0, &q0, &mut m1, &mut h);
-    let mm = DMatrix::from_row_slice(n1, n1, &m1);
-    let mut k = DMatrix::zeros(n, n);
-    let eps = 1e-6;
-    for j in 0..n {
-        let mut qp = q0.clone();
-        qp[j] = eps;
-        let mut hp = vec![0.0; n];
-        sys.eval(t, &qp, &q0, &mut m1, &mut hp);
-        qp[j] = -eps;
-        let mut hm = vec![0.0; n];
-        sys.eval(t, &qp, &q0, &mut m1, &mut hm);
-        for i in 0..n {
-            k[(i, j)] = -(hp[i] - hm[i]) / (2.0 * eps);
-        }
-    }
-    (mm, k)
-}
-
 pub fn dvec(v: &[f64]) -> DVector<f64> {
     DVector::from_column_slice(v)
 }
@@ -188,8 +161,8 @@ pub fn have_ccx() -> bool {
     )
 }
 
-/// A scene linearised about q = 0 at constant drum speed: M = blockdiag(M1, E), C = -dh/dq',
-/// K = -dh/dq (central differences with step `eps`), and h at q = 0.
+/// A scene linearised about a rest point q0 (q' = 0): M = blockdiag(M1, E), C = -dh/dq',
+/// K = -dh/dq, and h at q0.
 pub struct Linearised {
     pub m: DMatrix<f64>,
     pub c: DMatrix<f64>,
@@ -197,22 +170,22 @@ pub struct Linearised {
     pub h0: Vec<f64>,
 }
 
-/// `Linearised` of a scene at drum speed `omega` (rad/s), phi = 0.
-pub fn linearise_at_speed(
+/// The tests' own linearisation, the one difference path they keep: central differences of
+/// the interpreter's h with step `eps` about q0 (q' = 0) at drive `d`, independent of the
+/// production one (`washdyn_runtime::linearise`, the exact force Jacobians) that
+/// tests/jacobians.rs holds it to. Its error: truncation eps^2 h''' / 6 and round-off
+/// ~ 1e-16 |h| / eps.
+pub fn differences(
     eq: &washdyn_runtime::equations::Equations,
-    omega: f64,
+    d: &washdyn_runtime::equations::Drive<f64>,
+    q0: &[f64],
     eps: f64,
 ) -> Linearised {
     let (n, n1) = (eq.layout.n(), eq.layout.n1);
-    let d = washdyn_runtime::equations::Drive {
-        phi: 0.0,
-        omega,
-        omega_dot: 0.0,
-    };
     let z = vec![0.0; n];
     let mut m1 = vec![0.0; n1 * n1];
     let mut h0 = vec![0.0; n];
-    eq.eval(&d, &z, &z, &mut m1, &mut h0);
+    eq.eval(d, q0, &z, &mut m1, &mut h0);
     let mut m = DMatrix::<f64>::identity(n, n);
     for i in 0..n1 {
         for j in 0..n1 {
@@ -223,16 +196,17 @@ pub fn linearise_at_speed(
     let mut c = DMatrix::zeros(n, n);
     for j in 0..n {
         for (mat, vel) in [(&mut k, false), (&mut c, true)] {
-            let (mut p, mut q) = (z.clone(), z.clone());
-            p[j] = eps;
-            q[j] = -eps;
+            let base = if vel { &z[..] } else { q0 };
+            let (mut p, mut q) = (base.to_vec(), base.to_vec());
+            p[j] = base[j] + eps;
+            q[j] = base[j] - eps;
             let (mut hp, mut hm) = (vec![0.0; n], vec![0.0; n]);
             if vel {
-                eq.eval(&d, &z, &p, &mut m1, &mut hp);
-                eq.eval(&d, &z, &q, &mut m1, &mut hm);
+                eq.eval(d, q0, &p, &mut m1, &mut hp);
+                eq.eval(d, q0, &q, &mut m1, &mut hm);
             } else {
-                eq.eval(&d, &p, &z, &mut m1, &mut hp);
-                eq.eval(&d, &q, &z, &mut m1, &mut hm);
+                eq.eval(d, &p, &z, &mut m1, &mut hp);
+                eq.eval(d, &q, &z, &mut m1, &mut hm);
             }
             for i in 0..n {
                 mat[(i, j)] = -(hp[i] - hm[i]) / (2.0 * eps);
@@ -240,6 +214,20 @@ pub fn linearise_at_speed(
         }
     }
     Linearised { m, c, k, h0 }
+}
+
+/// `differences` about q = 0 at constant drum speed `omega` (rad/s), phi = 0.
+pub fn linearise_at_speed(
+    eq: &washdyn_runtime::equations::Equations,
+    omega: f64,
+    eps: f64,
+) -> Linearised {
+    let d = washdyn_runtime::equations::Drive {
+        phi: 0.0,
+        omega,
+        omega_dot: 0.0,
+    };
+    differences(eq, &d, &vec![0.0; eq.layout.n()], eps)
 }
 
 /// Run python3 with `script` and arguments; its stdout (the Parquet and study tests read our

@@ -7,7 +7,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use washdyn::commands::Backend;
 use washdyn::results::Format;
-use washdyn_runtime::ode::Method;
+use washdyn_ode::Method;
 use washdyn_runtime::run::{Guard, Start};
 
 /// The exit codes (docs/commands.md), shown by `washdyn --help`.

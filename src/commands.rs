@@ -6,10 +6,10 @@ pub use crate::simulation::{Backend, integrator_options, resolve_model, solver_f
 use crate::simulation::{Settings, Simulation, Source};
 use std::fs;
 use std::path::{Path, PathBuf};
-use washdyn_runtime::equations::Equations;
-use washdyn_runtime::ir::modal::ModalData;
-use washdyn_runtime::ir::{DRUM, MOTOR, Model};
-use washdyn_runtime::ode::Method;
+use washdyn_model::equations::Equations;
+use washdyn_model::ir::modal::ModalData;
+use washdyn_model::ir::{DRUM, MOTOR, Model};
+use washdyn_ode::Method;
 use washdyn_runtime::run::{Guard, Progress, Start, Summary};
 use washdyn_runtime::system::Interpreter;
 
@@ -103,7 +103,7 @@ pub fn run_command(
 impl RunArgs {
     /// The simulation settings these arguments and `ctl` give for `model` (whose scene may
     /// name the method and tolerance).
-    pub fn settings(&self, ctl: &RunControl, model: &washdyn_runtime::ir::Model) -> Settings {
+    pub fn settings(&self, ctl: &RunControl, model: &washdyn_model::ir::Model) -> Settings {
         let (method, tol) = solver_for(model, self.scene.as_deref(), self.integrator, self.tol);
         Settings {
             scene: self.scene.clone(),

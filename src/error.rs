@@ -4,8 +4,8 @@
 
 use std::fmt;
 use std::path::PathBuf;
-use washdyn_runtime::ir::check::CheckError;
-use washdyn_runtime::ir::toml_file::ModelFileError;
+use washdyn_model::ir::check::CheckError;
+use washdyn_model::ir::toml_file::ModelFileError;
 use washdyn_runtime::run::RunError;
 
 /// One refused setting: the option (as the command line spells it, `--tol`) and the message,

@@ -9,12 +9,12 @@
 
 use crate::error::Error;
 use std::path::Path;
+use washdyn_model::equations::Equations;
+use washdyn_model::ir::files::{FileHash, model_files};
+use washdyn_model::ir::toml_file::load_file;
+use washdyn_model::ir::{EffectSet, Model};
+use washdyn_ode::{AnySolver, Method, Options};
 use washdyn_runtime::clearance::{Watch, element_tub_ends};
-use washdyn_runtime::equations::Equations;
-use washdyn_runtime::ir::files::{FileHash, model_files};
-use washdyn_runtime::ir::toml_file::load_file;
-use washdyn_runtime::ir::{EffectSet, Model};
-use washdyn_runtime::ode::{AnySolver, Method, Options};
 use washdyn_runtime::output::SampleSink;
 use washdyn_runtime::run::{Guard, Labels, Progress, RunOptions, Start, Summary, run_guarded};
 use washdyn_runtime::system::{FirstOrder, Interpreter, Mechanical};
@@ -177,7 +177,7 @@ pub const DEFAULT_TOL: f64 = 1e-6;
 /// (`Model::scene_solver`: its tolerance only with its own method), else [`DEFAULT_METHOD`] at
 /// [`DEFAULT_TOL`].
 pub fn solver_for(
-    model: &washdyn_runtime::ir::Model,
+    model: &washdyn_model::ir::Model,
     scene: Option<&str>,
     method: Option<Method>,
     tol: Option<f64>,

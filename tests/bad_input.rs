@@ -11,7 +11,7 @@ use washdyn::Error;
 use washdyn::commands::{
     Backend, RunArgs, RunControl, check_model, resolve_model, run_command_with,
 };
-use washdyn_runtime::ode::Method;
+use washdyn_ode::Method;
 use washdyn_runtime::run::{Guard, RunError};
 
 fn out_dir(tag: &str) -> PathBuf {

@@ -25,10 +25,10 @@ use std::time::Instant;
 use washdyn::Error;
 use washdyn::commands::resolve_model;
 use washdyn::simulation::{Settings, Simulation, Source, integrator_options};
+use washdyn_model::equations::{Category, EnergyWork, Kind};
+use washdyn_model::ir::{EffectSet, Model, Scene};
+use washdyn_ode::{AnySolver, Method, OdeError, Solver, Stepper};
 use washdyn_runtime::energy::powers;
-use washdyn_runtime::equations::{Category, EnergyWork, Kind};
-use washdyn_runtime::ir::{EffectSet, Model, Scene};
-use washdyn_runtime::ode::{AnySolver, Method, OdeError, Solver, Stepper};
 use washdyn_runtime::output::MemorySink;
 use washdyn_runtime::run::{Guard, RunError, Start};
 use washdyn_runtime::statics::mean_load_equilibrium;
@@ -632,7 +632,7 @@ fn all_modes(m: &Model) -> EffectSet {
         ..m.scene(Some("elastic")).unwrap()
     };
     s.effects
-        .retain(|e| !matches!(e, washdyn_runtime::ir::Effect::FrictionLaw(_)));
+        .retain(|e| !matches!(e, washdyn_model::ir::Effect::FrictionLaw(_)));
     s
 }
 

@@ -9,7 +9,7 @@ use washdyn::commands::{Backend, RunArgs, RunControl, run_command, run_simulatio
 use washdyn::results::Format;
 use washdyn::simulation::{Settings, Simulation, Source};
 use washdyn::sweep::{SweepRun, SweepSpec, Variant, variants};
-use washdyn_runtime::ode::Method;
+use washdyn_ode::Method;
 use washdyn_runtime::run::{RunError, Start};
 
 fn tmp(tag: &str) -> PathBuf {
@@ -403,7 +403,7 @@ fn exit_codes_follow_the_error() {
 #[test]
 fn runs_take_their_scenes_default_solver() {
     use washdyn::commands::solver_for;
-    use washdyn_runtime::ir::{Integrator, SceneSolver};
+    use washdyn_model::ir::{Integrator, SceneSolver};
     let mut model = washdyn_models::built_in("reference").unwrap().unwrap();
     let (galpha, dopri) = (Method::GeneralizedAlpha, Method::Dopri5);
     for name in model.scene_names() {

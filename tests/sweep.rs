@@ -5,7 +5,7 @@ use washdyn::Error;
 use washdyn::results::Format;
 use washdyn::simulation::{Settings, Source};
 use washdyn::sweep::{SweepRun, SweepSpec, run_sweep, variants};
-use washdyn_runtime::ode::Method;
+use washdyn_ode::Method;
 
 #[test]
 fn positions_sweep_writes_folders_and_table() {

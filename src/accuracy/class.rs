@@ -7,9 +7,9 @@
 use super::report::db;
 use super::{CLASSES, Study, Window};
 use std::sync::OnceLock;
-use washdyn_runtime::ir::files::content_hash as fnv1a64;
-use washdyn_runtime::ir::{Effect, EffectSet, Model};
-use washdyn_runtime::ode::Method;
+use washdyn_model::ir::files::content_hash as fnv1a64;
+use washdyn_model::ir::{Effect, EffectSet, Model};
+use washdyn_ode::Method;
 
 /// The committed study (`docs/accuracy.json`), compiled in for the error class.
 const COMMITTED: &str = include_str!("../../docs/accuracy.json");
@@ -78,7 +78,7 @@ pub fn content_hash(model: &Model, scene: &EffectSet) -> String {
         {
             d.source.clear();
             d.frequencies.clear();
-            d.elementary = washdyn_runtime::ir::modal::Elementary {
+            d.elementary = washdyn_model::ir::modal::Elementary {
                 c: Default::default(),
                 s: Default::default(),
                 g: Default::default(),

@@ -11,11 +11,11 @@ use crate::error::Error;
 use crate::simulation::{Settings, Simulation, Source};
 use serde::Deserialize;
 use std::path::{Path as FsPath, PathBuf};
-use washdyn_runtime::ir::check::{Path, Seg};
-use washdyn_runtime::ir::modal::from_toml;
-use washdyn_runtime::ir::param::{self, Param};
-use washdyn_runtime::ir::toml_file::{Located, line_col, locate};
-use washdyn_runtime::ode::Method;
+use washdyn_model::ir::check::{Path, Seg};
+use washdyn_model::ir::modal::from_toml;
+use washdyn_model::ir::param::{self, Param};
+use washdyn_model::ir::toml_file::{Located, line_col, locate};
+use washdyn_ode::Method;
 use washdyn_runtime::run::{Guard, Start};
 
 #[derive(Deserialize)]

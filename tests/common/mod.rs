@@ -5,7 +5,7 @@
 pub mod builtin;
 
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
-use washdyn_runtime::ir::{BodyRef, Model};
+use washdyn_model::ir::{BodyRef, Model};
 use washdyn_runtime::system::{Interpreter, Mechanical};
 
 pub fn skew(s: Vector3<f64>) -> Matrix3<f64> {
@@ -70,11 +70,7 @@ pub fn stiffness_hand(m: &Model) -> DMatrix<f64> {
     k
 }
 
-pub fn gasket_hand(
-    m: &Model,
-    g: &washdyn_runtime::ir::Gasket,
-    mat: &[[f64; 6]; 6],
-) -> DMatrix<f64> {
+pub fn gasket_hand(m: &Model, g: &washdyn_model::ir::Gasket, mat: &[[f64; 6]; 6]) -> DMatrix<f64> {
     assert_eq!(g.a, BodyRef::Tub);
     let lever = v3(g.point) - v3(m.tub.cog);
     let mut t = DMatrix::identity(6, 6);
@@ -199,12 +195,12 @@ pub struct Linearised {
 
 /// `Linearised` of a scene at drum speed `omega` (rad/s), phi = 0.
 pub fn linearise_at_speed(
-    eq: &washdyn_runtime::equations::Equations,
+    eq: &washdyn_model::equations::Equations,
     omega: f64,
     eps: f64,
 ) -> Linearised {
     let (n, n1) = (eq.layout.n(), eq.layout.n1);
-    let d = washdyn_runtime::equations::Drive {
+    let d = washdyn_model::equations::Drive {
         phi: 0.0,
         omega,
         omega_dot: 0.0,

@@ -266,7 +266,7 @@ fn scene_source_free(eq: &Equations, name: &str, free: &Free, t: &Traced) -> (St
         e.assign("h", h);
         e.assign("zd", zd);
         format!(
-            "    /// h and the element states' rates, without M1.\n    #[inline]\n    pub fn forces(p: &[f64; {np}], d: &::washdyn_runtime::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], z: &[f64; {nz}], h: &mut [f64; {n}], zd: &mut [f64; {nz}]) {{\n{}    }}\n",
+            "    /// h and the element states' rates, without M1.\n    #[inline]\n    pub fn forces(p: &[f64; {np}], d: &::washdyn_runtime::model::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], z: &[f64; {nz}], h: &mut [f64; {n}], zd: &mut [f64; {nz}]) {{\n{}    }}\n",
             e.take()
         )
     } else {
@@ -300,8 +300,8 @@ fn scene_source_free(eq: &Equations, name: &str, free: &Free, t: &Traced) -> (St
             let body_acc = format!(
                 "let mut m1 = [0.0f64; {n1sq}];\n\
                  Self::mass_and_forces(p, d, q, qd, &[0.0; {nz}], &mut m1, qdd, &mut [0.0; {nz}]);\n\
-                 {rt}::linalg::cholesky_factor(&mut m1[..], {n1});\n\
-                 {rt}::linalg::cholesky_solve(&m1[..], {n1}, &mut qdd[..{n1}]);\n",
+                 {rt}::model::linalg::cholesky_factor(&mut m1[..], {n1});\n\
+                 {rt}::model::linalg::cholesky_solve(&m1[..], {n1}, &mut qdd[..{n1}]);\n",
                 n1sq = n1 * n1
             );
             // Traced operations plus the factorisation's n1^3/3 and the solve's 2 n1^2.
@@ -334,17 +334,17 @@ fn scene_source_free(eq: &Equations, name: &str, free: &Free, t: &Traced) -> (St
     // macro embedded (`model()`), with their own work arrays: every scene has them, so the
     // static start's Newton takes the same bits as the interpreter's. Up to the traced size
     // the implicit methods take the traced d q''/d q instead.
-    let jac_field = format!("\n    jac: {rt}::equations::ForceJacobians,");
+    let jac_field = format!("\n    jac: {rt}::model::equations::ForceJacobians,");
     let jac_init = format!(
-        "\n            jac: {rt}::equations::ForceJacobians::for_scene(&model(), Self::SCENE),"
+        "\n            jac: {rt}::model::equations::ForceJacobians::for_scene(&model(), Self::SCENE),"
     );
-    let force_impl = "    fn equations(&self) -> Option<&::washdyn_runtime::equations::Equations> {\n        Some(&self.jac.eq)\n    }\n    fn force_jacobians(&mut self, t: f64, q: &[f64], qd: &[f64], hq: &mut [f64], hqd: &mut [f64]) -> bool {\n        let d = self.speed.drive(t);\n        self.jac.eval(&d, q, qd, hq, hqd);\n        true\n    }\n";
+    let force_impl = "    fn equations(&self) -> Option<&::washdyn_runtime::model::equations::Equations> {\n        Some(&self.jac.eq)\n    }\n    fn force_jacobians(&mut self, t: f64, q: &[f64], qd: &[f64], hq: &mut [f64], hqd: &mut [f64]) -> bool {\n        let d = self.speed.drive(t);\n        self.jac.eval(&d, q, qd, hq, hqd);\n        true\n    }\n";
     let (jac_fn, jac_impl) = if body_jac.is_empty() {
         (String::new(), force_impl.to_string())
     } else {
         (
             format!(
-                "    /// d q''/d q and d q''/d q' (row-major).\n    #[inline]\n    pub fn jacobians(p: &[f64; {np}], d: &{rt}::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], jq: &mut [f64; {nsq}], jqd: &mut [f64; {nsq}]) {{\n{body_jac}    }}\n",
+                "    /// d q''/d q and d q''/d q' (row-major).\n    #[inline]\n    pub fn jacobians(p: &[f64; {np}], d: &{rt}::model::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], jq: &mut [f64; {nsq}], jqd: &mut [f64; {nsq}]) {{\n{body_jac}    }}\n",
                 nsq = n * n
             ),
             format!(
@@ -362,7 +362,7 @@ fn scene_source_free(eq: &Equations, name: &str, free: &Free, t: &Traced) -> (St
 /// M1 and h in {ops_mh} operations, q'' in {ops_acc}, its Jacobians in {ops_jac}.
 #[derive(Clone, Debug)]
 pub struct {name} {{
-    speed: {rt}::speed::Speed,{jac_field}
+    speed: {rt}::model::speed::Speed,{jac_field}
     p: [f64; {np}],
 }}
 
@@ -383,42 +383,42 @@ impl {name} {{
 
     pub fn new() -> Self {{
         {name} {{
-            speed: {rt}::speed::Speed::new(&SPEED_TABLE),{jac_init}
+            speed: {rt}::model::speed::Speed::new(&SPEED_TABLE),{jac_init}
             p: PARAMS,
         }}
     }}
 
     /// The scene of `variant`, a model that differs from this one in free parameters only
     /// (`FREE`); anything else is refused, naming the first difference.
-    pub fn for_variant(variant: &{rt}::ir::Model) -> Result<Self, String> {{
+    pub fn for_variant(variant: &{rt}::model::ir::Model) -> Result<Self, String> {{
         let p = fits(variant)?;
         Ok({name} {{
-            speed: {rt}::speed::Speed::new(&SPEED_TABLE),
-            jac: {rt}::equations::ForceJacobians::for_scene(variant, Self::SCENE),
+            speed: {rt}::model::speed::Speed::new(&SPEED_TABLE),
+            jac: {rt}::model::equations::ForceJacobians::for_scene(variant, Self::SCENE),
             p: p.try_into().map_err(|_| "free parameter count".to_string())?,
         }})
     }}
 
     /// M1 (row-major) and h at element states z, and their rates zd.
     #[inline]
-    pub fn mass_and_forces(p: &[f64; {np}], d: &{rt}::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], z: &[f64; {nz}], m1: &mut [f64; {n1sq}], h: &mut [f64; {n}], zd: &mut [f64; {nz}]) {{
+    pub fn mass_and_forces(p: &[f64; {np}], d: &{rt}::model::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], z: &[f64; {nz}], m1: &mut [f64; {n1sq}], h: &mut [f64; {n}], zd: &mut [f64; {nz}]) {{
 {body_mh}    }}
 
     /// q'' = M^-1 h, with M1 factorised in straight-line code.
     #[inline]
-    pub fn accelerations(p: &[f64; {np}], d: &{rt}::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], qdd: &mut [f64; {n}]) {{
+    pub fn accelerations(p: &[f64; {np}], d: &{rt}::model::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], qdd: &mut [f64; {n}]) {{
 {body_acc}    }}
 
 {jac_fn}{forces_fn}
     /// Sensor channels from q, q', q''.
     #[inline]
-    pub fn sensor_values(p: &[f64; {np}], d: &{rt}::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], qdd: &[f64; {n}], out: &mut [f64; {nc}]) {{
+    pub fn sensor_values(p: &[f64; {np}], d: &{rt}::model::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], qdd: &[f64; {n}], out: &mut [f64; {nc}]) {{
 {body_sensors}    }}
 }}
 
 impl {rt}::system::Mechanical for {name} {{
-    fn layout(&self) -> {rt}::equations::Layout {{
-        {rt}::equations::Layout {{ n1: {n1}, n2: {n2}, nz: {nz} }}
+    fn layout(&self) -> {rt}::model::equations::Layout {{
+        {rt}::model::equations::Layout {{ n1: {n1}, n2: {n2}, nz: {nz} }}
     }}
     fn eval(&mut self, t: f64, q: &[f64], qd: &[f64], m1: &mut [f64], h: &mut [f64]) {{
         let d = self.speed.drive(t);
@@ -438,7 +438,7 @@ impl {rt}::system::Mechanical for {name} {{
     fn channel_names(&self) -> Vec<String> {{
         Self::CHANNELS.iter().map(|c| c.to_string()).collect()
     }}
-    fn speed(&self) -> &{rt}::speed::Speed {{
+    fn speed(&self) -> &{rt}::model::speed::Speed {{
         &self.speed
     }}
     fn accelerations(&mut self, t: f64, q: &[f64], qd: &[f64], qdd: &mut [f64]) -> bool {{
@@ -488,20 +488,20 @@ pub fn generate_with_stats(model: &Model) -> Result<(String, Vec<SceneStats>), G
         "/// The model's IR, as the macro filled it.\n\
          pub const MODEL_JSON: &str = {json:?};\n\
          /// The model's IR (the interpreter's input).\n\
-         pub fn model() -> ::washdyn_runtime::ir::Model {{\n\
+         pub fn model() -> ::washdyn_runtime::model::ir::Model {{\n\
              ::washdyn_runtime::serde_json::from_str(MODEL_JSON).expect(\"the macro wrote valid JSON\")\n\
          }}\n\
          /// The model, read from `MODEL_JSON` once: what a variant is compared with (an elastic\n\
          /// machine's JSON holds its modal data, milliseconds to read).\n\
-         fn base() -> &'static ::washdyn_runtime::ir::Model {{\n\
-             static BASE: ::std::sync::OnceLock<::washdyn_runtime::ir::Model> = ::std::sync::OnceLock::new();\n\
+         fn base() -> &'static ::washdyn_runtime::model::ir::Model {{\n\
+             static BASE: ::std::sync::OnceLock<::washdyn_runtime::model::ir::Model> = ::std::sync::OnceLock::new();\n\
              BASE.get_or_init(model)\n\
          }}\n\
          /// `variant`'s values of the free parameters where it differs from this model in those\n\
          /// only, else the first other difference: whether the generated scenes run it\n\
          /// (`system_for`), without building one.\n\
-         pub fn fits(variant: &::washdyn_runtime::ir::Model) -> Result<Vec<f64>, String> {{\n\
-             ::washdyn_runtime::ir::param::free_values(base(), variant)\n\
+         pub fn fits(variant: &::washdyn_runtime::model::ir::Model) -> Result<Vec<f64>, String> {{\n\
+             ::washdyn_runtime::model::ir::param::free_values(base(), variant)\n\
          }}\n\
          /// The drum speed profile (time s, rpm).\n\
          pub const SPEED_TABLE: [[f64; 2]; {}] = [{}];\n",
@@ -553,7 +553,7 @@ pub fn generate_with_stats(model: &Model) -> Result<(String, Vec<SceneStats>), G
         s,
         "\n/// The generated system of a scene for `variant`, a model that differs from this one \
          in free parameters only (`None`: no such scene; `Err`: another difference).\n\
-         pub fn system_for(scene: &str, variant: &::washdyn_runtime::ir::Model) -> Option<Result<Box<dyn ::washdyn_runtime::system::Mechanical + Send>, String>> {{\n\
+         pub fn system_for(scene: &str, variant: &::washdyn_runtime::model::ir::Model) -> Option<Result<Box<dyn ::washdyn_runtime::system::Mechanical + Send>, String>> {{\n\
              match scene {{\n{variant_arms}        _ => None,\n    }}\n}}\n"
     );
     let _ = write!(

@@ -12,12 +12,12 @@ pub use monitor::spectral_radius;
 pub use options::*;
 pub use summary::*;
 
-use crate::ode::Solver;
 use crate::output::SampleSink;
 use crate::statics::static_equilibrium;
 use crate::system::{FirstOrder, Mechanical};
 use monitor::{Monitor, Worst};
 use std::time::Instant;
+use washdyn_ode::Solver;
 
 /// [`run_guarded`] with the default [`Guard`].
 #[allow(clippy::result_large_err)]

@@ -7,8 +7,8 @@ use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 use std::io;
 use washdyn::spec::RunSpec;
-use washdyn_runtime::equations::{Equations, JacobianWork};
-use washdyn_runtime::ode::{AnySolver, Dopri5, Method, OdeSystem, Options, Solver, Stepper};
+use washdyn_model::equations::{Equations, JacobianWork};
+use washdyn_ode::{AnySolver, Dopri5, Method, OdeSystem, Options, Solver, Stepper};
 use washdyn_runtime::output::SampleSink;
 use washdyn_runtime::run::{Labels, RunOptions, run};
 use washdyn_runtime::system::{FirstOrder, Interpreter, Mechanical};
@@ -34,7 +34,7 @@ fn state(n: usize) -> (Vec<f64>, Vec<f64>) {
 fn evaluations(c: &mut Criterion) {
     let m = washdyn_models::reference();
     // The generated code's operation counts, to set the timings against (flops per evaluation).
-    let (_, stats) = washdyn_runtime::codegen::generate_with_stats(&m).unwrap();
+    let (_, stats) = washdyn_model::codegen::generate_with_stats(&m).unwrap();
     for s in &stats {
         eprintln!(
             "scene {}: n1 {} n2 {}; M1 + h {} operations; q'' {} operations",

@@ -64,7 +64,7 @@ fn setup(c: &mut Criterion) {
     g.bench_function("fit_check/model_read_each_time", |b| {
         b.iter(|| {
             let base = washdyn_models::reference::model();
-            washdyn_runtime::ir::param::free_values(&base, black_box(&model)).is_ok()
+            washdyn_model::ir::param::free_values(&base, black_box(&model)).is_ok()
         })
     });
     g.bench_function("fit_check/model_read_once", |b| {

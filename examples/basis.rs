@@ -13,8 +13,8 @@
 use washdyn::accuracy::TRUNCATION_CUTS_HZ;
 use washdyn::analysis::metrics::BAND_HZ;
 use washdyn::basis::{Damped, basis_error, cut, grid, ports};
-use washdyn_runtime::ir::BodyRef;
-use washdyn_runtime::ir::modal::{ModalData, read_file};
+use washdyn_model::ir::BodyRef;
+use washdyn_model::ir::modal::{ModalData, read_file};
 
 /// Drum order 6 at 1400 rpm is 140 Hz: the orders the order plots show.
 const ORDER_BAND_HZ: f64 = 150.0;

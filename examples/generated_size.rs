@@ -3,9 +3,9 @@
 //! `cargo run --release --example generated_size [tub drum cabinet]...`, e.g. `10 6 10 34 12 30`.
 
 use std::time::Instant;
-use washdyn_runtime::codegen::{scene_source, trace_equations};
-use washdyn_runtime::equations::Equations;
-use washdyn_runtime::ir::Scene;
+use washdyn_model::codegen::{scene_source, trace_equations};
+use washdyn_model::equations::Equations;
+use washdyn_model::ir::Scene;
 
 fn main() {
     let args: Vec<usize> = std::env::args()
@@ -24,7 +24,7 @@ fn main() {
         // The TOML file (not the models crate: this measures what that crate would compile).
         let path =
             std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models/data/reference.toml");
-        let mut m = washdyn_runtime::ir::toml_file::load_file(&path).expect("reference model");
+        let mut m = washdyn_model::ir::toml_file::load_file(&path).expect("reference model");
         for e in &mut m.elastic {
             let n = match e.name.as_str() {
                 "tub" => nt,

@@ -5,7 +5,7 @@
 //! quotes its output). With `ONLY_RHS=1` it times the right-hand side alone (for a profiler).
 
 use std::time::Instant;
-use washdyn_runtime::ode::OdeSystem;
+use washdyn_ode::OdeSystem;
 use washdyn_runtime::system::{FirstOrder, Mechanical};
 
 fn per_call(k: usize, f: impl FnMut(usize)) -> f64 {
@@ -33,7 +33,7 @@ fn main() {
         let mut l = m1.clone();
         let us = per_call(2000, |_| {
             l.copy_from_slice(&m1);
-            washdyn_runtime::linalg::cholesky_in_place(&mut l, n1);
+            washdyn_model::linalg::cholesky_in_place(&mut l, n1);
         });
         println!("dense Cholesky of M1 (n1 = {n1}): {us:.1} us");
     }

@@ -8,14 +8,14 @@
 //! `cargo run --release --example stiffness -- [SCENE]` (default `elastic`; docs/performance.md
 //! quotes its output).
 
-use washdyn_runtime::ir::{Effect, FrictionLaw};
-use washdyn_runtime::ode::OdeSystem;
+use washdyn_model::ir::{Effect, FrictionLaw};
+use washdyn_ode::OdeSystem;
 use washdyn_runtime::system::{FirstOrder, Interpreter};
 
 /// The `count` largest eigenvalues (by magnitude) of the scene's Jacobian at rest.
 fn spectrum(
-    m: &washdyn_runtime::ir::Model,
-    scene: &washdyn_runtime::ir::EffectSet,
+    m: &washdyn_model::ir::Model,
+    scene: &washdyn_model::ir::EffectSet,
     count: usize,
     explicit_part: bool,
 ) -> (usize, Vec<(f64, f64)>) {

@@ -18,9 +18,9 @@ use std::time::Instant;
 use washdyn::accuracy::TRUNCATION_CUTS_HZ;
 use washdyn::analysis::metrics::{BAND_HZ, ORDER_FLOOR, band_error, is_accel};
 use washdyn::analysis::spectrum::Window;
-use washdyn_runtime::ir::EffectSet;
-use washdyn_runtime::ir::modal::read_file;
-use washdyn_runtime::ode::{AnySolver, Method, Options};
+use washdyn_model::ir::EffectSet;
+use washdyn_model::ir::modal::read_file;
+use washdyn_ode::{AnySolver, Method, Options};
 use washdyn_runtime::output::MemorySink;
 use washdyn_runtime::run::{Guard, Labels, RunOptions, Start, run_guarded};
 use washdyn_runtime::system::{FirstOrder, Interpreter};
@@ -41,7 +41,7 @@ struct Run {
 }
 
 /// Each body's modal data in words.
-fn describe(m: &washdyn_runtime::ir::Model) -> Vec<String> {
+fn describe(m: &washdyn_model::ir::Model) -> Vec<String> {
     m.elastic
         .iter()
         .filter_map(|e| {
@@ -58,7 +58,7 @@ fn describe(m: &washdyn_runtime::ir::Model) -> Vec<String> {
 }
 
 /// The reference model with its modal data replaced by DIR's where DIR has a body's file.
-fn deep(dir: &str) -> (washdyn_runtime::ir::Model, Vec<String>) {
+fn deep(dir: &str) -> (washdyn_model::ir::Model, Vec<String>) {
     let mut m = washdyn_models::reference();
     for e in &mut m.elastic {
         let p = std::path::Path::new(dir).join(format!("{}.modal.toml", e.name));
@@ -70,7 +70,7 @@ fn deep(dir: &str) -> (washdyn_runtime::ir::Model, Vec<String>) {
     (m, used)
 }
 
-fn run(base: &washdyn_runtime::ir::Model, rpm: f64, cutoff: Option<f64>, method: Method) -> Run {
+fn run(base: &washdyn_model::ir::Model, rpm: f64, cutoff: Option<f64>, method: Method) -> Run {
     let mut m = base.clone();
     m.speed.table = vec![[0.0, rpm], [1000.0, rpm]];
     let s = EffectSet {

@@ -8,9 +8,9 @@
 //! misses a receptance by e misses the coupled response by about e where that body dominates.
 
 use nalgebra::Complex;
-use washdyn_runtime::equations::modal_damping;
-use washdyn_runtime::ir::modal::{LoadCase, ModalData, point_at};
-use washdyn_runtime::ir::{BodyRef, EffectSet, Elastic, Model};
+use washdyn_model::equations::modal_damping;
+use washdyn_model::ir::modal::{LoadCase, ModalData, point_at};
+use washdyn_model::ir::{BodyRef, EffectSet, Elastic, Model};
 
 /// A body's data with the modal damping of each of its modes (the simulation's).
 pub struct Damped<'a> {

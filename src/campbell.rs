@@ -5,7 +5,7 @@
 use crate::analysis::plot::init_fonts;
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
-use washdyn_runtime::ir::modal::{self, ModalData};
+use washdyn_model::ir::modal::{self, ModalData};
 
 /// Frequencies (Hz) of every mode at each speed (rpm), rotating frame.
 #[derive(Debug)]
@@ -65,11 +65,11 @@ fn source_data(source: &str) -> Result<(ModalData, Option<f64>, Option<f64>), St
     }
     let (m, _) = crate::commands::resolve_model(source)?;
     let d = m
-        .elastic_of(washdyn_runtime::ir::BodyRef::Drum)
+        .elastic_of(washdyn_model::ir::BodyRef::Drum)
         .and_then(|e| e.data.clone())
         .ok_or_else(|| format!("model `{}` has no elastic drum", m.name))?;
     let top = m.speed.table.iter().map(|r| r[1]).fold(0.0, f64::max);
-    let motor = m.rotor(washdyn_runtime::ir::MOTOR).map(|r| r.ratio);
+    let motor = m.rotor(washdyn_model::ir::MOTOR).map(|r| r.ratio);
     Ok((d, Some(top).filter(|t| *t > 0.0), motor))
 }
 
@@ -85,10 +85,10 @@ pub fn run(
     let max_rpm = max_rpm.or(top).unwrap_or(1400.0);
     let motor_ratio_arg = motor_ratio;
     let motor_ratio = motor_ratio.or(motor).unwrap_or(11.25);
-    if !(max_rpm > 0.0 && max_rpm <= washdyn_runtime::ir::check::MAX_RPM) {
+    if !(max_rpm > 0.0 && max_rpm <= washdyn_model::ir::check::MAX_RPM) {
         return Err(format!(
             "--max-rpm must be in (0, {}], got {max_rpm}",
-            washdyn_runtime::ir::check::MAX_RPM
+            washdyn_model::ir::check::MAX_RPM
         ));
     }
     if !(motor_ratio > 0.0 && motor_ratio <= MAX_MOTOR_RATIO) {

@@ -8,9 +8,9 @@ use crate::spec::Field;
 pub use crate::spec::{Backend, RunSpec};
 use std::fs;
 use std::path::{Path, PathBuf};
-use washdyn_runtime::equations::Equations;
-use washdyn_runtime::ir::modal::ModalData;
-use washdyn_runtime::ir::{DRUM, MOTOR, Model};
+use washdyn_model::equations::Equations;
+use washdyn_model::ir::modal::ModalData;
+use washdyn_model::ir::{DRUM, MOTOR, Model};
 use washdyn_runtime::run::{Guard, Progress, Summary};
 use washdyn_runtime::system::Interpreter;
 

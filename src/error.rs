@@ -6,8 +6,8 @@ pub use crate::spec::Refusal;
 use crate::spec::{Field, Subject};
 use std::fmt;
 use std::path::PathBuf;
-use washdyn_runtime::ir::check::CheckError;
-use washdyn_runtime::ir::toml_file::ModelFileError;
+use washdyn_model::ir::check::CheckError;
+use washdyn_model::ir::toml_file::ModelFileError;
 use washdyn_runtime::run::RunError;
 
 #[derive(Debug, thiserror::Error)]

@@ -13,9 +13,9 @@
 use crate::commands::resolve_model;
 use nalgebra::DMatrix;
 use std::path::{Path, PathBuf};
+use washdyn_model::equations::Equations;
+use washdyn_model::ir::{BodyRef, Model};
 use washdyn_runtime::clearance::DoorRing;
-use washdyn_runtime::equations::Equations;
-use washdyn_runtime::ir::{BodyRef, Model};
 use washdyn_runtime::linearise::Linearisation;
 use washdyn_runtime::system::Interpreter;
 
@@ -79,7 +79,7 @@ pub fn rigid_modes(model: &Model, scene: Option<&str>) -> Result<Modes, String> 
     let mut sys = Interpreter::new(&m, &eff);
     let lin = Linearisation::at_rest(&mut sys, 0.0)?;
     let (mm, k) = (&lin.m, 0.5 * (&lin.k + lin.k.transpose()));
-    let (x, lambda) = washdyn_runtime::ir::modal::generalised_eigen(mm, &k);
+    let (x, lambda) = washdyn_model::ir::modal::generalised_eigen(mm, &k);
 
     let p0 = eq.p0();
     let rel = |p: [f64; 3]| [p[0] - p0[0], p[1] - p0[1], p[2] - p0[2]];
@@ -90,7 +90,7 @@ pub fn rigid_modes(model: &Model, scene: Option<&str>) -> Result<Modes, String> 
     };
     // A damper's axis points from its tub end to its cabinet end (ends on the tub only: none).
     let mut dampers = Vec::new();
-    let mut add = |name: &str, a: &washdyn_runtime::ir::Attach, b: &washdyn_runtime::ir::Attach| {
+    let mut add = |name: &str, a: &washdyn_model::ir::Attach, b: &washdyn_model::ir::Attach| {
         let (tub, other) = match (a.body, b.body) {
             (BodyRef::Tub, BodyRef::Cabinet) => (a.point, b.point),
             (BodyRef::Cabinet, BodyRef::Tub) => (b.point, a.point),
@@ -102,7 +102,7 @@ pub fn rigid_modes(model: &Model, scene: Option<&str>) -> Result<Modes, String> 
             axis: unit(tub, other),
         });
     };
-    if eff.has(&washdyn_runtime::ir::Effect::FrictionDampers) {
+    if eff.has(&washdyn_model::ir::Effect::FrictionDampers) {
         for d in &model.friction_dampers {
             add(&d.name, &d.a, &d.b);
         }

@@ -12,9 +12,9 @@ use crate::spec::RunSpec;
 use std::collections::HashSet;
 use std::fs;
 use std::path::{Path, PathBuf};
-use washdyn_runtime::ir::Model;
-use washdyn_runtime::ir::check::{CheckError, check};
-use washdyn_runtime::ir::toml_file::read_speed_csv;
+use washdyn_model::ir::Model;
+use washdyn_model::ir::check::{CheckError, check};
+use washdyn_model::ir::toml_file::read_speed_csv;
 use washdyn_runtime::run::{Labels, Summary};
 
 /// Named axial unbalance positions (x, m) of the built-in machines' drum

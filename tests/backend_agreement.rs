@@ -3,8 +3,8 @@
 //! random states and times, the same trajectories, and the generated analytic Jacobians agree
 //! with finite differences of the interpreter.
 
-use washdyn_runtime::ir::Model;
-use washdyn_runtime::ode::{Options, Rk4};
+use washdyn_model::ir::Model;
+use washdyn_ode::{Options, Rk4};
 use washdyn_runtime::output::MemorySink;
 use washdyn_runtime::run::{Labels, RunOptions, Start, run};
 use washdyn_runtime::system::{FirstOrder, Interpreter, Mechanical};
@@ -258,8 +258,8 @@ fn elastic_run_trajectories_agree() {
 /// (`f64::max`) and Hertz's power, match central differences of the interpreter.
 #[test]
 fn contact_scene_agrees_in_contact() {
-    use washdyn_runtime::elements::Element;
-    use washdyn_runtime::equations::BodyState;
+    use washdyn_model::elements::Element;
+    use washdyn_model::equations::BodyState;
     let m = washdyn_models::reference();
     let eff = m.scene(Some("contact")).unwrap();
     let mut interp = Interpreter::new(&m, &eff);

@@ -12,7 +12,7 @@ use washdyn::commands::{
     Backend, RunControl, RunSpec, check_model, resolve_model, run_command_with,
 };
 use washdyn::spec::Field;
-use washdyn_runtime::ode::Method;
+use washdyn_ode::Method;
 use washdyn_runtime::run::{Guard, RunError};
 
 fn out_dir(tag: &str) -> PathBuf {

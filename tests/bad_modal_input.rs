@@ -20,7 +20,7 @@
 
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
-use washdyn_runtime::ir::modal::{self, ModalData, Support};
+use washdyn_model::ir::modal::{self, ModalData, Support};
 
 fn fe(file: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -552,7 +552,7 @@ fn every_field_mutated_is_refused_where_invalid() {
             let e = m.elastic.iter_mut().find(|e| e.name == mu.body).unwrap();
             e.data = Some(d.clone());
             let file = e.file.clone();
-            washdyn_runtime::ir::check::check(&m).err().map(|errs| {
+            washdyn_model::ir::check::check(&m).err().map(|errs| {
                 let at = errs
                     .iter()
                     .filter(|e| e.message.contains(&file))

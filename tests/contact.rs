@@ -21,12 +21,12 @@
 
 use std::time::Instant;
 use washdyn::commands::resolve_model;
+use washdyn_model::elements::Element;
+use washdyn_model::equations::{BodyState, Kind};
+use washdyn_model::ir::{Model, Scene, check::check};
+use washdyn_ode::{AnySolver, Method, OdeError, Options, Solver, Stepper};
 use washdyn_runtime::clearance::DoorRing;
-use washdyn_runtime::elements::Element;
 use washdyn_runtime::energy::Balance;
-use washdyn_runtime::equations::{BodyState, Kind};
-use washdyn_runtime::ir::{Model, Scene, check::check};
-use washdyn_runtime::ode::{AnySolver, Method, OdeError, Options, Solver, Stepper};
 use washdyn_runtime::statics::mean_load_equilibrium;
 use washdyn_runtime::system::{FirstOrder, Interpreter, Mechanical};
 

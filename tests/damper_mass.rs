@@ -10,9 +10,9 @@
 
 use nalgebra::{DMatrix, SymmetricEigen};
 use washdyn::commands::resolve_model;
-use washdyn_runtime::equations::{Drive, Equations, JacobianWork, Modes};
-use washdyn_runtime::ir::{BodyRef, Model};
-use washdyn_runtime::ode::{AnySolver, Method, Options};
+use washdyn_model::equations::{Drive, Equations, JacobianWork, Modes};
+use washdyn_model::ir::{BodyRef, Model};
+use washdyn_ode::{AnySolver, Method, Options};
 use washdyn_runtime::output::MemorySink;
 use washdyn_runtime::run::{Labels, RunOptions, Start, run};
 use washdyn_runtime::system::{FirstOrder, Interpreter};

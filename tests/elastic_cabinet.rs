@@ -12,9 +12,9 @@ use washdyn_fe::ccx;
 use washdyn_fe::mesh::Section;
 use washdyn_fe::modal::Keep;
 use washdyn_fe::pipeline::{BodySpec, build};
-use washdyn_runtime::equations::Equations;
-use washdyn_runtime::ir::modal::{ElasticBodyKind, LoadCase, Support};
-use washdyn_runtime::ir::toml_file::load_str;
+use washdyn_model::equations::Equations;
+use washdyn_model::ir::modal::{ElasticBodyKind, LoadCase, Support};
+use washdyn_model::ir::toml_file::load_str;
 
 fn have_ccx() -> bool {
     common::required_tool(ccx::available(), "CalculiX", "apt-get install calculix-ccx")
@@ -239,7 +239,7 @@ fn cabinet_sag_under_the_spring_preloads_matches_calculix() {
     let spec = washdyn_fe::bodies::builtin().remove(2);
     let path =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models/fe/cabinet.modal.toml");
-    let data = washdyn_runtime::ir::modal::read_file(&path, "cabinet.modal.toml").unwrap();
+    let data = washdyn_model::ir::modal::read_file(&path, "cabinet.modal.toml").unwrap();
     let loads = [
         ("SPRING_1", 147.15),
         ("SPRING_2", 147.15),
@@ -268,7 +268,7 @@ fn cabinet_sag_under_the_spring_preloads_matches_calculix() {
     let frd = washdyn_fe::frd::parse(&std::fs::read_to_string(run.frd()).unwrap()).unwrap();
     let u: std::collections::HashMap<usize, [f64; 3]> = frd.statics[0].iter().copied().collect();
 
-    let sag_error = |data: &washdyn_runtime::ir::modal::ModalData| {
+    let sag_error = |data: &washdyn_model::ir::modal::ModalData| {
         let n = data.modes();
         let point = |name: &str| data.point(name).unwrap();
         let mut q = vec![0.0; n];

@@ -6,9 +6,9 @@
 //! differences about q = 0 at constant speed.
 
 use nalgebra::DMatrix;
-use washdyn_runtime::equations::Equations;
-use washdyn_runtime::ir::toml_file::load_str;
-use washdyn_runtime::ir::{BodyRef, Model};
+use washdyn_model::equations::Equations;
+use washdyn_model::ir::toml_file::load_str;
+use washdyn_model::ir::{BodyRef, Model};
 
 fn models_dir() -> std::path::PathBuf {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models")

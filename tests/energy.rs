@@ -7,7 +7,7 @@
 
 use washdyn::commands::{Backend, RunSpec, run_command};
 use washdyn::results::{Format, read_parquet_f64};
-use washdyn_runtime::ode::Method;
+use washdyn_ode::Method;
 
 fn run(backend: Backend, tag: &str) -> (washdyn_runtime::run::Summary, Vec<String>, Vec<Vec<f64>>) {
     let out = std::env::temp_dir().join(format!("washdyn-energy-{tag}-{}", std::process::id()));

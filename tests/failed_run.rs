@@ -4,7 +4,7 @@
 use washdyn::Error;
 use washdyn::commands::{Backend, RunSpec, run_command};
 use washdyn::results::{Format, read_parquet_f64};
-use washdyn_runtime::ode::{Method, OdeError};
+use washdyn_ode::{Method, OdeError};
 use washdyn_runtime::run::RunError;
 
 #[test]

@@ -14,7 +14,7 @@ use common::have_ccx;
 use std::path::PathBuf;
 use washdyn_fe::bodies::{self, balance};
 use washdyn_fe::lumping::{consistent_mass_props, continuum_mass_props, lump};
-use washdyn_runtime::ir::modal::{self, ModalData};
+use washdyn_model::ir::modal::{self, ModalData};
 
 fn committed(name: &str) -> ModalData {
     let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -74,7 +74,7 @@ fn tub_drum_and_rotor_make_the_suspended_body() {
     // its inertia tensor) and the FE models' tub + drum + rotor must be one machine: within
     // 1 % each (CoG per its height, 0.45 m; products per the diagonal). Measured 1.0e-3 at
     // worst.
-    let model = washdyn_runtime::ir::toml_file::load_file(
+    let model = washdyn_model::ir::toml_file::load_file(
         &PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("models/data/reference.toml"),
     )
     .unwrap();

@@ -14,7 +14,7 @@ use washdyn_fe::lumping::{MassProps, consistent_mass_props, element_mass};
 use washdyn_fe::mesh::{Mesh, Section};
 use washdyn_fe::modal::Keep;
 use washdyn_fe::pipeline::{BodySpec, build, support_springs};
-use washdyn_runtime::ir::modal::{ElasticBodyKind, ModalData, Support, generalised_eigen};
+use washdyn_model::ir::modal::{ElasticBodyKind, ModalData, Support, generalised_eigen};
 
 fn cabinet_spec() -> BodySpec {
     washdyn_fe::bodies::builtin()

@@ -12,7 +12,7 @@ use washdyn::basis::{Damped, basis_error};
 use washdyn_fe::bodies::test_decks::plate_simply_supported;
 use washdyn_fe::modal::Keep;
 use washdyn_fe::pipeline::{BodySpec, build};
-use washdyn_runtime::ir::modal::{ElasticBodyKind, LoadCase, ModalData, Support};
+use washdyn_model::ir::modal::{ElasticBodyKind, LoadCase, ModalData, Support};
 
 /// The data with 2 % modal damping on every mode (eigenmodes and correction modes alike).
 fn damped(d: &ModalData) -> Damped<'_> {

@@ -235,7 +235,7 @@ fn unbalance_at_1400_rpm_meets_the_deflection_and_stress_targets() {
 /// the Hermitian K - w^2 E + i 2 w Omega G (G skew), so no general eigensolver is needed.
 fn pair_shares(
     freqs: &[f64],
-    data: &washdyn_runtime::ir::modal::ModalData,
+    data: &washdyn_model::ir::modal::ModalData,
     omega: f64,
     pair: [usize; 2],
 ) -> Vec<f64> {
@@ -304,7 +304,7 @@ fn pair_shares(
 fn campbell_whirl_split_matches_calculix_coriolis_on_the_knot_free_drum() {
     use washdyn_fe::modal::Keep;
     use washdyn_fe::pipeline::Spin;
-    use washdyn_runtime::ir::modal::{ElasticBodyKind, Support};
+    use washdyn_model::ir::modal::{ElasticBodyKind, Support};
     if !have_ccx() {
         return;
     }

@@ -21,8 +21,8 @@ use washdyn_fe::lumping::{consistent_mass_props, continuum_mass_props, lump};
 use washdyn_fe::mesh::{Material, Mesh, Rigid, Section};
 use washdyn_fe::modal::{self, Keep};
 use washdyn_fe::pipeline::{BodySpec, build};
-use washdyn_runtime::geom::f::{add, cross, sub};
-use washdyn_runtime::ir::modal::{ElasticBodyKind, LoadCase, ModalData, Support};
+use washdyn_model::geom::f::{add, cross, sub};
+use washdyn_model::ir::modal::{ElasticBodyKind, LoadCase, ModalData, Support};
 
 fn steel() -> Material {
     Material {
@@ -268,7 +268,7 @@ fn free_free_correction_modes_answer_a_self_equilibrated_load_exactly() {
     let dir = tempfile::tempdir().unwrap();
     let data = corrected(dir.path(), 20);
     assert_eq!(
-        washdyn_runtime::ir::modal::problems(&data),
+        washdyn_model::ir::modal::problems(&data),
         Vec::<String>::new()
     );
     let mesh = body();

@@ -208,8 +208,8 @@ fn small_body_through_ccx_to_modal_data() {
 
     // Mass normalisation: ccx normalises with its consistent mass, and so do we.
     let data = modal::Import {
-        body: washdyn_runtime::ir::modal::ElasticBodyKind::Tub,
-        support: washdyn_runtime::ir::modal::Support::FreeFree,
+        body: washdyn_model::ir::modal::ElasticBodyKind::Tub,
+        support: washdyn_model::ir::modal::Support::FreeFree,
         source: "test".into(),
         mesh: &mesh,
         mass: &mass,
@@ -237,7 +237,7 @@ fn small_body_through_ccx_to_modal_data() {
     eprintln!("|sum dm W|_max = {worst_c:.2e} kg^0.5");
     // Measured 6.8e-5 kg^0.5 (sqrt(m) = 1.3).
     assert!(worst_c < 5e-4 * data.mass.sqrt(), "{worst_c}");
-    assert!(washdyn_runtime::ir::modal::problems(&data).is_empty());
+    assert!(washdyn_model::ir::modal::problems(&data).is_empty());
     // A single-node point: its own translation, no rotation.
     let corner = data.point("CORNER").unwrap();
     let id = mesh.nsets["CORNER"][0];

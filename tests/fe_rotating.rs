@@ -12,7 +12,7 @@ use washdyn_fe::modal::Keep;
 use washdyn_fe::pipeline::{BodySpec, Spin, build};
 use washdyn_fe::prestress::Centrifugal;
 use washdyn_fe::rotating;
-use washdyn_runtime::ir::modal::{ElasticBodyKind, ModalData, Support};
+use washdyn_model::ir::modal::{ElasticBodyKind, ModalData, Support};
 
 /// `mesh` clamped, spinning about `axis` through `axis_point`: its `modes` lowest modes and
 /// their geometric stiffness from the prestress at `reference` rad/s, as `fe modal` builds a

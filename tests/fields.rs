@@ -12,10 +12,10 @@ use crate::common;
 use std::path::PathBuf;
 use std::process::Command;
 use washdyn::fields::{Recovery, States, write_fields};
-use washdyn_runtime::equations::Equations;
-use washdyn_runtime::ir::BodyRef;
-use washdyn_runtime::ir::Model;
-use washdyn_runtime::ir::modal::ModalData;
+use washdyn_model::equations::Equations;
+use washdyn_model::ir::BodyRef;
+use washdyn_model::ir::Model;
+use washdyn_model::ir::modal::ModalData;
 use washdyn_runtime::system::Interpreter;
 
 fn tools() -> bool {
@@ -51,7 +51,7 @@ fn on_this_solve(model: &Model) -> Model {
             e.data = Some((*d).clone());
         }
     }
-    washdyn_runtime::ir::check::check(&m).unwrap_or_else(|e| panic!("{e:?}"));
+    washdyn_model::ir::check::check(&m).unwrap_or_else(|e| panic!("{e:?}"));
     m
 }
 
@@ -269,12 +269,12 @@ fn recovered_fields_are_read_back_by_meshio_and_continuous_at_the_bearing() {
 /// recovered displacement along q(t) = q0 + t q1 + t^2/2 q2, phi(t) = phi0 + w t + w' t^2/2
 /// (the sensor's Coriolis and centripetal terms of the turning point and the drum's modes).
 fn drum_rim_sensor_reads_the_recovered_field(
-    model: &washdyn_runtime::ir::Model,
+    model: &washdyn_model::ir::Model,
     rec: &Recovery,
     mesh: &washdyn_fe::mesh::Mesh,
 ) {
-    use washdyn_runtime::equations::Drive;
-    use washdyn_runtime::ir::{BodyRef, Sensor, SensorKind};
+    use washdyn_model::equations::Drive;
+    use washdyn_model::ir::{BodyRef, Sensor, SensorKind};
     let edge = "DRUM_EDGE_0";
     let scene = model.scene(Some("elastic")).unwrap();
     let eq0 = Equations::new(model, &scene);
@@ -297,7 +297,7 @@ fn drum_rim_sensor_reads_the_recovered_field(
             kind,
         });
     }
-    washdyn_runtime::ir::check::check(&m).unwrap_or_else(|e| panic!("{e:?}"));
+    washdyn_model::ir::check::check(&m).unwrap_or_else(|e| panic!("{e:?}"));
     let eq = Equations::new(&m, &scene);
     let (du, ac) = (eq.sensors.len() - 2, eq.sensors.len() - 1);
     let spin = eq.sensors[du]

@@ -5,13 +5,13 @@
 
 use washdyn::simulation::{Backend, RunControl, Simulation, Source};
 use washdyn::spec::RunSpec;
-use washdyn_runtime::ir::param::{resolve, set};
+use washdyn_model::ir::param::{resolve, set};
 use washdyn_runtime::output::MemorySink;
 use washdyn_runtime::system::{Interpreter, Mechanical};
 
 /// The reference with every free parameter changed: springs 30 % softer, damper friction 50 %
 /// higher (a variant a suspension study would run).
-fn variant() -> washdyn_runtime::ir::Model {
+fn variant() -> washdyn_model::ir::Model {
     let base = washdyn_models::reference();
     let params: Vec<_> = base
         .free
@@ -21,7 +21,7 @@ fn variant() -> washdyn_runtime::ir::Model {
     let values: Vec<f64> = params
         .iter()
         .map(|p| {
-            let v = washdyn_runtime::ir::param::get(&base, p);
+            let v = washdyn_model::ir::param::get(&base, p);
             if p.text.contains("stiffness") {
                 0.7 * v
             } else {

@@ -5,14 +5,14 @@
 //! rules; and the traced graph (the generator's input) against the interpreter.
 
 use std::f64::consts::PI;
-use washdyn_runtime::elements::{Element, Gasket, OMEGA_FLOOR};
-use washdyn_runtime::equations::{Drive, Equations, Marker, MarkerDef};
-use washdyn_runtime::geom::V;
-use washdyn_runtime::ir::toml_file::load_str;
-use washdyn_runtime::ir::{BodyRef, LossFactor, Model};
+use washdyn_model::elements::{Element, Gasket, OMEGA_FLOOR};
+use washdyn_model::equations::{Drive, Equations, Marker, MarkerDef};
+use washdyn_model::geom::V;
+use washdyn_model::ir::toml_file::load_str;
+use washdyn_model::ir::{BodyRef, LossFactor, Model};
 
 /// The reference's gasket stiffness (docs/reference-machine.md), with the loss factors below.
-fn reference_gasket(eta: LossFactor, viscous: [[f64; 6]; 6]) -> washdyn_runtime::ir::Gasket {
+fn reference_gasket(eta: LossFactor, viscous: [[f64; 6]; 6]) -> washdyn_model::ir::Gasket {
     let mut g = washdyn_models::reference().gaskets[0].clone();
     g.loss_factor = Some(eta);
     g.damping = viscous;
@@ -56,7 +56,7 @@ fn dissipated(g: &Gasket, x: &[(f64, f64); 6], w: f64, omega_drive: f64) -> f64 
     energy
 }
 
-fn element(g: &washdyn_runtime::ir::Gasket) -> Gasket {
+fn element(g: &washdyn_model::ir::Gasket) -> Gasket {
     let p0 = [0.0, 0.0, 0.45];
     Gasket::new(
         g,
@@ -216,7 +216,7 @@ fn traced_graph_agrees_with_the_interpreter_across_the_floor() {
     // The generator traces the one derivation; the branch-free max(|Omega|, floor) must give
     // the interpreter's h at standstill, below the floor and above it. Drive speeds: the
     // profile reaches the floor (60 rpm) at t = 0.43 s.
-    use washdyn_runtime::codegen::trace_equations;
+    use washdyn_model::codegen::trace_equations;
     use washdyn_runtime::system::{Interpreter, Mechanical};
     let m = load("loss_factor = [0.1, 0.2, 0.2, 0.3, 0.3, 0.3]\n[[scenes]]\nname = \"s\"\neffects = [\"unbalance.drum\", \"gasket_damping\", \"element_geometry\", \"unbalance_inertia\", \"gyroscopic\"]").unwrap();
     let eff = m.scene(Some("s")).unwrap();

@@ -3,8 +3,8 @@
 //! a response without even orders; an asymmetric characteristic curve brings them back.
 
 use std::f64::consts::PI;
-use washdyn_runtime::ir::{Model, Scene};
-use washdyn_runtime::ode::{Dopri5, Options};
+use washdyn_model::ir::{Model, Scene};
+use washdyn_ode::{Dopri5, Options};
 use washdyn_runtime::output::MemorySink;
 use washdyn_runtime::run::{Labels, RunOptions, Start, run};
 use washdyn_runtime::system::{FirstOrder, Interpreter};

@@ -29,10 +29,10 @@ use washdyn::Error;
 use washdyn::commands::resolve_model;
 use washdyn::simulation::{RunControl, Simulation, Source};
 use washdyn::spec::RunSpec;
+use washdyn_model::equations::{Category, EnergyWork, Kind};
+use washdyn_model::ir::{EffectSet, Model, Scene};
+use washdyn_ode::{Method, OdeError};
 use washdyn_runtime::energy::powers;
-use washdyn_runtime::equations::{Category, EnergyWork, Kind};
-use washdyn_runtime::ir::{EffectSet, Model, Scene};
-use washdyn_runtime::ode::{Method, OdeError};
 use washdyn_runtime::output::{MemorySink, SampleSink};
 use washdyn_runtime::run::{RunError, Start};
 use washdyn_runtime::system::{Interpreter, Mechanical};
@@ -668,7 +668,7 @@ fn all_modes(m: &Model) -> EffectSet {
         ..m.scene(Some("elastic")).unwrap()
     };
     s.effects
-        .retain(|e| !matches!(e, washdyn_runtime::ir::Effect::FrictionLaw(_)));
+        .retain(|e| !matches!(e, washdyn_model::ir::Effect::FrictionLaw(_)));
     s
 }
 

@@ -4,11 +4,9 @@
 //! at a state off rest (every coordinate moved, friction dampers on their slope) and at
 //! several drum speeds and angles.
 
-use washdyn_runtime::equations::{Drive, Equations, JacobianWork};
-use washdyn_runtime::ir::FrictionLaw;
-use washdyn_runtime::ode::{
-    AnySolver, Method, OdeSystem, Options, PortedJacobian, Solver, Stepper,
-};
+use washdyn_model::equations::{Drive, Equations, JacobianWork};
+use washdyn_model::ir::FrictionLaw;
+use washdyn_ode::{AnySolver, Method, OdeSystem, Options, PortedJacobian, Solver, Stepper};
 use washdyn_runtime::system::{FirstOrder, Interpreter, Mechanical};
 
 /// Largest |dual - difference| over a column, relative to the column's largest entry
@@ -224,7 +222,7 @@ fn implicit_methods_take_the_same_steps_with_and_without_the_mass_form() {
     // cover y = [q; q'] alone (a scene with element states iterates on its whole Jacobian).
     let mut s = model.scene(Some("elastic")).unwrap();
     s.effects
-        .retain(|e| !matches!(e, washdyn_runtime::ir::Effect::FrictionLaw(_)));
+        .retain(|e| !matches!(e, washdyn_model::ir::Effect::FrictionLaw(_)));
     assert_eq!(s.friction_law(FrictionLaw::Arctan), FrictionLaw::Arctan);
     let n = Equations::new(&model, &s).layout.n();
     // From rest at t = 60 s (60 rpm/s up from the profile's start; the tub drops under its

@@ -1,7 +1,7 @@
 //! Malformed model files give errors that name the file line (and never panic or run).
 
 use std::path::Path;
-use washdyn_runtime::ir::toml_file::{load_str, read_speed_csv};
+use washdyn_model::ir::toml_file::{load_str, read_speed_csv};
 
 const REF: &str = washdyn_models::REFERENCE_TOML;
 
@@ -251,7 +251,7 @@ fn elastic_entries_are_checked_at_their_lines() {
     let src = format!("{REF}{}", entry("cabinet", "modes = 500\n"));
     // The file by its absolute path.
     let file = base.join("../fe/cabinet.modal.toml");
-    let eigen = washdyn_runtime::ir::modal::read_file(&file, "cabinet")
+    let eigen = washdyn_model::ir::modal::read_file(&file, "cabinet")
         .unwrap()
         .eigenmodes();
     let want = format!("asks for 500 modes, `{}` has {eigen}", file.display());

@@ -4,7 +4,7 @@
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use std::io;
-use washdyn_runtime::ode::{AnySolver, Method, Options};
+use washdyn_ode::{AnySolver, Method, Options};
 use washdyn_runtime::output::SampleSink;
 use washdyn_runtime::run::{Labels, RunOptions, run};
 use washdyn_runtime::system::{FirstOrder, Interpreter, Mechanical};

@@ -9,7 +9,7 @@ use std::path::Path;
 use std::process::Command;
 use washdyn::commands::{Backend, RunControl, RunSpec, run_command_with};
 use washdyn::results::Format;
-use washdyn_runtime::ode::Method;
+use washdyn_ode::Method;
 
 fn pyarrow() -> bool {
     let ok = Command::new("python3")
@@ -162,7 +162,7 @@ fn states_file_holds_every_sample_with_the_drum_angle() {
     assert_eq!(s.t, cols[0], "the same sample times");
     assert_eq!(s.q.len(), 6, "the `full` scene's rigid tub");
     let model = washdyn_models::built_in("reference").unwrap().unwrap();
-    let speed = washdyn_runtime::speed::Speed::new(&model.speed.table);
+    let speed = washdyn_model::speed::Speed::new(&model.speed.table);
     for (t, phi) in s.t.iter().zip(&s.phi) {
         assert_eq!(*phi, speed.drive(*t).phi);
     }

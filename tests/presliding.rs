@@ -6,7 +6,7 @@
 
 use washdyn::commands::{Backend, RunSpec, run_command};
 use washdyn::results::{Format, read_parquet_f64};
-use washdyn_runtime::ode::Method;
+use washdyn_ode::Method;
 use washdyn_runtime::run::spectral_radius;
 use washdyn_runtime::statics::static_equilibrium;
 use washdyn_runtime::system::{FirstOrder, Interpreter};

@@ -5,12 +5,12 @@ use crate::common;
 
 use common::*;
 use std::f64::consts::PI;
-use washdyn_runtime::elements::friction_force;
-use washdyn_runtime::ir::{Attach, BodyRef, Model, Spring};
+use washdyn_model::elements::friction_force;
+use washdyn_model::ir::{Attach, BodyRef, Model, Spring};
 use washdyn_runtime::linearise::Linearisation;
 use washdyn_runtime::system::{FirstOrder, Interpreter};
 
-fn full(m: &Model) -> washdyn_runtime::ir::EffectSet {
+fn full(m: &Model) -> washdyn_model::ir::EffectSet {
     m.scene(Some("full")).unwrap()
 }
 

@@ -9,7 +9,7 @@ use washdyn::commands::{Backend, RunControl, RunSpec, run_command, run_simulatio
 use washdyn::results::Format;
 use washdyn::simulation::{Simulation, Source};
 use washdyn::sweep::{SweepRun, SweepSpec, Variant, variants};
-use washdyn_runtime::ode::Method;
+use washdyn_ode::Method;
 use washdyn_runtime::run::{RunError, Start};
 
 fn tmp(tag: &str) -> PathBuf {
@@ -393,7 +393,7 @@ fn exit_codes_follow_the_error() {
 /// without a `solver`, dopri5 at 1e-6.
 #[test]
 fn runs_take_their_scenes_default_solver() {
-    let solver_for = |model: &washdyn_runtime::ir::Model, scene: Option<&str>, method, tol| {
+    let solver_for = |model: &washdyn_model::ir::Model, scene: Option<&str>, method, tol| {
         RunSpec {
             scene: scene.map(String::from),
             method,
@@ -402,7 +402,7 @@ fn runs_take_their_scenes_default_solver() {
         }
         .solver(model)
     };
-    use washdyn_runtime::ir::{Integrator, SceneSolver};
+    use washdyn_model::ir::{Integrator, SceneSolver};
     let mut model = washdyn_models::built_in("reference").unwrap().unwrap();
     let (galpha, dopri) = (Method::GeneralizedAlpha, Method::Dopri5);
     for name in model.scene_names() {

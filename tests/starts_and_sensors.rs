@@ -11,8 +11,8 @@
 
 use nalgebra::{Rotation3, Vector3};
 use washdyn::commands::resolve_model;
-use washdyn_runtime::ir::Model;
-use washdyn_runtime::ode::{Dopri5, Options, Solver, Stepper};
+use washdyn_model::ir::Model;
+use washdyn_ode::{Dopri5, Options, Solver, Stepper};
 use washdyn_runtime::statics::{mean_load_equilibrium, static_equilibrium};
 use washdyn_runtime::system::{FirstOrder, Interpreter};
 
@@ -280,7 +280,7 @@ fn periodic_start_is_the_state_a_long_run_settles_to() {
 fn periodic_start_reports_progress_and_stops_on_interrupt() {
     use std::sync::Arc;
     use std::sync::atomic::{AtomicBool, Ordering};
-    use washdyn_runtime::ode::Method;
+    use washdyn_ode::Method;
     use washdyn_runtime::output::MemorySink;
     use washdyn_runtime::run::{Guard, Labels, RunError, RunOptions, Start, run_guarded};
     let m = at_constant_speed(600.0);
@@ -292,8 +292,7 @@ fn periodic_start_reports_progress_and_stops_on_interrupt() {
         interrupt: Some(flag.clone()),
         ..Guard::default()
     };
-    let mut solver =
-        washdyn_runtime::ode::AnySolver::new(Method::Dopri5, 2 * n, Options::default());
+    let mut solver = washdyn_ode::AnySolver::new(Method::Dopri5, 2 * n, Options::default());
     let opts = RunOptions {
         t_start: 0.0,
         t_end: 1.0,

@@ -304,7 +304,7 @@ fn a_variant_at_the_base_values_is_the_base_run_to_the_bit() {
         model: "reference".into(),
         t_end: Some(0.5),
         out: Some(dir.path().join("run")),
-        method: Some(washdyn_runtime::ode::Method::Dopri5),
+        method: Some(washdyn_ode::Method::Dopri5),
         tol: Some(1e-6),
         step: None,
         rho_inf: None,

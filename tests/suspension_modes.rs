@@ -8,7 +8,7 @@ use crate::common;
 
 use common::*;
 use washdyn::modes::rigid_modes;
-use washdyn_runtime::ir::{Attach, BodyRef, FrictionDamper, Model};
+use washdyn_model::ir::{Attach, BodyRef, FrictionDamper, Model};
 
 /// The reference as the rigid machine without its unbalances (it hangs at q = 0).
 fn balanced() -> Model {

@@ -6,7 +6,7 @@ use washdyn::results::Format;
 use washdyn::simulation::{RunControl, Source};
 use washdyn::spec::RunSpec;
 use washdyn::sweep::{SweepRun, SweepSpec, run_sweep, variants};
-use washdyn_runtime::ode::Method;
+use washdyn_ode::Method;
 
 #[test]
 fn positions_sweep_writes_folders_and_table() {

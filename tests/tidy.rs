@@ -627,29 +627,165 @@ fn washdyn_dependencies(pkg: &str) -> Vec<String> {
     out
 }
 
-/// The layering ARCHITECTURE.md draws (issue 23 point 8): the integrators know no machine, the
-/// model knows no integrator, and the macro builds the model only, so compiling a `machine!`
-/// compiles no integrator and no run driver.
+/// The layering ARCHITECTURE.md draws (issue 23 point 8, issue 49 point 6), every crate's
+/// edges pinned: the integrators know no machine, the model knows no integrator, the macro
+/// builds the model only (compiling a `machine!` compiles no integrator and no run driver), and
+/// each crate names what it uses directly (no crate reaches the model through the runtime).
+/// A new edge fails here naming the crate and the edge; a dropped one asks for the list to
+/// follow. Only `[dependencies]` count (the root's dev-dependency on the macro is for tests).
+const LAYERS: [(&str, &str, &[&str]); 8] = [
+    ("ode", "washdyn-ode", &[]),
+    ("model", "washdyn-model", &[]),
+    ("macros", "washdyn-macros", &["washdyn-model"]),
+    (
+        "runtime",
+        "washdyn-runtime",
+        &["washdyn-model", "washdyn-ode"],
+    ),
+    // The model for its energy categories, the runtime for output::SampleSink (a recorder).
+    (
+        "analysis",
+        "washdyn-analysis",
+        &["washdyn-model", "washdyn-runtime"],
+    ),
+    ("fe", "washdyn-fe", &["washdyn-model"]),
+    // The machine! output compiles against the runtime and its facade.
+    (
+        "models",
+        "washdyn-models",
+        &["washdyn-model", "washdyn-runtime", "washdyn-macros"],
+    ),
+    // The command-line tool, on top of all.
+    (
+        ".",
+        "washdyn",
+        &[
+            "washdyn-ode",
+            "washdyn-model",
+            "washdyn-runtime",
+            "washdyn-models",
+            "washdyn-fe",
+            "washdyn-analysis",
+        ],
+    ),
+];
+
 #[test]
 fn crates_depend_only_downwards() {
-    let allowed: &[(&str, &[&str])] = &[
-        ("ode", &[]),
-        ("model", &[]),
-        ("macros", &["washdyn-model"]),
-        ("runtime", &["washdyn-model", "washdyn-ode"]),
-        ("analysis", &["washdyn-runtime"]),
-        ("fe", &["washdyn-model"]),
-    ];
-    for (pkg, ok) in allowed {
-        let deps = washdyn_dependencies(pkg);
-        let extra: Vec<_> = deps.iter().filter(|d| !ok.contains(&d.as_str())).collect();
-        assert!(
-            extra.is_empty(),
-            "{pkg}/ depends on {extra:?} (allowed: {ok:?})"
-        );
+    // Every package of the workspace is pinned.
+    let mut pinned: Vec<&str> = LAYERS.iter().map(|l| l.0).collect();
+    let mut members = packages();
+    pinned.sort();
+    members.sort();
+    assert_eq!(
+        pinned, members,
+        "LAYERS pins other packages than the workspace has"
+    );
+    let mut problems = Vec::new();
+    for (dir, name, ok) in LAYERS {
+        let deps = washdyn_dependencies(dir);
+        for d in &deps {
+            if !ok.contains(&d.as_str()) {
+                problems.push(format!(
+                    "{name} ({dir}/Cargo.toml) depends on {d}: the edge {name} -> {d} is not \
+                     in the layering (allowed: {ok:?})"
+                ));
+            }
+        }
+        for d in ok {
+            if !deps.iter().any(|x| x == d) {
+                problems.push(format!(
+                    "{name} no longer depends on {d}: drop the edge {name} -> {d} from LAYERS"
+                ));
+            }
+        }
     }
-    // The check reads what it should: the runtime's two.
-    assert_eq!(washdyn_dependencies("runtime").len(), 2);
+    assert!(problems.is_empty(), "{problems:#?}");
+    // The check reads what it should: the root's six.
+    assert_eq!(washdyn_dependencies(".").len(), 6);
+}
+
+/// The identifiers a path names right after `washdyn_runtime::` in `code` (`run` in
+/// `washdyn_runtime::run::run`; `run` and `system` in `washdyn_runtime::{run, system::X}`),
+/// and `as` for a `washdyn_runtime as x` alias.
+fn runtime_paths(code: &str) -> Vec<String> {
+    let ident = |s: &str| -> String {
+        s.chars()
+            .take_while(|c| c.is_alphanumeric() || *c == '_')
+            .collect()
+    };
+    let mut out = Vec::new();
+    for (at, _) in code.match_indices("washdyn_runtime") {
+        if at > 0 && code[..at].ends_with(|c: char| c.is_alphanumeric() || c == '_') {
+            continue;
+        }
+        let rest = code[at + "washdyn_runtime".len()..].trim_start();
+        if let Some(group) = rest.strip_prefix("::{") {
+            // Top-level names of the group.
+            let mut depth = 0;
+            let mut start = true;
+            for (k, c) in group.char_indices() {
+                match c {
+                    '{' => depth += 1,
+                    '}' if depth == 0 => break,
+                    '}' => depth -= 1,
+                    ',' if depth == 0 => start = true,
+                    c if start && !c.is_whitespace() => {
+                        out.push(ident(&group[k..]));
+                        start = false;
+                    }
+                    _ => {}
+                }
+            }
+        } else if let Some(path) = rest.strip_prefix("::") {
+            out.push(ident(path.trim_start()));
+        } else if rest.starts_with("as ") {
+            out.push("as".to_string());
+        }
+    }
+    out
+}
+
+/// Issue 49 point 6: the runtime re-exports no old paths; its one facade (`model`,
+/// `serde_json`) is for generated code. Every Rust file of the repository, the code
+/// generator's emitters aside, names only the runtime's own modules after `washdyn_runtime::`.
+#[test]
+fn no_source_names_a_runtime_re_export() {
+    let lib = std::fs::read_to_string(root().join("runtime/src/lib.rs")).unwrap();
+    let own: Vec<&str> = lib
+        .lines()
+        .filter_map(|l| l.strip_prefix("pub mod ")?.strip_suffix(';'))
+        .collect();
+    // Measured: nine modules (clearance ... system).
+    assert!(own.len() >= 8, "runtime's modules: {own:?}");
+    // The files that write generated code, which names the facade.
+    let emitters = [
+        "model/src/codegen/",
+        "model/src/symbolic/emit.rs",
+        "runtime/src/lib.rs",
+    ];
+    let mut found = Vec::new();
+    let mut checked = 0;
+    for f in files() {
+        if !f.ends_with(".rs") || emitters.iter().any(|e| f.starts_with(e)) {
+            continue;
+        }
+        let code = code_of(&std::fs::read_to_string(root().join(&f)).unwrap());
+        for name in runtime_paths(&code) {
+            checked += 1;
+            if !own.contains(&name.as_str()) {
+                found.push(format!("{f}: washdyn_runtime::{name}"));
+            }
+        }
+    }
+    found.sort();
+    found.dedup();
+    // Measured: 180 paths into the runtime's own modules; far fewer means the scan broke.
+    assert!(checked >= 100, "only {checked} runtime paths found");
+    assert!(
+        found.is_empty(),
+        "runtime re-exports named (name washdyn_model / washdyn_ode directly): {found:#?}"
+    );
 }
 
 /// Lines of a source file outside its tests: up to its inline test module (a top-level

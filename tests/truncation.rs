@@ -5,12 +5,12 @@
 //! file's Ritz model, against the same sum over the modes a scene keeps.
 
 use nalgebra::DMatrix;
-use washdyn_runtime::equations::body::{Bodies, Modes};
-use washdyn_runtime::ir::modal::{LoadCase, ModalData};
-use washdyn_runtime::ir::{BodyRef, Model};
+use washdyn_model::equations::body::{Bodies, Modes};
+use washdyn_model::ir::modal::{LoadCase, ModalData};
+use washdyn_model::ir::{BodyRef, Model};
 
 /// The element loads on `body` as load cases at the data's points.
-fn cases(m: &Model, body: BodyRef, scene: &washdyn_runtime::ir::EffectSet) -> Vec<LoadCase> {
+fn cases(m: &Model, body: BodyRef, scene: &washdyn_model::ir::EffectSet) -> Vec<LoadCase> {
     let d = m
         .elastic_of(body)
         .and_then(|e| e.data.as_ref())

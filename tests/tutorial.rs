@@ -19,7 +19,7 @@ use crate::common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
-use washdyn_runtime::ir::modal::{ModalData, read_file};
+use washdyn_model::ir::modal::{ModalData, read_file};
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))

@@ -7,8 +7,8 @@ use crate::common;
 use common::*;
 use nalgebra::{Complex, DMatrix, DVector, Vector3};
 use std::f64::consts::PI;
-use washdyn_runtime::ir::{Attach, LinearDamper, Model};
-use washdyn_runtime::ode::{Dopri5, Options, Solver, Stepper};
+use washdyn_model::ir::{Attach, LinearDamper, Model};
+use washdyn_ode::{Dopri5, Options, Solver, Stepper};
 use washdyn_runtime::system::{FirstOrder, Interpreter};
 
 type C = Complex<f64>;
@@ -50,7 +50,7 @@ fn linear_variant(rpm: f64, inertia: bool) -> Model {
     if !inertia {
         effects.retain(|e| e != "unbalance_inertia");
     }
-    m.scenes = vec![washdyn_runtime::ir::Scene {
+    m.scenes = vec![washdyn_model::ir::Scene {
         name: "linear".into(),
         effects,
         max_order: None,

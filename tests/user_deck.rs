@@ -11,7 +11,7 @@
 use crate::common;
 
 use std::path::Path;
-use washdyn_runtime::ir::modal::{ModalData, read_file};
+use washdyn_model::ir::modal::{ModalData, read_file};
 
 const MODES: usize = 20;
 

@@ -24,7 +24,7 @@ use std::f64::consts::PI;
 use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
-use washdyn_runtime::ir::modal::read_file;
+use washdyn_model::ir::modal::read_file;
 
 /// Radial stations of the meridian section, mm: the hub bore (clamped), the back plate to the
 /// wall's inside, and the wall's outside (6 mm wall).

@@ -6,12 +6,12 @@
 //! drum-mass rule: a rigid drum on an elastic tub runs.
 
 use nalgebra::{Matrix3, Vector3};
+use washdyn_model::equations::Equations;
+use washdyn_model::ir::modal::ModalPoint;
+use washdyn_model::ir::toml_file::{load_file, load_str};
+use washdyn_model::ir::{BodyRef, Model};
+use washdyn_ode::{Dopri5, Options};
 use washdyn_runtime::clearance::{DoorRing, DrumGap, Watch};
-use washdyn_runtime::equations::Equations;
-use washdyn_runtime::ir::modal::ModalPoint;
-use washdyn_runtime::ir::toml_file::{load_file, load_str};
-use washdyn_runtime::ir::{BodyRef, Model};
-use washdyn_runtime::ode::{Dopri5, Options};
 use washdyn_runtime::output::MemorySink;
 use washdyn_runtime::run::{Guard, Labels, RunOptions, Start, run_guarded};
 use washdyn_runtime::system::{FirstOrder, Interpreter};

@@ -200,139 +200,14 @@ impl RunUp {
                 needed: layout.len,
             });
         }
-        let mut analyzer = SpectrumAnalyzer::new(Window::hann(layout.len), signals.sample_rate);
-        let angle = &grid.angle;
         let starts: Vec<usize> = layout.starts(n).collect();
-        let blocks: Vec<Block> = starts
-            .iter()
-            .map(|&s| {
-                let rpm = &signals.drum_rpm[s..s + layout.len];
-                // Speeds as magnitudes: a reverse rotation has the same orders.
-                let mean = rpm.iter().map(|r| r.abs()).sum::<f64>() / rpm.len() as f64;
-                let (lo, hi) = rpm
-                    .iter()
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &r| {
-                        (lo.min(r.abs()), hi.max(r.abs()))
-                    });
-                let span = angle[s + layout.len - 1] - angle[s];
-                Block {
-                    time_s: signals.time[s] + 0.5 * (layout.len - 1) as f64 / signals.sample_rate,
-                    rpm: mean,
-                    rpm_min: lo,
-                    rpm_max: hi,
-                    revolutions: span / (2.0 * PI) * layout.len as f64 / (layout.len - 1) as f64,
-                    // Time spectra feed the cascades and the spectra table only.
-                    spectrum: if opts.cascades {
-                        analyzer.spectrum(&channel.data[s..s + layout.len], opts.remove_mean)
-                    } else {
-                        Spectrum {
-                            df: signals.sample_rate / layout.len as f64,
-                            amplitude: Vec::new(),
-                            energy: Vec::new(),
-                            block_len: layout.len,
-                        }
-                    },
-                }
-            })
-            .collect();
-        let tracked = opts.tracked_orders();
-        let neighbours = neighbour_orders(&tracked.iter().map(|(o, _)| *o).collect::<Vec<_>>());
-        // Order tracks in the angle domain (see `angle`): blocks of `order_block_revs` whole
-        // revolutions centred on each time block.
-        let per_rev = opts.samples_per_rev;
-        let revs = opts.order_block_revs;
-        let nb = revs * per_rev;
-        // Each time block's angle block and its highest drum speed, found once for the tracks
-        // and the order spectra: None below the minimum speed or where no whole block fits.
-        let angle_blocks: Vec<Option<(&[f64], f64)>> = starts
-            .iter()
-            .zip(&blocks)
-            .map(|(&s, b)| {
-                if b.rpm < opts.min_rpm {
-                    return None;
-                }
-                let centre = s as f64 + 0.5 * (layout.len - 1) as f64;
-                let kc = grid.pos.partition_point(|&p| p < centre);
-                let k0 = kc.checked_sub(nb / 2)?;
-                let block = xa.get(k0..k0 + nb)?;
-                let (t0, t1) = (grid.pos[k0] as usize, grid.pos[k0 + nb - 1].ceil() as usize);
-                let top = signals.drum_rpm[t0..=t1.min(n - 1)]
-                    .iter()
-                    .fold(0.0f64, |m, r| m.max(r.abs()));
-                Some((block, top))
-            })
-            .collect();
-        // Highest order a block resolves: its frequency in the kernel's flat pass band, and
-        // below the angle grid's Nyquist order.
-        let top_order = |top_rpm: f64| {
-            (FLAT_BAND * signals.sample_rate / (top_rpm / 60.0).max(1e-12))
-                .min(MAX_ORDER_PER_SAMPLE * per_rev as f64)
-        };
-        let tracks = tracked
-            .into_iter()
-            .map(|(order, label)| (OrderDft::new(nb, per_rev, order), order, label))
-            .map(|(dft, order, label)| {
-                // Neighbours closer than 2 bins (1 / revs orders each) share the Hann main lobe.
-                let close = neighbours.iter().any(|&o| {
-                    (o - order).abs() > 1e-9 && (o - order).abs() * (revs as f64) < 2.0 - 1e-9
-                });
-                OrderTrack {
-                    order,
-                    label,
-                    amplitude: angle_blocks
-                        .iter()
-                        .map(|ab| {
-                            let (block, top) = (*ab)?;
-                            (!close && order < top_order(top)).then(|| dft.amplitude(block))
-                        })
-                        .collect(),
-                }
-            })
-            .collect();
-        // Order spectra for the order plot: the same angle blocks, all orders at once.
-        let fft = realfft::RealFftPlanner::<f64>::new().plan_fft_forward(nb);
-        let hann: Vec<f64> = (0..nb)
-            .map(|k| 0.5 - 0.5 * (2.0 * PI * k as f64 / nb as f64).cos())
-            .collect();
-        let wsum: f64 = hann.iter().sum();
-        let order_spectra = angle_blocks
-            .iter()
-            .zip(&blocks)
-            .filter(|(_, b)| b.rpm >= opts.min_rpm)
-            .map(|(ab, _)| {
-                let (block, top) = (*ab)?;
-                let mean = block.iter().map(|v| v / nb as f64).sum::<f64>();
-                // Scaled by the largest magnitude (finite squares near f64::MAX).
-                let scale = block
-                    .iter()
-                    .fold(0.0f64, |m, v| m.max((v - mean).abs()))
-                    .max(f64::MIN_POSITIVE);
-                let mut buf: Vec<f64> = block
-                    .iter()
-                    .zip(&hann)
-                    .map(|(v, w)| (v - mean) / scale * w)
-                    .collect();
-                let mut out = fft.make_output_vec();
-                fft.process(&mut buf, &mut out).ok()?;
-                // Orders the block does not resolve: no data.
-                let top = top_order(top);
-                Some(
-                    out.iter()
-                        .enumerate()
-                        .map(|(k, c)| {
-                            if k as f64 / revs as f64 > top {
-                                f64::NAN
-                            } else {
-                                2.0 * (c.re * c.re + c.im * c.im).sqrt() / wsum * scale
-                            }
-                        })
-                        .collect(),
-                )
-            })
-            .collect();
+        let blocks = time_blocks(signals, channel, opts, &layout, &grid.angle, &starts);
+        let angle_blocks = angle_blocks(signals, opts, &layout, grid, xa, &starts, &blocks);
+        let tracks = order_tracks(signals, opts, &angle_blocks);
+        let order_spectra = order_spectra(signals, opts, &angle_blocks, &blocks);
         Ok(RunUp {
             order_spectra,
-            order_bins_per_order: revs as f64,
+            order_bins_per_order: opts.order_block_revs as f64,
             channel: channel.name.clone(),
             quantity: channel.quantity,
             layout,
@@ -354,4 +229,181 @@ impl RunUp {
             .flat_map(|b| b.spectrum.amplitude.iter().skip(1))
             .fold(0.0, |m, &a| m.max(a))
     }
+}
+
+/// The time blocks starting at `starts`: their time, speed range, revolutions (from the drum
+/// angle `angle`) and, for the cascades, their spectra.
+fn time_blocks(
+    signals: &Signals,
+    channel: &Channel,
+    opts: &AnalysisOptions,
+    layout: &BlockLayout,
+    angle: &[f64],
+    starts: &[usize],
+) -> Vec<Block> {
+    let mut analyzer = SpectrumAnalyzer::new(Window::hann(layout.len), signals.sample_rate);
+    starts
+        .iter()
+        .map(|&s| {
+            let rpm = &signals.drum_rpm[s..s + layout.len];
+            // Speeds as magnitudes: a reverse rotation has the same orders.
+            let mean = rpm.iter().map(|r| r.abs()).sum::<f64>() / rpm.len() as f64;
+            let (lo, hi) = rpm
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &r| {
+                    (lo.min(r.abs()), hi.max(r.abs()))
+                });
+            let span = angle[s + layout.len - 1] - angle[s];
+            Block {
+                time_s: signals.time[s] + 0.5 * (layout.len - 1) as f64 / signals.sample_rate,
+                rpm: mean,
+                rpm_min: lo,
+                rpm_max: hi,
+                revolutions: span / (2.0 * PI) * layout.len as f64 / (layout.len - 1) as f64,
+                // Time spectra feed the cascades and the spectra table only.
+                spectrum: if opts.cascades {
+                    analyzer.spectrum(&channel.data[s..s + layout.len], opts.remove_mean)
+                } else {
+                    Spectrum {
+                        df: signals.sample_rate / layout.len as f64,
+                        amplitude: Vec::new(),
+                        energy: Vec::new(),
+                        block_len: layout.len,
+                    }
+                },
+            }
+        })
+        .collect()
+}
+
+/// Each time block's angle block and its highest drum speed, found once for the tracks and the
+/// order spectra: None below the minimum speed or where no whole block fits. The blocks have
+/// `order_block_revs` whole revolutions of the angle-resampled channel `xa`, centred on each
+/// time block.
+fn angle_blocks<'a>(
+    signals: &Signals,
+    opts: &AnalysisOptions,
+    layout: &BlockLayout,
+    grid: &AngleGrid,
+    xa: &'a [f64],
+    starts: &[usize],
+    blocks: &[Block],
+) -> Vec<Option<(&'a [f64], f64)>> {
+    let n = signals.len();
+    let nb = opts.order_block_revs * opts.samples_per_rev;
+    starts
+        .iter()
+        .zip(blocks)
+        .map(|(&s, b)| {
+            if b.rpm < opts.min_rpm {
+                return None;
+            }
+            let centre = s as f64 + 0.5 * (layout.len - 1) as f64;
+            let kc = grid.pos.partition_point(|&p| p < centre);
+            let k0 = kc.checked_sub(nb / 2)?;
+            let block = xa.get(k0..k0 + nb)?;
+            let (t0, t1) = (grid.pos[k0] as usize, grid.pos[k0 + nb - 1].ceil() as usize);
+            let top = signals.drum_rpm[t0..=t1.min(n - 1)]
+                .iter()
+                .fold(0.0f64, |m, r| m.max(r.abs()));
+            Some((block, top))
+        })
+        .collect()
+}
+
+/// Highest order a block whose top speed is `top_rpm` resolves: its frequency in the kernel's
+/// flat pass band, and below the angle grid's Nyquist order.
+fn top_order(signals: &Signals, opts: &AnalysisOptions, top_rpm: f64) -> f64 {
+    let per_rev = opts.samples_per_rev;
+    (FLAT_BAND * signals.sample_rate / (top_rpm / 60.0).max(1e-12))
+        .min(MAX_ORDER_PER_SAMPLE * per_rev as f64)
+}
+
+/// Order tracks in the angle domain (see `angle`) for [`AnalysisOptions::tracked_orders`] over
+/// the angle blocks; none for orders whose neighbours share the Hann main lobe or beyond what a
+/// block resolves.
+fn order_tracks(
+    signals: &Signals,
+    opts: &AnalysisOptions,
+    angle_blocks: &[Option<(&[f64], f64)>],
+) -> Vec<OrderTrack> {
+    let tracked = opts.tracked_orders();
+    let neighbours = neighbour_orders(&tracked.iter().map(|(o, _)| *o).collect::<Vec<_>>());
+    let per_rev = opts.samples_per_rev;
+    let revs = opts.order_block_revs;
+    let nb = revs * per_rev;
+    tracked
+        .into_iter()
+        .map(|(order, label)| (OrderDft::new(nb, per_rev, order), order, label))
+        .map(|(dft, order, label)| {
+            // Neighbours closer than 2 bins (1 / revs orders each) share the Hann main lobe.
+            let close = neighbours.iter().any(|&o| {
+                (o - order).abs() > 1e-9 && (o - order).abs() * (revs as f64) < 2.0 - 1e-9
+            });
+            OrderTrack {
+                order,
+                label,
+                amplitude: angle_blocks
+                    .iter()
+                    .map(|ab| {
+                        let (block, top) = (*ab)?;
+                        (!close && order < top_order(signals, opts, top))
+                            .then(|| dft.amplitude(block))
+                    })
+                    .collect(),
+            }
+        })
+        .collect()
+}
+
+/// Order spectra for the order plot: the same angle blocks (of the blocks above the minimum
+/// speed), all orders at once; NaN above the orders a block resolves.
+fn order_spectra(
+    signals: &Signals,
+    opts: &AnalysisOptions,
+    angle_blocks: &[Option<(&[f64], f64)>],
+    blocks: &[Block],
+) -> Vec<Option<Vec<f64>>> {
+    let revs = opts.order_block_revs;
+    let nb = revs * opts.samples_per_rev;
+    let fft = realfft::RealFftPlanner::<f64>::new().plan_fft_forward(nb);
+    let hann: Vec<f64> = (0..nb)
+        .map(|k| 0.5 - 0.5 * (2.0 * PI * k as f64 / nb as f64).cos())
+        .collect();
+    let wsum: f64 = hann.iter().sum();
+    angle_blocks
+        .iter()
+        .zip(blocks)
+        .filter(|(_, b)| b.rpm >= opts.min_rpm)
+        .map(|(ab, _)| {
+            let (block, top) = (*ab)?;
+            let mean = block.iter().map(|v| v / nb as f64).sum::<f64>();
+            // Scaled by the largest magnitude (finite squares near f64::MAX).
+            let scale = block
+                .iter()
+                .fold(0.0f64, |m, v| m.max((v - mean).abs()))
+                .max(f64::MIN_POSITIVE);
+            let mut buf: Vec<f64> = block
+                .iter()
+                .zip(&hann)
+                .map(|(v, w)| (v - mean) / scale * w)
+                .collect();
+            let mut out = fft.make_output_vec();
+            fft.process(&mut buf, &mut out).ok()?;
+            // Orders the block does not resolve: no data.
+            let top = top_order(signals, opts, top);
+            Some(
+                out.iter()
+                    .enumerate()
+                    .map(|(k, c)| {
+                        if k as f64 / revs as f64 > top {
+                            f64::NAN
+                        } else {
+                            2.0 * (c.re * c.re + c.im * c.im).sqrt() / wsum * scale
+                        }
+                    })
+                    .collect(),
+            )
+        })
+        .collect()
 }

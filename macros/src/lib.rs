@@ -5,7 +5,7 @@
 //! This crate only reads tokens and places errors; the IR, the checker and the generator live in
 //! `washdyn_model` (this crate builds no integrator), so both front ends fill and check the same
 //! model. The calling crate needs `washdyn-runtime` as a dependency (the generated code names
-//! `::washdyn_runtime`, which re-exports the model).
+//! `::washdyn_runtime`, and the model through its facade `::washdyn_runtime::model`).
 //!
 //! # Syntax
 //!

@@ -16,9 +16,9 @@ pub use elastic_cabinet_decl::elastic_cabinet;
 /// `reference()` loads the TOML file; a module and a function may share a name.)
 pub use reference_decl::reference;
 
-use washdyn_runtime::ir::Model;
-use washdyn_runtime::ir::files::{DataFiles, Embedded};
-use washdyn_runtime::ir::toml_file::{ModelFileError, load_with};
+use washdyn_model::ir::Model;
+use washdyn_model::ir::files::{DataFiles, Embedded};
+use washdyn_model::ir::toml_file::{ModelFileError, load_with};
 
 /// The reference machine's TOML source.
 pub const REFERENCE_TOML: &str = include_str!("../data/reference.toml");

@@ -1,11 +1,11 @@
 //! The `machine!` front end fills the same IR as the TOML front end.
 
+use washdyn_model::ir::check::check;
 use washdyn_models::{compact, reference};
-use washdyn_runtime::ir::check::check;
 
 /// Equal models, or a panic naming the differing top-level fields and list items (a model
 /// with modal data prints megabytes).
-fn assert_same(a: &washdyn_runtime::ir::Model, b: &washdyn_runtime::ir::Model) {
+fn assert_same(a: &washdyn_model::ir::Model, b: &washdyn_model::ir::Model) {
     let (va, vb) = (
         washdyn_runtime::serde_json::to_value(a).unwrap(),
         washdyn_runtime::serde_json::to_value(b).unwrap(),
@@ -37,7 +37,7 @@ fn assert_same(a: &washdyn_runtime::ir::Model, b: &washdyn_runtime::ir::Model) {
 #[test]
 fn declared_reference_equals_the_toml_file() {
     // Data files are relative to each front end's base: compare which file, not the path.
-    let files = |mut m: washdyn_runtime::ir::Model| {
+    let files = |mut m: washdyn_model::ir::Model| {
         for e in &mut m.elastic {
             e.file = e.file.rsplit('/').next().unwrap_or_default().to_string();
         }

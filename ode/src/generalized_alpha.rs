@@ -248,7 +248,9 @@ impl GeneralizedAlpha {
         self.stats.rhs_evals += m as u64 + 1;
     }
 
-    fn attempt<S: OdeSystem + ?Sized>(&mut self, sys: &mut S, h: f64) -> Attempt {
+    /// Refreshes the Jacobian when it is stale and factors the iteration matrix when h changed
+    /// (I - cq A - cv B, or M times it); false when it is singular.
+    fn iteration_matrix<S: OdeSystem + ?Sized>(&mut self, sys: &mut S, h: f64) -> bool {
         let (n, nz) = (self.n, self.nz);
         let rows = n + nz;
         let AlphaParams {
@@ -295,9 +297,70 @@ impl GeneralizedAlpha {
             };
             if !factored {
                 self.lu_h = 0.0;
-                return Attempt::Singular;
+                return false;
             }
             self.lu_h = h;
+        }
+        true
+    }
+
+    /// The Newton correction: `dx` (the residual A(y) - x) becomes the iteration matrix's
+    /// solve of it, in forces when the matrix is M times it.
+    fn solve_correction(&mut self) {
+        let (n, rows) = (self.n, self.n + self.nz);
+        if let (true, Some((j, lu))) = (self.ported_form, &mut self.ported) {
+            // The residual in forces, M (A(y) - x), through the ported factorisation.
+            self.base.copy_from_slice(&self.dx);
+            ported::mass_times(j, &self.base, &mut self.dx);
+            lu.solve_mass(j, &mut self.dx);
+        } else {
+            if self.mass_form {
+                // The residual in forces: M (A(y) - x).
+                self.base.copy_from_slice(&self.dx);
+                for (i, d) in self.dx.iter_mut().enumerate() {
+                    let row = &self.mass[i * n..(i + 1) * n];
+                    *d = row.iter().zip(&self.base).map(|(m, r)| m * r).sum();
+                }
+            }
+            lu_solve(&self.lu, rows, &self.piv, &mut self.dx);
+        }
+    }
+
+    /// The Newton correction's weighted RMS size in the state.
+    fn correction_norm(&self, h: f64) -> f64 {
+        let (n, nz) = (self.n, self.nz);
+        let AlphaParams {
+            alpha_m,
+            alpha_f,
+            beta,
+            gamma,
+        } = self.p;
+        let bp = (1.0 - alpha_f) / (1.0 - alpha_m);
+        // The correction's size in the state: dq = h^2 beta beta' dx, dv = h gamma beta' dx.
+        // dz = h gamma beta' dx_z.
+        let mut sum = 0.0;
+        for i in 0..n {
+            let dq = h * h * beta * bp * self.dx[i] / self.scale[i];
+            let dv = h * gamma * bp * self.dx[i] / self.scale[n + i];
+            sum += dq * dq + dv * dv;
+        }
+        for j in 0..nz {
+            let dz = h * gamma * bp * self.dx[n + j] / self.scale[2 * n + j];
+            sum += dz * dz;
+        }
+        if n + nz > 0 {
+            (sum / (2 * n + nz) as f64).sqrt()
+        } else {
+            0.0
+        }
+    }
+
+    fn attempt<S: OdeSystem + ?Sized>(&mut self, sys: &mut S, h: f64) -> Attempt {
+        let (n, nz) = (self.n, self.nz);
+        let rows = n + nz;
+        let beta = self.p.beta;
+        if !self.iteration_matrix(sys, h) {
+            return Attempt::Singular;
         }
         for i in 0..2 * n + nz {
             self.scale[i] = self.tol.scale(i, self.y[i]);
@@ -316,39 +379,8 @@ impl GeneralizedAlpha {
             for i in 0..rows {
                 self.dx[i] = self.ftmp[n + i] - self.x[i];
             }
-            if let (true, Some((j, lu))) = (self.ported_form, &mut self.ported) {
-                // The residual in forces, M (A(y) - x), through the ported factorisation.
-                self.base.copy_from_slice(&self.dx);
-                ported::mass_times(j, &self.base, &mut self.dx);
-                lu.solve_mass(j, &mut self.dx);
-            } else {
-                if self.mass_form {
-                    // The residual in forces: M (A(y) - x).
-                    self.base.copy_from_slice(&self.dx);
-                    for (i, d) in self.dx.iter_mut().enumerate() {
-                        let row = &self.mass[i * n..(i + 1) * n];
-                        *d = row.iter().zip(&self.base).map(|(m, r)| m * r).sum();
-                    }
-                }
-                lu_solve(&self.lu, rows, &self.piv, &mut self.dx);
-            }
-            // The correction's size in the state: dq = h^2 beta beta' dx, dv = h gamma beta' dx.
-            // dz = h gamma beta' dx_z.
-            let mut sum = 0.0;
-            for i in 0..n {
-                let dq = h * h * beta * bp * self.dx[i] / self.scale[i];
-                let dv = h * gamma * bp * self.dx[i] / self.scale[n + i];
-                sum += dq * dq + dv * dv;
-            }
-            for j in 0..nz {
-                let dz = h * gamma * bp * self.dx[n + j] / self.scale[2 * n + j];
-                sum += dz * dz;
-            }
-            let dnorm = if n + nz > 0 {
-                (sum / (2 * n + nz) as f64).sqrt()
-            } else {
-                0.0
-            };
+            self.solve_correction();
+            let dnorm = self.correction_norm(h);
             if !dnorm.is_finite() {
                 return Attempt::NonFinite;
             }

@@ -134,11 +134,10 @@ impl Sdirk4 {
         self.stats.rhs_evals += n as u64 + 1;
     }
 
-    /// One trial step of size h from (t, y) into `y_new`.
-    fn attempt<S: OdeSystem + ?Sized>(&mut self, sys: &mut S, h: f64) -> Attempt {
-        let n = self.n;
+    /// Refreshes the Jacobian when it is stale and factors I - h gamma J when h changed; false
+    /// when it is singular.
+    fn iteration_matrix<S: OdeSystem + ?Sized>(&mut self, sys: &mut S, h: f64) -> bool {
         let g = SDIRK4_GAMMA;
-        let tab = &SDIRK4;
         if !self.jac_age.valid {
             self.compute_jacobian(sys);
             self.jac_age = Jacobian {
@@ -151,9 +150,114 @@ impl Sdirk4 {
             self.stats.lu_decompositions += 1;
             if self.lu.factor(&self.jac, 1.0, h * g).is_err() {
                 self.lu_h = 0.0;
-                return Attempt::Singular;
+                return false;
             }
             self.lu_h = h;
+        }
+        true
+    }
+
+    /// Stage `st`'s explicit part `s` (the earlier stages' sum) and the Newton start `z`: the
+    /// last step's interpolant at `tc` when `predict`, else the previous stage derivative.
+    fn stage_guess(&mut self, st: usize, h: f64, tc: f64, predict: bool) {
+        let n = self.n;
+        let g = SDIRK4_GAMMA;
+        let tab = &SDIRK4;
+        {
+            let (done, _) = self.hk.split_at(st);
+            for i in 0..n {
+                let mut acc = 0.0;
+                for (j, hkj) in done.iter().enumerate() {
+                    acc += tab.a[st][j] * hkj[i];
+                }
+                self.s[i] = acc;
+                if !predict {
+                    // The stage derivative equals the previous one.
+                    let prev = if st == 0 {
+                        h * self.f[i]
+                    } else {
+                        done[st - 1][i]
+                    };
+                    self.z[i] = acc + g * prev;
+                }
+            }
+        }
+        if predict {
+            hermite(
+                self.t_prev,
+                self.t - self.t_prev,
+                &self.y_prev,
+                &self.f_prev,
+                &self.y,
+                &self.f,
+                tc,
+                &mut self.ytmp,
+            );
+            for i in 0..n {
+                self.z[i] = self.ytmp[i] - self.y[i];
+            }
+        }
+    }
+
+    /// Newton's iteration for a stage at `tc` from the guess in `z`, to convergence (then `eta`
+    /// is the rate's), or the attempt's failure.
+    fn solve_stage<S: OdeSystem + ?Sized>(
+        &mut self,
+        sys: &mut S,
+        tc: f64,
+        h: f64,
+        kappa: f64,
+    ) -> Result<(), Attempt> {
+        let n = self.n;
+        let g = SDIRK4_GAMMA;
+        let mut rate = Rate::new(self.eta, kappa, MAX_NEWTON);
+        let mut converged = false;
+        for it in 0..MAX_NEWTON {
+            for i in 0..n {
+                self.ytmp[i] = self.y[i] + self.z[i];
+            }
+            sys.rhs(tc, &self.ytmp, &mut self.ftmp);
+            self.stats.rhs_evals += 1;
+            self.stats.newton_iterations += 1;
+            for i in 0..n {
+                self.delta[i] = self.s[i] + h * g * self.ftmp[i] - self.z[i];
+            }
+            self.lu.solve(&self.jac, &mut self.delta);
+            let mut sum = 0.0;
+            for i in 0..n {
+                let q = self.delta[i] / self.scale[i];
+                sum += q * q;
+            }
+            let dnorm = if n > 0 { (sum / n as f64).sqrt() } else { 0.0 };
+            if !dnorm.is_finite() {
+                return Err(Attempt::NonFinite);
+            }
+            let verdict = rate.judge(it, dnorm, &mut self.theta_max);
+            if verdict == Verdict::Failed {
+                return Err(Attempt::NewtonFailed);
+            }
+            for i in 0..n {
+                self.z[i] += self.delta[i];
+            }
+            if verdict == Verdict::Converged {
+                converged = true;
+                break;
+            }
+        }
+        if !converged {
+            return Err(Attempt::NewtonFailed);
+        }
+        self.eta = rate.eta();
+        Ok(())
+    }
+
+    /// One trial step of size h from (t, y) into `y_new`.
+    fn attempt<S: OdeSystem + ?Sized>(&mut self, sys: &mut S, h: f64) -> Attempt {
+        let n = self.n;
+        let g = SDIRK4_GAMMA;
+        let tab = &SDIRK4;
+        if !self.iteration_matrix(sys, h) {
+            return Attempt::Singular;
         }
         for i in 0..n {
             self.scale[i] = self.tol.scale(i, self.y[i]);
@@ -166,78 +270,10 @@ impl Sdirk4 {
         let predict = self.t_prev < self.t && h <= 3.0 * (self.t - self.t_prev);
         for st in 0..STAGES {
             let tc = self.t + tab.c[st] * h;
-            {
-                let (done, _) = self.hk.split_at(st);
-                for i in 0..n {
-                    let mut acc = 0.0;
-                    for (j, hkj) in done.iter().enumerate() {
-                        acc += tab.a[st][j] * hkj[i];
-                    }
-                    self.s[i] = acc;
-                    if !predict {
-                        // The stage derivative equals the previous one.
-                        let prev = if st == 0 {
-                            h * self.f[i]
-                        } else {
-                            done[st - 1][i]
-                        };
-                        self.z[i] = acc + g * prev;
-                    }
-                }
+            self.stage_guess(st, h, tc, predict);
+            if let Err(failed) = self.solve_stage(sys, tc, h, kappa) {
+                return failed;
             }
-            if predict {
-                hermite(
-                    self.t_prev,
-                    self.t - self.t_prev,
-                    &self.y_prev,
-                    &self.f_prev,
-                    &self.y,
-                    &self.f,
-                    tc,
-                    &mut self.ytmp,
-                );
-                for i in 0..n {
-                    self.z[i] = self.ytmp[i] - self.y[i];
-                }
-            }
-            let mut rate = Rate::new(self.eta, kappa, MAX_NEWTON);
-            let mut converged = false;
-            for it in 0..MAX_NEWTON {
-                for i in 0..n {
-                    self.ytmp[i] = self.y[i] + self.z[i];
-                }
-                sys.rhs(tc, &self.ytmp, &mut self.ftmp);
-                self.stats.rhs_evals += 1;
-                self.stats.newton_iterations += 1;
-                for i in 0..n {
-                    self.delta[i] = self.s[i] + h * g * self.ftmp[i] - self.z[i];
-                }
-                self.lu.solve(&self.jac, &mut self.delta);
-                let mut sum = 0.0;
-                for i in 0..n {
-                    let q = self.delta[i] / self.scale[i];
-                    sum += q * q;
-                }
-                let dnorm = if n > 0 { (sum / n as f64).sqrt() } else { 0.0 };
-                if !dnorm.is_finite() {
-                    return Attempt::NonFinite;
-                }
-                let verdict = rate.judge(it, dnorm, &mut self.theta_max);
-                if verdict == Verdict::Failed {
-                    return Attempt::NewtonFailed;
-                }
-                for i in 0..n {
-                    self.z[i] += self.delta[i];
-                }
-                if verdict == Verdict::Converged {
-                    converged = true;
-                    break;
-                }
-            }
-            if !converged {
-                return Attempt::NewtonFailed;
-            }
-            self.eta = rate.eta();
             for i in 0..n {
                 self.hk[st][i] = (self.z[i] - self.s[i]) / g;
             }

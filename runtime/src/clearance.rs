@@ -15,10 +15,10 @@
 //! the modal data's node sets DRUM_EDGE_k (drum) and TUB_RING_k (tub), k = 0.., and the
 //! clearance is their mean radii's difference; a body without them counts as rigid there.
 
-use crate::equations::{Equations, MarkerDef, ModalRows, rotate};
-use crate::geom::{V, f};
-use crate::ir::modal::{ModalData, point_at};
-use crate::ir::{BodyRef, Model};
+use washdyn_model::equations::{Equations, MarkerDef, ModalRows, rotate};
+use washdyn_model::geom::{V, f};
+use washdyn_model::ir::modal::{ModalData, point_at};
+use washdyn_model::ir::{BodyRef, Model};
 
 /// Radius of the door ring about the drum axis, m: the tub's front opening where the gasket's
 /// bellows is clamped (reference machine: tub radius 0.27 m, ring at 0.25 m).
@@ -215,7 +215,10 @@ pub struct DrumGap {
 }
 
 /// The modal data's points named `PREFIX_k`, k = 0.. (in order, stopping at the first gap).
-fn named_points<'a>(d: &'a ModalData, prefix: &str) -> Vec<&'a crate::ir::modal::ModalPoint> {
+fn named_points<'a>(
+    d: &'a ModalData,
+    prefix: &str,
+) -> Vec<&'a washdyn_model::ir::modal::ModalPoint> {
     (0..)
         .map_while(|k| d.point(&format!("{prefix}_{k}")))
         .collect()

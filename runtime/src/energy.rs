@@ -2,9 +2,9 @@
 //! the integrator's dense output. Here, not beside the split, because it drives a back end and an
 //! integrator (the model crate has neither).
 
-use crate::equations::{Category, EnergyWork};
-use crate::ode::Stepper;
 use crate::system::Mechanical;
+use washdyn_model::equations::{Category, EnergyWork};
+use washdyn_ode::Stepper;
 
 /// The category powers of a back end at (t, y = [q; q'; z]) in the order of
 /// `Equations::energy_categories` (its resolved model's), the drive's with q'^T M1' q' / 2 (M1

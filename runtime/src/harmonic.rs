@@ -13,12 +13,12 @@
 //! linearises its elements: a channel's amplitude is the sensor of Re X plus i times the sensor
 //! of Im X.
 
-use crate::equations::{Drive, Equations};
 use crate::linearise::Linearisation;
 use crate::statics::MEAN_REVOLUTIONS;
 use crate::system::{Interpreter, Mechanical};
 use nalgebra::{Complex, DMatrix, DVector};
 use std::f64::consts::PI;
+use washdyn_model::equations::{Drive, Equations};
 
 /// Samples per drum revolution of the load's DFT (orders up to 31 are resolved without
 /// aliasing; the prescribed unbalance forces are pure sinusoids of their rotor's order).
@@ -311,17 +311,18 @@ pub fn response(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ir::{LinearDamper, Model};
-    use crate::ode::{Dopri5, Options, Solver, Stepper};
     use crate::periodic::periodic_state;
     use crate::system::FirstOrder;
+    use washdyn_model::ir::{LinearDamper, Model};
+    use washdyn_ode::{Dopri5, Options, Solver, Stepper};
 
     /// The rigid reference machine at constant `rpm`, friction dampers replaced by linear ones
     /// (the rubber bearings left out), with gravity and preloads: an LTI scene whose rest is not 0.
     fn lti_rigid(rpm: f64, effects: &[&str]) -> Interpreter {
         let src = include_str!("../../models/data/reference.toml");
         let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../models/data");
-        let mut m: Model = crate::ir::toml_file::load_str(src, "reference.toml", &data).unwrap();
+        let mut m: Model =
+            washdyn_model::ir::toml_file::load_str(src, "reference.toml", &data).unwrap();
         m.speed.table = vec![[0.0, rpm], [1000.0, rpm]];
         for d in std::mem::take(&mut m.friction_dampers) {
             m.dampers.push(LinearDamper {
@@ -331,7 +332,7 @@ mod tests {
                 damping: 400.0,
             });
         }
-        m.scenes.push(crate::ir::Scene {
+        m.scenes.push(washdyn_model::ir::Scene {
             name: "lti".into(),
             effects: effects.iter().map(|s| s.to_string()).collect(),
             max_order: None,

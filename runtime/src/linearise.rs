@@ -10,10 +10,10 @@
 //! its own, generated code the model it embeds), so there is no step size to choose and no
 //! difference fallback. The element states are held at their assembly value.
 
-use crate::equations::{Drive, Equations, JacobianWork};
 use crate::statics::static_equilibrium;
 use crate::system::Mechanical;
 use nalgebra::{DMatrix, DVector};
+use washdyn_model::equations::{Drive, Equations, JacobianWork};
 
 /// The machine linearised about q0 with q' = 0 (n x n matrices over q = [q1; q2]).
 #[derive(Clone, Debug)]

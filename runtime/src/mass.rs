@@ -9,11 +9,11 @@
 //! in place of the Cholesky's n1^3 / 3 (n1 = 114, r = 30 on the elastic reference), exact to
 //! round-off (no singular value of the deviation is dropped above round-off).
 
-use crate::codegen::mass::{LOW_RANK_MIN_N1, MassHarmonics, fit};
-use crate::equations::Equations;
-use crate::linalg::{cholesky_in_place, cholesky_solve};
-use crate::ode::lu::{lu_factor, lu_solve};
 use nalgebra::DMatrix;
+use washdyn_model::codegen::mass::{LOW_RANK_MIN_N1, MassHarmonics, fit};
+use washdyn_model::equations::Equations;
+use washdyn_model::linalg::{cholesky_in_place, cholesky_solve};
+use washdyn_ode::lu::{lu_factor, lu_solve};
 
 /// A direction of the deviations' column space is kept down to this share of the largest
 /// singular value: round-off, so the solve stays exact.
@@ -185,7 +185,7 @@ fn row_major(m: &DMatrix<f64>) -> Vec<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::equations::Drive;
+    use washdyn_model::equations::Drive;
 
     /// The low-rank solve against the Cholesky of the derivation's own M1 (the interpreter's
     /// solve) on the reference's elastic scene, at angles the harmonic fit never saw: the same
@@ -194,7 +194,7 @@ mod tests {
     fn low_rank_solve_is_the_cholesky_solve() {
         let src = include_str!("../../models/data/reference.toml");
         let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../models/data");
-        let m = crate::ir::toml_file::load_str(src, "reference.toml", &data).unwrap();
+        let m = washdyn_model::ir::toml_file::load_str(src, "reference.toml", &data).unwrap();
         let eq = Equations::new(&m, &m.scene(Some("elastic")).unwrap());
         let (n1, n) = (eq.layout.n1, eq.layout.n());
         let mut lr = LowRankMass::new(&eq).expect("the elastic scene's M1 has the form");

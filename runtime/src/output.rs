@@ -20,7 +20,10 @@ pub trait SampleSink {
         false
     }
     /// The balance's categories, before the first energy row.
-    fn energy_header(&mut self, _categories: &[crate::equations::Category]) -> io::Result<()> {
+    fn energy_header(
+        &mut self,
+        _categories: &[washdyn_model::equations::Category],
+    ) -> io::Result<()> {
         Ok(())
     }
     /// One row of the balance: kinetic energy and each category's work since the start, J.

@@ -13,12 +13,12 @@
 //! at a tolerance 1e-2 of the residual was tried: the changing map spoils the memory, and the
 //! rigid machine at 600 rpm took 157 integrations instead of 17.)
 
-use crate::ode::{Dopri5, OdeSystem, Options, Solver, Stepper};
-use crate::speed::Speed;
 use crate::statics::{MEAN_REVOLUTIONS, mean_load_equilibrium};
 use crate::system::{FirstOrder, Mechanical};
 use nalgebra::{DMatrix, DVector};
 use std::sync::atomic::{AtomicBool, Ordering};
+use washdyn_model::speed::Speed;
+use washdyn_ode::{Dopri5, OdeSystem, Options, Solver, Stepper};
 
 /// Anderson's memory (previous iterates kept).
 const MEMORY: usize = 16;

@@ -3,8 +3,8 @@
 //! run, so the tub does not drop under the unbalance's extra weight. Set-up code: it may
 //! allocate.
 
-use crate::ode::lu::{lu_factor, lu_solve};
 use crate::system::Mechanical;
+use washdyn_ode::lu::{lu_factor, lu_solve};
 
 /// Solve for the rest position at time t0 (velocities zero). Returns q.
 pub fn static_equilibrium<S: Mechanical>(sys: &mut S, t0: f64) -> Result<Vec<f64>, String> {

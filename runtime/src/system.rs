@@ -1,12 +1,12 @@
 //! The mechanical system as both back ends present it, and its first-order form for the
 //! integrators. M1 is factorised (Cholesky) at every evaluation, M2 once.
 
-use crate::equations::{Equations, JacobianWork, Layout};
-use crate::ir::{EffectSet, Model};
-use crate::linalg::{cholesky_in_place, cholesky_solve};
 use crate::mass::LowRankMass;
-use crate::ode::{OdeSystem, PortedJacobian};
-use crate::speed::Speed;
+use washdyn_model::equations::{Equations, JacobianWork, Layout};
+use washdyn_model::ir::{EffectSet, Model};
+use washdyn_model::linalg::{cholesky_in_place, cholesky_solve};
+use washdyn_model::speed::Speed;
+use washdyn_ode::{OdeSystem, PortedJacobian};
 
 /// M(q, t) q'' = h(q, q', t) with M = diag(M1(q, t), M2), as either back end evaluates it.
 pub trait Mechanical {

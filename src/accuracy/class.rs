@@ -8,9 +8,9 @@ use super::report::db;
 use super::{CLASSES, Study, Window};
 use crate::simulation::Simulation;
 use std::sync::OnceLock;
-use washdyn_runtime::ir::files::content_hash as fnv1a64;
-use washdyn_runtime::ir::{Effect, EffectSet, Model};
-use washdyn_runtime::ode::Method;
+use washdyn_model::ir::files::content_hash as fnv1a64;
+use washdyn_model::ir::{Effect, EffectSet, Model};
+use washdyn_ode::Method;
 use washdyn_runtime::run::Summary;
 
 /// The committed study (`docs/accuracy.json`), compiled in for the error class.
@@ -80,7 +80,7 @@ pub fn content_hash(model: &Model, scene: &EffectSet) -> String {
         {
             d.source.clear();
             d.frequencies.clear();
-            d.elementary = washdyn_runtime::ir::modal::Elementary {
+            d.elementary = washdyn_model::ir::modal::Elementary {
                 c: Default::default(),
                 s: Default::default(),
                 g: Default::default(),
@@ -191,7 +191,7 @@ impl Verdict {
 pub fn error_class(sim: &Simulation) -> Option<String> {
     if sim
         .rho_inf
-        .is_some_and(|r| r != washdyn_runtime::ode::Options::default().rho_inf)
+        .is_some_and(|r| r != washdyn_ode::Options::default().rho_inf)
     {
         return None;
     }

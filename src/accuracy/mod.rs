@@ -13,8 +13,8 @@ use crate::spec::{Field, RunSpec};
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 use std::path::PathBuf;
-use washdyn_runtime::ir::EffectSet;
-use washdyn_runtime::ode::Method;
+use washdyn_model::ir::EffectSet;
+use washdyn_ode::Method;
 use washdyn_runtime::output::MemorySink;
 use washdyn_runtime::run::{Start, Summary};
 
@@ -276,7 +276,7 @@ fn is_elastic(scene: &EffectSet) -> bool {
     scene
         .effects
         .iter()
-        .any(|e| matches!(e, washdyn_runtime::ir::Effect::Elastic(_)))
+        .any(|e| matches!(e, washdyn_model::ir::Effect::Elastic(_)))
 }
 
 /// Runs the whole study; `log` hears one line a run.

@@ -10,8 +10,8 @@ use crate::analysis::metrics::{Tracks, order_tracks, trim};
 use crate::error::Error;
 use crate::simulation::{Backend, Source};
 use crate::spec::Field;
-use washdyn_runtime::ir::EffectSet;
-use washdyn_runtime::ode::Method;
+use washdyn_model::ir::EffectSet;
+use washdyn_ode::Method;
 use washdyn_runtime::output::MemorySink;
 use washdyn_runtime::system::Interpreter;
 

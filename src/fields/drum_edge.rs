@@ -3,7 +3,7 @@
 //! the grids: every stored sample, one number per sample, no mesh written.
 
 use std::path::{Path, PathBuf};
-use washdyn_runtime::ir::BodyRef;
+use washdyn_model::ir::BodyRef;
 
 use super::recovery::{Recovery, peak_von_mises};
 use super::states::States;

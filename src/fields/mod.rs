@@ -15,9 +15,9 @@
 //! edge over a run (`drum_edge.rs`).
 
 use std::path::Path;
-use washdyn_runtime::equations::Equations;
-use washdyn_runtime::ir::BodyRef;
-use washdyn_runtime::ir::files::FileHash;
+use washdyn_model::equations::Equations;
+use washdyn_model::ir::BodyRef;
+use washdyn_model::ir::files::FileHash;
 
 mod drum_edge;
 mod grids;

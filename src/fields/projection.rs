@@ -4,8 +4,8 @@
 
 use nalgebra::DMatrix;
 use washdyn_fe::field::Field;
-use washdyn_runtime::equations::ModalBody;
-use washdyn_runtime::ir::modal::ModalData;
+use washdyn_model::equations::ModalBody;
+use washdyn_model::ir::modal::ModalData;
 
 /// q_file = T q_scene for a body's modal data (identity when not truncated).
 fn basis(d: &ModalData, file_modes: usize) -> DMatrix<f64> {

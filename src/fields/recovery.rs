@@ -4,9 +4,9 @@
 use nalgebra::DMatrix;
 use std::path::Path;
 use washdyn_fe::field::Field;
-use washdyn_runtime::equations::{Body, BodyState, Equations, Frame, rotate};
-use washdyn_runtime::geom::V;
-use washdyn_runtime::geom::f::{add, sub};
+use washdyn_model::equations::{Body, BodyState, Equations, Frame, rotate};
+use washdyn_model::geom::V;
+use washdyn_model::geom::f::{add, sub};
 
 use super::projection::modal;
 

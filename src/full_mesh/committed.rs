@@ -4,7 +4,7 @@ use nalgebra::Complex;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use washdyn_fe::assembly::Solution;
-use washdyn_runtime::ir::files::content_hash;
+use washdyn_model::ir::files::content_hash;
 
 /// ccx's answer for one assembled deck, as `washdyn fe reference` commits it: the 200-mode
 /// solve takes 15 to 20 min on 2 cores, too long for every test run, and the deck's hash ties

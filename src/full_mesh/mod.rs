@@ -15,8 +15,8 @@ use serde::Serialize;
 use std::f64::consts::PI;
 use std::path::PathBuf;
 use washdyn_fe::assembly::{self, LinearSpec, SCENE, Settings, Solution};
+use washdyn_model::ir::{Model, SensorKind};
 use washdyn_runtime::harmonic;
-use washdyn_runtime::ir::{Model, SensorKind};
 use washdyn_runtime::system::Interpreter;
 
 /// ccx's mode counts of the study: the last is the reference (with 100, to 183 Hz, ccx's own

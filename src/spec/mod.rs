@@ -12,8 +12,8 @@ pub use rules::{Context, MAX_OUTPUT_BYTES, RK4_STEP, SAMPLE_RATE, T_END_MAX, TOL
 
 use crate::results::Format;
 use serde::{Deserialize, Deserializer};
-use washdyn_runtime::ir::Model;
-use washdyn_runtime::ode::{Method, Options};
+use washdyn_model::ir::Model;
+use washdyn_ode::{Method, Options};
 use washdyn_runtime::run::{Guard, Start};
 
 /// Which evaluator of the equations runs.

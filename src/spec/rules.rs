@@ -6,7 +6,7 @@
 use super::RunSpec;
 use super::field::{Field, Refusal, Spelling};
 use crate::error::Error;
-use washdyn_runtime::ode::Method;
+use washdyn_ode::Method;
 
 /// Fixed step of rk4, s: below 1e-7 s a 20 s run-up needs 2e8 steps (hours); above 1e-2 s the
 /// step exceeds the stability limit of the stiffest element of the reference machine (the

@@ -7,7 +7,7 @@
 
 use serde::{Deserialize, Serialize};
 use washdyn_analysis::study::designs;
-use washdyn_runtime::ir::check::Path;
+use washdyn_model::ir::check::Path;
 
 /// Design kinds of the study file's `[design] kind`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

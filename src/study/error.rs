@@ -4,7 +4,7 @@
 
 use std::fmt;
 use std::path::PathBuf;
-use washdyn_runtime::ir::toml_file::Located;
+use washdyn_model::ir::toml_file::Located;
 
 /// A variant the model refuses: its id, its parameter values, and why.
 #[derive(Clone, Debug, PartialEq)]

@@ -12,10 +12,10 @@ use crate::simulation::{RunControl, Simulation, Source};
 use crate::spec::{Field, RunSpec, Spelling};
 use serde::Deserialize;
 use std::path::{Path as FsPath, PathBuf};
-use washdyn_runtime::ir::check::{Path, Seg};
-use washdyn_runtime::ir::modal::from_toml;
-use washdyn_runtime::ir::param::{self, Param};
-use washdyn_runtime::ir::toml_file::{Located, line_col, locate};
+use washdyn_model::ir::check::{Path, Seg};
+use washdyn_model::ir::modal::from_toml;
+use washdyn_model::ir::param::{self, Param};
+use washdyn_model::ir::toml_file::{Located, line_col, locate};
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -18,7 +18,7 @@ use crate::analysis::{AnalysisOptions, Channel, RunUp, Signals};
 use crate::results::unit_of_column;
 use crate::simulation::Simulation;
 use serde::Serialize;
-use washdyn_runtime::ir::BodyRef;
+use washdyn_model::ir::BodyRef;
 use washdyn_runtime::run::Summary;
 
 /// Drum orders whose peaks each channel reports.

@@ -14,7 +14,7 @@ use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
 use std::time::Instant;
-use washdyn_runtime::ir::Model;
+use washdyn_model::ir::Model;
 use washdyn_runtime::run::RunStatus;
 
 /// The back end that runs `variant` of `study`: a built-in model's generated code where the

@@ -9,9 +9,9 @@ use super::file::{Study, touches_speed};
 use crate::error::Error;
 use crate::simulation::{RunControl, Simulation};
 use rayon::prelude::*;
-use washdyn_runtime::ir::Model;
-use washdyn_runtime::ir::check::{CheckError, check};
-use washdyn_runtime::ir::param;
+use washdyn_model::ir::Model;
+use washdyn_model::ir::check::{CheckError, check};
+use washdyn_model::ir::param;
 
 /// One design point: its id and its parameter values (the study's parameters' order).
 #[derive(Clone, Debug, PartialEq)]

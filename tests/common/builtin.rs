@@ -7,7 +7,7 @@
 use std::path::PathBuf;
 use std::sync::OnceLock;
 use washdyn_fe::pipeline::{BodySpec, Report, build};
-use washdyn_runtime::ir::modal::ModalData;
+use washdyn_model::ir::modal::ModalData;
 
 /// One built body: its spec, modal data and report; ccx's files are in `dir()/<spec.name>`,
 /// its field file is `dir()/<spec.name>.field.bin`.

@@ -5,7 +5,7 @@
 pub mod builtin;
 
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
-use washdyn_runtime::ir::{BodyRef, Model};
+use washdyn_model::ir::{BodyRef, Model};
 
 pub fn skew(s: Vector3<f64>) -> Matrix3<f64> {
     Matrix3::new(0.0, -s.z, s.y, s.z, 0.0, -s.x, -s.y, s.x, 0.0)
@@ -69,11 +69,7 @@ pub fn stiffness_hand(m: &Model) -> DMatrix<f64> {
     k
 }
 
-pub fn gasket_hand(
-    m: &Model,
-    g: &washdyn_runtime::ir::Gasket,
-    mat: &[[f64; 6]; 6],
-) -> DMatrix<f64> {
+pub fn gasket_hand(m: &Model, g: &washdyn_model::ir::Gasket, mat: &[[f64; 6]; 6]) -> DMatrix<f64> {
     assert_eq!(g.a, BodyRef::Tub);
     let lever = v3(g.point) - v3(m.tub.cog);
     let mut t = DMatrix::identity(6, 6);
@@ -176,8 +172,8 @@ pub struct Linearised {
 /// tests/jacobians.rs holds it to. Its error: truncation eps^2 h''' / 6 and round-off
 /// ~ 1e-16 |h| / eps.
 pub fn differences(
-    eq: &washdyn_runtime::equations::Equations,
-    d: &washdyn_runtime::equations::Drive<f64>,
+    eq: &washdyn_model::equations::Equations,
+    d: &washdyn_model::equations::Drive<f64>,
     q0: &[f64],
     eps: f64,
 ) -> Linearised {
@@ -218,11 +214,11 @@ pub fn differences(
 
 /// `differences` about q = 0 at constant drum speed `omega` (rad/s), phi = 0.
 pub fn linearise_at_speed(
-    eq: &washdyn_runtime::equations::Equations,
+    eq: &washdyn_model::equations::Equations,
     omega: f64,
     eps: f64,
 ) -> Linearised {
-    let d = washdyn_runtime::equations::Drive {
+    let d = washdyn_model::equations::Drive {
         phi: 0.0,
         omega,
         omega_dot: 0.0,

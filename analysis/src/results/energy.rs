@@ -15,7 +15,7 @@ use super::table::TableWriter;
 pub struct EnergyRecorder {
     path: PathBuf,
     format: Format,
-    pub categories: Vec<washdyn_runtime::equations::Category>,
+    pub categories: Vec<washdyn_model::equations::Category>,
     /// time_s, drum_rpm, kinetic_J, the categories' work, residual_J.
     pub cols: Vec<Vec<f64>>,
 }
@@ -40,11 +40,11 @@ impl EnergyRecorder {
     /// positive amount since the start), and the residual T - T0 - sum W.
     pub fn lines(&self) -> (Vec<f64>, Vec<crate::plot::EnergyLine>) {
         use crate::plot::EnergyLine;
-        use washdyn_runtime::equations::Kind;
+        use washdyn_model::equations::Kind;
         let t = self.cols.first().cloned().unwrap_or_default();
         let rows = t.len();
         let col = |i: usize| &self.cols[3 + i];
-        let sum = |pick: &dyn Fn(&washdyn_runtime::equations::Category) -> bool, sign: f64| {
+        let sum = |pick: &dyn Fn(&washdyn_model::equations::Category) -> bool, sign: f64| {
             let mut v = vec![0.0; rows];
             for (i, c) in self.categories.iter().enumerate() {
                 if pick(c) {

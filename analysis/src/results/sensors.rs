@@ -166,7 +166,7 @@ impl washdyn_runtime::output::SampleSink for SensorRecorder {
     }
     fn energy_header(
         &mut self,
-        categories: &[washdyn_runtime::equations::Category],
+        categories: &[washdyn_model::equations::Category],
     ) -> io::Result<()> {
         if let Some(e) = self.energy.as_mut() {
             e.categories = categories.to_vec();

@@ -4,7 +4,7 @@
 //! ramp to 93 rpm and 7 s of the hold) with the generated code and prints the tub's largest
 //! motion and each sensor's RMS over the last 2 s (docs/tutorial.md, part 2).
 
-use washdyn_runtime::ode::{Dopri5, OdeSystem, Options};
+use washdyn_ode::{Dopri5, OdeSystem, Options};
 use washdyn_runtime::output::MemorySink;
 use washdyn_runtime::run::{Labels, RunOptions, run};
 use washdyn_runtime::system::FirstOrder;

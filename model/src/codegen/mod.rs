@@ -15,16 +15,17 @@ use crate::equations::{Drive, Equations};
 use crate::ir::Model;
 use crate::linalg::{cholesky_factor, cholesky_solve};
 use crate::scalar::Scalar;
-use crate::symbolic::{Emitter, Graph, Sym, derivative, fmt_f64, trace_params};
+use crate::symbolic::{Graph, Sym, derivative, fmt_f64, trace_params};
 use std::fmt::Write;
 
 mod free;
 pub mod mass;
 mod names;
+mod scene;
 pub use free::Free;
 pub use mass::MassHarmonics;
 pub use names::type_name;
-use names::{state_inputs, with_states};
+use scene::scene_source_free;
 
 /// Why code generation refused a model, and where in it (a free parameter: `free[k]`).
 #[derive(Clone, Debug, PartialEq)]
@@ -225,247 +226,6 @@ pub fn scene_source(eq: &Equations, name: &str) -> (String, SceneStats) {
     scene_source_free(eq, name, &Free::default(), &trace_equations(eq))
 }
 
-/// As [`scene_source`] for the traced equations `t` of a model with free parameters `free`:
-/// the functions take the parameter array `p` (`PARAMS` by default, a variant's values through
-/// `for_variant`).
-fn scene_source_free(eq: &Equations, name: &str, free: &Free, t: &Traced) -> (String, SceneStats) {
-    let np = free.params.len();
-    let (n1, n) = (t.n1, t.n);
-    let n2 = n - n1;
-    let nc = eq.n_channels();
-    let drive = ["d.phi", "d.omega", "d.omega_dot"];
-
-    let nz = t.nz;
-    let (g, m1, hz) = &t.mh;
-    let (h, zd) = hz.split_at(n);
-    let mh_inputs = with_states(state_inputs(n, &drive), nz);
-    let (body_mh, ops_mh) = match &t.m1_harmonic {
-        None => {
-            let mut e = Emitter::new(g, mh_inputs.clone());
-            e.assign("m1", m1);
-            e.assign("h", h);
-            e.assign("zd", zd);
-            (
-                e.take(),
-                g.op_count(&[m1.as_slice(), hz.as_slice()].concat()),
-            )
-        }
-        Some((gm, m1h)) => {
-            let mut em = Emitter::with_prefix(gm, state_inputs(n, &drive), "m_");
-            em.assign("m1", m1h);
-            let mut e = Emitter::new(g, mh_inputs.clone());
-            e.assign("h", h);
-            e.assign("zd", zd);
-            (em.take() + &e.take(), gm.op_count(m1h) + g.op_count(hz))
-        }
-    };
-
-    // h alone, for the run time's structured solve of M1 (large scenes only: it repeats h).
-    let forces_fn = if n1 >= mass::LOW_RANK_MIN_N1 {
-        let mut e = Emitter::new(g, mh_inputs);
-        e.assign("h", h);
-        e.assign("zd", zd);
-        format!(
-            "    /// h and the element states' rates, without M1.\n    #[inline]\n    pub fn forces(p: &[f64; {np}], d: &::washdyn_runtime::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], z: &[f64; {nz}], h: &mut [f64; {n}], zd: &mut [f64; {nz}]) {{\n{}    }}\n",
-            e.take()
-        )
-    } else {
-        String::new()
-    };
-    let forces_impl = if forces_fn.is_empty() {
-        String::new()
-    } else {
-        // No states given (an evaluation at the assembly state): z = 0, the rates dropped.
-        format!(
-            "    fn forces(&mut self, t: f64, q: &[f64], qd: &[f64], z: &[f64], h: &mut [f64], zd: &mut [f64]) -> bool {{\n        let d = self.speed.drive(t);\n        let z: [f64; {nz}] = z.try_into().unwrap_or([0.0; {nz}]);\n        let mut rates = [0.0; {nz}];\n        Self::forces(&self.p, &d, q.try_into().expect(\"q\"), qd.try_into().expect(\"qd\"), &z, h.try_into().expect(\"h\"), &mut rates);\n        if let Ok(zd) = <&mut [f64; {nz}]>::try_from(zd) {{\n            *zd = rates;\n        }}\n        true\n    }}\n"
-        )
-    };
-    let rt = "::washdyn_runtime";
-    let (body_acc, body_jac, ops_acc, ops_jac) = match &t.acc {
-        Solve::Traced(g, qdd, jq, jqd) => {
-            let mut e = Emitter::new(g, state_inputs(n, &drive));
-            e.assign("qdd", qdd);
-            let body_acc = e.take();
-            let mut e = Emitter::new(g, state_inputs(n, &drive));
-            e.assign("jq", jq);
-            e.assign("jqd", jqd);
-            (
-                body_acc,
-                e.take(),
-                g.op_count(qdd),
-                g.op_count(&[jq.as_slice(), jqd.as_slice()].concat()),
-            )
-        }
-        Solve::Numeric => {
-            let body_acc = format!(
-                "let mut m1 = [0.0f64; {n1sq}];\n\
-                 Self::mass_and_forces(p, d, q, qd, &[0.0; {nz}], &mut m1, qdd, &mut [0.0; {nz}]);\n\
-                 {rt}::linalg::cholesky_factor(&mut m1[..], {n1});\n\
-                 {rt}::linalg::cholesky_solve(&m1[..], {n1}, &mut qdd[..{n1}]);\n",
-                n1sq = n1 * n1
-            );
-            // Traced operations plus the factorisation's n1^3/3 and the solve's 2 n1^2.
-            (
-                body_acc,
-                String::new(),
-                ops_mh + n1 * n1 * n1 / 3 + 2 * n1 * n1,
-                0,
-            )
-        }
-    };
-
-    let (g, ch) = &t.sensors;
-    let mut names = state_inputs(n, &[]);
-    names.extend((0..n).map(|i| format!("qdd[{i}]")));
-    names.extend(drive.iter().map(|s| s.to_string()));
-    let mut e = Emitter::new(g, names);
-    e.assign("out", ch);
-    let body_sensors = e.take();
-
-    let channels: Vec<String> = eq
-        .sensors
-        .iter()
-        .flat_map(|s| s.channels.iter().map(|c| format!("{c:?}")))
-        .collect();
-    let m2: Vec<String> = (0..n2 * n2)
-        .map(|k| fmt_f64(if k % (n2 + 1) == 0 { 1.0 } else { 0.0 }))
-        .collect();
-    // The force Jacobians of the same derivation (`equations/jacobian.rs`) on the model the
-    // macro embedded (`model()`), with their own work arrays: every scene has them, so the
-    // static start's Newton takes the same bits as the interpreter's. Up to the traced size
-    // the implicit methods take the traced d q''/d q instead.
-    let jac_field = format!("\n    jac: {rt}::equations::ForceJacobians,");
-    let jac_init = format!(
-        "\n            jac: {rt}::equations::ForceJacobians::for_scene(&model(), Self::SCENE),"
-    );
-    let force_impl = "    fn equations(&self) -> Option<&::washdyn_runtime::equations::Equations> {\n        Some(&self.jac.eq)\n    }\n    fn force_jacobians(&mut self, t: f64, q: &[f64], qd: &[f64], hq: &mut [f64], hqd: &mut [f64]) -> bool {\n        let d = self.speed.drive(t);\n        self.jac.eval(&d, q, qd, hq, hqd);\n        true\n    }\n";
-    let (jac_fn, jac_impl) = if body_jac.is_empty() {
-        (String::new(), force_impl.to_string())
-    } else {
-        (
-            format!(
-                "    /// d q''/d q and d q''/d q' (row-major).\n    #[inline]\n    pub fn jacobians(p: &[f64; {np}], d: &{rt}::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], jq: &mut [f64; {nsq}], jqd: &mut [f64; {nsq}]) {{\n{body_jac}    }}\n",
-                nsq = n * n
-            ),
-            format!(
-                "    fn acceleration_jacobians(&mut self, t: f64, q: &[f64], qd: &[f64], jq: &mut [f64], jqd: &mut [f64]) -> bool {{\n        let d = self.speed.drive(t);\n        Self::jacobians(&self.p, &d, q.try_into().expect(\"q\"), qd.try_into().expect(\"qd\"), jq.try_into().expect(\"jq\"), jqd.try_into().expect(\"jqd\"));\n        true\n    }}\n    fn has_acceleration_jacobians(&self) -> bool {{\n        true\n    }}\n{force_impl}"
-            ),
-        )
-    };
-    let scene = &eq.scene.name;
-    let effects: Vec<String> = eq.scene.effects.iter().map(|e| e.name()).collect();
-    let mut s = String::new();
-    let _ = write!(
-        s,
-        r#"
-/// Scene `{scene}` (effects: {effects}), generated by `machine!`: {n1} + {n2} DOF,
-/// M1 and h in {ops_mh} operations, q'' in {ops_acc}, its Jacobians in {ops_jac}.
-#[derive(Clone, Debug)]
-pub struct {name} {{
-    speed: {rt}::speed::Speed,{jac_field}
-    p: [f64; {np}],
-}}
-
-impl Default for {name} {{
-    fn default() -> Self {{
-        Self::new()
-    }}
-}}
-
-#[allow(unused_variables, unused_parens, clippy::all)]
-impl {name} {{
-    pub const SCENE: &'static str = {scene:?};
-    pub const N1: usize = {n1};
-    pub const N2: usize = {n2};
-    pub const N: usize = {n};
-    pub const CHANNELS: &'static [&'static str] = &[{channels}];
-    const M2: [f64; {n2sq}] = [{m2}];
-
-    pub fn new() -> Self {{
-        {name} {{
-            speed: {rt}::speed::Speed::new(&SPEED_TABLE),{jac_init}
-            p: PARAMS,
-        }}
-    }}
-
-    /// The scene of `variant`, a model that differs from this one in free parameters only
-    /// (`FREE`); anything else is refused, naming the first difference.
-    pub fn for_variant(variant: &{rt}::ir::Model) -> Result<Self, String> {{
-        let p = fits(variant)?;
-        Ok({name} {{
-            speed: {rt}::speed::Speed::new(&SPEED_TABLE),
-            jac: {rt}::equations::ForceJacobians::for_scene(variant, Self::SCENE),
-            p: p.try_into().map_err(|_| "free parameter count".to_string())?,
-        }})
-    }}
-
-    /// M1 (row-major) and h at element states z, and their rates zd.
-    #[inline]
-    pub fn mass_and_forces(p: &[f64; {np}], d: &{rt}::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], z: &[f64; {nz}], m1: &mut [f64; {n1sq}], h: &mut [f64; {n}], zd: &mut [f64; {nz}]) {{
-{body_mh}    }}
-
-    /// q'' = M^-1 h, with M1 factorised in straight-line code.
-    #[inline]
-    pub fn accelerations(p: &[f64; {np}], d: &{rt}::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], qdd: &mut [f64; {n}]) {{
-{body_acc}    }}
-
-{jac_fn}{forces_fn}
-    /// Sensor channels from q, q', q''.
-    #[inline]
-    pub fn sensor_values(p: &[f64; {np}], d: &{rt}::equations::Drive<f64>, q: &[f64; {n}], qd: &[f64; {n}], qdd: &[f64; {n}], out: &mut [f64; {nc}]) {{
-{body_sensors}    }}
-}}
-
-impl {rt}::system::Mechanical for {name} {{
-    fn layout(&self) -> {rt}::equations::Layout {{
-        {rt}::equations::Layout {{ n1: {n1}, n2: {n2}, nz: {nz} }}
-    }}
-    fn eval(&mut self, t: f64, q: &[f64], qd: &[f64], m1: &mut [f64], h: &mut [f64]) {{
-        let d = self.speed.drive(t);
-        Self::mass_and_forces(&self.p, &d, q.try_into().expect("q has N entries"), qd.try_into().expect("qd has N entries"), &[0.0; {nz}], m1.try_into().expect("m1 has N1^2 entries"), h.try_into().expect("h has N entries"), &mut [0.0; {nz}]);
-    }}
-    fn eval_states(&mut self, t: f64, q: &[f64], qd: &[f64], z: &[f64], m1: &mut [f64], h: &mut [f64], zd: &mut [f64]) {{
-        let d = self.speed.drive(t);
-        Self::mass_and_forces(&self.p, &d, q.try_into().expect("q has N entries"), qd.try_into().expect("qd has N entries"), z.try_into().expect("z has NZ entries"), m1.try_into().expect("m1 has N1^2 entries"), h.try_into().expect("h has N entries"), zd.try_into().expect("zd has NZ entries"));
-    }}
-    fn m2(&self) -> &[f64] {{
-        &Self::M2
-    }}
-    fn sensors(&self, t: f64, q: &[f64], qd: &[f64], qdd: &[f64], out: &mut [f64]) {{
-        let d = self.speed.drive(t);
-        Self::sensor_values(&self.p, &d, q.try_into().expect("q"), qd.try_into().expect("qd"), qdd.try_into().expect("qdd"), out.try_into().expect("3 channels per sensor"));
-    }}
-    fn channel_names(&self) -> Vec<String> {{
-        Self::CHANNELS.iter().map(|c| c.to_string()).collect()
-    }}
-    fn speed(&self) -> &{rt}::speed::Speed {{
-        &self.speed
-    }}
-    fn accelerations(&mut self, t: f64, q: &[f64], qd: &[f64], qdd: &mut [f64]) -> bool {{
-        let d = self.speed.drive(t);
-        Self::accelerations(&self.p, &d, q.try_into().expect("q"), qd.try_into().expect("qd"), qdd.try_into().expect("qdd"));
-        true
-    }}
-{forces_impl}{jac_impl}}}
-"#,
-        effects = effects.join(", "),
-        channels = channels.join(", "),
-        m2 = m2.join(", "),
-        n1sq = n1 * n1,
-        n2sq = n2 * n2,
-    );
-    let stats = SceneStats {
-        scene: scene.clone(),
-        type_name: name.to_string(),
-        n1,
-        n2,
-        ops_mass_forces: ops_mh,
-        ops_accelerations: ops_acc,
-        ops_jacobians: ops_jac,
-    };
-    (s, stats)
-}
-
 /// Rust source (items) of a module for a checked model: `MODEL_JSON`, `model()`, the speed
 /// table, one type per scene implementing `system::Mechanical`, and `system(scene)` to pick one
 /// by name at run time.
@@ -488,20 +248,20 @@ pub fn generate_with_stats(model: &Model) -> Result<(String, Vec<SceneStats>), G
         "/// The model's IR, as the macro filled it.\n\
          pub const MODEL_JSON: &str = {json:?};\n\
          /// The model's IR (the interpreter's input).\n\
-         pub fn model() -> ::washdyn_runtime::ir::Model {{\n\
+         pub fn model() -> ::washdyn_runtime::model::ir::Model {{\n\
              ::washdyn_runtime::serde_json::from_str(MODEL_JSON).expect(\"the macro wrote valid JSON\")\n\
          }}\n\
          /// The model, read from `MODEL_JSON` once: what a variant is compared with (an elastic\n\
          /// machine's JSON holds its modal data, milliseconds to read).\n\
-         fn base() -> &'static ::washdyn_runtime::ir::Model {{\n\
-             static BASE: ::std::sync::OnceLock<::washdyn_runtime::ir::Model> = ::std::sync::OnceLock::new();\n\
+         fn base() -> &'static ::washdyn_runtime::model::ir::Model {{\n\
+             static BASE: ::std::sync::OnceLock<::washdyn_runtime::model::ir::Model> = ::std::sync::OnceLock::new();\n\
              BASE.get_or_init(model)\n\
          }}\n\
          /// `variant`'s values of the free parameters where it differs from this model in those\n\
          /// only, else the first other difference: whether the generated scenes run it\n\
          /// (`system_for`), without building one.\n\
-         pub fn fits(variant: &::washdyn_runtime::ir::Model) -> Result<Vec<f64>, String> {{\n\
-             ::washdyn_runtime::ir::param::free_values(base(), variant)\n\
+         pub fn fits(variant: &::washdyn_runtime::model::ir::Model) -> Result<Vec<f64>, String> {{\n\
+             ::washdyn_runtime::model::ir::param::free_values(base(), variant)\n\
          }}\n\
          /// The drum speed profile (time s, rpm).\n\
          pub const SPEED_TABLE: [[f64; 2]; {}] = [{}];\n",
@@ -553,7 +313,7 @@ pub fn generate_with_stats(model: &Model) -> Result<(String, Vec<SceneStats>), G
         s,
         "\n/// The generated system of a scene for `variant`, a model that differs from this one \
          in free parameters only (`None`: no such scene; `Err`: another difference).\n\
-         pub fn system_for(scene: &str, variant: &::washdyn_runtime::ir::Model) -> Option<Result<Box<dyn ::washdyn_runtime::system::Mechanical + Send>, String>> {{\n\
+         pub fn system_for(scene: &str, variant: &::washdyn_runtime::model::ir::Model) -> Option<Result<Box<dyn ::washdyn_runtime::system::Mechanical + Send>, String>> {{\n\
              match scene {{\n{variant_arms}        _ => None,\n    }}\n}}\n"
     );
     let _ = write!(

@@ -157,7 +157,7 @@ impl<'g> Emitter<'g> {
         let xv: Vec<String> = xs.iter().map(|&s| self.name(Sym(s))).collect();
         let _ = writeln!(
             self.code,
-            "let mut {p}mv{i}: [f64; {r}] = {init};\n::washdyn_runtime::linalg::mat_vec(&T{pu}{table}, &[{}], &mut {p}mv{i});",
+            "let mut {p}mv{i}: [f64; {r}] = {init};\n::washdyn_runtime::model::linalg::mat_vec(&T{pu}{table}, &[{}], &mut {p}mv{i});",
             xv.join(", "),
             p = self.prefix,
             pu = self.prefix.to_uppercase()

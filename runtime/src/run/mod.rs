@@ -12,12 +12,12 @@ pub use monitor::spectral_radius;
 pub use options::*;
 pub use summary::*;
 
-use crate::ode::Solver;
 use crate::output::SampleSink;
 use crate::statics::static_equilibrium;
 use crate::system::{FirstOrder, Mechanical};
 use monitor::{Monitor, Worst};
 use std::time::Instant;
+use washdyn_ode::Solver;
 
 /// [`run_guarded`] with the default [`Guard`].
 #[allow(clippy::result_large_err)]
@@ -130,50 +130,7 @@ where
     let n = lay.n();
     let names = sys.sys.channel_names();
     let (t0, t_end) = (opts.t_start, opts.t_end);
-    // Written to reject NaN too.
-    let ordered = |a: f64, b: f64| a.partial_cmp(&b) == Some(std::cmp::Ordering::Greater);
-    if !ordered(t_end, t0) || !ordered(opts.sample_rate, 0.0) {
-        return Err(RunError::Setup {
-            t: t0,
-            reason: format!(
-                "need t_end > t_start and a positive sample rate (t_start {t0}, t_end {t_end}, rate {})",
-                opts.sample_rate
-            ),
-        });
-    }
-    let setup = |reason| RunError::Setup { t: t0, reason };
-    // [q; q'; z]: the element states start at their assembly value, z = 0.
-    let mut y = vec![0.0; lay.dim()];
-    match opts.start {
-        Start::Static => {
-            y[..n].copy_from_slice(&static_equilibrium(&mut sys.sys, t0).map_err(setup)?)
-        }
-        Start::MeanLoad => y[..n].copy_from_slice(
-            &crate::statics::mean_load_equilibrium(&mut sys.sys, t0).map_err(setup)?,
-        ),
-        Start::Periodic => {
-            use crate::periodic::{StartStop, Watch, periodic_state_watched};
-            let rpm = sys.sys.speed().rpm(t0);
-            let mut report = |k: usize, r: f64| {
-                progress(Progress {
-                    t: t0,
-                    t_end,
-                    rpm,
-                    start: Some((k, r)),
-                })
-            };
-            let watch = Watch {
-                interrupt: guard.interrupt.as_deref(),
-                progress: Some(&mut report),
-            };
-            y = match periodic_state_watched(sys, t0, watch) {
-                Ok((y, _)) => y,
-                Err(StartStop::Interrupted) => return Err(RunError::Interrupted { t: t0 }),
-                Err(StartStop::Failed(e)) => return Err(setup(e)),
-            };
-        }
-        Start::Reference => {}
-    }
+    let mut y = start_state(sys, opts, guard, progress)?;
     let mut qdd = vec![0.0; n];
     let mut zd = vec![0.0; lay.nz];
     let mut vals = vec![0.0; names.len()];
@@ -206,30 +163,11 @@ where
     monitor.check(t0, &y[..n], summary)?;
     monitor.elements(t0, &y[..n], summary, worst);
     monitor.clearances(t0, sys.sys.speed().drive(t0).phi, &y[..n], summary, worst);
-    if let Some(h) = guard.fixed_step {
-        let radius = spectral_radius(sys, t0, &y);
-        let limit = RK4_STABILITY / radius;
-        if h > limit {
-            return Err(RunError::Unstable {
-                t: t0,
-                h,
-                limit,
-                radius,
-            });
-        }
-    }
+    fixed_step_stable(sys, guard, t0, &y)?;
     solver.init(sys, t0, &y)?;
     emit(sys, sink, t0, &y, summary)?;
     k += 1;
-    let mut balance = if sink.wants_energy() {
-        let b = crate::energy::Balance::new(&mut sys.sys, t0, &y).ok_or_else(|| {
-            setup("the energy balance needs the back end's resolved model".into())
-        })?;
-        sink.energy_header(&b.categories).map_err(io(t0))?;
-        Some(b)
-    } else {
-        None
-    };
+    let mut balance = energy_balance(sys, sink, t0, &y)?;
     let mut last_report = Instant::now();
     for &stop in &stops {
         while solver.t() < stop {
@@ -285,4 +223,105 @@ where
         start: None,
     });
     Ok(())
+}
+
+/// The run's first state [q; q'; z] from `opts.start` (the element states at their assembly
+/// value, z = 0), after checking the run's times and sample rate.
+fn start_state<S: Mechanical>(
+    sys: &mut FirstOrder<S>,
+    opts: &RunOptions,
+    guard: &Guard,
+    progress: &mut dyn FnMut(Progress),
+) -> Result<Vec<f64>, RunError> {
+    let lay = sys.layout();
+    let n = lay.n();
+    let (t0, t_end) = (opts.t_start, opts.t_end);
+    // Written to reject NaN too.
+    let ordered = |a: f64, b: f64| a.partial_cmp(&b) == Some(std::cmp::Ordering::Greater);
+    if !ordered(t_end, t0) || !ordered(opts.sample_rate, 0.0) {
+        return Err(RunError::Setup {
+            t: t0,
+            reason: format!(
+                "need t_end > t_start and a positive sample rate (t_start {t0}, t_end {t_end}, rate {})",
+                opts.sample_rate
+            ),
+        });
+    }
+    let setup = |reason| RunError::Setup { t: t0, reason };
+    // [q; q'; z]: the element states start at their assembly value, z = 0.
+    let mut y = vec![0.0; lay.dim()];
+    match opts.start {
+        Start::Static => {
+            y[..n].copy_from_slice(&static_equilibrium(&mut sys.sys, t0).map_err(setup)?)
+        }
+        Start::MeanLoad => y[..n].copy_from_slice(
+            &crate::statics::mean_load_equilibrium(&mut sys.sys, t0).map_err(setup)?,
+        ),
+        Start::Periodic => {
+            use crate::periodic::{StartStop, Watch, periodic_state_watched};
+            let rpm = sys.sys.speed().rpm(t0);
+            let mut report = |k: usize, r: f64| {
+                progress(Progress {
+                    t: t0,
+                    t_end,
+                    rpm,
+                    start: Some((k, r)),
+                })
+            };
+            let watch = Watch {
+                interrupt: guard.interrupt.as_deref(),
+                progress: Some(&mut report),
+            };
+            y = match periodic_state_watched(sys, t0, watch) {
+                Ok((y, _)) => y,
+                Err(StartStop::Interrupted) => return Err(RunError::Interrupted { t: t0 }),
+                Err(StartStop::Failed(e)) => return Err(setup(e)),
+            };
+        }
+        Start::Reference => {}
+    }
+    Ok(y)
+}
+
+/// A fixed step must lie inside RK4's stability region for the system's spectral radius at
+/// the start.
+fn fixed_step_stable<S: Mechanical>(
+    sys: &mut FirstOrder<S>,
+    guard: &Guard,
+    t0: f64,
+    y: &[f64],
+) -> Result<(), RunError> {
+    if let Some(h) = guard.fixed_step {
+        let radius = spectral_radius(sys, t0, y);
+        let limit = RK4_STABILITY / radius;
+        if h > limit {
+            return Err(RunError::Unstable {
+                t: t0,
+                h,
+                limit,
+                radius,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The energy balance along the run when the sink records it (its header written), else None.
+fn energy_balance<S: Mechanical>(
+    sys: &mut FirstOrder<S>,
+    sink: &mut dyn SampleSink,
+    t0: f64,
+    y: &[f64],
+) -> Result<Option<crate::energy::Balance>, RunError> {
+    let setup = |reason| RunError::Setup { t: t0, reason };
+    let io = |t: f64| move |source| RunError::Io { t, source };
+    Ok(if sink.wants_energy() {
+        let b = crate::energy::Balance::new(&mut sys.sys, t0, y).ok_or_else(|| {
+            setup("the energy balance needs the back end's resolved model".into())
+        })?;
+        sink.energy_header(&b.categories).map_err(io(t0))?;
+        Some(b)
+    } else {
+        None
+    })
 }

@@ -3,9 +3,9 @@
 //! estimate behind rk4's stability check.
 
 use super::{Guard, RunError, Summary};
-use crate::ode::OdeSystem;
 use std::sync::atomic::Ordering;
 use std::time::Instant;
+use washdyn_ode::OdeSystem;
 
 /// Where the worst values of the run happened (indices into the guard's lists), named in the
 /// summary at the end so the step loop does not allocate.

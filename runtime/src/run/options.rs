@@ -2,13 +2,13 @@
 //! the limits of the linearisation and the interrupt flag. Set-up data, apart from the loop.
 
 use crate::clearance::Watch;
-use crate::equations::MarkerDef;
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
+use washdyn_model::equations::MarkerDef;
 
 /// The method a model file's integrator name stands for (a scene's `solver`).
-pub fn method_of(i: crate::ir::Integrator) -> washdyn_ode::Method {
-    use crate::ir::Integrator as I;
+pub fn method_of(i: washdyn_model::ir::Integrator) -> washdyn_ode::Method {
+    use washdyn_model::ir::Integrator as I;
     use washdyn_ode::Method as M;
     match i {
         I::Rk4 => M::Rk4,

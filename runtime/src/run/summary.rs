@@ -1,9 +1,9 @@
 //! What a run reports: the summary (extremes, validity, integrator counters, advice), the typed
 //! error with the time reached, progress and labels. The loop fills them; the CLI writes them.
 
-use crate::ode::{OdeError, Stats};
 use serde::Serialize;
 use thiserror::Error;
+use washdyn_ode::{OdeError, Stats};
 
 /// The largest tub motion of a run, with when it happened.
 #[derive(Clone, Debug, Default, Serialize)]
@@ -94,7 +94,7 @@ pub struct Summary {
     /// content hash each (`ir::files::model_files`; set by the CLI), so `washdyn fields`
     /// recovers with that model and refuses it if it changed. Empty for a built-in model.
     #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub model_files: Vec<crate::ir::files::FileHash>,
+    pub model_files: Vec<washdyn_model::ir::files::FileHash>,
 }
 
 /// How a run ended: `ok`, `failed` (the error and its time in the summary) or `interrupted`

@@ -1,5 +1,5 @@
 use super::*;
-use crate::ode::{OdeSystem, Stats};
+use washdyn_ode::{OdeSystem, Stats};
 
 /// The summary advises an implicit method when the test fired and the method stayed on
 /// its stability limit, and not when it switched there (the composite method).

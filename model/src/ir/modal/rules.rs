@@ -15,6 +15,44 @@ use crate::ir::check;
 /// finding names the field inside the file; the caller adds the file and the model's path.
 pub fn problems(d: &ModalData) -> Vec<String> {
     let mut out = Vec::new();
+    frequencies(d, &mut out);
+    mass_properties(d, &mut out);
+    support(d, &mut out);
+    dimensions(d, &mut out);
+    correction_loads(d, &mut out);
+    geometric_stiffness(d, &mut out);
+    gram(d, &mut out);
+    points(d, &mut out);
+    basis(d, &mut out);
+    support_springs(d, &mut out);
+    point_names(d, &mut out);
+    if out.is_empty()
+        && let Some((k, e)) = d
+            .support_energy()
+            .into_iter()
+            .enumerate()
+            .find(|(_, e)| *e > 1.0 + SUPPORT_ENERGY_TOLERANCE)
+    {
+        out.push(format!(
+            "support_springs: mode {k} would store {e:.4} of its strain energy in them (more \
+             than all): the springs are not those of the FE model behind these modes"
+        ));
+    }
+    if out.is_empty() {
+        let err = d.mass_normalisation_error();
+        if err > MASS_NORMALISATION_TOLERANCE {
+            out.push(format!(
+                "elementary.g: modes are not mass-normalised: sum dm W^T W differs from the \
+                 identity by {err:.3} (allowed {MASS_NORMALISATION_TOLERANCE})"
+            ));
+        }
+    }
+    out
+}
+
+/// The frequencies: some, in range, ascending among the eigenmodes and among the correction
+/// modes, and no more correction modes than modes.
+fn frequencies(d: &ModalData, out: &mut Vec<String>) {
     let n = d.modes();
     if n == 0 {
         out.push("frequencies: no modes".into());
@@ -37,8 +75,12 @@ pub fn problems(d: &ModalData) -> Vec<String> {
             out.push("frequencies: not ascending (eigenmodes, then correction modes)".into());
         }
     }
-    mass_properties(d, &mut out);
-    support(d, &mut out);
+}
+
+/// Every array's length for the number of modes, and its numbers finite.
+fn dimensions(d: &ModalData, out: &mut Vec<String>) {
+    let n = d.modes();
+    let corr = d.correction.as_ref().map_or(0, |c| c.modes);
     let xyz = ["x", "y", "z"];
     let mut dims = |field: String, v: &[f64], len: usize| {
         if v.len() != len {
@@ -97,61 +139,78 @@ pub fn problems(d: &ModalData) -> Vec<String> {
             &c.participation,
             (n - corr) * c.loads.len(),
         );
-        let loads = c.loads.len();
-        for (j, l) in c.loads.iter().enumerate() {
-            let Some(p) = d.point(&l.point) else {
+    }
+}
+
+/// The correction's load cases: each names a point of `points`, a unit direction, a moment only
+/// where the node set turns, and the participation stored for it is that point's.
+fn correction_loads(d: &ModalData, out: &mut Vec<String>) {
+    let n = d.modes();
+    let Some(c) = &d.correction else {
+        return;
+    };
+    let corr = c.modes;
+    if corr > n {
+        return;
+    }
+    let loads = c.loads.len();
+    for (j, l) in c.loads.iter().enumerate() {
+        let Some(p) = d.point(&l.point) else {
+            out.push(format!(
+                "correction.loads[{j}]: no point `{}` in `points`",
+                l.point
+            ));
+            continue;
+        };
+        if !at_most(
+            (crate::geom::f::norm(l.direction) - 1.0).abs(),
+            UNIT_TOLERANCE,
+        ) {
+            out.push(format!(
+                "correction.loads[{j}].direction: must be a unit vector, got {:?}",
+                l.direction
+            ));
+        }
+        if l.kind == LoadKind::Moment && p.nodes < 3 {
+            out.push(format!(
+                "correction.loads[{j}]: a moment at `{}`, whose {} node(s) give no rotation",
+                l.point, p.nodes
+            ));
+        }
+        // The stored generalised forces are the point's w (phi for a moment) . direction:
+        // a load case that names another point or kind than it was computed with shows.
+        if c.participation.len() == (n - corr) * loads && p.w[0].len() == n {
+            let col: Vec<f64> = (0..n - corr)
+                .map(|k| c.participation[k * loads + j])
+                .collect();
+            let scale = col.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            let worst = (0..n - corr)
+                .map(|k| (col[k] - l.participation(p, k)).abs())
+                .fold(0.0, f64::max);
+            if worst > PARTICIPATION_TOLERANCE * scale {
                 out.push(format!(
-                    "correction.loads[{j}]: no point `{}` in `points`",
-                    l.point
+                    "correction.participation (load {j}): differs from `{}`'s {} . direction \
+                     by {:.1e} of its largest value",
+                    l.point,
+                    if l.kind == LoadKind::Moment {
+                        "phi"
+                    } else {
+                        "w"
+                    },
+                    worst / scale
                 ));
-                continue;
-            };
-            if !at_most(
-                (crate::geom::f::norm(l.direction) - 1.0).abs(),
-                UNIT_TOLERANCE,
-            ) {
-                out.push(format!(
-                    "correction.loads[{j}].direction: must be a unit vector, got {:?}",
-                    l.direction
-                ));
-            }
-            if l.kind == LoadKind::Moment && p.nodes < 3 {
-                out.push(format!(
-                    "correction.loads[{j}]: a moment at `{}`, whose {} node(s) give no rotation",
-                    l.point, p.nodes
-                ));
-            }
-            // The stored generalised forces are the point's w (phi for a moment) . direction:
-            // a load case that names another point or kind than it was computed with shows.
-            if c.participation.len() == (n - corr) * loads && p.w[0].len() == n {
-                let col: Vec<f64> = (0..n - corr)
-                    .map(|k| c.participation[k * loads + j])
-                    .collect();
-                let scale = col.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-                let worst = (0..n - corr)
-                    .map(|k| (col[k] - l.participation(p, k)).abs())
-                    .fold(0.0, f64::max);
-                if worst > PARTICIPATION_TOLERANCE * scale {
-                    out.push(format!(
-                        "correction.participation (load {j}): differs from `{}`'s {} . direction \
-                         by {:.1e} of its largest value",
-                        l.point,
-                        if l.kind == LoadKind::Moment {
-                            "phi"
-                        } else {
-                            "w"
-                        },
-                        worst / scale
-                    ));
-                }
             }
         }
     }
-    geometric_stiffness(d, &mut out);
-    gram(d, &mut out);
+}
+
+/// Each point: its position, its w and phi in bounds, and no rotation where its node set
+/// determines none.
+fn points(d: &ModalData, out: &mut Vec<String>) {
+    let xyz = ["x", "y", "z"];
     for (i, p) in d.points.iter().enumerate() {
         let at = format!("points[{i}] ({})", p.name);
-        position(&format!("{at}.position"), &p.position, &mut out);
+        position(&format!("{at}.position"), &p.position, out);
         for (what, v, max) in [("w", &p.w, MAX_W), ("phi", &p.phi, MAX_PHI)] {
             for a in 0..3 {
                 let big = v[a].iter().map(|x| x.abs()).fold(0.0, f64::max);
@@ -170,6 +229,11 @@ pub fn problems(d: &ModalData) -> Vec<String> {
             ));
         }
     }
+}
+
+/// The basis in the reference modes: whole rows, entries of orthonormal columns.
+fn basis(d: &ModalData, out: &mut Vec<String>) {
+    let n = d.modes();
     if let Some(b) = &d.basis {
         if n == 0 || b.len() % n != 0 {
             out.push(format!(
@@ -189,6 +253,10 @@ pub fn problems(d: &ModalData) -> Vec<String> {
             ));
         }
     }
+}
+
+/// The support springs: each on a one-node point, its stiffness in range.
+fn support_springs(d: &ModalData, out: &mut Vec<String>) {
     for (i, s) in d.support_springs.iter().enumerate() {
         match d.point(&s.point) {
             None => out.push(format!(
@@ -213,6 +281,10 @@ pub fn problems(d: &ModalData) -> Vec<String> {
             ));
         }
     }
+}
+
+/// The points' node sets not empty, their names unique.
+fn point_names(d: &ModalData, out: &mut Vec<String>) {
     for (i, p) in d.points.iter().enumerate() {
         if p.nodes == 0 {
             out.push(format!(
@@ -224,28 +296,6 @@ pub fn problems(d: &ModalData) -> Vec<String> {
             out.push(format!("points[{i}]: `{}` appears twice", p.name));
         }
     }
-    if out.is_empty()
-        && let Some((k, e)) = d
-            .support_energy()
-            .into_iter()
-            .enumerate()
-            .find(|(_, e)| *e > 1.0 + SUPPORT_ENERGY_TOLERANCE)
-    {
-        out.push(format!(
-            "support_springs: mode {k} would store {e:.4} of its strain energy in them (more \
-             than all): the springs are not those of the FE model behind these modes"
-        ));
-    }
-    if out.is_empty() {
-        let err = d.mass_normalisation_error();
-        if err > MASS_NORMALISATION_TOLERANCE {
-            out.push(format!(
-                "elementary.g: modes are not mass-normalised: sum dm W^T W differs from the \
-                 identity by {err:.3} (allowed {MASS_NORMALISATION_TOLERANCE})"
-            ));
-        }
-    }
-    out
 }
 
 /// `v <= max`, and false for NaN: a rule states what a value must be, so NaN fails it.

@@ -75,7 +75,7 @@ fn rigid_body_modes_match_hand_assembly() {
     // with the central differences the modes took before).
     for (a, b) in f_model.iter().zip(&f_hand) {
         assert!(
-            (a - b).abs() < 1e-12 * b,
+            (a - b).abs() < 1e-14 * b,
             "model {f_model:?} vs hand {f_hand:?}"
         );
     }

@@ -889,7 +889,10 @@ fn blank_literals(src: &str) -> String {
             // A char literal ('x', '\n', '\u{7b}'); otherwise a lifetime or label.
             let mut chars = rest.char_indices().skip(1);
             match chars.next() {
-                Some((_, '\\')) => rest.get(3..).and_then(|r| r.find('\'')).map_or(1, |k| k + 4),
+                Some((_, '\\')) => rest
+                    .get(3..)
+                    .and_then(|r| r.find('\''))
+                    .map_or(1, |k| k + 4),
                 Some((_, _)) => match chars.next() {
                     Some((k, '\'')) => k + 1,
                     _ => 1,

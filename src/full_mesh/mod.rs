@@ -15,7 +15,7 @@ use serde::Serialize;
 use std::f64::consts::PI;
 use std::path::PathBuf;
 use washdyn_fe::assembly::{self, LinearSpec, SCENE, Settings, Solution};
-use washdyn_model::ir::{Model, SensorKind};
+use washdyn_model::ir::{EffectSet, Model, SensorKind};
 use washdyn_runtime::harmonic;
 use washdyn_runtime::system::Interpreter;
 
@@ -205,68 +205,7 @@ pub fn study(args: &Args, log: &mut dyn FnMut(&str)) -> Result<Study, String> {
     let (model, _) = crate::commands::resolve_model(&args.model)?;
     let lin = assembly::linear_machine(&model, &args.spec);
     let scene = lin.scene(Some(SCENE))?;
-    let bodies = washdyn_fe::bodies::builtin();
-    let mesh = |name: &str| {
-        bodies
-            .iter()
-            .find(|b| b.name == name)
-            .map(|b| &b.mesh)
-            .ok_or_else(|| format!("no built-in body {name}"))
-    };
-    std::fs::create_dir_all(&args.work).map_err(|e| format!("{}: {e}", args.work.display()))?;
-    let mut runs: Vec<(usize, Solution)> = Vec::new();
-    let mut info = None;
-    let mut reference_answer = None;
-    for &n in &args.modes {
-        let settings = Settings {
-            modes: n,
-            speeds_rpm: args.speeds_rpm.clone(),
-        };
-        let a = assembly::assemble(&lin, &scene, mesh("tub")?, mesh("cabinet")?, &settings)
-            .map_err(|e| e.to_string())?;
-        log(&format!(
-            "ccx: the assembled machine ({} mesh nodes, {} auxiliary), {n} modes, {} speeds ...",
-            a.mesh_nodes,
-            a.aux_nodes,
-            args.speeds_rpm.len()
-        ));
-        let last = n == *args.modes.last().expect("a mode count");
-        let s = match &args.committed {
-            Some(path) if last => {
-                let s = CcxReference::read(
-                    path,
-                    a.deck.text(),
-                    n,
-                    &args.speeds_rpm,
-                    3 * a.sensors.len(),
-                )?;
-                log(&format!(
-                    "  ccx's answer from {} (solved in {:.1} s, {} modes up to {:.1} Hz)",
-                    path.display(),
-                    s.wall_s,
-                    s.frequencies.len(),
-                    s.frequencies.last().copied().unwrap_or(f64::NAN)
-                ));
-                s
-            }
-            _ => {
-                let s = assembly::solve(&a, &args.work, &format!("full_mesh_{n}"))
-                    .map_err(|e| e.to_string())?;
-                log(&format!(
-                    "  {:.1} s; {} modes up to {:.1} Hz",
-                    s.wall_s,
-                    s.frequencies.len(),
-                    s.frequencies.last().copied().unwrap_or(f64::NAN)
-                ));
-                s
-            }
-        };
-        if last {
-            reference_answer = Some(CcxReference::of(&s, a.deck.text(), n));
-        }
-        info = Some((a.mesh_nodes, a.mesh_elements, a.mass));
-        runs.push((n, s));
-    }
+    let (runs, info, reference_answer) = solve_ccx(args, &lin, &scene, log)?;
     let (mesh_nodes, mesh_elements, mass_ritz) = info.ok_or("no mode count given")?;
     let reference = &runs.last().expect("at least one run").1;
     let ref_ch = &reference.channels;
@@ -351,57 +290,11 @@ pub fn study(args: &Args, log: &mut dyn FnMut(&str)) -> Result<Study, String> {
         })
         .collect();
     // The Ritz model's convergence.
-    let mut ritz = Vec::new();
-    if args.convergence {
-        let (et, _) = data_modes(&lin, "tub");
-        let (ec, _) = data_modes(&lin, "cabinet");
-        let counts = |e: usize| -> Vec<usize> {
-            let mut v: Vec<usize> = [5, 10, 20, 40, 80, 160]
-                .into_iter()
-                .filter(|n| *n < e)
-                .collect();
-            v.push(e);
-            v
-        };
-        let mut configs = Vec::new();
-        for correction in [true, false] {
-            for &nt in &counts(et) {
-                configs.push((nt, ec, correction));
-            }
-            for &nc in &counts(ec) {
-                if nc != ec {
-                    configs.push((et, nc, correction));
-                }
-            }
-        }
-        for (nt, nc, correction) in configs {
-            let m = truncated(&lin, nt, nc, correction);
-            let (_, tc) = data_modes(&m, "tub");
-            let (_, ccn) = data_modes(&m, "cabinet");
-            let w = washdyn_channels(&m, &args.speeds_rpm)?;
-            let (mut med, mut worst) = (Vec::new(), Vec::new());
-            for (k, ccx) in ref_ch.iter().enumerate() {
-                let d: Vec<f64> = (0..names.len())
-                    .filter(|c| masks[k][*c])
-                    .map(|c| (w[k][c].norm() / ccx[c].norm() - 1.0).abs())
-                    .collect();
-                worst.push(d.iter().copied().fold(0.0, f64::max));
-                med.push(median(d));
-            }
-            log(&format!(
-                "  Ritz: tub {nt} (+{tc}), cabinet {nc} (+{ccn}) modes: worst {:.1} %",
-                100.0 * worst.iter().copied().fold(0.0, f64::max)
-            ));
-            ritz.push(Ritz {
-                tub_modes: nt,
-                cabinet_modes: nc,
-                tub_correction: if correction { tc } else { 0 },
-                cabinet_correction: if correction { ccn } else { 0 },
-                median: med,
-                worst,
-            });
-        }
-    }
+    let ritz = if args.convergence {
+        ritz_convergence(args, &lin, ref_ch, &masks, &names, log)?
+    } else {
+        Vec::new()
+    };
     Ok(Study {
         model: args.model.clone(),
         beta: args.spec.beta,
@@ -417,4 +310,151 @@ pub fn study(args: &Args, log: &mut dyn FnMut(&str)) -> Result<Study, String> {
         washdyn_s,
         reference: reference_answer,
     })
+}
+
+/// The solved machine's mesh nodes, elements and mass (the last mode count's).
+type MeshInfo = (usize, usize, f64);
+
+/// ccx on the assembled machine at each mode count (the last one's answer from
+/// `args.committed` when given): the solutions, the mesh's size and mass, and the reference's
+/// answer as the committed file keeps it.
+#[allow(clippy::type_complexity)]
+fn solve_ccx(
+    args: &Args,
+    lin: &Model,
+    scene: &EffectSet,
+    log: &mut dyn FnMut(&str),
+) -> Result<
+    (
+        Vec<(usize, Solution)>,
+        Option<MeshInfo>,
+        Option<CcxReference>,
+    ),
+    String,
+> {
+    let bodies = washdyn_fe::bodies::builtin();
+    let mesh = |name: &str| {
+        bodies
+            .iter()
+            .find(|b| b.name == name)
+            .map(|b| &b.mesh)
+            .ok_or_else(|| format!("no built-in body {name}"))
+    };
+    std::fs::create_dir_all(&args.work).map_err(|e| format!("{}: {e}", args.work.display()))?;
+    let mut runs: Vec<(usize, Solution)> = Vec::new();
+    let mut info = None;
+    let mut reference_answer = None;
+    for &n in &args.modes {
+        let settings = Settings {
+            modes: n,
+            speeds_rpm: args.speeds_rpm.clone(),
+        };
+        let a = assembly::assemble(lin, scene, mesh("tub")?, mesh("cabinet")?, &settings)
+            .map_err(|e| e.to_string())?;
+        log(&format!(
+            "ccx: the assembled machine ({} mesh nodes, {} auxiliary), {n} modes, {} speeds ...",
+            a.mesh_nodes,
+            a.aux_nodes,
+            args.speeds_rpm.len()
+        ));
+        let last = n == *args.modes.last().expect("a mode count");
+        let s = match &args.committed {
+            Some(path) if last => {
+                let s = CcxReference::read(
+                    path,
+                    a.deck.text(),
+                    n,
+                    &args.speeds_rpm,
+                    3 * a.sensors.len(),
+                )?;
+                log(&format!(
+                    "  ccx's answer from {} (solved in {:.1} s, {} modes up to {:.1} Hz)",
+                    path.display(),
+                    s.wall_s,
+                    s.frequencies.len(),
+                    s.frequencies.last().copied().unwrap_or(f64::NAN)
+                ));
+                s
+            }
+            _ => {
+                let s = assembly::solve(&a, &args.work, &format!("full_mesh_{n}"))
+                    .map_err(|e| e.to_string())?;
+                log(&format!(
+                    "  {:.1} s; {} modes up to {:.1} Hz",
+                    s.wall_s,
+                    s.frequencies.len(),
+                    s.frequencies.last().copied().unwrap_or(f64::NAN)
+                ));
+                s
+            }
+        };
+        if last {
+            reference_answer = Some(CcxReference::of(&s, a.deck.text(), n));
+        }
+        info = Some((a.mesh_nodes, a.mesh_elements, a.mass));
+        runs.push((n, s));
+    }
+    Ok((runs, info, reference_answer))
+}
+
+/// The Ritz model's convergence with its mode counts, with and without correction modes,
+/// against ccx's reference on the compared channels.
+fn ritz_convergence(
+    args: &Args,
+    lin: &Model,
+    ref_ch: &[Vec<nalgebra::Complex<f64>>],
+    masks: &[Vec<bool>],
+    names: &[String],
+    log: &mut dyn FnMut(&str),
+) -> Result<Vec<Ritz>, String> {
+    let mut ritz = Vec::new();
+    let (et, _) = data_modes(lin, "tub");
+    let (ec, _) = data_modes(lin, "cabinet");
+    let counts = |e: usize| -> Vec<usize> {
+        let mut v: Vec<usize> = [5, 10, 20, 40, 80, 160]
+            .into_iter()
+            .filter(|n| *n < e)
+            .collect();
+        v.push(e);
+        v
+    };
+    let mut configs = Vec::new();
+    for correction in [true, false] {
+        for &nt in &counts(et) {
+            configs.push((nt, ec, correction));
+        }
+        for &nc in &counts(ec) {
+            if nc != ec {
+                configs.push((et, nc, correction));
+            }
+        }
+    }
+    for (nt, nc, correction) in configs {
+        let m = truncated(lin, nt, nc, correction);
+        let (_, tc) = data_modes(&m, "tub");
+        let (_, ccn) = data_modes(&m, "cabinet");
+        let w = washdyn_channels(&m, &args.speeds_rpm)?;
+        let (mut med, mut worst) = (Vec::new(), Vec::new());
+        for (k, ccx) in ref_ch.iter().enumerate() {
+            let d: Vec<f64> = (0..names.len())
+                .filter(|c| masks[k][*c])
+                .map(|c| (w[k][c].norm() / ccx[c].norm() - 1.0).abs())
+                .collect();
+            worst.push(d.iter().copied().fold(0.0, f64::max));
+            med.push(median(d));
+        }
+        log(&format!(
+            "  Ritz: tub {nt} (+{tc}), cabinet {nc} (+{ccn}) modes: worst {:.1} %",
+            100.0 * worst.iter().copied().fold(0.0, f64::max)
+        ));
+        ritz.push(Ritz {
+            tub_modes: nt,
+            cabinet_modes: nc,
+            tub_correction: if correction { tc } else { 0 },
+            cabinet_correction: if correction { ccn } else { 0 },
+            median: med,
+            worst,
+        });
+    }
+    Ok(ritz)
 }

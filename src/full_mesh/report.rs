@@ -48,7 +48,27 @@ fn pct(x: f64) -> String {
 pub fn write(s: &Study, out: &Path) -> Result<Vec<PathBuf>, String> {
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let mut md = String::new();
-    let w = &mut md;
+    summary_section(&mut md, s);
+    convergence_section(&mut md, s);
+    channels_section(&mut md, s);
+    md.push_str(CCX_NOTES);
+    let md_path = out.join("full-mesh.md");
+    std::fs::write(&md_path, md).map_err(|e| format!("{}: {e}", md_path.display()))?;
+    let json_path = out.join("full-mesh.json");
+    let json = serde_json::to_string_pretty(s).map_err(|e| e.to_string())?;
+    std::fs::write(&json_path, json).map_err(|e| format!("{}: {e}", json_path.display()))?;
+    let mut wrote = vec![md_path, json_path];
+    if let Some(r) = &s.reference {
+        let path = out.join("full-mesh.ccx.json");
+        let json = serde_json::to_string_pretty(r).map_err(|e| e.to_string())?;
+        std::fs::write(&path, json).map_err(|e| format!("{}: {e}", path.display()))?;
+        wrote.push(path);
+    }
+    Ok(wrote)
+}
+
+/// The study's summary: the machine, its mass and the agreement per speed.
+fn summary_section(w: &mut String, s: &Study) {
     use std::fmt::Write as _;
     let _ = writeln!(
         w,
@@ -93,6 +113,11 @@ pub fn write(s: &Study, out: &Path) -> Result<Vec<PathBuf>, String> {
             100.0 * sp.worst_complex
         );
     }
+}
+
+/// ccx's convergence with its mode count and washdyn's with its Ritz basis.
+fn convergence_section(w: &mut String, s: &Study) {
+    use std::fmt::Write as _;
     let _ = writeln!(
         w,
         "\n## CalculiX's convergence with its mode count\n\nWorst change of a compared \
@@ -144,6 +169,11 @@ pub fn write(s: &Study, out: &Path) -> Result<Vec<PathBuf>, String> {
             let _ = writeln!(w);
         }
     }
+}
+
+/// The coupled machine's eigenfrequencies and every channel.
+fn channels_section(w: &mut String, s: &Study) {
+    use std::fmt::Write as _;
     let _ = writeln!(
         w,
         "\n## Eigenfrequencies of the coupled machine up to 60 Hz\n\nEach of ccx's with the \
@@ -176,18 +206,4 @@ pub fn write(s: &Study, out: &Path) -> Result<Vec<PathBuf>, String> {
             );
         }
     }
-    md.push_str(CCX_NOTES);
-    let md_path = out.join("full-mesh.md");
-    std::fs::write(&md_path, md).map_err(|e| format!("{}: {e}", md_path.display()))?;
-    let json_path = out.join("full-mesh.json");
-    let json = serde_json::to_string_pretty(s).map_err(|e| e.to_string())?;
-    std::fs::write(&json_path, json).map_err(|e| format!("{}: {e}", json_path.display()))?;
-    let mut wrote = vec![md_path, json_path];
-    if let Some(r) = &s.reference {
-        let path = out.join("full-mesh.ccx.json");
-        let json = serde_json::to_string_pretty(r).map_err(|e| e.to_string())?;
-        std::fs::write(&path, json).map_err(|e| format!("{}: {e}", path.display()))?;
-        wrote.push(path);
-    }
-    Ok(wrote)
 }

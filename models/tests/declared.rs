@@ -7,8 +7,8 @@ use washdyn_models::{compact, reference};
 /// with modal data prints megabytes).
 fn assert_same(a: &washdyn_model::ir::Model, b: &washdyn_model::ir::Model) {
     let (va, vb) = (
-        washdyn_runtime::serde_json::to_value(a).unwrap(),
-        washdyn_runtime::serde_json::to_value(b).unwrap(),
+        serde_json::to_value(a).unwrap(),
+        serde_json::to_value(b).unwrap(),
     );
     let mut diffs = Vec::new();
     for (k, x) in va.as_object().unwrap() {

@@ -171,7 +171,7 @@ impl Simulation {
             channels: Some(mech.channel_names().len()),
             analysis_band_hz: ctl.analysis_band_hz,
         };
-        spec.validate(&cx)?;
+        spec.validate(&cx).map_err(Error::Settings)?;
         if spec.start == Start::Periodic {
             washdyn_runtime::periodic::period(mech.speed(), spec.t_start)
                 .map_err(|m| Error::setting(Field::Start, m))?;

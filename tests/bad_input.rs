@@ -191,6 +191,7 @@ fn output_beyond_the_size_limit_names_its_size() {
         ..s
     }
     .validate(&cx)
+    .map_err(Error::Settings)
     .unwrap_err();
     assert_eq!(e.fields(), [Field::AllowLargeOutput], "{e}");
 }

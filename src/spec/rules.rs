@@ -5,7 +5,6 @@
 
 use super::RunSpec;
 use super::field::{Field, Refusal, Spelling};
-use crate::error::Error;
 use washdyn_ode::Method;
 
 /// Fixed step of rk4, s: below 1e-7 s a 20 s run-up needs 2e8 steps (hours); above 1e-2 s the
@@ -77,9 +76,9 @@ impl Ctxt<'_> {
 }
 
 impl RunSpec {
-    /// Every rule on this specification in `cx`; `Err` ([`Error::Settings`]) lists every
-    /// violation with its field.
-    pub fn validate(&self, cx: &Context) -> Result<(), Error> {
+    /// Every rule on this specification in `cx`; `Err` lists every violation with its field
+    /// (the caller's `Error::Settings`).
+    pub fn validate(&self, cx: &Context) -> Result<(), Vec<Refusal>> {
         let mut c = Ctxt {
             spec: self,
             cx,
@@ -98,7 +97,7 @@ impl RunSpec {
         if c.errors.is_empty() {
             Ok(())
         } else {
-            Err(Error::Settings(c.errors))
+            Err(c.errors)
         }
     }
 

@@ -3,6 +3,10 @@
 //! function of the variant (`src/main.rs`, `exit_code`; docs/commands.md).
 
 pub use crate::spec::Refusal;
+pub mod compare;
+pub mod slurm;
+pub mod study;
+
 use crate::spec::{Field, Subject};
 use std::fmt;
 use std::path::PathBuf;
@@ -61,10 +65,10 @@ pub enum Error {
     Analysis(#[from] crate::analysis::AnalysisError),
     /// Two runs that cannot be compared.
     #[error(transparent)]
-    Compare(#[from] crate::compare::CompareError),
+    Compare(#[from] compare::CompareError),
     /// A study refused: its file (at its lines), variants the checker refuses, its directory.
     #[error(transparent)]
-    Study(#[from] crate::study::StudyError),
+    Study(#[from] study::StudyError),
     /// Another command refused its input or could not finish (`fields`, `campbell`, `modes`,
     /// `fe`, the full-mesh study, the accuracy study's runs): its message.
     #[error("{message}")]

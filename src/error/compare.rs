@@ -1,0 +1,61 @@
+//! Why two runs cannot be compared (`washdyn compare`), with the crate's errors so that the
+//! error enum reaches no module above it.
+
+use crate::analysis::AnalysisError;
+use std::path::PathBuf;
+
+/// Why two runs cannot be compared.
+#[derive(Debug, thiserror::Error)]
+pub enum CompareError {
+    /// The run directory does not exist.
+    #[error("{dir}: no such run directory")]
+    NoRun { dir: PathBuf },
+    /// No sensor file in the run directory.
+    #[error(
+        "{dir}: no sensors.parquet or sensors.csv; a run directory is what `washdyn run` writes"
+    )]
+    NoSensors { dir: PathBuf },
+    /// summary.json missing or unreadable.
+    #[error("{path}: {message}")]
+    Summary { path: PathBuf, message: String },
+    /// The sensor file could not be read.
+    #[error(transparent)]
+    Read(#[from] AnalysisError),
+    /// The runs do not record the same channels.
+    #[error(
+        "{a} and {b} record different channels: only in the first: [{}], only in the second: [{}]",
+        only_a.join(", "),
+        only_b.join(", ")
+    )]
+    Channels {
+        a: PathBuf,
+        b: PathBuf,
+        only_a: Vec<String>,
+        only_b: Vec<String>,
+    },
+    /// The runs are sampled at different rates.
+    #[error("{a} is sampled at {rate_a} Hz, {b} at {rate_b} Hz")]
+    SampleRate {
+        a: PathBuf,
+        b: PathBuf,
+        rate_a: f64,
+        rate_b: f64,
+    },
+    /// The runs' drum speeds differ (length, start or values).
+    #[error("{a} and {b} do not follow the same speed profile: {detail}")]
+    Profile {
+        a: PathBuf,
+        b: PathBuf,
+        detail: String,
+    },
+    /// `--until` outside a run's span.
+    #[error("{dir} runs from {} to {} s; --until {until} s is not inside it", span[0], span[1])]
+    Until {
+        dir: PathBuf,
+        until: f64,
+        span: [f64; 2],
+    },
+    /// An output file could not be written.
+    #[error("cannot write {path}: {message}")]
+    Write { path: PathBuf, message: String },
+}

@@ -138,6 +138,21 @@ impl SampleSink for Kept {
     }
 }
 
+/// `washdyn run --no-validity-stop --max-projected-wall inf` over the window from the
+/// mean-load rest, on a step budget: how every method runs a hard case.
+fn hard_case_spec(method: Method, (t0, t1): (f64, f64), max_steps: u64) -> RunSpec {
+    RunSpec {
+        method: Some(method),
+        max_steps: Some(max_steps),
+        t_start: t0,
+        t_end: Some(t1),
+        start: Start::MeanLoad,
+        validity_stop: false,
+        max_projected_wall: f64::INFINITY,
+        ..RunSpec::default()
+    }
+}
+
 /// Runs `scene` of `model` over [t0, t1] as `washdyn run` does (`Simulation`: the run
 /// driver's restarts at the speed profile's breakpoints, its energy balance along the dense
 /// output), from the mean-load rest, interpreted (the models are changed at run time),
@@ -151,16 +166,9 @@ fn run(
     max_steps: u64,
 ) -> Outcome {
     let spec = RunSpec {
-        method: Some(method),
         tol: Some(tol),
-        max_steps: Some(max_steps),
-        t_start: t0,
-        t_end: Some(t1),
         sample_rate: 1000.0,
-        start: Start::MeanLoad,
-        validity_stop: false,
-        max_projected_wall: f64::INFINITY,
-        ..RunSpec::default()
+        ..hard_case_spec(method, (t0, t1), max_steps)
     };
     let source = Source::in_memory(model.clone());
     let sim = Simulation::with_scene(source, scene.clone(), &spec, &RunControl::default())
@@ -387,15 +395,8 @@ pub(crate) fn check_rk4(
     budget: u64,
 ) -> Option<f64> {
     let spec = RunSpec {
-        method: Some(Method::Rk4),
-        max_steps: Some(budget),
-        t_start: t0,
-        t_end: Some(t1),
         sample_rate: 100.0,
-        start: Start::MeanLoad,
-        validity_stop: false,
-        max_projected_wall: f64::INFINITY,
-        ..RunSpec::default()
+        ..hard_case_spec(Method::Rk4, (t0, t1), budget)
     };
     let source = Source::in_memory(model.clone());
     let sim = Simulation::with_scene(source, scene.clone(), &spec, &RunControl::default())

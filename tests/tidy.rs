@@ -809,14 +809,7 @@ fn no_source_file_is_longer_than_600_lines() {
     let mut long = Vec::new();
     let mut checked = 0;
     let packages = packages();
-    for f in files() {
-        let in_src = packages
-            .iter()
-            .any(|p| f.starts_with(&format!("{p}/src/")) || (p == "." && f.starts_with("src/")));
-        let test_file = f.ends_with("/tests.rs") || f.contains("/tests/");
-        if !f.ends_with(".rs") || !in_src || test_file {
-            continue;
-        }
+    for f in source_files(&packages) {
         checked += 1;
         let n = code_lines(&std::fs::read_to_string(root().join(&f)).unwrap());
         if n > MAX {
@@ -842,6 +835,21 @@ const ALLOWED_LONG: &[&str] = &[
     "fe/src/bodies/cabinet.rs::mesh",
     "fe/src/prestress/mod.rs::stiffness",
 ];
+
+/// The Rust files of the packages' `src/` trees, test files and `tests/` folders left out: what
+/// the file and function caps measure.
+fn source_files(packages: &[String]) -> Vec<String> {
+    files()
+        .into_iter()
+        .filter(|f| {
+            let in_src = packages.iter().any(|p| {
+                f.starts_with(&format!("{p}/src/")) || (p == "." && f.starts_with("src/"))
+            });
+            let test_file = f.ends_with("/tests.rs") || f.contains("/tests/");
+            f.ends_with(".rs") && in_src && !test_file
+        })
+        .collect()
+}
 
 /// Rust source with comments and the contents of string and char literals replaced by blanks,
 /// lines kept: braces in it are the code's own.
@@ -1001,14 +1009,7 @@ fn no_function_is_longer_than_120_lines() {
     let mut long = Vec::new();
     let mut over = Vec::new();
     let mut checked = 0;
-    for f in files() {
-        let in_src = packages
-            .iter()
-            .any(|p| f.starts_with(&format!("{p}/src/")) || (p == "." && f.starts_with("src/")));
-        let test_file = f.ends_with("/tests.rs") || f.contains("/tests/");
-        if !f.ends_with(".rs") || !in_src || test_file {
-            continue;
-        }
+    for f in source_files(&packages) {
         let src = std::fs::read_to_string(root().join(&f)).unwrap();
         for (line, name, n) in function_lengths(&src) {
             checked += 1;

@@ -200,13 +200,9 @@ impl<'a> Stages<'a> {
         Ok(Some((tg, ti)))
     }
 
-    /// Model comparisons run from SETTLE before the window and compare inside it: the run and
-    /// the samples to skip.
+    /// A model comparison's run, from SETTLE before the window (compared inside it).
     fn early(&self, method: Method, tol: f64, scene: &EffectSet, b: Backend) -> Result<Sim, Error> {
-        let early = Window {
-            t0: (self.w.t0 - SETTLE).max(0.0),
-            ..self.w.clone()
-        };
+        let early = self.early_window();
         simulate(
             self.source,
             scene,
@@ -219,9 +215,17 @@ impl<'a> Stages<'a> {
         )
     }
 
+    /// The window of the model comparisons' runs: from SETTLE before this one.
+    fn early_window(&self) -> Window {
+        Window {
+            t0: (self.w.t0 - SETTLE).max(0.0),
+            ..self.w.clone()
+        }
+    }
+
+    /// The samples of an early run before this window.
     fn skip(&self) -> usize {
-        let t0 = (self.w.t0 - SETTLE).max(0.0);
-        ((self.w.t0 - t0) * COMPARE_RATE).round() as usize
+        ((self.w.t0 - self.early_window().t0) * COMPARE_RATE).round() as usize
     }
 
     /// Modal truncation (interpreted: any cut-off), against the finest.

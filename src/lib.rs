@@ -13,7 +13,6 @@ pub mod modes;
 pub mod simulation;
 pub mod spec;
 pub mod study;
-pub mod sweep;
 pub mod vtk;
 
 pub use error::Error;

@@ -550,14 +550,12 @@ fn the_progress_budget_is_refused_unless_positive() {
     );
 }
 
+/// A sweep refuses what `run` refuses of its settings, every field at once and before
+/// anything is written (the sweep's study file is not made), and `--jobs` 0.
 #[test]
 fn sweep_settings_are_validated() {
     let base = washdyn::simulation::Source::load("reference").unwrap();
-    let cfg = |spec| washdyn::sweep::SweepRun {
-        spec,
-        control: RunControl::default(),
-        jobs: 2,
-    };
+    let grid = washdyn::study::sweep::Grid::default();
     let bad = RunSpec {
         tol: Some(f64::INFINITY),
         t_end: Some(0.0),
@@ -565,19 +563,18 @@ fn sweep_settings_are_validated() {
         out: Some(out_dir("sweep")),
         ..RunSpec::of("reference")
     };
-    let e = washdyn::sweep::check_settings(&base, &cfg(bad)).unwrap_err();
+    let e = washdyn::study::sweep::study_text(&base, &bad, &grid).unwrap_err();
     assert_eq!(
         e.fields(),
         [Field::Tol, Field::TEnd, Field::SampleRate],
         "{e}"
     );
-    let ok = cfg(RunSpec {
+    let ok = RunSpec {
         out: Some(out_dir("sweep")),
         ..RunSpec::of("reference")
-    });
-    assert!(washdyn::sweep::check_settings(&base, &ok).is_ok());
-    let e = washdyn::sweep::check_settings(&base, &washdyn::sweep::SweepRun { jobs: 0, ..ok })
-        .unwrap_err();
+    };
+    assert!(washdyn::study::sweep::study_text(&base, &ok, &grid).is_ok());
+    let e = washdyn::study::check_jobs(0).unwrap_err();
     assert_eq!(e.options(), ["--jobs"], "{e}");
     assert!(!out_dir("sweep").exists());
 }

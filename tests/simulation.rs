@@ -8,9 +8,10 @@ use washdyn::Error;
 use washdyn::commands::{Backend, RunControl, RunSpec, run_command, run_simulation};
 use washdyn::results::Format;
 use washdyn::simulation::{Simulation, Source};
-use washdyn::sweep::{SweepRun, SweepSpec, Variant, variants};
+use washdyn::study::sweep::{Grid, study_text};
+use washdyn::study::{self, Study};
 use washdyn_ode::Method;
-use washdyn_runtime::run::{RunError, Start};
+use washdyn_runtime::run::{RunError, RunStatus, Start};
 
 fn tmp(tag: &str) -> PathBuf {
     std::env::temp_dir().join(format!("washdyn-sim-{tag}-{}", std::process::id()))
@@ -38,34 +39,26 @@ fn args(tag: &str) -> RunSpec {
     }
 }
 
-/// The sweep's configuration for the same specification, as `washdyn sweep` builds it
-/// (main.rs): the specification itself, into another folder.
-fn sweep_cfg(a: &RunSpec, tag: &str) -> SweepRun {
-    SweepRun {
-        spec: RunSpec {
-            out: Some(tmp(tag)),
-            ..a.clone()
-        },
-        control: RunControl::default(),
-        jobs: 1,
-    }
+/// The sweep's study of the base model alone (its own mass the one level) for the same
+/// specification, as `washdyn sweep` builds it: the specification itself, into another folder.
+fn base_sweep(a: &RunSpec, tag: &str) -> Study {
+    let base = Source::load(&a.model).unwrap();
+    let spec = RunSpec {
+        out: Some(tmp(tag)),
+        backend: None,
+        ..a.clone()
+    };
+    let text = study_text(&base, &spec, &Grid::default()).unwrap();
+    Study::from_text(&tmp(tag).join("study.toml"), text).unwrap()
 }
 
-/// The sweep's variant of the base model unchanged.
-fn base_variant(base: &Source) -> Variant {
-    let v = variants(&base.model, &SweepSpec::default()).unwrap();
-    assert_eq!(v.len(), 1);
-    v.into_iter().next().unwrap()
-}
-
-/// The same options give the same simulation in `run` and in `sweep`: scene, back end, method,
-/// options (rho_inf and rk4's step included), window, guard (rk4's step for the stability
-/// check, the elements' tub ends, the clearance watch), warnings, and labels but the
-/// variant's name (`<model>/<variant>`, as the sweep's summaries always said).
+/// The same options give the same simulation in `run` and in `sweep` (a study's variant):
+/// scene, back end (generated: the base model fits the built-in's code), method, options
+/// (rho_inf and rk4's step included), window, guard (rk4's step for the stability check, the
+/// elements' tub ends, the clearance watch), warnings, and labels but the variant's id
+/// (`<model>/<id>`).
 #[test]
 fn run_and_sweep_build_the_same_simulation() {
-    let base = Source::load("reference").unwrap();
-    let v = base_variant(&base);
     for (method, step, rho_inf, tol) in [
         (Method::Dopri5, None, None, 1e-6),
         (Method::GeneralizedAlpha, None, Some(0.5), 1e-5),
@@ -77,10 +70,13 @@ fn run_and_sweep_build_the_same_simulation() {
             step,
             rho_inf,
             tol: Some(tol),
+            backend: None,
             ..args("same")
         };
         let r = run_simulation(&a, &RunControl::default()).unwrap();
-        let s = washdyn::sweep::simulation(&base, &v, &sweep_cfg(&a, "same")).unwrap();
+        let study = base_sweep(&a, "same");
+        let v = &study::variants::variants(&study)[0];
+        let s = study::simulation(&study, v).unwrap();
         let dbg = |x: &Simulation| {
             format!(
                 "{:?} {:?} {:?} {:?} {:?} {:?} {:?} {:?} {:?}",
@@ -96,7 +92,7 @@ fn run_and_sweep_build_the_same_simulation() {
             )
         };
         assert_eq!(dbg(&r), dbg(&s), "{method}");
-        assert_eq!(s.labels.model, format!("{}/{}", r.labels.model, v.name));
+        assert_eq!(s.labels.model, format!("{}/{}", r.labels.model, v.id));
         assert_eq!(
             r.guard.fixed_step,
             (method == Method::Rk4).then_some(5e-5),
@@ -107,8 +103,8 @@ fn run_and_sweep_build_the_same_simulation() {
     assert!(!tmp("same").exists());
 }
 
-/// Generalized-alpha is `galpha` with its rho_inf in both commands' summaries, also in the
-/// row of a variant refused before its run (its label was `generalizedalpha`, without rho_inf).
+/// Generalized-alpha is `galpha` with its rho_inf in `run`'s summary and in the sweep's study
+/// record (`study.json`), which every variant runs by.
 #[test]
 fn sweep_labels_generalized_alpha_like_run() {
     let a = RunSpec {
@@ -116,72 +112,68 @@ fn sweep_labels_generalized_alpha_like_run() {
         rho_inf: Some(0.5),
         tol: Some(1e-5),
         t_end: Some(0.1),
+        backend: None,
         ..args("galpha")
     };
     let o = run_command(&a, &mut |_| {}).unwrap();
     assert!(o.error.is_none(), "{:?}", o.error);
-    let base = Source::load("reference").unwrap();
-    // The base model and a refused one (-1 kg fails the checker).
-    let spec = SweepSpec {
-        masses: vec![0.6, -1.0],
-        ..SweepSpec::default()
-    };
-    let vars = variants(&base.model, &spec).unwrap();
-    let cfg = sweep_cfg(&a, "galpha-sweep");
-    let res = washdyn::sweep::run_sweep(&base, vars, &cfg, &|_| {}).unwrap();
-    for r in &res {
-        assert_eq!(r.summary.integrator, o.summary.integrator, "{}", r.name);
-        assert_eq!(r.summary.integrator, "galpha");
-        assert_eq!(r.summary.rho_inf, Some(0.5), "{}", r.name);
-    }
-    assert!(matches!(res[1].error, Some(Error::Check { .. })));
+    let s = base_sweep(&a, "galpha-sweep");
+    let plan = study::plan(&s, &tmp("galpha-sweep")).unwrap();
+    let res = study::execute(&s, &plan, 1, &|_| {}).unwrap();
+    assert_eq!(res[0].status, RunStatus::Ok, "{res:?}");
+    let record = study::dataset::Record::read(&tmp("galpha-sweep")).unwrap();
+    assert_eq!(record.run.method, o.summary.integrator);
+    assert_eq!(record.run.method, "galpha");
+    assert_eq!(record.run.rho_inf, o.summary.rho_inf);
+    assert_eq!(record.run.rho_inf, Some(0.5));
     std::fs::remove_dir_all(tmp("galpha")).ok();
     std::fs::remove_dir_all(tmp("galpha-sweep")).ok();
 }
 
 /// rk4 with a step beyond its stability limit: the sweep's variant stops at t = 0 like
 /// `run` (the limit 2.78 / spectral radius at the start: about 7e-4 s on the reference,
-/// tests/bad_input.rs), with the same limit, no step taken.
+/// tests/bad_input.rs), with the same message (the same limit), no step taken, and its row
+/// says failed.
 #[test]
 fn sweep_refuses_rk4_beyond_its_stability_limit_like_run() {
     let a = RunSpec {
         method: Some(Method::Rk4),
         step: Some(1e-3),
+        backend: None,
         ..args("rk4")
     };
     let o = run_command(&a, &mut |_| {}).unwrap();
-    let limit = |e: &Option<Error>| match e {
-        Some(Error::Integration {
-            t: 0.0,
-            source: RunError::Unstable { h: 1e-3, limit, .. },
-        }) => *limit,
-        e => panic!("expected rk4's stability limit at t = 0, got {e:?}"),
-    };
-    let run_limit = limit(&o.error);
-    let base = Source::load("reference").unwrap();
-    let cfg = sweep_cfg(&a, "rk4-sweep");
-    let res = washdyn::sweep::run_sweep(&base, vec![base_variant(&base)], &cfg, &|_| {}).unwrap();
-    assert_eq!(limit(&res[0].error), run_limit);
-    assert_eq!(
-        res[0].summary.status,
-        washdyn_runtime::run::RunStatus::Failed
-    );
-    assert_eq!(res[0].summary.steps, 0);
-    let table = std::fs::read_to_string(tmp("rk4-sweep").join("sweep.csv")).unwrap();
     assert!(
-        table
-            .lines()
-            .nth(1)
-            .unwrap()
-            .starts_with("base,failed,0,0,"),
+        matches!(
+            &o.error,
+            Some(Error::Integration {
+                t: 0.0,
+                source: RunError::Unstable { h: 1e-3, .. },
+            })
+        ),
+        "expected rk4's stability limit at t = 0, got {:?}",
+        o.error
+    );
+    let s = base_sweep(&a, "rk4-sweep");
+    let plan = study::plan(&s, &tmp("rk4-sweep")).unwrap();
+    let res = study::execute(&s, &plan, 1, &|_| {}).unwrap();
+    assert_eq!(res[0].status, RunStatus::Failed);
+    assert_eq!(res[0].steps, 0);
+    assert_eq!(res[0].error, o.summary.error);
+    let c = study::collect(&tmp("rk4-sweep")).unwrap();
+    assert_eq!(c.rows, 1);
+    let table = std::fs::read_to_string(tmp("rk4-sweep").join("summary.csv")).unwrap();
+    assert!(
+        table.lines().nth(1).unwrap().contains(",failed,"),
         "{table}"
     );
     std::fs::remove_dir_all(tmp("rk4")).ok();
     std::fs::remove_dir_all(tmp("rk4-sweep")).ok();
 }
 
-/// A sweep of a model file records it and its data files in each variant's summary, as `run`
-/// does (`ir::files::model_files`).
+/// A sweep of a model file runs its variants from that file (its data files with it): the
+/// study's record names the file and holds the content hash `run`'s error class reads, and
+/// an edit of the file makes it another study.
 #[test]
 fn sweep_variants_record_the_model_files() {
     let model = reference_file("files", None);
@@ -191,28 +183,25 @@ fn sweep_variants_record_the_model_files() {
         t_end: Some(0.2),
         ..args("files")
     };
-    let o = run_command(&a, &mut |_| {}).unwrap();
-    // The file and the three modal data files it names (tub, drum, cabinet).
+    let s = base_sweep(&a, "files-sweep");
+    let plan = study::plan(&s, &tmp("files-sweep")).unwrap();
+    let res = study::execute(&s, &plan, 1, &|_| {}).unwrap();
+    assert_eq!(res[0].status, RunStatus::Ok, "{res:?}");
+    let record = study::dataset::Record::read(&tmp("files-sweep")).unwrap();
+    assert_eq!(record.model, model.to_str().unwrap());
+    let r = run_simulation(&a, &RunControl::default()).unwrap();
     assert_eq!(
-        o.summary.model_files.len(),
-        4,
-        "{:?}",
-        o.summary.model_files
+        record.model_content,
+        washdyn::accuracy::class::content_hash(r.model(), &r.scene)
     );
-    let base = Source::load(&a.model).unwrap();
-    let spec = SweepSpec {
-        masses: vec![0.3, 0.6],
-        ..SweepSpec::default()
-    };
-    let cfg = sweep_cfg(&a, "files-sweep");
-    let vars = variants(&base.model, &spec).unwrap();
-    let res = washdyn::sweep::run_sweep(&base, vars, &cfg, &|_| {}).unwrap();
-    for r in &res {
-        assert_eq!(r.summary.model_files, o.summary.model_files, "{}", r.name);
-        let json =
-            std::fs::read_to_string(tmp("files-sweep").join(&r.name).join("summary.json")).unwrap();
-        assert!(json.contains("\"model_files\""), "{json}");
-    }
+    // The same file with another spring rate: the same study text, another study.
+    reference_file("files", Some(("stiffness = 4000.0", "stiffness = 4100.0")));
+    let e = study::plan(&base_sweep(&a, "files-sweep"), &tmp("files-sweep")).unwrap_err();
+    assert!(
+        matches!(&e, Error::Study(study::StudyError::Directory { .. }))
+            && e.to_string().contains("model_content"),
+        "{e}"
+    );
     std::fs::remove_dir_all(tmp("files")).ok();
     std::fs::remove_dir_all(tmp("files-sweep")).ok();
     std::fs::remove_file(model).ok();

@@ -79,9 +79,9 @@ pub enum Cmd {
     /// The rigid modes of the suspended tub (at rest, friction released) with each damper's
     /// stroke per mode, as markdown on stdout and in DIR/modes.md.
     Modes(modes::Args),
-    /// Run variants (unbalance position, mass, speed profile) on all cores with the
-    /// interpreter and `run`'s simulation options: one folder each and a comparison table
-    /// DIR/sweep.csv.
+    /// Run variants (unbalance position, mass, speed profile) on all cores with `run`'s
+    /// simulation options: a grid design of the study (DIR/study.toml), its dataset in DIR and
+    /// one table of every variant, DIR/summary.csv.
     Sweep(sweep::Args),
     /// Variant studies: a design over a model's parameters (a study file, TOML; README,
     /// "Variant studies"), every variant checked before any runs, run on all cores (or as a

@@ -121,27 +121,7 @@ pub fn study(a: Args) -> Result<ExitCode, Failure> {
             if slurm.slurm {
                 return submit(&s, &out, &slurm);
             }
-            let jobs =
-                jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(2, |n| n.get()));
-            study::check_jobs(jobs)?;
-            // Tasks of an earlier submission still running would lose their tmp directories.
-            slurm::check_idle(&out)?;
-            let plan = study::plan(&s, &out)?;
-            planned(&out, &plan);
-            let bar = ProgressBar::new(plan.todo.len() as u64);
-            bar.set_style(
-                ProgressStyle::with_template(
-                    "{bar:40} {pos}/{len} variants [{elapsed_precise}, ETA {eta}] {msg}",
-                )
-                .expect("valid template"),
-            );
-            let done = |o: &study::Outcome| {
-                bar.inc(1);
-                bar.set_message(format!("{}: {}", o.id, o.status));
-            };
-            let res = study::execute(&s, &plan, jobs, &done)?;
-            bar.finish_and_clear();
-            report(&s, &plan, &res, &out)
+            run_here(&s, &out, jobs)
         }
         StudyCmd::Task {
             dir,
@@ -168,6 +148,31 @@ pub fn study(a: Args) -> Result<ExitCode, Failure> {
             Ok(wrote(c.files))
         }
     }
+}
+
+/// `study run` on this machine (and `sweep`): check and plan, run the variants still to run on
+/// `jobs` threads (default: all cores) with a progress bar, report.
+pub fn run_here(s: &Study, out: &Path, jobs: Option<usize>) -> Result<ExitCode, Failure> {
+    let jobs = jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(2, |n| n.get()));
+    study::check_jobs(jobs)?;
+    // Tasks of an earlier submission still running would lose their tmp directories.
+    slurm::check_idle(out)?;
+    let plan = study::plan(s, out)?;
+    planned(out, &plan);
+    let bar = ProgressBar::new(plan.todo.len() as u64);
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{bar:40} {pos}/{len} variants [{elapsed_precise}, ETA {eta}] {msg}",
+        )
+        .expect("valid template"),
+    );
+    let done = |o: &study::Outcome| {
+        bar.inc(1);
+        bar.set_message(format!("{}: {}", o.id, o.status));
+    };
+    let res = study::execute(s, &plan, jobs, &done)?;
+    bar.finish_and_clear();
+    report(s, &plan, &res, out)
 }
 
 /// The plan's first line: what is to run.

@@ -11,7 +11,7 @@ pub use field::{Field, Refusal, Spelling, Subject};
 pub use rules::{Context, MAX_OUTPUT_BYTES, RK4_STEP, SAMPLE_RATE, T_END_MAX, TOL};
 
 use crate::results::Format;
-use serde::{Deserialize, Deserializer};
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use washdyn_model::ir::Model;
 use washdyn_ode::{Method, Options};
 use washdyn_runtime::run::{Guard, Start};
@@ -47,7 +47,7 @@ impl std::str::FromStr for Backend {
 /// does not take is `serde(skip)` (the model and scene sit at the file's top, the back end is
 /// the study's choice per variant, the study writes Parquet), one `washdyn run` does not take
 /// is `arg(skip)` (the window's start: the study's and the accuracy study's).
-#[derive(Clone, Debug, clap::Args, Deserialize)]
+#[derive(Clone, Debug, clap::Args, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct RunSpec {
     /// A built-in model (`reference`, `compact`) or a model file (.toml).
@@ -69,22 +69,31 @@ pub struct RunSpec {
     /// (dopri5 while not stiff, rodas4 while stiff, switching both ways). Default: the scene's
     /// own (`washdyn check` lists them; the reference's `damper_mass`: galpha), else dopri5.
     #[arg(long = "integrator", value_name = "INTEGRATOR")]
-    #[serde(default, deserialize_with = "parsed_opt")]
+    #[serde(
+        default,
+        deserialize_with = "parsed_opt",
+        serialize_with = "method_name",
+        skip_serializing_if = "Option::is_none"
+    )]
     pub method: Option<Method>,
     /// Relative tolerance of the adaptive integrators (absolute: 1e-3 x this, in m, m/s and
     /// rad; a modal coordinate in the metres it moves a marker by). 1e-2 or looser warns: no
     /// error class covers it. Default: the scene's own with its method, else 1e-6.
     #[arg(long)]
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub tol: Option<f64>,
     /// Fixed step of rk4, s (default 1e-4).
     #[arg(long)]
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub step: Option<f64>,
     /// galpha's spectral radius at infinity, in [0, 1] (default 0.8): 1 keeps the
     /// unresolved high modes undamped, 0 removes them in one step.
     #[arg(long)]
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub rho_inf: Option<f64>,
     /// Step budget; the run stops with an error (keeping its output) when it is spent.
     #[arg(long)]
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub max_steps: Option<u64>,
     /// Start of the window, s.
     #[arg(skip)]
@@ -92,6 +101,7 @@ pub struct RunSpec {
     pub t_start: f64,
     /// End time, s (default: the end of the speed profile).
     #[arg(long)]
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub t_end: Option<f64>,
     /// Sampling rate of the sensor file, Hz.
     #[arg(long, default_value_t = 2000.0)]
@@ -106,7 +116,11 @@ pub struct RunSpec {
     /// under gravity and the mean loads at the start speed) or `periodic` (on the
     /// periodic steady state by shooting; constant speed only).
     #[arg(long, default_value = "static")]
-    #[serde(default = "static_start", deserialize_with = "parsed")]
+    #[serde(
+        default = "static_start",
+        deserialize_with = "parsed",
+        serialize_with = "start_name"
+    )]
     pub start: Start,
     /// Keep running when the tub motion exceeds 5 x the small-motion bounds (30 mm, 0.05 rad).
     #[arg(long = "no-validity-stop", action = clap::ArgAction::SetFalse)]
@@ -163,6 +177,15 @@ where
 {
     let s = String::deserialize(d)?;
     s.parse().map_err(serde::de::Error::custom)
+}
+
+/// A study file's `method` as its command-line word (`RunSpec` written as a sweep's study).
+fn method_name<S: Serializer>(m: &Option<Method>, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(m.map_or("", Method::name))
+}
+
+fn start_name<S: Serializer>(start: &Start, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(start.name())
 }
 
 fn parsed_opt<'de, D, T>(d: D) -> Result<Option<T>, D::Error>

@@ -31,7 +31,7 @@ use serde::{Deserialize, Serialize};
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
-use washdyn_runtime::run::{RunStatus, Start};
+use washdyn_runtime::run::RunStatus;
 
 /// The three datasets' directories under the study's.
 pub const VARIANTS: &str = "variants";
@@ -187,9 +187,20 @@ pub struct ParamRecord {
     /// As the study file writes it (the column name), and resolved on the model.
     pub path: String,
     pub resolved: String,
-    /// The base model's value.
-    pub base: f64,
+    /// The base model's value (none for speed profiles).
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub base: Option<f64>,
     pub axis: serde_json::Value,
+    /// A speed-profile parameter's files and tables (level k is the k-th): a changed file is
+    /// another study.
+    #[serde(skip_serializing_if = "Vec::is_empty", default)]
+    pub profiles: Vec<ProfileRecord>,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ProfileRecord {
+    pub file: String,
+    pub table: Vec<[f64; 2]>,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -215,7 +226,7 @@ impl Record {
                 t_start: s.t_start,
                 t_end: study.t_end,
                 sample_rate: s.sample_rate,
-                start: start_name(s.start).to_string(),
+                start: s.start.name().to_string(),
                 validity_stop: s.validity_stop,
                 allow_large_output: s.allow_large_output,
             },
@@ -227,6 +238,14 @@ impl Record {
                     resolved: p.param.path.to_string(),
                     base: p.base,
                     axis: serde_json::to_value(&p.axis).expect("an axis serialises"),
+                    profiles: p
+                        .profiles
+                        .iter()
+                        .map(|f| ProfileRecord {
+                            file: f.file.display().to_string(),
+                            table: f.table.clone(),
+                        })
+                        .collect(),
                 })
                 .collect(),
             design: serde_json::to_value(&study.design).expect("a design serialises"),
@@ -327,16 +346,6 @@ pub fn prepare(layout: &Layout, record: &Record, study: &Study) -> Result<(), Er
     text[0] = true;
     write_table(&tmp, &names, &text, &vec![false; n], &[], &cols)?;
     fs::rename(&tmp, &design).map_err(|e| Error::io("rename into place", &design, e))
-}
-
-/// A start as the study file (and `--start`) spells it.
-fn start_name(s: Start) -> &'static str {
-    match s {
-        Start::Static => "static",
-        Start::MeanLoad => "mean",
-        Start::Periodic => "periodic",
-        Start::Reference => "reference",
-    }
 }
 
 fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Error> {

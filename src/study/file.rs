@@ -15,7 +15,7 @@ use std::path::{Path as FsPath, PathBuf};
 use washdyn_model::ir::check::{Path, Seg};
 use washdyn_model::ir::modal::from_toml;
 use washdyn_model::ir::param::{self, Param};
-use washdyn_model::ir::toml_file::{Located, line_col, locate};
+use washdyn_model::ir::toml_file::{Located, line_col, locate, read_speed_csv};
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -36,6 +36,9 @@ struct StudyFile {
 #[serde(deny_unknown_fields)]
 struct ParameterTable {
     path: String,
+    /// Speed profile CSV files (time_s, rpm) relative to the study file, with
+    /// `path = "speed.profile"`: the design's levels are their indices.
+    profiles: Option<Vec<PathBuf>>,
     range: Option<Vec<f64>>,
     levels: Option<Vec<f64>>,
     scale: Option<Scale>,
@@ -62,9 +65,21 @@ pub struct Parameter {
     /// The path as the study file writes it: the summary's and the design's column name.
     pub text: String,
     pub param: Param,
-    /// The base model's value there.
-    pub base: f64,
+    /// The base model's value there (none for speed profiles).
+    pub base: Option<f64>,
     pub axis: Axis,
+    /// A speed-profile parameter's tables, the level k being `profiles[k]`; empty for a number.
+    pub profiles: Vec<Profile>,
+}
+
+/// The path of a parameter whose levels are speed profile files.
+pub const PROFILE_PATH: &str = "speed.profile";
+
+/// A speed profile a study varies: its file as the study file names it, and its table.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Profile {
+    pub file: PathBuf,
+    pub table: Vec<[f64; 2]>,
 }
 
 /// A checked study: the base model, the settings every variant runs with, the parameters, the
@@ -137,6 +152,12 @@ impl Study {
     /// the base model, the design, and the outputs named for the Pareto plot.
     pub fn load(path: &FsPath) -> Result<Study, Error> {
         let text = std::fs::read_to_string(path).map_err(|e| Error::io("read", path, e))?;
+        Study::from_text(path, text)
+    }
+
+    /// [`Study::load`] of a study file's text (a sweep's, made in memory), as if read from
+    /// `path`: relative files are the file's neighbours.
+    pub fn from_text(path: &FsPath, text: String) -> Result<Study, Error> {
         let shown = path.display().to_string();
         let parsed: StudyFile = from_toml(&text).map_err(|(span, message)| {
             let at = span.map_or((0, 0), |s| line_col(&text, s.start));
@@ -155,7 +176,8 @@ impl Study {
             scene: parsed.scene.clone(),
             ..parsed.run
         };
-        let parameters = parameters(&source, &parsed.parameters, &mut p);
+        let dir = path.parent().unwrap_or(FsPath::new(""));
+        let parameters = parameters(&source, dir, &parsed.parameters, &mut p);
         let control = RunControl::default();
         let base = match Simulation::new(source.variant(source.model.clone()), &spec, &control) {
             Ok(b) => Some(b),
@@ -274,10 +296,23 @@ fn load_model(study: &FsPath, spec: &str, p: &mut Problems) -> Result<Source, Er
 }
 
 /// Every `[[parameter]]` resolved on the base model, with its levels or range checked.
-fn parameters(source: &Source, tables: &[ParameterTable], p: &mut Problems) -> Vec<Parameter> {
+fn parameters(
+    source: &Source,
+    dir: &FsPath,
+    tables: &[ParameterTable],
+    p: &mut Problems,
+) -> Vec<Parameter> {
     let mut out: Vec<Parameter> = Vec::new();
     for (i, t) in tables.iter().enumerate() {
         let at = |k: &str| Path::default().key("parameter").idx(i).key(k);
+        if t.profiles.is_some() || t.path.trim() == PROFILE_PATH {
+            if out.iter().any(|o| o.text == PROFILE_PATH) {
+                p.at(&at("path"), format!("`{PROFILE_PATH}` given twice"));
+            } else if let Some(q) = profile_parameter(dir, t, &at, p) {
+                out.push(q);
+            }
+            continue;
+        }
         let param = match param::resolve(&source.model, &t.path) {
             Ok(q) => q,
             Err(e) => {
@@ -356,12 +391,76 @@ fn parameters(source: &Source, tables: &[ParameterTable], p: &mut Problems) -> V
         };
         out.push(Parameter {
             text: t.path.trim().to_string(),
-            base: param::get(&source.model, &param),
+            base: Some(param::get(&source.model, &param)),
             param,
             axis,
+            profiles: Vec::new(),
         });
     }
     out
+}
+
+/// A `speed.profile` parameter: its files (relative to the study file) read as speed tables,
+/// each refused at its place; its levels their indices.
+fn profile_parameter(
+    dir: &FsPath,
+    t: &ParameterTable,
+    at: &dyn Fn(&str) -> Path,
+    p: &mut Problems,
+) -> Option<Parameter> {
+    let Some(files) = t
+        .profiles
+        .as_ref()
+        .filter(|_| t.path.trim() == PROFILE_PATH)
+    else {
+        p.at(
+            &at("path"),
+            format!(
+                "speed profile files go with `path = \"{PROFILE_PATH}\"` and `profiles = [..]`"
+            ),
+        );
+        return None;
+    };
+    if t.levels.is_some() || t.range.is_some() || t.scale.is_some() {
+        p.at(
+            &at("profiles"),
+            "a profile parameter's levels are its files: no levels, range or scale",
+        );
+    }
+    if files.is_empty() {
+        p.at(&at("profiles"), "no profiles");
+        return None;
+    }
+    let mut profiles = Vec::new();
+    for (k, f) in files.iter().enumerate() {
+        if files[..k].contains(f) {
+            p.at(
+                &at("profiles").idx(k),
+                format!(
+                    "`{}` given twice: two variants would be the same",
+                    f.display()
+                ),
+            );
+            continue;
+        }
+        match read_speed_csv(&dir.join(f)) {
+            Ok(table) => profiles.push(Profile {
+                file: f.clone(),
+                table,
+            }),
+            Err(e) => p.at(&at("profiles").idx(k), e.to_string()),
+        }
+    }
+    (profiles.len() == files.len()).then(|| Parameter {
+        text: PROFILE_PATH.to_string(),
+        param: Param {
+            text: PROFILE_PATH.to_string(),
+            path: Path::default().key("speed").key("table"),
+        },
+        base: None,
+        axis: Axis::Levels((0..profiles.len()).map(|k| k as f64).collect()),
+        profiles,
+    })
 }
 
 /// Whether a parameter changes the speed profile: the settings' rules read it (the window's

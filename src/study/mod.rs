@@ -6,7 +6,7 @@
 //! file (`file.rs`), its design points (`design.rs`), the variants and their check
 //! (`variants.rs`), what each variant reports (`outputs.rs`), the directory and its files
 //! (`dataset.rs`), the local run (`run.rs`), the run as a Slurm job array (`slurm/`), `status`
-//! and `collect` (`collect.rs`), the Pareto plot and Sobol indices (`report.rs`), the refusals
+//! and `collect` (`collect.rs`), `washdyn sweep` as a grid design (`sweep.rs`), the Pareto plot and Sobol indices (`report.rs`), the refusals
 //! (`error.rs`).
 
 pub mod collect;
@@ -18,10 +18,13 @@ pub mod outputs;
 pub mod report;
 pub mod run;
 pub mod slurm;
+pub mod sweep;
 pub mod variants;
 
 pub use collect::{Collected, Status, collect, status};
 pub use error::{BadVariant, StudyError};
 pub use file::Study;
-pub use run::{Outcome, Phases, Plan, backend_for, check_jobs, execute, plan};
+pub use run::{
+    MAX_JOBS, Outcome, Phases, Plan, backend_for, check_jobs, execute, plan, simulation,
+};
 pub use variants::Variant;

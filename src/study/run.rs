@@ -41,6 +41,24 @@ fn backend_of(study: &Study, model: &Model) -> Backend {
     }
 }
 
+/// The simulation of `variant`: its model checked, on the back end that fits it
+/// ([`backend_for`]), with the study's specification, its summary labelled with the id.
+pub fn simulation(study: &Study, variant: &Variant) -> Result<Simulation, Error> {
+    let model = variant
+        .model(study)
+        .map_err(|b| super::StudyError::Variants(vec![b]))?;
+    let backend = backend_of(study, &model);
+    build(study, variant, model, backend)
+}
+
+fn build(study: &Study, v: &Variant, model: Model, backend: Backend) -> Result<Simulation, Error> {
+    let spec = RunSpec {
+        backend: Some(backend),
+        ..study.spec.clone()
+    };
+    Simulation::new(study.source.variant(model), &spec, &v.control(study))
+}
+
 /// What is to run: every variant, and those not finished in the directory.
 #[derive(Debug)]
 pub struct Plan {
@@ -103,8 +121,10 @@ pub struct Phases {
     pub write_s: f64,
 }
 
-/// Most parallel runs (as `washdyn sweep`).
-pub use crate::sweep::MAX_JOBS;
+/// Most parallel runs: each is a thread with its own model, state and output streams; beyond
+/// the machine's cores (or the variants) more gain nothing, and 1024 is above any
+/// workstation's core count.
+pub const MAX_JOBS: usize = 1024;
 
 /// `--jobs` in [1, MAX_JOBS]: checked before [`plan`] writes anything.
 pub fn check_jobs(jobs: usize) -> Result<(), Error> {
@@ -213,14 +233,7 @@ fn run_variant(study: &Study, layout: &Layout, v: &Variant) -> Result<Outcome, E
     let backend = model
         .as_ref()
         .map_or(Backend::Interpreted, |m| backend_of(study, m));
-    let spec = RunSpec {
-        backend: Some(backend),
-        ..study.spec.clone()
-    };
-    let sim = model.and_then(|m| {
-        Simulation::new(study.source.variant(m), &spec, &v.control(study))
-            .map_err(|e| e.to_string())
-    });
+    let sim = model.and_then(|m| build(study, v, m, backend).map_err(|e| e.to_string()));
     phases.setup_s = lap.next();
     let (row, wall, warnings) = match sim {
         Err(e) => {

@@ -60,8 +60,25 @@ impl Variant {
                 message,
             }
         };
-        let model = param::set(&study.source.model, &params, &self.values)
-            .map_err(|e| bad(Vec::new(), e.to_string()))?;
+        // Numbers by their paths; a speed profile by its level's table.
+        let numbers: Vec<usize> = (0..params.len())
+            .filter(|&k| study.parameters[k].profiles.is_empty())
+            .collect();
+        let mut model = param::set(
+            &study.source.model,
+            &numbers
+                .iter()
+                .map(|&k| params[k].clone())
+                .collect::<Vec<_>>(),
+            &numbers.iter().map(|&k| self.values[k]).collect::<Vec<_>>(),
+        )
+        .map_err(|e| bad(Vec::new(), e.to_string()))?;
+        for (p, &x) in study.parameters.iter().zip(&self.values) {
+            if let Some(f) = p.profiles.get(x as usize) {
+                model.speed.table = f.table.clone();
+                model.speed.csv = None;
+            }
+        }
         check(&model).map_err(|errors: Vec<CheckError>| {
             let named = (0..params.len())
                 .filter(|&k| {

@@ -35,6 +35,18 @@ pub enum Start {
     Periodic,
 }
 
+impl Start {
+    /// The start as `--start` and a study file spell it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Start::Static => "static",
+            Start::MeanLoad => "mean",
+            Start::Reference => "reference",
+            Start::Periodic => "periodic",
+        }
+    }
+}
+
 impl std::str::FromStr for Start {
     type Err = String;
     fn from_str(s: &str) -> Result<Start, String> {

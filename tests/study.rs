@@ -410,6 +410,17 @@ fn study_file_errors_name_file_and_line() {
             9,
             "`nosuch` is not an output",
         ),
+        // A speed profile parameter: its files, no levels; an unreadable file at its entry.
+        (
+            "[[parameter]]\npath = \"speed.profile\"\nlevels = [0, 1]\n[design]\nkind = \"grid\"\n",
+            4,
+            "speed profile files go with",
+        ),
+        (
+            "[[parameter]]\npath = \"speed.profile\"\nprofiles = [\"none.csv\"]\n[design]\nkind = \"grid\"\n",
+            5,
+            "cannot read",
+        ),
     ] {
         let f = study_file(dir.path(), "e.toml", body);
         let e = Study::load(&f).unwrap_err();

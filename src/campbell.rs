@@ -3,6 +3,7 @@
 //! as a CSV table and a PNG (and SVG) plot.
 
 use crate::analysis::plot::init_fonts;
+pub use crate::error::campbell::CampbellError;
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
 use washdyn_model::ir::modal::{self, ModalData};
@@ -16,11 +17,11 @@ pub struct Campbell {
 }
 
 /// The diagram of a spinning body's modal data from 0 to `max_rpm` in `steps` intervals.
-pub fn compute(d: &ModalData, max_rpm: f64, steps: usize) -> Result<Campbell, String> {
+pub fn compute(d: &ModalData, max_rpm: f64, steps: usize) -> Result<Campbell, CampbellError> {
     let kg = d
         .geometric_stiffness
         .as_ref()
-        .ok_or("the modal data has no geometric stiffness: not a spinning body (the drum)")?;
+        .ok_or(CampbellError::NotSpinning)?;
     let rpm: Vec<f64> = (0..=steps)
         .map(|i| max_rpm * i as f64 / steps as f64)
         .collect();
@@ -30,20 +31,19 @@ pub fn compute(d: &ModalData, max_rpm: f64, steps: usize) -> Result<Campbell, St
         .map(|r| {
             let omega = r * std::f64::consts::PI / 30.0;
             let f = washdyn_fe::rotating::try_campbell(&d.frequencies, &d.elementary, kg, omega)
-                .map_err(|e| format!("at {r:.0} rpm: {e} (geometric_stiffness, elementary.g)"))?;
+                .map_err(|source| CampbellError::Eigen { rpm: *r, source })?;
             // Below a divergence speed every mode oscillates; a mode that does not (or a
             // non-symmetric stiffness's spurious pairs) leaves no curve to draw.
             if f.len() != n || f.iter().any(|v| !v.is_finite()) {
-                return Err(format!(
-                    "at {r:.0} rpm {} of the {n} modes oscillate: diag(omega_0^2) + Omega^2 \
-                     (K_G - S_perp) is not positive definite there \
-                     (geometric_stiffness.per_omega2)",
-                    f.len()
-                ));
+                return Err(CampbellError::NotOscillating {
+                    rpm: *r,
+                    oscillating: f.len(),
+                    modes: n,
+                });
             }
             Ok(f)
         })
-        .collect::<Result<_, String>>()?;
+        .collect::<Result<_, CampbellError>>()?;
     Ok(Campbell { rpm, hz })
 }
 
@@ -53,13 +53,16 @@ pub const MAX_MOTOR_RATIO: f64 = 100.0;
 
 /// The drum's modal data, top speed (rpm) and motor ratio from `source`: a `.modal.toml` file,
 /// or a model (built-in or file) whose elastic drum it takes, through the one resolver.
-fn source_data(source: &str) -> Result<(ModalData, Option<f64>, Option<f64>), String> {
+fn source_data(source: &str) -> Result<(ModalData, Option<f64>, Option<f64>), CampbellError> {
     if source.ends_with(".modal.toml") {
         let p = Path::new(source);
-        let d = modal::read_file(p, source)?;
+        let d = modal::read_file(p, source).map_err(CampbellError::ModalFile)?;
         let problems = modal::problems(&d);
         if !problems.is_empty() {
-            return Err(format!("{source}: {}", problems.join("; ")));
+            return Err(CampbellError::Problems {
+                file: source.to_string(),
+                problems,
+            });
         }
         return Ok((d, None, None));
     }
@@ -67,7 +70,9 @@ fn source_data(source: &str) -> Result<(ModalData, Option<f64>, Option<f64>), St
     let d = m
         .elastic_of(washdyn_model::ir::BodyRef::Drum)
         .and_then(|e| e.data.clone())
-        .ok_or_else(|| format!("model `{}` has no elastic drum", m.name))?;
+        .ok_or_else(|| CampbellError::NoElasticDrum {
+            model: m.name.clone(),
+        })?;
     let top = m.speed.table.iter().map(|r| r[1]).fold(0.0, f64::max);
     let motor = m.rotor(washdyn_model::ir::MOTOR).map(|r| r.ratio);
     Ok((d, Some(top).filter(|t| *t > 0.0), motor))
@@ -80,16 +85,13 @@ pub fn run(
     motor_ratio: Option<f64>,
     out: &Path,
     svg: bool,
-) -> Result<Vec<PathBuf>, String> {
+) -> Result<Vec<PathBuf>, CampbellError> {
     let (d, top, motor) = source_data(source)?;
     let max_rpm = max_rpm.or(top).unwrap_or(1400.0);
     let motor_ratio_arg = motor_ratio;
     let motor_ratio = motor_ratio.or(motor).unwrap_or(11.25);
     if !(max_rpm > 0.0 && max_rpm <= washdyn_model::ir::check::MAX_RPM) {
-        return Err(format!(
-            "--max-rpm must be in (0, {}], got {max_rpm}",
-            washdyn_model::ir::check::MAX_RPM
-        ));
+        return Err(CampbellError::MaxRpm { rpm: max_rpm });
     }
     if !(motor_ratio > 0.0 && motor_ratio <= MAX_MOTOR_RATIO) {
         let what = if motor_ratio_arg.is_some() {
@@ -97,12 +99,22 @@ pub fn run(
         } else {
             "the model's rotor `motor`: ratio"
         };
-        return Err(format!(
-            "{what} must be in (0, {MAX_MOTOR_RATIO}], got {motor_ratio}"
-        ));
+        return Err(CampbellError::MotorRatio {
+            what,
+            ratio: motor_ratio,
+            max: MAX_MOTOR_RATIO,
+        });
     }
     let c = compute(&d, max_rpm, 140)?;
-    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    let io = |path: &Path| {
+        let path = path.to_path_buf();
+        move |source| CampbellError::Io { path, source }
+    };
+    let plot = |path: &Path| {
+        let path = path.to_path_buf();
+        move |source| CampbellError::Plot { path, source }
+    };
+    std::fs::create_dir_all(out).map_err(io(out))?;
     let csv = out.join("campbell.csv");
     let mut text = String::from("drum_rpm");
     let n = c.hz.first().map_or(0, |v| v.len());
@@ -117,24 +129,22 @@ pub fn run(
         }
         text.push('\n');
     }
-    std::fs::write(&csv, text).map_err(|e| format!("{}: {e}", csv.display()))?;
+    std::fs::write(&csv, text).map_err(io(&csv))?;
     let mut files = vec![csv];
     init_fonts();
     let png = out.join("campbell.png");
     {
         let root = BitMapBackend::new(&png, (1024, 640)).into_drawing_area();
-        draw(&root, &c, motor_ratio).map_err(|e| format!("{}: {e}", png.display()))?;
-        root.present()
-            .map_err(|e| format!("{}: {e}", png.display()))?;
+        draw(&root, &c, motor_ratio).map_err(plot(&png))?;
+        root.present().map_err(|e| plot(&png)(e.into()))?;
     }
     files.push(png);
     if svg {
         let p = out.join("campbell.svg");
         {
             let root = SVGBackend::new(&p, (1024, 640)).into_drawing_area();
-            draw(&root, &c, motor_ratio).map_err(|e| format!("{}: {e}", p.display()))?;
-            root.present()
-                .map_err(|e| format!("{}: {e}", p.display()))?;
+            draw(&root, &c, motor_ratio).map_err(plot(&p))?;
+            root.present().map_err(|e| plot(&p)(e.into()))?;
         }
         files.push(p);
     }
@@ -242,15 +252,14 @@ mod tests {
     fn refuses_a_body_that_does_not_spin_and_a_bad_speed() {
         let mut d = drum();
         d.geometric_stiffness = None;
-        assert!(
-            compute(&d, 1400.0, 4)
-                .unwrap_err()
-                .contains("not a spinning body")
-        );
+        let e = compute(&d, 1400.0, 4).unwrap_err();
+        assert!(matches!(e, CampbellError::NotSpinning), "{e}");
+        assert!(e.to_string().contains("not a spinning body"), "{e}");
         let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/fe/drum.modal.toml");
         let p = p.to_str().unwrap();
         let e = run(p, Some(-5.0), None, Path::new("/nonexistent"), false).unwrap_err();
-        assert!(e.contains("--max-rpm"), "{e}");
+        assert!(matches!(e, CampbellError::MaxRpm { rpm: -5.0 }), "{e}");
+        assert!(e.to_string().contains("--max-rpm"), "{e}");
     }
 
     #[test]

@@ -1,6 +1,7 @@
 //! The CLI's commands as library functions, so tests drive them without a subprocess.
 
 use crate::error::Error;
+pub use crate::error::fe::FeError;
 use crate::results::{SensorRecorder, StateRecorder};
 pub use crate::simulation::{RunControl, resolve_model};
 use crate::simulation::{Simulation, Source};
@@ -195,29 +196,35 @@ pub fn merge_report(old: &str, new: &[(String, String)], order: &[String]) -> St
     sections.into_iter().map(|(_, t)| t).collect()
 }
 
+/// An I/O failure on `path`, as `washdyn fe` words it (`path: error`).
+fn fe_io(path: &Path) -> impl FnOnce(std::io::Error) -> FeError {
+    let path = path.to_path_buf();
+    move |source| FeError::Io { path, source }
+}
+
 /// `washdyn fe write`: the built-in decks (frequency decks, and the drum's prestressed one).
-pub fn fe_write(out: &Path) -> Result<(), String> {
-    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+pub fn fe_write(out: &Path) -> Result<(), FeError> {
+    std::fs::create_dir_all(out).map_err(fe_io(out))?;
     for (name, text) in washdyn_fe::bodies::decks() {
         let p = out.join(name);
-        std::fs::write(&p, &text).map_err(|e| format!("{}: {e}", p.display()))?;
+        std::fs::write(&p, &text).map_err(fe_io(&p))?;
         println!("{} ({} kB)", p.display(), text.len() / 1024);
     }
     Ok(())
 }
 
 /// `washdyn fe modal`: solve the built-in bodies and write their modal data and a report.
-pub fn fe_modal(out: &Path, work: &Path, only: &[String]) -> Result<(), String> {
+pub fn fe_modal(out: &Path, work: &Path, only: &[String]) -> Result<(), FeError> {
     let bodies = washdyn_fe::bodies::builtin();
     let names: Vec<&str> = bodies.iter().map(|b| b.name.as_str()).collect();
     if let Some(bad) = only.iter().find(|o| !names.contains(&o.as_str())) {
-        return Err(format!(
-            "--only: no built-in body `{bad}`; the bodies are {}",
-            names.join(", ")
-        ));
+        return Err(FeError::NoBody {
+            name: bad.clone(),
+            bodies: names.iter().map(|n| n.to_string()).collect(),
+        });
     }
     for d in [out, work] {
-        std::fs::create_dir_all(d).map_err(|e| format!("{}: {e}", d.display()))?;
+        std::fs::create_dir_all(d).map_err(fe_io(d))?;
     }
     let order: Vec<String> = names.iter().map(|n| n.to_string()).collect();
     let mut sections = Vec::new();
@@ -225,7 +232,7 @@ pub fn fe_modal(out: &Path, work: &Path, only: &[String]) -> Result<(), String> 
         if !only.is_empty() && !only.contains(&b.name) {
             continue;
         }
-        let (data, r) = washdyn_fe::pipeline::build(&b, work).map_err(|e| e.to_string())?;
+        let (data, r) = washdyn_fe::pipeline::build(&b, work)?;
         let header = format!(
             "the {} (docs/modal-data.md), written by `washdyn fe modal`",
             b.name
@@ -238,15 +245,15 @@ pub fn fe_modal(out: &Path, work: &Path, only: &[String]) -> Result<(), String> 
     let p = out.join("report.txt");
     let old = std::fs::read_to_string(&p).unwrap_or_default();
     let report = merge_report(&old, &sections, &order);
-    std::fs::write(&p, report).map_err(|e| format!("{}: {e}", p.display()))
+    std::fs::write(&p, report).map_err(fe_io(&p))
 }
 
 /// `<out>/<name>.modal.toml` with a comment line saying whose data it is; returns the
 /// report's line for it (modes kept, their range, the file and its size).
-fn write_modal(out: &Path, name: &str, header: &str, data: &ModalData) -> Result<String, String> {
+fn write_modal(out: &Path, name: &str, header: &str, data: &ModalData) -> Result<String, FeError> {
     let p = out.join(format!("{name}.modal.toml"));
     let text = format!("# Modal data of {header}.\n{}", data.to_toml());
-    fs::write(&p, &text).map_err(|e| format!("{}: {e}", p.display()))?;
+    fs::write(&p, &text).map_err(fe_io(&p))?;
     Ok(format!(
         "  {} modes kept, {:.2} to {:.2} Hz; {} ({} kB)",
         data.modes(),
@@ -258,13 +265,12 @@ fn write_modal(out: &Path, name: &str, header: &str, data: &ModalData) -> Result
 }
 
 /// `washdyn fe deck`: a user's deck and spec to checked modal data (and field).
-pub fn fe_deck(spec: &Path, out: &Path, work: &Path) -> Result<(), String> {
-    let body = washdyn_fe::user::load(spec).map_err(|e| e.to_string())?;
+pub fn fe_deck(spec: &Path, out: &Path, work: &Path) -> Result<(), FeError> {
+    let body = washdyn_fe::user::load(spec)?;
     for d in [out, work] {
-        fs::create_dir_all(d).map_err(|e| format!("{}: {e}", d.display()))?;
+        fs::create_dir_all(d).map_err(fe_io(d))?;
     }
-    let (data, report, c) =
-        washdyn_fe::user::build_checked(&body, work).map_err(|e| e.to_string())?;
+    let (data, report, c) = washdyn_fe::user::build_checked(&body, work)?;
     let header = format!("`{}` from {} (washdyn fe deck)", body.name, spec.display());
     let line = write_modal(out, &body.name, &header, &data)?;
     print!("{report}");
@@ -278,8 +284,7 @@ pub fn fe_deck(spec: &Path, out: &Path, work: &Path) -> Result<(), String> {
     println!("{line}");
     if body.recovery {
         let field = format!("{}.field.bin", body.name);
-        fs::copy(work.join(&field), out.join(&field))
-            .map_err(|e| format!("{}: {e}", out.join(&field).display()))?;
+        fs::copy(work.join(&field), out.join(&field)).map_err(fe_io(&out.join(&field)))?;
         println!("  wrote {}", out.join(&field).display());
     }
     Ok(())

@@ -39,6 +39,11 @@ fn exit_code(e: &Error) -> ExitCode {
         Error::Io { .. } | Error::File { .. } | Error::Analysis(AnalysisError::Io { .. }) => 4,
         Error::Analysis(_)
         | Error::Compare(_)
+        | Error::Fields(_)
+        | Error::Campbell(_)
+        | Error::Modes(_)
+        | Error::Fe(_)
+        | Error::FullMesh(_)
         | Error::Refused { .. }
         | Error::Study(StudyError::Slurm(
             SlurmError::Missing { .. } | SlurmError::Failed { .. } | SlurmError::Answer { .. },

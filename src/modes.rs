@@ -11,6 +11,7 @@
 //! (`washdyn_runtime::linearise`: the exact force Jacobians).
 
 use crate::commands::resolve_model;
+pub use crate::error::modes::ModesError;
 use nalgebra::DMatrix;
 use std::path::{Path, PathBuf};
 use washdyn_model::equations::Equations;
@@ -67,8 +68,8 @@ const COORDS: [&str; 6] = [
 ];
 
 /// The rigid modes of `model` in `scene` (default: its first scene).
-pub fn rigid_modes(model: &Model, scene: Option<&str>) -> Result<Modes, String> {
-    let eff = model.scene(scene)?;
+pub fn rigid_modes(model: &Model, scene: Option<&str>) -> Result<Modes, ModesError> {
+    let eff = model.scene(scene).map_err(ModesError::Scene)?;
     let mut m = model.clone();
     m.elastic.clear();
     m.unbalances.clear();
@@ -77,7 +78,7 @@ pub fn rigid_modes(model: &Model, scene: Option<&str>) -> Result<Modes, String> 
     }
     let eq = Equations::new(&m, &eff);
     let mut sys = Interpreter::new(&m, &eff);
-    let lin = Linearisation::at_rest(&mut sys, 0.0)?;
+    let lin = Linearisation::at_rest(&mut sys, 0.0).map_err(ModesError::Rest)?;
     let (mm, k) = (&lin.m, 0.5 * (&lin.k + lin.k.transpose()));
     let (x, lambda) = washdyn_model::ir::modal::generalised_eigen(mm, &k);
 
@@ -240,14 +241,22 @@ pub fn markdown(m: &Modes) -> String {
 }
 
 /// `washdyn modes`: the table on stdout and in `OUT/modes.md` (default out/<model>/).
-pub fn run(spec: &str, scene: Option<&str>, out: Option<&Path>) -> Result<PathBuf, String> {
+pub fn run(spec: &str, scene: Option<&str>, out: Option<&Path>) -> Result<PathBuf, ModesError> {
     let (model, _) = resolve_model(spec)?;
     let modes = rigid_modes(&model, scene)?;
     let text = markdown(&modes);
     print!("{text}");
     let dir = out.map_or_else(|| PathBuf::from("out").join(&model.name), Path::to_path_buf);
-    std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let io = |action, path: &Path| {
+        let path = path.to_path_buf();
+        move |source| ModesError::Io {
+            action,
+            path,
+            source,
+        }
+    };
+    std::fs::create_dir_all(&dir).map_err(io("create", &dir))?;
     let file = dir.join("modes.md");
-    std::fs::write(&file, text).map_err(|e| format!("cannot write {}: {e}", file.display()))?;
+    std::fs::write(&file, text).map_err(io("write", &file))?;
     Ok(file)
 }

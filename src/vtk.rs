@@ -4,7 +4,37 @@
 //! write is one grid layout with point and cell data, about a page of code.
 
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+
+/// Why a grid or a collection was not written.
+#[derive(Debug, thiserror::Error)]
+pub enum VtkError {
+    /// The file cannot be written.
+    #[error("{}: {source}", path.display())]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    /// Data whose length is not `components` per point (or cell).
+    #[error("{}: {name} has {values} values for {count} x {components}", path.display())]
+    Length {
+        path: PathBuf,
+        name: String,
+        values: usize,
+        count: usize,
+        components: usize,
+    },
+}
+
+impl VtkError {
+    fn io(path: &Path) -> impl Fn(std::io::Error) -> VtkError + Copy + '_ {
+        move |source| VtkError::Io {
+            path: path.to_path_buf(),
+            source,
+        }
+    }
+}
 
 /// One cell: VTK type and 0-based point indices in VTK order.
 pub struct Cell<'a> {
@@ -26,8 +56,8 @@ pub fn write_vtu(
     cells: &[Cell],
     point_data: &[Data],
     cell_data: &[Data],
-) -> Result<u64, String> {
-    let err = |e: std::io::Error| format!("{}: {e}", path.display());
+) -> Result<u64, VtkError> {
+    let err = VtkError::io(path);
     let mut blocks: Vec<Vec<u8>> = Vec::new();
     let mut xml = String::new();
     let mut offset = 0u64;
@@ -90,13 +120,13 @@ pub fn write_vtu(
         xml.push_str(&format!("      <{tag}>\n"));
         for d in data {
             if d.values.len() != d.components * count {
-                return Err(format!(
-                    "{}: {} has {} values for {count} x {}",
-                    path.display(),
-                    d.name,
-                    d.values.len(),
-                    d.components
-                ));
+                return Err(VtkError::Length {
+                    path: path.to_path_buf(),
+                    name: d.name.to_string(),
+                    values: d.values.len(),
+                    count,
+                    components: d.components,
+                });
             }
             array(
                 &mut xml,
@@ -123,7 +153,7 @@ pub fn write_vtu(
 }
 
 /// A `.pvd` collection: (time s, file relative to the collection) per step.
-pub fn write_pvd(path: &Path, steps: &[(f64, String)]) -> Result<(), String> {
+pub fn write_pvd(path: &Path, steps: &[(f64, String)]) -> Result<(), VtkError> {
     let mut s = String::from(
         "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\">\n  <Collection>\n",
     );
@@ -133,5 +163,5 @@ pub fn write_pvd(path: &Path, steps: &[(f64, String)]) -> Result<(), String> {
         ));
     }
     s.push_str("  </Collection>\n</VTKFile>\n");
-    std::fs::write(path, s).map_err(|e| format!("{}: {e}", path.display()))
+    std::fs::write(path, s).map_err(VtkError::io(path))
 }

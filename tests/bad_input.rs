@@ -638,7 +638,9 @@ fn a_stop_signal_to_the_binary_writes_an_interrupted_summary_and_a_readable_file
     }
 }
 
-/// The FE and Campbell commands refuse bad arguments before writing anything.
+/// The FE and Campbell commands refuse bad arguments before writing anything, as refused data
+/// (exit code 5: `Error::Fe`, `Error::Campbell`; docs/commands.md), a model they cannot resolve
+/// included.
 #[test]
 fn fe_and_campbell_arguments_are_refused_before_anything_is_written() {
     let run = |args: &[&str]| {
@@ -646,8 +648,9 @@ fn fe_and_campbell_arguments_are_refused_before_anything_is_written() {
             .args(args)
             .output()
             .unwrap();
-        assert!(!out.status.success());
-        String::from_utf8_lossy(&out.stderr).into_owned()
+        let err = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert_eq!(out.status.code(), Some(5), "{args:?}: {err}");
+        err
     };
     let dir = out_dir("fe");
     let d = dir.to_str().unwrap();

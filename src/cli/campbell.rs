@@ -1,8 +1,9 @@
 //! `washdyn campbell`: its arguments and what it prints.
 
-use super::{Failure, text, wrote};
+use super::{Failure, wrote};
 use std::path::PathBuf;
 use std::process::ExitCode;
+use washdyn::Error;
 
 /// `washdyn campbell`'s arguments.
 #[derive(clap::Args)]
@@ -33,8 +34,7 @@ pub fn campbell(a: Args) -> Result<ExitCode, Failure> {
         out,
         svg,
     } = a;
-    Ok(wrote(text(
-        "campbell",
-        washdyn::campbell::run(&source, max_rpm, motor_ratio, &out, svg),
-    )?))
+    let files =
+        washdyn::campbell::run(&source, max_rpm, motor_ratio, &out, svg).map_err(Error::from)?;
+    Ok(wrote(files))
 }

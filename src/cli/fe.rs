@@ -1,10 +1,12 @@
 //! `washdyn fe solve | write | deck | modal | reference`: their arguments and what they print.
 
-use super::{Failure, text, wrote};
+use super::{Failure, wrote};
 use clap::Subcommand;
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
+use washdyn::Error;
+use washdyn::commands::FeError;
 
 /// `washdyn fe`'s arguments: one of its commands.
 #[derive(clap::Args)]
@@ -84,15 +86,15 @@ pub enum FeCmd {
 pub fn fe(a: Args) -> Result<ExitCode, Failure> {
     match a.cmd {
         FeCmd::Write { out } => {
-            text("fe", washdyn::commands::fe_write(&out))?;
+            washdyn::commands::fe_write(&out).map_err(Error::from)?;
             Ok(ExitCode::SUCCESS)
         }
         FeCmd::Deck { spec, out, work } => {
-            text("fe", washdyn::commands::fe_deck(&spec, &out, &work))?;
+            washdyn::commands::fe_deck(&spec, &out, &work).map_err(Error::from)?;
             Ok(ExitCode::SUCCESS)
         }
         FeCmd::Modal { out, work, only } => {
-            text("fe", washdyn::commands::fe_modal(&out, &work, &only))?;
+            washdyn::commands::fe_modal(&out, &work, &only).map_err(Error::from)?;
             Ok(ExitCode::SUCCESS)
         }
         FeCmd::Reference {
@@ -113,14 +115,15 @@ pub fn fe(a: Args) -> Result<ExitCode, Failure> {
                 convergence: !no_convergence,
                 committed: ccx_results,
             };
-            let study = text(
-                "fe",
-                washdyn::full_mesh::study(&args, &mut |l| println!("{l}")),
-            )?;
-            Ok(wrote(text("fe", washdyn::full_mesh::write(&study, &out))?))
+            let study =
+                washdyn::full_mesh::study(&args, &mut |l| println!("{l}")).map_err(Error::from)?;
+            Ok(wrote(
+                washdyn::full_mesh::write(&study, &out).map_err(Error::from)?,
+            ))
         }
         FeCmd::Solve { deck } => {
-            let run = text("fe", washdyn_fe::ccx::run(&deck).map_err(|e| e.to_string()))?;
+            let run = washdyn_fe::ccx::run(&deck)
+                .map_err(|e| Error::from(FeError::from(washdyn_fe::Error::from(e))))?;
             let dat = std::fs::read_to_string(run.dat()).unwrap_or_default();
             let f = washdyn_fe::ccx::frequencies(&dat);
             let mut out = std::io::stdout();

@@ -1,6 +1,6 @@
 //! `washdyn fields`: its arguments and what it prints.
 
-use super::{Failure, text};
+use super::Failure;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use washdyn::Error;
@@ -51,15 +51,12 @@ pub fn fields(a: Args) -> Result<ExitCode, Failure> {
     } = a;
     use washdyn::fields::{Request, Times};
     let request = match (times, range, revolution, drum_edge) {
-        (Some(t), None, None, None) => washdyn::fields::check_times("--times", &t)
-            .map(|()| Request::Fields(Times::List(t)))
-            .map_err(|m| Error::setting("--times", m)),
-        (None, Some(r), None, None) => parse_range(&r)
-            .map(Request::Fields)
-            .map_err(|m| Error::setting("--range", m)),
+        (Some(t), None, None, None) => {
+            washdyn::fields::check_times("--times", &t).map(|()| Request::Fields(Times::List(t)))
+        }
+        (None, Some(r), None, None) => parse_range(&r).map(Request::Fields),
         (None, None, Some(t), None) => washdyn::fields::check_times("--revolution", &[t])
-            .map(|()| Request::Fields(Times::Revolution(t)))
-            .map_err(|m| Error::setting("--revolution", m)),
+            .map(|()| Request::Fields(Times::Revolution(t))),
         (None, None, None, Some(0)) => Err(Error::setting(
             "--drum-edge",
             "--drum-edge: the stride must be at least 1",
@@ -70,10 +67,8 @@ pub fn fields(a: Args) -> Result<ExitCode, Failure> {
             "give exactly one of --times, --range, --revolution, --drum-edge",
         )),
     }?;
-    let w = text(
-        "fields",
-        washdyn::fields::fields_command(&run, model.as_deref(), &request, &fe, out.as_deref()),
-    )?;
+    let w = washdyn::fields::fields_command(&run, model.as_deref(), &request, &fe, out.as_deref())
+        .map_err(Error::from)?;
     for n in &w.notes {
         eprintln!("note: {n}");
     }
@@ -98,15 +93,21 @@ pub fn fields(a: Args) -> Result<ExitCode, Failure> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// `FROM:TO:STEP` of `washdyn fields --range`.
-fn parse_range(r: &str) -> Result<washdyn::fields::Times, String> {
+/// `FROM:TO:STEP` of `washdyn fields --range`, or the setting refused.
+fn parse_range(r: &str) -> Result<washdyn::fields::Times, Error> {
+    let refused = || {
+        Error::setting(
+            "--range",
+            format!("--range `{r}`: expected FROM:TO:STEP in seconds"),
+        )
+    };
     let v: Vec<f64> = r
         .split(':')
         .map(|x| x.trim().parse::<f64>())
         .collect::<Result<_, _>>()
-        .map_err(|_| format!("--range `{r}`: expected FROM:TO:STEP in seconds"))?;
+        .map_err(|_| refused())?;
     match v[..] {
         [a, b, dt] => Ok(washdyn::fields::Times::Range(a, b, dt)),
-        _ => Err(format!("--range `{r}`: expected FROM:TO:STEP in seconds")),
+        _ => Err(refused()),
     }
 }

@@ -131,8 +131,3 @@ pub fn wrote(files: Vec<PathBuf>) -> ExitCode {
     }
     ExitCode::SUCCESS
 }
-
-/// A command whose errors are still text.
-pub fn text<T>(command: &'static str, r: Result<T, String>) -> Result<T, Error> {
-    r.map_err(|m| Error::refused(command, m))
-}

@@ -1,8 +1,9 @@
 //! `washdyn modes`: its arguments and what it prints.
 
-use super::{Failure, text, wrote};
+use super::{Failure, wrote};
 use std::path::PathBuf;
 use std::process::ExitCode;
+use washdyn::Error;
 
 /// `washdyn modes`'s arguments.
 #[derive(clap::Args)]
@@ -19,8 +20,7 @@ pub struct Args {
 
 pub fn modes(a: Args) -> Result<ExitCode, Failure> {
     let Args { model, scene, out } = a;
-    Ok(wrote(vec![text(
-        "modes",
-        washdyn::modes::run(&model, scene.as_deref(), out.as_deref()),
-    )?]))
+    let file =
+        washdyn::modes::run(&model, scene.as_deref(), out.as_deref()).map_err(Error::from)?;
+    Ok(wrote(vec![file]))
 }

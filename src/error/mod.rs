@@ -3,7 +3,11 @@
 //! function of the variant (`src/main.rs`, `exit_code`; docs/commands.md).
 
 pub use crate::spec::Refusal;
+pub mod campbell;
 pub mod compare;
+pub mod fe;
+pub mod fields;
+pub mod modes;
 pub mod slurm;
 pub mod study;
 
@@ -69,8 +73,23 @@ pub enum Error {
     /// A study refused: its file (at its lines), variants the checker refuses, its directory.
     #[error(transparent)]
     Study(#[from] study::StudyError),
-    /// Another command refused its input or could not finish (`fields`, `campbell`, `modes`,
-    /// `fe`, the full-mesh study, the accuracy study's runs): its message.
+    /// `washdyn fields`: the run, its states, the instants asked for, the field files.
+    #[error(transparent)]
+    Fields(#[from] fields::FieldsError),
+    /// `washdyn campbell`: its source, its speeds, the diagram.
+    #[error(transparent)]
+    Campbell(#[from] campbell::CampbellError),
+    /// `washdyn modes`: the model, the scene, the rest position.
+    #[error(transparent)]
+    Modes(#[from] modes::ModesError),
+    /// `washdyn fe solve | write | modal | deck`.
+    #[error(transparent)]
+    Fe(#[from] fe::FeError),
+    /// `washdyn fe reference`: the full-mesh study.
+    #[error(transparent)]
+    FullMesh(#[from] fe::FullMeshError),
+    /// Another command refused its input or could not finish (the sweep's and the study's
+    /// runs, the accuracy study): its message.
     #[error("{message}")]
     Refused {
         command: &'static str,
@@ -131,12 +150,5 @@ impl Error {
             command,
             message: message.into(),
         }
-    }
-}
-
-/// The commands whose own errors are still text take these as their message.
-impl From<Error> for String {
-    fn from(e: Error) -> String {
-        e.to_string()
     }
 }

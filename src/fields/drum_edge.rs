@@ -2,6 +2,7 @@
 //! displacement and the drum's peak stress against speed, as a table and a plot. Separate from
 //! the grids: every stored sample, one number per sample, no mesh written.
 
+use crate::error::fields::FieldsError;
 use std::path::{Path, PathBuf};
 use washdyn_model::ir::BodyRef;
 
@@ -23,14 +24,18 @@ pub struct EdgeRow {
 /// The drum's front edge (the rim nodes within 1 mm of its front) over the stored states, every
 /// `stride`-th sample: the seed paper's Figure 11 (drum deformation against speed). Only the
 /// drum's own modes count: its deformation, not the tub's motion that carries it.
-pub fn drum_edge(rec: &Recovery, states: &States, stride: usize) -> Result<Vec<EdgeRow>, String> {
+pub fn drum_edge(
+    rec: &Recovery,
+    states: &States,
+    stride: usize,
+) -> Result<Vec<EdgeRow>, FieldsError> {
     let drum = rec
         .bodies
         .iter()
         .find(|b| b.body.id == BodyRef::Drum)
-        .ok_or("no drum field")?;
+        .ok_or(FieldsError::NoDrumField)?;
     if drum.modes.is_none() {
-        return Err("the drum is rigid in this scene: no deformation to show".into());
+        return Err(FieldsError::RigidDrum);
     }
     let h = &drum.field.header;
     let front = h.nodes.iter().map(|x| x[0]).fold(f64::MIN, f64::max);
@@ -69,9 +74,21 @@ pub fn drum_edge(rec: &Recovery, states: &States, stride: usize) -> Result<Vec<E
 }
 
 /// `drum_edge.csv` and its plot over speed (PNG, and SVG with `svg`).
-pub fn write_drum_edge(rows: &[EdgeRow], out: &Path, svg: bool) -> Result<Vec<PathBuf>, String> {
+pub fn write_drum_edge(
+    rows: &[EdgeRow],
+    out: &Path,
+    svg: bool,
+) -> Result<Vec<PathBuf>, FieldsError> {
     use plotters::prelude::*;
-    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    let io = |path: &Path| {
+        let path = path.to_path_buf();
+        move |source| FieldsError::Io { path, source }
+    };
+    let plot = |path: &Path| {
+        let path = path.to_path_buf();
+        move |source| FieldsError::Plot { path, source }
+    };
+    std::fs::create_dir_all(out).map_err(io(out))?;
     let csv = out.join("drum_edge.csv");
     let mut text =
         String::from("time_s,drum_rpm,front_edge_max_m,node,peak_von_mises_Pa,peak_node\n");
@@ -79,7 +96,7 @@ pub fn write_drum_edge(rows: &[EdgeRow], out: &Path, svg: bool) -> Result<Vec<Pa
         let (p, pn) = r.peak.map_or((f64::NAN, 0), |p| p);
         text += &format!("{},{},{},{},{p},{pn}\n", r.t, r.rpm, r.max_m, r.node);
     }
-    std::fs::write(&csv, text).map_err(|e| format!("{}: {e}", csv.display()))?;
+    std::fs::write(&csv, text).map_err(io(&csv))?;
     let mut files = vec![csv];
     crate::analysis::plot::init_fonts();
     let size = if rows.iter().any(|r| r.peak.is_some()) {
@@ -88,13 +105,11 @@ pub fn write_drum_edge(rows: &[EdgeRow], out: &Path, svg: bool) -> Result<Vec<Pa
         (1024, 640)
     };
     let png = out.join("drum_edge.png");
-    draw_edge(&BitMapBackend::new(&png, size).into_drawing_area(), rows)
-        .map_err(|x| format!("{}: {x}", png.display()))?;
+    draw_edge(&BitMapBackend::new(&png, size).into_drawing_area(), rows).map_err(plot(&png))?;
     files.push(png);
     if svg {
         let p = out.join("drum_edge.svg");
-        draw_edge(&SVGBackend::new(&p, size).into_drawing_area(), rows)
-            .map_err(|x| format!("{}: {x}", p.display()))?;
+        draw_edge(&SVGBackend::new(&p, size).into_drawing_area(), rows).map_err(plot(&p))?;
         files.push(p);
     }
     Ok(files)

@@ -1,6 +1,7 @@
 //! The output of `washdyn fields` at instants: a VTK grid per body and instant with
 //! displacements and stresses, a `.pvd` collection per body, and what was written.
 
+use crate::error::fields::FieldsError;
 use crate::vtk::{Cell, Data, write_pvd, write_vtu};
 use std::path::{Path, PathBuf};
 
@@ -26,20 +27,22 @@ pub fn write_fields(
     states: &States,
     instants: &[f64],
     out: &Path,
-) -> Result<Written, String> {
+) -> Result<Written, FieldsError> {
     let start = std::time::Instant::now();
     if states.q.len() != rec.n {
-        return Err(format!(
-            "the states have {} coordinates, the scene {}: another scene's run?",
-            states.q.len(),
-            rec.n
-        ));
+        return Err(FieldsError::Coordinates {
+            states: states.q.len(),
+            scene: rec.n,
+        });
     }
     // Every instant before the first file: a refused one leaves no partial output.
     for &t in instants {
         states.at(t)?;
     }
-    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    std::fs::create_dir_all(out).map_err(|source| FieldsError::Io {
+        path: out.to_path_buf(),
+        source,
+    })?;
     let mut w = Written {
         files: Vec::new(),
         bytes: 0,

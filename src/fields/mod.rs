@@ -25,6 +25,7 @@ mod projection;
 mod recovery;
 mod states;
 
+pub use crate::error::fields::FieldsError;
 pub use drum_edge::{EdgeRow, drum_edge, write_drum_edge};
 pub use grids::{Written, write_fields};
 pub use recovery::{BodyField, NodeStresses, Recovery};
@@ -46,33 +47,33 @@ pub fn fields_command(
     request: &Request,
     fe_dir: &Path,
     out: Option<&Path>,
-) -> Result<Written, String> {
-    let summary = std::fs::read_to_string(run_dir.join("summary.json"))
-        .map_err(|e| format!("{}/summary.json: {e}", run_dir.display()))?;
+) -> Result<Written, FieldsError> {
+    let summary = std::fs::read_to_string(run_dir.join("summary.json")).map_err(|source| {
+        FieldsError::NoSummary {
+            dir: run_dir.to_path_buf(),
+            source,
+        }
+    })?;
     let summary: serde_json::Value =
-        serde_json::from_str(&summary).map_err(|e| format!("summary.json: {e}"))?;
-    let text = |k: &str| {
+        serde_json::from_str(&summary).map_err(FieldsError::Summary)?;
+    let text = |k: &'static str| {
         summary[k]
             .as_str()
             .map(str::to_string)
-            .ok_or_else(|| format!("summary.json: no {k}"))
+            .ok_or(FieldsError::SummaryKey(k))
     };
     // The run's model: `--model`, else the file the summary names (refused if it or a data
     // file it names changed since), else the built-in model of the summary's name.
     let files: Vec<FileHash> = match summary.get("model_files") {
-        Some(v) => serde_json::from_value(v.clone())
-            .map_err(|e| format!("summary.json: model_files: {e}"))?,
+        Some(v) => serde_json::from_value(v.clone()).map_err(FieldsError::ModelFiles)?,
         None => Vec::new(),
     };
     let spec = match (model, files.first()) {
         (Some(m), _) => m.to_string(),
         (None, Some(first)) => {
             for f in &files {
-                f.unchanged().map_err(|e| {
-                    format!(
-                        "{e}: the run's model differs now (give it with --model to recover anyway)"
-                    )
-                })?;
+                f.unchanged()
+                    .map_err(|message| FieldsError::ModelChanged { message })?;
             }
             first.path.clone()
         }
@@ -81,11 +82,13 @@ pub fn fields_command(
     let (model, _) = crate::commands::resolve_model(&spec)?;
     let scene = model
         .scene(Some(&text("scene")?))
-        .map_err(|e| e.to_string())?;
+        .map_err(FieldsError::Scene)?;
     let eq = Equations::new(&model, &scene);
     let rec = Recovery::new(&eq, fe_dir)?;
-    let states = States::read(&run_dir.join("states.parquet"))
-        .map_err(|e| format!("{e} (run with --states to keep the states for field recovery)"))?;
+    let states =
+        States::read(&run_dir.join("states.parquet")).map_err(|e| FieldsError::NoStates {
+            source: Box::new(e),
+        })?;
     let out = out.map_or_else(|| run_dir.join("fields"), Path::to_path_buf);
     match request {
         Request::Fields(times) => {

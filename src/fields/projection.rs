@@ -22,8 +22,8 @@ pub(super) fn modal(
     b: &ModalBody,
     field: &Field,
     notes: &mut Vec<String>,
-) -> Result<(usize, DMatrix<f64>), String> {
-    let al = field.align(b.data()).map_err(|e| e.to_string())?;
+) -> Result<(usize, DMatrix<f64>), washdyn_fe::Error> {
+    let al = field.align(b.data())?;
     let changed = al.changed();
     if !changed.is_empty() {
         let groups: Vec<String> = changed

@@ -1,6 +1,7 @@
 //! The recovery on a body's mesh: which bodies have a field, and at a state q each node's
 //! position and displacement (rigid motion of its frame plus W q) and its stresses.
 
+use crate::error::fields::FieldsError;
 use nalgebra::DMatrix;
 use std::path::Path;
 use washdyn_fe::field::Field;
@@ -30,7 +31,7 @@ pub struct Recovery {
 
 impl Recovery {
     /// The scene's bodies whose `<body>.field.bin` is in `fe_dir`.
-    pub fn new(eq: &Equations, fe_dir: &Path) -> Result<Recovery, String> {
+    pub fn new(eq: &Equations, fe_dir: &Path) -> Result<Recovery, FieldsError> {
         let (mut bodies, mut notes) = (Vec::new(), Vec::new());
         for body in &eq.bodies.list {
             let name = body.id.name();
@@ -39,7 +40,7 @@ impl Recovery {
             if !path.exists() || (body.frame == Frame::Fixed && body.modal().is_none()) {
                 continue;
             }
-            let field = Field::read(&path).map_err(|e| e.to_string())?;
+            let field = Field::read(&path)?;
             let modes = body
                 .modal()
                 .map(|b| modal(b, &field, &mut notes))
@@ -52,11 +53,9 @@ impl Recovery {
             });
         }
         if bodies.is_empty() {
-            return Err(format!(
-                "no field files (<body>.field.bin) in {}: `washdyn fe modal` writes them there \
-                 (with CalculiX)",
-                fe_dir.display()
-            ));
+            return Err(FieldsError::NoFieldFiles {
+                dir: fe_dir.to_path_buf(),
+            });
         }
         Ok(Recovery {
             bodies,

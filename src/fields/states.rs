@@ -2,12 +2,14 @@
 //! (`--times`, `--range`, `--revolution`): read, interpolated, and every instant checked before
 //! any file is written.
 
+use crate::Error;
+use crate::error::fields::FieldsError;
 use std::path::Path;
 
 /// The times of `--times` (or `--revolution`) as numbers: finite and not negative. `option`
-/// names the flag in the error. Checked before any file is read or written; whether each lies
-/// inside the run is checked against its states (`States::instants`).
-pub fn check_times(option: &str, times: &[f64]) -> Result<(), String> {
+/// names the flag in the error, a refused setting. Checked before any file is read or written;
+/// whether each lies inside the run is checked against its states (`States::instants`).
+pub fn check_times(option: &'static str, times: &[f64]) -> Result<(), Error> {
     let bad: Vec<String> = times
         .iter()
         .filter(|t| !(t.is_finite() && **t >= 0.0))
@@ -16,9 +18,12 @@ pub fn check_times(option: &str, times: &[f64]) -> Result<(), String> {
     if bad.is_empty() {
         Ok(())
     } else {
-        Err(format!(
-            "{option}: {} is not a time in s (finite, >= 0)",
-            bad.join(", ")
+        Err(Error::setting(
+            option,
+            format!(
+                "{option}: {} is not a time in s (finite, >= 0)",
+                bad.join(", ")
+            ),
         ))
     }
 }
@@ -48,13 +53,13 @@ pub struct States {
 }
 
 impl States {
-    pub fn read(path: &Path) -> Result<States, String> {
-        let (names, cols) = crate::results::read_parquet_f64(path)?;
+    pub fn read(path: &Path) -> Result<States, FieldsError> {
+        let (names, cols) = crate::results::read_parquet_f64(path)
+            .map_err(|message| FieldsError::StatesFile { message })?;
         if names.len() < 3 || names[0] != "time_s" || names[1] != "drum_angle_rad" {
-            return Err(format!(
-                "{}: not a states file (time_s, drum_angle_rad, q...)",
-                path.display()
-            ));
+            return Err(FieldsError::NotStates {
+                path: path.to_path_buf(),
+            });
         }
         let mut cols = cols.into_iter();
         let t = cols.next().expect("checked");
@@ -67,15 +72,15 @@ impl States {
     }
 
     /// (phi, q) at time `t`, linear between samples; an error outside the run.
-    pub fn at(&self, t: f64) -> Result<(f64, Vec<f64>), String> {
+    pub fn at(&self, t: f64) -> Result<(f64, Vec<f64>), FieldsError> {
         let n = self.t.len();
         // Negated: a NaN time is outside too.
         if n == 0 || !(t >= self.t[0] - 1e-12 && t <= self.t[n - 1] + 1e-12) {
-            return Err(format!(
-                "t = {t} s is outside the stored states ({} to {} s)",
-                self.t.first().unwrap_or(&0.0),
-                self.t.last().unwrap_or(&0.0)
-            ));
+            return Err(FieldsError::Outside {
+                t,
+                first: *self.t.first().unwrap_or(&0.0),
+                last: *self.t.last().unwrap_or(&0.0),
+            });
         }
         let i = self.t.partition_point(|&x| x <= t).clamp(1, n.max(2) - 1);
         let (t0, t1) = (self.t[i - 1], self.t[i.min(n - 1)]);
@@ -90,36 +95,40 @@ impl States {
 
     /// The instants `times` asks for, every one inside the stored states (all checked before
     /// the first file is written).
-    pub fn instants(&self, times: &Times) -> Result<Vec<f64>, String> {
+    pub fn instants(&self, times: &Times) -> Result<Vec<f64>, FieldsError> {
         let (option, list) = self.requested(times)?;
         if list.len() > MAX_FRAMES {
-            return Err(format!(
-                "{option}: {} instants, more than {MAX_FRAMES}",
-                list.len()
-            ));
+            return Err(FieldsError::TooMany {
+                option,
+                count: list.len(),
+                max: MAX_FRAMES,
+            });
         }
-        let bad: Vec<String> = list.iter().filter_map(|&t| self.at(t).err()).collect();
-        if !bad.is_empty() {
-            return Err(format!("{option}: {}", bad.join("; ")));
+        let outside: Vec<FieldsError> = list.iter().filter_map(|&t| self.at(t).err()).collect();
+        if !outside.is_empty() {
+            return Err(FieldsError::Instants { option, outside });
         }
         Ok(list)
     }
 
     /// The option's name and the instants it lists.
-    fn requested(&self, times: &Times) -> Result<(&'static str, Vec<f64>), String> {
+    fn requested(&self, times: &Times) -> Result<(&'static str, Vec<f64>), FieldsError> {
         Ok(match times {
             Times::List(v) => ("--times", v.clone()),
             Times::Range(a, b, dt) => {
-                if !(*dt > 0.0 && b >= a && a.is_finite() && b.is_finite()) {
-                    return Err(format!(
-                        "--range {a}:{b}:{dt}: need from <= to and step > 0, all finite"
-                    ));
+                let (from, to, step) = (*a, *b, *dt);
+                if !(step > 0.0 && to >= from && from.is_finite() && to.is_finite()) {
+                    return Err(FieldsError::Range { from, to, step });
                 }
                 let n = ((b - a) / dt + 1e-9).floor();
                 if n >= MAX_FRAMES as f64 {
-                    return Err(format!(
-                        "--range {a}:{b}:{dt}: {n:e} instants, more than {MAX_FRAMES}"
-                    ));
+                    return Err(FieldsError::RangeTooLong {
+                        from,
+                        to,
+                        step,
+                        count: n,
+                        max: MAX_FRAMES,
+                    });
                 }
                 let n = n as usize;
                 ("--range", (0..=n).map(|k| a + k as f64 * dt).collect())
@@ -133,9 +142,7 @@ impl States {
                     let target = phi0 + k as f64 * step;
                     let i = self.phi.partition_point(|&p| p < target);
                     if i == 0 || i >= self.t.len() {
-                        return Err(format!(
-                            "the run ends before one revolution from t = {t0} s"
-                        ));
+                        return Err(FieldsError::Revolution { t: *t0 });
                     }
                     let f = (target - self.phi[i - 1]) / (self.phi[i] - self.phi[i - 1]);
                     out.push(self.t[i - 1] + f * (self.t[i] - self.t[i - 1]));

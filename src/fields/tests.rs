@@ -12,15 +12,36 @@ fn bad_requests_are_refused() {
         q: vec![vec![0.0; 3]],
     };
     let e = st.at(2.5).unwrap_err();
-    assert!(e.contains("outside the stored states (0 to 2 s)"), "{e}");
+    assert!(matches!(e, FieldsError::Outside { t: 2.5, .. }), "{e}");
+    assert!(
+        e.to_string()
+            .contains("outside the stored states (0 to 2 s)"),
+        "{e}"
+    );
     let e = st.instants(&Times::Range(1.0, 0.0, 0.1)).unwrap_err();
-    assert!(e.contains("need from <= to and step > 0"), "{e}");
+    assert!(matches!(e, FieldsError::Range { .. }), "{e}");
+    assert!(
+        e.to_string().contains("need from <= to and step > 0"),
+        "{e}"
+    );
     let e = st.instants(&Times::Revolution(0.0)).unwrap_err();
-    assert!(e.contains("ends before one revolution"), "{e}");
+    assert!(matches!(e, FieldsError::Revolution { t: 0.0 }), "{e}");
+    assert!(e.to_string().contains("ends before one revolution"), "{e}");
     // Every instant is checked, not just the first: NaN (which compares false) included.
     let e = st
         .instants(&Times::List(vec![0.5, f64::NAN, 9.0]))
         .unwrap_err();
+    match &e {
+        FieldsError::Instants { option, outside } => {
+            assert_eq!(*option, "--times");
+            assert!(
+                matches!(outside[..], [FieldsError::Outside { t: a, .. }, FieldsError::Outside { t: 9.0, .. }] if a.is_nan()),
+                "{e}"
+            );
+        }
+        _ => panic!("not the instants outside: {e}"),
+    }
+    let e = e.to_string();
     assert!(
         e.starts_with("--times: t = NaN s is outside") && e.contains("t = 9 s"),
         "{e}"
@@ -28,15 +49,20 @@ fn bad_requests_are_refused() {
     let e = st
         .instants(&Times::Range(0.0, 1.0, f64::MIN_POSITIVE))
         .unwrap_err();
-    assert!(e.contains("more than 10000"), "{e}");
-    assert!(st.instants(&Times::Revolution(f64::NAN)).is_err());
+    assert!(matches!(e, FieldsError::RangeTooLong { .. }), "{e}");
+    assert!(e.to_string().contains("more than 10000"), "{e}");
+    assert!(matches!(
+        st.instants(&Times::Revolution(f64::NAN)),
+        Err(FieldsError::Outside { .. })
+    ));
     // A run directory without a summary, and one whose model has no field files.
     let dir = tempfile::tempdir().unwrap();
     let req = Request::Fields(Times::List(vec![0.0]));
     let e = fields_command(dir.path(), None, &req, dir.path(), None)
         .err()
         .unwrap();
-    assert!(e.contains("summary.json"), "{e}");
+    assert!(matches!(e, FieldsError::NoSummary { .. }), "{e}");
+    assert!(e.to_string().contains("summary.json"), "{e}");
     std::fs::write(
         dir.path().join("summary.json"),
         r#"{"model": "reference", "scene": "full"}"#,
@@ -45,7 +71,8 @@ fn bad_requests_are_refused() {
     let e = fields_command(dir.path(), None, &req, dir.path(), None)
         .err()
         .unwrap();
-    assert!(e.contains("no field files"), "{e}");
+    assert!(matches!(e, FieldsError::NoFieldFiles { .. }), "{e}");
+    assert!(e.to_string().contains("no field files"), "{e}");
     assert!(!dir.path().join("fields").exists());
     // Not a field file.
     std::fs::write(dir.path().join("tub.field.bin"), b"garbage").unwrap();
@@ -77,12 +104,19 @@ fn the_run_s_model_file_is_used_and_a_changed_one_refused() {
     let e = fields_command(dir.path(), None, &req, dir.path(), None)
         .err()
         .unwrap();
+    assert!(
+        matches!(&e, FieldsError::Model(m) if matches!(**m, crate::Error::Model(_))),
+        "{e}"
+    );
+    let e = e.to_string();
     assert!(e.contains(&format!("{}:", model.display())), "{e}");
     assert!(e.contains("tub.modal.toml: cannot read"), "{e}");
     std::fs::write(&model, "name = \"other\"").unwrap();
     let e = fields_command(dir.path(), None, &req, dir.path(), None)
         .err()
         .unwrap();
+    assert!(matches!(e, FieldsError::ModelChanged { .. }), "{e}");
+    let e = e.to_string();
     assert!(
         e.starts_with(&format!("{}: changed since the run", hashed.path)),
         "{e}"

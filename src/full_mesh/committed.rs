@@ -1,5 +1,6 @@
 //! ccx's committed answer for the full-mesh reference, tied to the deck it solved.
 
+use crate::error::fe::FullMeshError;
 use nalgebra::Complex;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -53,39 +54,44 @@ impl CcxReference {
         modes: usize,
         rpm: &[f64],
         channels: usize,
-    ) -> Result<Solution, String> {
-        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    ) -> Result<Solution, FullMeshError> {
+        let path_buf = || path.to_path_buf();
+        let text = std::fs::read_to_string(path).map_err(|source| FullMeshError::Io {
+            path: path_buf(),
+            source,
+        })?;
         let r: CcxReference =
-            serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+            serde_json::from_str(&text).map_err(|source| FullMeshError::Json {
+                path: path_buf(),
+                source,
+            })?;
         let hash = content_hash(deck.as_bytes());
-        let regenerate = format!(
-            "regenerate it with `washdyn fe reference --modes {modes} --no-convergence` and \
-             copy its full-mesh.ccx.json there"
-        );
         if r.deck_fnv1a64 != hash {
-            return Err(format!(
-                "{}: ccx's answer is for the deck {}, the code writes {hash} now (mesh, model \
-                 or deck writer changed): {regenerate}",
-                path.display(),
-                r.deck_fnv1a64
-            ));
+            return Err(FullMeshError::OtherDeck {
+                path: path_buf(),
+                committed: r.deck_fnv1a64,
+                now: hash,
+                modes,
+            });
         }
         if r.modes != modes || r.rpm != rpm {
-            return Err(format!(
-                "{}: {} modes at {:?} rpm, asked for {modes} at {rpm:?}: {regenerate}",
-                path.display(),
-                r.modes,
-                r.rpm
-            ));
+            return Err(FullMeshError::OtherSettings {
+                path: path_buf(),
+                found_modes: r.modes,
+                found_rpm: r.rpm,
+                modes,
+                rpm: rpm.to_vec(),
+            });
         }
         // The hash fixes the sensors, so this fails only for an edited file; the study indexes
         // every channel.
         if r.channels.len() != rpm.len() || r.channels.iter().any(|c| c.len() != channels) {
-            return Err(format!(
-                "{}: `channels` is not {} speeds of {channels} channels: {regenerate}",
-                path.display(),
-                rpm.len()
-            ));
+            return Err(FullMeshError::Channels {
+                path: path_buf(),
+                speeds: rpm.len(),
+                channels,
+                modes,
+            });
         }
         Ok(Solution {
             frequencies: r.frequencies,
@@ -117,6 +123,11 @@ mod tests {
         let nc = r.channels[0].len();
         let e = CcxReference::read(&path, "** another deck\n", r.modes, &r.rpm, nc).unwrap_err();
         assert!(
+            matches!(&e, FullMeshError::OtherDeck { committed, .. } if *committed == r.deck_fnv1a64),
+            "{e}"
+        );
+        let e = e.to_string();
+        assert!(
             e.contains(&r.deck_fnv1a64) && e.contains("regenerate"),
             "{e}"
         );
@@ -128,12 +139,19 @@ mod tests {
         r2.deck_fnv1a64 = content_hash(b"deck");
         std::fs::write(&copy, serde_json::to_string(&r2).unwrap()).unwrap();
         assert!(CcxReference::read(&copy, "deck", r.modes, &r.rpm, nc).is_ok());
-        assert!(CcxReference::read(&copy, "deck", r.modes - 1, &r.rpm, nc).is_err());
-        assert!(CcxReference::read(&copy, "deck", r.modes, &r.rpm[1..], nc).is_err());
+        assert!(matches!(
+            CcxReference::read(&copy, "deck", r.modes - 1, &r.rpm, nc),
+            Err(FullMeshError::OtherSettings { .. })
+        ));
+        assert!(matches!(
+            CcxReference::read(&copy, "deck", r.modes, &r.rpm[1..], nc),
+            Err(FullMeshError::OtherSettings { .. })
+        ));
         // An edited file with a channel short at one speed: refused, not indexed past its end.
         r2.channels[3].pop();
         std::fs::write(&copy, serde_json::to_string(&r2).unwrap()).unwrap();
         let e = CcxReference::read(&copy, "deck", r.modes, &r.rpm, nc).unwrap_err();
-        assert!(e.contains("channels"), "{e}");
+        assert!(matches!(e, FullMeshError::Channels { .. }), "{e}");
+        assert!(e.to_string().contains("channels"), "{e}");
     }
 }

@@ -8,6 +8,7 @@
 mod committed;
 mod report;
 
+pub use crate::error::fe::FullMeshError;
 pub use committed::CcxReference;
 pub use report::write;
 
@@ -158,15 +159,15 @@ fn compared(model: &Model, amp: &[f64]) -> Vec<bool> {
 pub fn washdyn_channels(
     model: &Model,
     speeds_rpm: &[f64],
-) -> Result<Vec<Vec<nalgebra::Complex<f64>>>, String> {
-    let scene = model.scene(Some(SCENE))?;
+) -> Result<Vec<Vec<nalgebra::Complex<f64>>>, FullMeshError> {
+    let scene = model.scene(Some(SCENE)).map_err(FullMeshError::Scene)?;
     let sys = Interpreter::new(model, &scene);
     speeds_rpm
         .iter()
         .map(|rpm| {
             harmonic::response(&sys, rpm * PI / 30.0, &[1.0])
                 .map(|(_, h)| h[0].channels.clone())
-                .map_err(|e| e.to_string())
+                .map_err(FullMeshError::from)
         })
         .collect()
 }
@@ -201,12 +202,12 @@ fn data_modes(model: &Model, name: &str) -> (usize, usize) {
 }
 
 /// Run the study.
-pub fn study(args: &Args, log: &mut dyn FnMut(&str)) -> Result<Study, String> {
+pub fn study(args: &Args, log: &mut dyn FnMut(&str)) -> Result<Study, FullMeshError> {
     let (model, _) = crate::commands::resolve_model(&args.model)?;
     let lin = assembly::linear_machine(&model, &args.spec);
-    let scene = lin.scene(Some(SCENE))?;
+    let scene = lin.scene(Some(SCENE)).map_err(FullMeshError::Scene)?;
     let (runs, info, reference_answer) = solve_ccx(args, &lin, &scene, log)?;
-    let (mesh_nodes, mesh_elements, mass_ritz) = info.ok_or("no mode count given")?;
+    let (mesh_nodes, mesh_elements, mass_ritz) = info.ok_or(FullMeshError::NoModes)?;
     let reference = &runs.last().expect("at least one run").1;
     let ref_ch = &reference.channels;
     let t = std::time::Instant::now();
@@ -273,9 +274,7 @@ pub fn study(args: &Args, log: &mut dyn FnMut(&str)) -> Result<Study, String> {
         .collect();
     // The coupled machine's eigenfrequencies up to 60 Hz.
     let sys = Interpreter::new(&lin, &scene);
-    let wd_f = harmonic::linearise(&sys, args.speeds_rpm[0] * PI / 30.0)
-        .map_err(|e| e.to_string())?
-        .eigenfrequencies();
+    let wd_f = harmonic::linearise(&sys, args.speeds_rpm[0] * PI / 30.0)?.eigenfrequencies();
     let frequencies = reference
         .frequencies
         .iter()
@@ -330,7 +329,7 @@ fn solve_ccx(
         Option<MeshInfo>,
         Option<CcxReference>,
     ),
-    String,
+    FullMeshError,
 > {
     let bodies = washdyn_fe::bodies::builtin();
     let mesh = |name: &str| {
@@ -338,9 +337,12 @@ fn solve_ccx(
             .iter()
             .find(|b| b.name == name)
             .map(|b| &b.mesh)
-            .ok_or_else(|| format!("no built-in body {name}"))
+            .ok_or_else(|| FullMeshError::NoBody(name.to_string()))
     };
-    std::fs::create_dir_all(&args.work).map_err(|e| format!("{}: {e}", args.work.display()))?;
+    std::fs::create_dir_all(&args.work).map_err(|source| FullMeshError::Io {
+        path: args.work.clone(),
+        source,
+    })?;
     let mut runs: Vec<(usize, Solution)> = Vec::new();
     let mut info = None;
     let mut reference_answer = None;
@@ -349,8 +351,7 @@ fn solve_ccx(
             modes: n,
             speeds_rpm: args.speeds_rpm.clone(),
         };
-        let a = assembly::assemble(lin, scene, mesh("tub")?, mesh("cabinet")?, &settings)
-            .map_err(|e| e.to_string())?;
+        let a = assembly::assemble(lin, scene, mesh("tub")?, mesh("cabinet")?, &settings)?;
         log(&format!(
             "ccx: the assembled machine ({} mesh nodes, {} auxiliary), {n} modes, {} speeds ...",
             a.mesh_nodes,
@@ -377,8 +378,7 @@ fn solve_ccx(
                 s
             }
             _ => {
-                let s = assembly::solve(&a, &args.work, &format!("full_mesh_{n}"))
-                    .map_err(|e| e.to_string())?;
+                let s = assembly::solve(&a, &args.work, &format!("full_mesh_{n}"))?;
                 log(&format!(
                     "  {:.1} s; {} modes up to {:.1} Hz",
                     s.wall_s,
@@ -406,7 +406,7 @@ fn ritz_convergence(
     masks: &[Vec<bool>],
     names: &[String],
     log: &mut dyn FnMut(&str),
-) -> Result<Vec<Ritz>, String> {
+) -> Result<Vec<Ritz>, FullMeshError> {
     let mut ritz = Vec::new();
     let (et, _) = data_modes(lin, "tub");
     let (ec, _) = data_modes(lin, "cabinet");

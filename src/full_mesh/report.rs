@@ -1,6 +1,6 @@
 //! full-mesh.md and full-mesh.json: the study as a reader sees it.
 
-use super::{COMPARED_SHARE, Study};
+use super::{COMPARED_SHARE, FullMeshError, Study};
 use std::path::{Path, PathBuf};
 
 /// What the reference relies on in CalculiX 2.20, measured on small decks (issue 19).
@@ -45,23 +45,27 @@ fn pct(x: f64) -> String {
 }
 
 /// full-mesh.md and full-mesh.json in `out`.
-pub fn write(s: &Study, out: &Path) -> Result<Vec<PathBuf>, String> {
-    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+pub fn write(s: &Study, out: &Path) -> Result<Vec<PathBuf>, FullMeshError> {
+    let io = |path: &Path| {
+        let path = path.to_path_buf();
+        move |source| FullMeshError::Io { path, source }
+    };
+    std::fs::create_dir_all(out).map_err(io(out))?;
     let mut md = String::new();
     summary_section(&mut md, s);
     convergence_section(&mut md, s);
     channels_section(&mut md, s);
     md.push_str(CCX_NOTES);
     let md_path = out.join("full-mesh.md");
-    std::fs::write(&md_path, md).map_err(|e| format!("{}: {e}", md_path.display()))?;
+    std::fs::write(&md_path, md).map_err(io(&md_path))?;
     let json_path = out.join("full-mesh.json");
-    let json = serde_json::to_string_pretty(s).map_err(|e| e.to_string())?;
-    std::fs::write(&json_path, json).map_err(|e| format!("{}: {e}", json_path.display()))?;
+    let json = serde_json::to_string_pretty(s).map_err(FullMeshError::Serialise)?;
+    std::fs::write(&json_path, json).map_err(io(&json_path))?;
     let mut wrote = vec![md_path, json_path];
     if let Some(r) = &s.reference {
         let path = out.join("full-mesh.ccx.json");
-        let json = serde_json::to_string_pretty(r).map_err(|e| e.to_string())?;
-        std::fs::write(&path, json).map_err(|e| format!("{}: {e}", path.display()))?;
+        let json = serde_json::to_string_pretty(r).map_err(FullMeshError::Serialise)?;
+        std::fs::write(&path, json).map_err(io(&path))?;
         wrote.push(path);
     }
     Ok(wrote)

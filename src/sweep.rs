@@ -291,7 +291,7 @@ fn run_one(base: &Source, v: &Variant, cfg: &SweepRun, out: &Path) -> Result<Var
         .spec
         .energy
         .then(|| EnergyRecorder::new(&dir, cfg.spec.format));
-    let verdict = crate::accuracy::class::Verdict::of(&sim);
+    let verdict = crate::error_class::Verdict::of(&sim);
     let (mut summary, error) = sim.integrate(&mut sink, &mut |_| {});
     verdict.apply(&mut summary, error.is_none());
     let finished = sink.finish();

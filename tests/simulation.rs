@@ -91,7 +91,7 @@ fn run_and_sweep_build_the_same_simulation() {
                 x.rho_inf,
                 x.run,
                 x.guard,
-                washdyn::accuracy::class::Verdict::of(x),
+                washdyn::error_class::Verdict::of(x),
                 (&x.labels.scene, &x.labels.backend)
             )
         };
@@ -239,7 +239,7 @@ fn reference_file(tag: &str, edit: Option<(&str, &str)>) -> PathBuf {
 /// on the set-up only, and a failed run reports none).
 fn class(model: &str, spec: &RunSpec) -> Option<String> {
     let sim = Simulation::new(Source::load(model).unwrap(), spec, &RunControl::default());
-    washdyn::accuracy::class::error_class(&sim.unwrap())
+    washdyn::error_class::error_class(&sim.unwrap())
 }
 
 /// The committed study (docs/accuracy.json) measured the reference's `full` scene over the

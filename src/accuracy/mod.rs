@@ -8,9 +8,9 @@
 //! work-precision plot per scene.
 
 use crate::error::Error;
+use crate::error_class::{CLASSES, Study, Trial, Window, WindowStudy};
 use crate::simulation::{Backend, RunControl, Simulation, Source};
 use crate::spec::{Field, RunSpec};
-use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 use washdyn_model::ir::EffectSet;
@@ -18,7 +18,6 @@ use washdyn_ode::Method;
 use washdyn_runtime::output::MemorySink;
 use washdyn_runtime::run::{Start, Summary};
 
-pub mod class;
 mod report;
 mod window;
 
@@ -37,17 +36,7 @@ const SETTLE: f64 = 2.0;
 pub const TRUNCATION_CUTS_HZ: [f64; 5] = [70.0, 210.0, 420.0, 700.0, 1000.0];
 /// Windows longer than this (s) are run-ups: see `sweep`.
 const LONG: f64 = 20.0;
-/// Error classes a run is told it reaches (relative RMS error of the sensor accelerations).
-pub const CLASSES: [f64; 3] = [1e-2, 1e-3, 1e-4];
-
-/// A scene and the time window studied.
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
-pub struct Window {
-    pub scene: String,
-    pub t0: f64,
-    pub t1: f64,
-}
-
+/// The command's `--scene`; the record's window type is the error class's (`error_class::Window`).
 impl std::str::FromStr for Window {
     type Err = Error;
     /// `NAME` (the whole speed profile) or `NAME:T0:T1`; refused as `--scene`.
@@ -91,60 +80,9 @@ pub struct AccuracyArgs {
     pub quick: bool,
 }
 
-/// One run of the study and its errors against the reference.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct Trial {
-    pub method: String,
-    /// Relative tolerance, or rk4's step in s.
-    pub tol: f64,
-    pub backend: String,
-    pub steps: u64,
-    pub rejected: u64,
-    pub rhs_evals: u64,
-    pub jacobians: u64,
-    pub lu: u64,
-    pub wall_s: f64,
-    /// Largest relative RMS error over the acceleration channels; `None` when the run failed.
-    pub accel_err: Option<f64>,
-    /// Largest |dB| error of orders 1-3 over the acceleration channels and blocks.
-    pub order_db: Option<f64>,
-    pub status: String,
-}
-
-/// The study of one window.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct WindowStudy {
-    pub window: Window,
-    /// The content hash of the model as this window's scene ran it (`class::content_hash`);
-    /// `None`: measured on a model nobody recorded, which gives no run an error class.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub model_hash: Option<String>,
-    pub reference: Trial,
-    /// The second method's run at a tight tolerance, compared with the reference.
-    pub confirmation: Trial,
-    pub trials: Vec<Trial>,
-    /// Generated against interpreted at one setting: (generated, interpreted).
-    pub backends: Option<(Trial, Trial)>,
-    /// Modes kept (cut-off Hz, coordinates) against the finest cut-off.
-    pub truncation: Vec<(f64, usize, Trial)>,
-    /// Other scenes over this window against this one.
-    pub scenes: Vec<(String, Trial)>,
-    /// Generalized-alpha at one tolerance for each spectral radius at infinity.
-    #[serde(default)]
-    pub rho_inf: Vec<(f64, Trial)>,
-}
-
 /// The spectral radii the study runs generalized-alpha at: from annihilating the unresolved
 /// modes in one step (0) to keeping them undamped (1); 0.8 is the default.
 pub const RHO_INF: [f64; 4] = [0.0, 0.5, 0.8, 1.0];
-
-/// Everything the command measured; `accuracy.json`.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct Study {
-    pub model: String,
-    pub command: String,
-    pub windows: Vec<WindowStudy>,
-}
 
 /// A finished or failed simulation in memory.
 struct Sim {

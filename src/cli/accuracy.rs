@@ -54,7 +54,7 @@ pub fn accuracy(a: Args) -> Result<ExitCode, Failure> {
     };
     let mut windows = Vec::new();
     for sc in &scenes {
-        let mut w = sc.parse::<washdyn::accuracy::Window>()?;
+        let mut w = sc.parse::<washdyn::error_class::Window>()?;
         if let (true, Some(t)) = (w.t1.is_nan(), t_end) {
             w.t1 = t;
         }

@@ -69,7 +69,7 @@ pub fn sweep(a: Args) -> Result<ExitCode, Failure> {
         .filter(|r| r.summary.status != washdyn_runtime::run::RunStatus::Ok)
         .count();
     // The set-up's own warning (a loose tolerance) is every variant's: said once.
-    let common = washdyn::accuracy::class::tolerance_warning(method, tol);
+    let common = washdyn::error_class::tolerance_warning(method, tol);
     if let Some(w) = &common {
         eprintln!("warning: {w}");
     }

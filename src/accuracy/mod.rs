@@ -10,7 +10,7 @@
 use crate::error::Error;
 use crate::error_class::{CLASSES, Study, Trial, Window, WindowStudy};
 use crate::simulation::{Backend, RunControl, Simulation, Source};
-use crate::spec::{Field, RunSpec};
+use crate::spec::{Context, DEFAULT_METHOD, DEFAULT_TOL, Field, RunSpec};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 use washdyn_model::ir::EffectSet;
@@ -74,7 +74,10 @@ impl std::str::FromStr for Window {
 #[derive(Clone, Debug)]
 pub struct AccuracyArgs {
     pub model: String,
+    /// Windows without an end (`t1` NaN) run to `t_end`, or to the speed profile's end.
     pub windows: Vec<Window>,
+    /// `--t-end`, s.
+    pub t_end: Option<f64>,
     pub out: PathBuf,
     /// Fewer settings a method (for tests and a first look).
     pub quick: bool,
@@ -112,7 +115,6 @@ fn simulate(
         (tol, None)
     };
     let spec = RunSpec {
-        model: source.spec.clone(),
         scene: Some(scene.name.clone()),
         backend: Some(backend),
         method: Some(method),
@@ -121,11 +123,9 @@ fn simulate(
         rho_inf,
         // A budget no setting of the study needs, so a hopeless one stops instead of hanging.
         max_steps: Some(30_000_000),
-        t_start: w.t0,
-        t_end: Some(w.t1),
         sample_rate: rate,
         start: Start::MeanLoad,
-        ..RunSpec::default()
+        ..window_spec(source, w)
     };
     let sim = Simulation::with_scene(source.clone(), scene.clone(), &spec, &RunControl::default())?;
     let mut mem = MemorySink::default();
@@ -217,19 +217,48 @@ fn is_elastic(scene: &EffectSet) -> bool {
         .any(|e| matches!(e, washdyn_model::ir::Effect::Elastic(_)))
 }
 
-/// Runs the whole study; `log` hears one line a run.
+/// The run specification of a window: every run of the study over it is this with its own
+/// settings.
+fn window_spec(source: &Source, w: &Window) -> RunSpec {
+    RunSpec {
+        model: source.spec.clone(),
+        scene: Some(w.scene.clone()),
+        t_start: w.t0,
+        t_end: Some(w.t1),
+        ..RunSpec::default()
+    }
+}
+
+/// Runs the whole study; `log` hears one line a run. Every window is checked first, by the
+/// run specification's rules (`RunSpec::validate`): nothing runs if one is refused.
 pub fn study(args: &AccuracyArgs, log: &mut dyn FnMut(&str)) -> Result<Study, Error> {
     let source = Source::load(&args.model)?;
     let model = &source.model;
-    let mut windows = Vec::new();
+    let profile_end = model.speed.table.last().map_or(1.0, |r| r[0]);
+    let mut resolved = Vec::new();
     for w in &args.windows {
         let scene = model
             .scene(Some(&w.scene))
             .map_err(|m| Error::setting(Field::Scene, m))?;
-        let mut w = w.clone();
-        if w.t1.is_nan() {
-            w.t1 = model.speed.table.last().map_or(1.0, |r| r[0]);
-        }
+        // A window without an end runs to --t-end, or to the profile's end (`None`).
+        let spec = RunSpec {
+            t_end: if w.t1.is_nan() {
+                args.t_end
+            } else {
+                Some(w.t1)
+            },
+            ..window_spec(&source, w)
+        };
+        let cx = Context::bare(DEFAULT_METHOD, DEFAULT_TOL, profile_end);
+        spec.validate(&cx).map_err(Error::Settings)?;
+        let w = Window {
+            t1: spec.end(&cx),
+            ..w.clone()
+        };
+        resolved.push((scene, w));
+    }
+    let mut windows = Vec::new();
+    for (scene, w) in resolved {
         windows.push(window::Stages::new(&source, scene, w, args.quick).study(log)?);
     }
     Ok(Study {
@@ -242,10 +271,16 @@ pub fn study(args: &AccuracyArgs, log: &mut dyn FnMut(&str)) -> Result<Study, Er
 fn command_line(args: &AccuracyArgs) -> String {
     let mut s = format!("washdyn accuracy --model {}", args.model);
     for w in &args.windows {
-        if w.t1.is_nan() {
-            let _ = write!(s, " --scene {}", w.scene);
-        } else {
-            let _ = write!(s, " --scene {}:{}:{}", w.scene, w.t0, w.t1);
+        match (w.t1.is_nan(), args.t_end) {
+            (true, None) => {
+                let _ = write!(s, " --scene {}", w.scene);
+            }
+            (true, Some(t1)) => {
+                let _ = write!(s, " --scene {}:{}:{t1}", w.scene, w.t0);
+            }
+            (false, _) => {
+                let _ = write!(s, " --scene {}:{}:{}", w.scene, w.t0, w.t1);
+            }
         }
     }
     let _ = write!(s, " --out {}", args.out.display());
@@ -269,6 +304,29 @@ mod tests {
         for bad in ["elastic:3:1", "elastic:x:1", "a:b"] {
             let e = bad.parse::<Window>().unwrap_err();
             assert_eq!(e.options(), ["--scene"], "{bad}: {e}");
+        }
+    }
+
+    /// A window's end (`--t-end` for a scene without its own) is refused by the run
+    /// specification's rule, at its field, before any window runs.
+    #[test]
+    fn windows_are_checked_by_the_run_specifications_rules_before_any_runs() {
+        for t1 in [f64::NAN, f64::INFINITY, -1.0, 0.0, 3601.0] {
+            let args = AccuracyArgs {
+                model: "reference".into(),
+                windows: vec!["elastic:150:152".parse().unwrap(), "full".parse().unwrap()],
+                t_end: Some(t1),
+                out: PathBuf::from("unused"),
+                quick: true,
+            };
+            let mut ran = 0;
+            let e = study(&args, &mut |_| ran += 1).unwrap_err();
+            assert_eq!(e.fields(), [Field::TEnd], "{t1}: {e}");
+            assert_eq!(
+                e.to_string(),
+                format!("--t-end must be > 0 and at most 3600 s, got {t1}")
+            );
+            assert_eq!(ran, 0);
         }
     }
 }

@@ -192,10 +192,24 @@ fn ms(x: f64) -> String {
     format!("{:.2}", 1e3 * x)
 }
 
-fn main() {
-    let target = std::env::args()
-        .nth(1)
-        .map_or_else(|| PathBuf::from("docs/study-overhead.md"), PathBuf::from);
+/// What the example measured.
+struct Measured {
+    commit: String,
+    /// /proc/loadavg at the start.
+    load: String,
+    /// The whole run-up and its back end.
+    whole: Outcome,
+    whole_backend: String,
+    /// The studies of 10, 100 and 1000 short variants.
+    rows: Vec<Scaled>,
+    /// `washdyn --version`'s wall time, s.
+    start: f64,
+    /// Variants of the task study, and (tasks, the sum of their wall times, s).
+    variants: usize,
+    task_rows: Vec<(usize, f64)>,
+}
+
+fn measure() -> Measured {
     let exe = washdyn();
     let work = tempfile::tempdir().expect("a scratch directory");
     let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
@@ -205,7 +219,6 @@ fn main() {
         .ok()
         .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
         .unwrap_or_default();
-
     let (whole, whole_backend) = run_up(work.path());
     eprintln!("run-up: {:?}", whole.phases);
     let rows: Vec<Scaled> = [10, 100, 1000]
@@ -225,8 +238,28 @@ fn main() {
         .into_iter()
         .map(|n| (n, tasks(work.path(), &exe, variants, n)))
         .collect();
+    Measured {
+        commit,
+        load,
+        whole,
+        whole_backend,
+        rows,
+        start,
+        variants,
+        task_rows,
+    }
+}
 
-    let mut md = String::new();
+/// The report's header and the run-up's section.
+fn run_up_section(md: &mut String, m: &Measured) {
+    let Measured {
+        commit,
+        load,
+        whole,
+        whole_backend,
+        rows,
+        ..
+    } = m;
     let p = &whole.phases;
     let _ = write!(
         md,
@@ -259,6 +292,11 @@ fn main() {
         ms(p.outputs_s),
         ms(p.write_s),
     );
+}
+
+/// Per variant, by study size.
+fn sizes_section(md: &mut String, m: &Measured) {
+    let (rows, p) = (&m.rows, &m.whole.phases);
     let _ = write!(
         md,
         "## Per variant, by study size\n\n\
@@ -269,7 +307,7 @@ fn main() {
          | variants | plan | set-up | run | outputs | write | execute, all | re-plan | status | collect | study load, ms |\n\
          |---|---|---|---|---|---|---|---|---|---|---|\n"
     );
-    for r in &rows {
+    for r in rows {
         let n = r.n as f64;
         let _ = writeln!(
             md,
@@ -299,6 +337,11 @@ fn main() {
         p.run_s,
         100.0 * overhead / p.run_s,
     );
+}
+
+/// Per task, by task count.
+fn tasks_section(md: &mut String, m: &Measured) {
+    let (variants, start, task_rows) = (m.variants, m.start, &m.task_rows);
     let _ = write!(
         md,
         "## Per task, by task count\n\n\
@@ -312,7 +355,7 @@ fn main() {
         ms(start)
     );
     let one = task_rows[0].1;
-    for &(k, t) in &task_rows {
+    for &(k, t) in task_rows {
         let extra = if k > 1 {
             ms((t - one) / (k - 1) as f64)
         } else {
@@ -320,6 +363,17 @@ fn main() {
         };
         let _ = writeln!(md, "| {k} | {t:.2} | {:.3} | {extra} |", t / k as f64);
     }
+}
+
+fn main() {
+    let target = std::env::args()
+        .nth(1)
+        .map_or_else(|| PathBuf::from("docs/study-overhead.md"), PathBuf::from);
+    let m = measure();
+    let mut md = String::new();
+    run_up_section(&mut md, &m);
+    sizes_section(&mut md, &m);
+    tasks_section(&mut md, &m);
     std::fs::write(&target, &md).expect("write the report");
     print!("{md}");
     eprintln!("wrote {}", target.display());

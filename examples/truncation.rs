@@ -154,7 +154,17 @@ fn take(args: &mut Vec<String>, flag: &str) -> Option<String> {
     Some(v)
 }
 
-fn main() {
+/// The command line, flags taken out; `rest` holds the speeds.
+struct Args {
+    deep_dir: Option<String>,
+    cut_list: Vec<f64>,
+    against: Option<String>,
+    cache: Option<String>,
+    method: Method,
+    rest: Vec<String>,
+}
+
+fn parse_args() -> Args {
     let mut args: Vec<String> = std::env::args().skip(1).collect();
     let deep_dir = take(&mut args, "--deep");
     // `--cuts 210,700`: only these cuts (Hz) instead of the study's list.
@@ -174,16 +184,18 @@ fn main() {
     let cache = take(&mut args, "--cache");
     let method: Method = take(&mut args, "--method")
         .map_or(Method::Dopri5, |v| v.parse().expect("an integrator's name"));
-    let committed = match &against {
-        Some(d) => deep(d).0,
-        None => washdyn_models::reference(),
-    };
-    let (reference, used) = match &deep_dir {
-        Some(d) => deep(d),
-        None => (committed.clone(), Vec::new()),
-    };
-    let rpms: Vec<f64> = args.iter().map(|a| a.parse().expect("rpm")).collect();
-    let rpms = if rpms.is_empty() { vec![1400.0] } else { rpms };
+    Args {
+        deep_dir,
+        cut_list,
+        against,
+        cache,
+        method,
+        rest: args,
+    }
+}
+
+/// The report's title, what it compares and the table's head.
+fn header(a: &Args, committed: &washdyn_model::ir::Model, used: &[String]) {
     println!("# Modal truncation of the elastic machine\n");
     println!(
         "`cargo run --release --example truncation -- {}` (interpreted, {} rtol {TOL:e}). \
@@ -196,10 +208,10 @@ fn main() {
          of the cabinet's channels, 25-38 dB down, set the first). Wall times on a shared \
          2-core machine. The committed modal data: {}.\n",
         std::env::args().skip(1).collect::<Vec<_>>().join(" "),
-        method.name(),
-        describe(&committed).join("; ")
+        a.method.name(),
+        describe(committed).join("; ")
     );
-    if let Some(d) = &deep_dir {
+    if let Some(d) = &a.deep_dir {
         println!(
             "Reference (`--deep {d}`): every mode of the committed data, with DIR's where it \
              has a body's: {}.\n",
@@ -213,74 +225,117 @@ fn main() {
          within 20 dB, dB |"
     );
     println!("|---|---|---|---|---|---|---|---|");
-    for rpm in rpms {
-        let f0 = rpm / 60.0;
-        // Against a deep reference, the committed data with every mode is a row of its own.
-        let cuts: Vec<Option<f64>> = cut_list
-            .iter()
-            .map(|c| Some(*c))
-            .chain(
-                deep_dir
-                    .as_ref()
-                    .filter(|_| against.is_none())
-                    .map(|_| None),
-            )
-            .collect();
-        let cached = cache
-            .as_ref()
-            .map(|d| std::path::Path::new(d).join(format!("reference_{rpm}.json")));
-        let stored: Option<Cached> = cached
-            .as_ref()
-            .filter(|p| p.exists())
-            .map(|p| serde_json::from_slice(&std::fs::read(p).expect("cache")).expect("cache"));
-        let mut runs: Vec<Option<Run>> = {
-            use rayon::prelude::*;
-            std::iter::once((&reference, None, stored.is_none()))
-                .chain(cuts.iter().map(|c| (&committed, *c, true)))
-                .collect::<Vec<_>>()
-                .into_par_iter()
-                .map(|(m, cut, go)| go.then(|| run(m, rpm, cut, method)))
-                .collect()
-        };
-        let (rn, rsteps, rwall, rw) = match (runs.remove(0), stored) {
-            (Some(r), _) => (r.n, r.steps, r.wall, window(&r.mem)),
-            (None, Some(s)) => s,
-            (None, None) => unreachable!(),
-        };
-        if let Some(p) = &cached {
-            let s = (rn, rsteps, rwall, &rw);
-            std::fs::write(p, serde_json::to_vec(&s).expect("json")).expect("cache");
-        }
-        let runs: Vec<Run> = runs.into_iter().flatten().collect();
-        let orders = |x: &[f64]| {
-            (1..=6)
-                .map(|o| amplitude(x, o as f64 * f0))
-                .collect::<Vec<_>>()
-        };
-        let ro: Vec<Vec<f64>> = rw.iter().map(|(_, x)| orders(x)).collect();
-        for (cut, c) in cuts.into_iter().zip(runs) {
-            let cw = window(&c.mem);
-            let (mut accel, mut db, mut db20) = (0.0f64, 0.0f64, 0.0f64);
-            for ((name, x), ((rn, y), yo)) in cw.iter().zip(rw.iter().zip(&ro)) {
-                assert_eq!(name, rn);
-                accel = accel.max(band_error(x, y, SAMPLE_RATE, BAND_HZ).unwrap_or(0.0));
-                let peak = yo.iter().fold(0.0f64, |a, b| a.max(*b));
-                for (a, b) in orders(x).iter().zip(yo) {
-                    let e = (20.0 * (a / b).log10()).abs();
-                    if *b >= ORDER_FLOOR * peak {
-                        db = db.max(e);
-                    }
-                    if *b >= 0.1 * peak {
-                        db20 = db20.max(e);
-                    }
-                }
+}
+
+/// Drum orders 1-6 of `x` at the drum frequency `f0`, Hz.
+fn orders(x: &[f64], f0: f64) -> Vec<f64> {
+    (1..=6)
+        .map(|o| amplitude(x, o as f64 * f0))
+        .collect::<Vec<_>>()
+}
+
+/// A row's errors against the reference's window `rw` and its orders `ro`: the worst
+/// acceleration error in the band, the worst |dB| of the orders within 40 dB and within 20 dB
+/// of the channel's strongest.
+fn errors(
+    cw: &[(String, Vec<f64>)],
+    rw: &[(String, Vec<f64>)],
+    ro: &[Vec<f64>],
+    f0: f64,
+) -> (f64, f64, f64) {
+    let (mut accel, mut db, mut db20) = (0.0f64, 0.0f64, 0.0f64);
+    for ((name, x), ((rn, y), yo)) in cw.iter().zip(rw.iter().zip(ro)) {
+        assert_eq!(name, rn);
+        accel = accel.max(band_error(x, y, SAMPLE_RATE, BAND_HZ).unwrap_or(0.0));
+        let peak = yo.iter().fold(0.0f64, |a, b| a.max(*b));
+        for (a, b) in orders(x, f0).iter().zip(yo) {
+            let e = (20.0 * (a / b).log10()).abs();
+            if *b >= ORDER_FLOOR * peak {
+                db = db.max(e);
             }
-            let cut = cut.map_or("all committed".into(), |c| format!("{c}"));
-            println!(
-                "| {rpm} | {cut} | {} | {} | {:.1} | {accel:.1e} | {db:.3} | {db20:.3} |",
-                c.n, c.steps, c.wall
-            );
+            if *b >= 0.1 * peak {
+                db20 = db20.max(e);
+            }
         }
-        println!("| {rpm} | all | {rn} | {rsteps} | {rwall:.1} | 0 | 0 | 0 |");
+    }
+    (accel, db, db20)
+}
+
+/// The rows of one speed: each cut against the reference (run, or read from `--cache`), side
+/// by side on all cores, then the reference's own row.
+fn speed_rows(
+    a: &Args,
+    reference: &washdyn_model::ir::Model,
+    committed: &washdyn_model::ir::Model,
+    rpm: f64,
+) {
+    let f0 = rpm / 60.0;
+    // Against a deep reference, the committed data with every mode is a row of its own.
+    let cuts: Vec<Option<f64>> = a
+        .cut_list
+        .iter()
+        .map(|c| Some(*c))
+        .chain(
+            a.deep_dir
+                .as_ref()
+                .filter(|_| a.against.is_none())
+                .map(|_| None),
+        )
+        .collect();
+    let cached = a
+        .cache
+        .as_ref()
+        .map(|d| std::path::Path::new(d).join(format!("reference_{rpm}.json")));
+    let stored: Option<Cached> = cached
+        .as_ref()
+        .filter(|p| p.exists())
+        .map(|p| serde_json::from_slice(&std::fs::read(p).expect("cache")).expect("cache"));
+    let method = a.method;
+    let mut runs: Vec<Option<Run>> = {
+        use rayon::prelude::*;
+        std::iter::once((reference, None, stored.is_none()))
+            .chain(cuts.iter().map(|c| (committed, *c, true)))
+            .collect::<Vec<_>>()
+            .into_par_iter()
+            .map(|(m, cut, go)| go.then(|| run(m, rpm, cut, method)))
+            .collect()
+    };
+    let (rn, rsteps, rwall, rw) = match (runs.remove(0), stored) {
+        (Some(r), _) => (r.n, r.steps, r.wall, window(&r.mem)),
+        (None, Some(s)) => s,
+        (None, None) => unreachable!(),
+    };
+    if let Some(p) = &cached {
+        let s = (rn, rsteps, rwall, &rw);
+        std::fs::write(p, serde_json::to_vec(&s).expect("json")).expect("cache");
+    }
+    let runs: Vec<Run> = runs.into_iter().flatten().collect();
+    let ro: Vec<Vec<f64>> = rw.iter().map(|(_, x)| orders(x, f0)).collect();
+    for (cut, c) in cuts.into_iter().zip(runs) {
+        let (accel, db, db20) = errors(&window(&c.mem), &rw, &ro, f0);
+        let cut = cut.map_or("all committed".into(), |c| format!("{c}"));
+        println!(
+            "| {rpm} | {cut} | {} | {} | {:.1} | {accel:.1e} | {db:.3} | {db20:.3} |",
+            c.n, c.steps, c.wall
+        );
+    }
+    println!("| {rpm} | all | {rn} | {rsteps} | {rwall:.1} | 0 | 0 | 0 |");
+}
+
+fn main() {
+    let a = parse_args();
+    let committed = match &a.against {
+        Some(d) => deep(d).0,
+        None => washdyn_models::reference(),
+    };
+    let (reference, used) = match &a.deep_dir {
+        Some(d) => deep(d),
+        None => (committed.clone(), Vec::new()),
+    };
+    let rpms: Vec<f64> = a.rest.iter().map(|r| r.parse().expect("rpm")).collect();
+    let rpms = if rpms.is_empty() { vec![1400.0] } else { rpms };
+    header(&a, &committed, &used);
+    for rpm in rpms {
+        speed_rows(&a, &reference, &committed, rpm);
     }
 }

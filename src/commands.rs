@@ -87,7 +87,7 @@ pub fn run_command_with(
     sink.energy = spec
         .energy
         .then(|| crate::results::EnergyRecorder::new(&out_dir, spec.format));
-    let verdict = crate::accuracy::class::Verdict::of(&sim);
+    let verdict = crate::error_class::Verdict::of(&sim);
     let (mut summary, error) = sim.integrate(&mut sink, progress);
     verdict.apply(&mut summary, error.is_none());
     let finished = sink.finish();

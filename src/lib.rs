@@ -7,6 +7,7 @@ pub mod campbell;
 pub mod commands;
 pub mod compare;
 pub mod error;
+pub mod error_class;
 pub mod fields;
 pub mod full_mesh;
 pub mod modes;

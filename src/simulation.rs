@@ -243,7 +243,7 @@ impl Simulation {
 
     /// Integrates into `sink`: the summary, and the error when the run failed (the summary says
     /// so too; what the sink received is kept). What the committed accuracy study says of the
-    /// setting is the caller's to add (`accuracy::class::Verdict`).
+    /// setting is the caller's to add (`error_class::Verdict`).
     pub fn integrate(
         mut self,
         sink: &mut dyn SampleSink,

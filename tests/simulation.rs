@@ -87,7 +87,7 @@ fn run_and_sweep_build_the_same_simulation() {
                 x.rho_inf,
                 x.run,
                 x.guard,
-                washdyn::accuracy::class::Verdict::of(x),
+                washdyn::error_class::Verdict::of(x),
                 (&x.labels.scene, &x.labels.backend)
             )
         };
@@ -192,7 +192,7 @@ fn sweep_variants_record_the_model_files() {
     let r = run_simulation(&a, &RunControl::default()).unwrap();
     assert_eq!(
         record.model_content,
-        washdyn::accuracy::class::content_hash(r.model(), &r.scene)
+        washdyn::error_class::content_hash(r.model(), &r.scene)
     );
     // The same file with another spring rate: the same study text, another study.
     reference_file("files", Some(("stiffness = 4000.0", "stiffness = 4100.0")));
@@ -228,7 +228,7 @@ fn reference_file(tag: &str, edit: Option<(&str, &str)>) -> PathBuf {
 /// on the set-up only, and a failed run reports none).
 fn class(model: &str, spec: &RunSpec) -> Option<String> {
     let sim = Simulation::new(Source::load(model).unwrap(), spec, &RunControl::default());
-    washdyn::accuracy::class::error_class(&sim.unwrap())
+    washdyn::error_class::error_class(&sim.unwrap())
 }
 
 /// The committed study (docs/accuracy.json) measured the reference's `full` scene over the

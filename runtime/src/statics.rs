@@ -1,7 +1,7 @@
 //! Static equilibrium h(q, 0, t0) = 0 (or its mean over drum revolutions) by Newton's method
-//! with the exact force Jacobian (differences where the back end has none): the start of a
-//! run, so the tub does not drop under the unbalance's extra weight. Set-up code: it may
-//! allocate.
+//! with the exact force Jacobian (`Mechanical::force_jacobians`, which every back end has):
+//! the start of a run, so the tub does not drop under the unbalance's extra weight. Set-up
+//! code: it may allocate.
 
 use crate::system::Mechanical;
 use washdyn_ode::lu::{lu_factor, lu_solve};
@@ -47,19 +47,16 @@ fn equilibrium_avg<S: Mechanical>(
     let zero = vec![0.0; n];
     let mut q = vec![0.0; n];
     let mut h = vec![0.0; n];
-    let mut hp = vec![0.0; n];
-    let eps = 1e-7;
-    // h(q, 0, t) at each sample time, kept as the base of the difference quotients.
-    let mut base = vec![0.0; samples * n];
-    let mut qp = vec![0.0; n];
+    // h(q, 0, t) at one sample time.
+    let mut hk = vec![0.0; n];
     let (mut hq, mut hqd) = (vec![0.0; n * n], vec![0.0; n * n]);
     let time = |k: usize| t0 + span * k as f64 / samples as f64;
     for _ in 0..50 {
         h.fill(0.0);
         // The largest load sampled: the average cancels it to round-off, not to zero.
         let mut scale = 0.0f64;
-        for (k, hk) in base.chunks_mut(n).enumerate() {
-            sys.eval(time(k), &q, &zero, &mut m1, hk);
+        for k in 0..samples {
+            sys.eval(time(k), &q, &zero, &mut m1, &mut hk);
             for i in 0..n {
                 h[i] += hk[i] / samples as f64;
                 scale = scale.max(hk[i].abs());
@@ -71,23 +68,12 @@ fn equilibrium_avg<S: Mechanical>(
         }
         // Row-major dh/dq, averaged like the residual (a rotating load tilted with the tub has
         // a large stiffness at each instant and none on average): the back end's exact force
-        // Jacobians, or forward differences where it has none (the traced small scenes).
+        // Jacobians.
         let mut k = vec![0.0; n * n];
-        qp.copy_from_slice(&q);
-        for (s, hk) in base.chunks(n).enumerate() {
-            if sys.force_jacobians(time(s), &q, &zero, &mut hq, &mut hqd) {
-                for (kk, v) in k.iter_mut().zip(&hq) {
-                    *kk += v / samples as f64;
-                }
-                continue;
-            }
-            for j in 0..n {
-                qp[j] = q[j] + eps;
-                sys.eval(time(s), &qp, &zero, &mut m1, &mut hp);
-                qp[j] = q[j];
-                for i in 0..n {
-                    k[i * n + j] += (hp[i] - hk[i]) / eps / samples as f64;
-                }
+        for s in 0..samples {
+            sys.force_jacobians(time(s), &q, &zero, &mut hq, &mut hqd);
+            for (kk, v) in k.iter_mut().zip(&hq) {
+                *kk += v / samples as f64;
             }
         }
         let mut piv = vec![0; n];

@@ -84,17 +84,10 @@ pub trait Mechanical {
     }
     /// dh/dq and dh/dq' (row-major n x n each), exact: what the implicit methods iterate
     /// with (M depends on t only) and the static start's Newton uses (every back end gives
-    /// the same, so both start from the same bits). `false`: not provided.
-    fn force_jacobians(
-        &mut self,
-        _t: f64,
-        _q: &[f64],
-        _qd: &[f64],
-        _hq: &mut [f64],
-        _hqd: &mut [f64],
-    ) -> bool {
-        false
-    }
+    /// the same, so both start from the same bits). Every back end has them (the
+    /// interpreter's `Equations::force_jacobians`, generated code's through the model it
+    /// embeds), so none has to be guessed by differences: no default.
+    fn force_jacobians(&mut self, t: f64, q: &[f64], qd: &[f64], hq: &mut [f64], hqd: &mut [f64]);
 }
 
 /// The interpreter back end: the one derivation evaluated with f64 on the resolved model.
@@ -183,17 +176,9 @@ impl Mechanical for Interpreter {
     fn equations(&self) -> Option<&Equations> {
         Some(&self.eq)
     }
-    fn force_jacobians(
-        &mut self,
-        t: f64,
-        q: &[f64],
-        qd: &[f64],
-        hq: &mut [f64],
-        hqd: &mut [f64],
-    ) -> bool {
+    fn force_jacobians(&mut self, t: f64, q: &[f64], qd: &[f64], hq: &mut [f64], hqd: &mut [f64]) {
         let d = self.speed.drive(t);
         self.eq.force_jacobians(&d, q, qd, &mut self.work, hq, hqd);
-        true
     }
 }
 
@@ -328,20 +313,16 @@ impl<S: Mechanical> FirstOrder<S> {
 
 impl<S: Mechanical> FirstOrder<S> {
     /// d q''/d q = M^-1 dh/dq and d q''/d q' = M^-1 dh/dq' (M depends on t only), from the
-    /// back end's force Jacobians.
-    fn acceleration_jacobians_from_forces(&mut self, t: f64, q: &[f64], qd: &[f64]) -> bool {
+    /// back end's force Jacobians (NaN where M1 is not positive definite).
+    fn acceleration_jacobians_from_forces(&mut self, t: f64, q: &[f64], qd: &[f64]) {
         let (n1, n2) = (self.layout.n1, self.layout.n2);
         let n = n1 + n2;
-        if !self
-            .sys
-            .force_jacobians(t, q, qd, &mut self.jq, &mut self.jqd)
-        {
-            return false;
-        }
+        self.sys
+            .force_jacobians(t, q, qd, &mut self.jq, &mut self.jqd);
         self.sys.eval(t, q, qd, &mut self.m1, &mut self.h);
         if !cholesky_in_place(&mut self.m1, n1) {
             self.jq.fill(f64::NAN);
-            return true;
+            return;
         }
         // Rows n1.. only when M2 is not the identity.
         let rows = if self.m2_identity { n1 } else { n };
@@ -359,7 +340,6 @@ impl<S: Mechanical> FirstOrder<S> {
                 }
             }
         }
-        true
     }
 }
 
@@ -394,12 +374,10 @@ impl<S: Mechanical> OdeSystem for FirstOrder<S> {
         let n = n1 + n2;
         let (q, qd) = (&y[..n], &y[n..2 * n]);
         // Element states: the implicit methods difference the whole Jacobian.
-        if self.layout.nz > 0
-            || self.sys.has_acceleration_jacobians()
-            || !self.sys.force_jacobians(t, q, qd, hq, hqd)
-        {
+        if self.layout.nz > 0 || self.sys.has_acceleration_jacobians() {
             return false;
         }
+        self.sys.force_jacobians(t, q, qd, hq, hqd);
         self.sys.eval(t, q, qd, &mut self.m1, &mut self.h);
         m.fill(0.0);
         for i in 0..n1 {
@@ -466,7 +444,8 @@ impl<S: Mechanical> OdeSystem for FirstOrder<S> {
         m1[..n1 * n1].copy_from_slice(&self.m1);
         Some(n1)
     }
-    /// J = [[0, I], [dq''/dq, dq''/dq']] when the back end has analytic Jacobians.
+    /// J = [[0, I], [dq''/dq, dq''/dq']]: the back end's traced d q'' or its force Jacobians
+    /// (`false` with element states, which the implicit methods difference).
     fn jacobian(&mut self, t: f64, y: &[f64], jac: &mut [f64]) -> bool {
         let n = self.layout.n();
         let (q, qd) = y.split_at(n);
@@ -476,9 +455,8 @@ impl<S: Mechanical> OdeSystem for FirstOrder<S> {
         if !self
             .sys
             .acceleration_jacobians(t, q, qd, &mut self.jq, &mut self.jqd)
-            && !self.acceleration_jacobians_from_forces(t, q, qd)
         {
-            return false;
+            self.acceleration_jacobians_from_forces(t, q, qd);
         }
         let m = 2 * n;
         jac.fill(0.0);
@@ -553,14 +531,7 @@ impl<M: Mechanical + ?Sized> Mechanical for Box<M> {
     ) -> bool {
         (**self).acceleration_jacobians(t, q, qd, dq, dqd)
     }
-    fn force_jacobians(
-        &mut self,
-        t: f64,
-        q: &[f64],
-        qd: &[f64],
-        hq: &mut [f64],
-        hqd: &mut [f64],
-    ) -> bool {
+    fn force_jacobians(&mut self, t: f64, q: &[f64], qd: &[f64], hq: &mut [f64], hqd: &mut [f64]) {
         (**self).force_jacobians(t, q, qd, hq, hqd)
     }
 }

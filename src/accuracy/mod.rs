@@ -8,9 +8,9 @@
 //! work-precision plot per scene.
 
 use crate::error::Error;
+use crate::error_class::{CLASSES, Study, Trial, Window, WindowStudy};
 use crate::simulation::{Backend, RunControl, Simulation, Source};
-use crate::spec::{Field, RunSpec};
-use serde::{Deserialize, Serialize};
+use crate::spec::{Context, DEFAULT_METHOD, DEFAULT_TOL, Field, RunSpec};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 use washdyn_model::ir::EffectSet;
@@ -18,7 +18,6 @@ use washdyn_ode::Method;
 use washdyn_runtime::output::MemorySink;
 use washdyn_runtime::run::{Start, Summary};
 
-pub mod class;
 mod report;
 mod window;
 
@@ -37,17 +36,7 @@ const SETTLE: f64 = 2.0;
 pub const TRUNCATION_CUTS_HZ: [f64; 5] = [70.0, 210.0, 420.0, 700.0, 1000.0];
 /// Windows longer than this (s) are run-ups: see `sweep`.
 const LONG: f64 = 20.0;
-/// Error classes a run is told it reaches (relative RMS error of the sensor accelerations).
-pub const CLASSES: [f64; 3] = [1e-2, 1e-3, 1e-4];
-
-/// A scene and the time window studied.
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
-pub struct Window {
-    pub scene: String,
-    pub t0: f64,
-    pub t1: f64,
-}
-
+/// The command's `--scene`; the record's window type is the error class's (`error_class::Window`).
 impl std::str::FromStr for Window {
     type Err = Error;
     /// `NAME` (the whole speed profile) or `NAME:T0:T1`; refused as `--scene`.
@@ -85,66 +74,18 @@ impl std::str::FromStr for Window {
 #[derive(Clone, Debug)]
 pub struct AccuracyArgs {
     pub model: String,
+    /// Windows without an end (`t1` NaN) run to `t_end`, or to the speed profile's end.
     pub windows: Vec<Window>,
+    /// `--t-end`, s.
+    pub t_end: Option<f64>,
     pub out: PathBuf,
     /// Fewer settings a method (for tests and a first look).
     pub quick: bool,
 }
 
-/// One run of the study and its errors against the reference.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct Trial {
-    pub method: String,
-    /// Relative tolerance, or rk4's step in s.
-    pub tol: f64,
-    pub backend: String,
-    pub steps: u64,
-    pub rejected: u64,
-    pub rhs_evals: u64,
-    pub jacobians: u64,
-    pub lu: u64,
-    pub wall_s: f64,
-    /// Largest relative RMS error over the acceleration channels; `None` when the run failed.
-    pub accel_err: Option<f64>,
-    /// Largest |dB| error of orders 1-3 over the acceleration channels and blocks.
-    pub order_db: Option<f64>,
-    pub status: String,
-}
-
-/// The study of one window.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct WindowStudy {
-    pub window: Window,
-    /// The content hash of the model as this window's scene ran it (`class::content_hash`);
-    /// `None`: measured on a model nobody recorded, which gives no run an error class.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub model_hash: Option<String>,
-    pub reference: Trial,
-    /// The second method's run at a tight tolerance, compared with the reference.
-    pub confirmation: Trial,
-    pub trials: Vec<Trial>,
-    /// Generated against interpreted at one setting: (generated, interpreted).
-    pub backends: Option<(Trial, Trial)>,
-    /// Modes kept (cut-off Hz, coordinates) against the finest cut-off.
-    pub truncation: Vec<(f64, usize, Trial)>,
-    /// Other scenes over this window against this one.
-    pub scenes: Vec<(String, Trial)>,
-    /// Generalized-alpha at one tolerance for each spectral radius at infinity.
-    #[serde(default)]
-    pub rho_inf: Vec<(f64, Trial)>,
-}
-
 /// The spectral radii the study runs generalized-alpha at: from annihilating the unresolved
 /// modes in one step (0) to keeping them undamped (1); 0.8 is the default.
 pub const RHO_INF: [f64; 4] = [0.0, 0.5, 0.8, 1.0];
-
-/// Everything the command measured; `accuracy.json`.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct Study {
-    pub model: String,
-    pub command: String,
-    pub windows: Vec<WindowStudy>,
-}
 
 /// A finished or failed simulation in memory.
 struct Sim {
@@ -174,7 +115,6 @@ fn simulate(
         (tol, None)
     };
     let spec = RunSpec {
-        model: source.spec.clone(),
         scene: Some(scene.name.clone()),
         backend: Some(backend),
         method: Some(method),
@@ -183,11 +123,9 @@ fn simulate(
         rho_inf,
         // A budget no setting of the study needs, so a hopeless one stops instead of hanging.
         max_steps: Some(30_000_000),
-        t_start: w.t0,
-        t_end: Some(w.t1),
         sample_rate: rate,
         start: Start::MeanLoad,
-        ..RunSpec::default()
+        ..window_spec(source, w)
     };
     let sim = Simulation::with_scene(source.clone(), scene.clone(), &spec, &RunControl::default())?;
     let mut mem = MemorySink::default();
@@ -279,19 +217,48 @@ fn is_elastic(scene: &EffectSet) -> bool {
         .any(|e| matches!(e, washdyn_model::ir::Effect::Elastic(_)))
 }
 
-/// Runs the whole study; `log` hears one line a run.
+/// The run specification of a window: every run of the study over it is this with its own
+/// settings.
+fn window_spec(source: &Source, w: &Window) -> RunSpec {
+    RunSpec {
+        model: source.spec.clone(),
+        scene: Some(w.scene.clone()),
+        t_start: w.t0,
+        t_end: Some(w.t1),
+        ..RunSpec::default()
+    }
+}
+
+/// Runs the whole study; `log` hears one line a run. Every window is checked first, by the
+/// run specification's rules (`RunSpec::validate`): nothing runs if one is refused.
 pub fn study(args: &AccuracyArgs, log: &mut dyn FnMut(&str)) -> Result<Study, Error> {
     let source = Source::load(&args.model)?;
     let model = &source.model;
-    let mut windows = Vec::new();
+    let profile_end = model.speed.table.last().map_or(1.0, |r| r[0]);
+    let mut resolved = Vec::new();
     for w in &args.windows {
         let scene = model
             .scene(Some(&w.scene))
             .map_err(|m| Error::setting(Field::Scene, m))?;
-        let mut w = w.clone();
-        if w.t1.is_nan() {
-            w.t1 = model.speed.table.last().map_or(1.0, |r| r[0]);
-        }
+        // A window without an end runs to --t-end, or to the profile's end (`None`).
+        let spec = RunSpec {
+            t_end: if w.t1.is_nan() {
+                args.t_end
+            } else {
+                Some(w.t1)
+            },
+            ..window_spec(&source, w)
+        };
+        let cx = Context::bare(DEFAULT_METHOD, DEFAULT_TOL, profile_end);
+        spec.validate(&cx).map_err(Error::Settings)?;
+        let w = Window {
+            t1: spec.end(&cx),
+            ..w.clone()
+        };
+        resolved.push((scene, w));
+    }
+    let mut windows = Vec::new();
+    for (scene, w) in resolved {
         windows.push(window::Stages::new(&source, scene, w, args.quick).study(log)?);
     }
     Ok(Study {
@@ -304,10 +271,16 @@ pub fn study(args: &AccuracyArgs, log: &mut dyn FnMut(&str)) -> Result<Study, Er
 fn command_line(args: &AccuracyArgs) -> String {
     let mut s = format!("washdyn accuracy --model {}", args.model);
     for w in &args.windows {
-        if w.t1.is_nan() {
-            let _ = write!(s, " --scene {}", w.scene);
-        } else {
-            let _ = write!(s, " --scene {}:{}:{}", w.scene, w.t0, w.t1);
+        match (w.t1.is_nan(), args.t_end) {
+            (true, None) => {
+                let _ = write!(s, " --scene {}", w.scene);
+            }
+            (true, Some(t1)) => {
+                let _ = write!(s, " --scene {}:{}:{t1}", w.scene, w.t0);
+            }
+            (false, _) => {
+                let _ = write!(s, " --scene {}:{}:{}", w.scene, w.t0, w.t1);
+            }
         }
     }
     let _ = write!(s, " --out {}", args.out.display());
@@ -331,6 +304,29 @@ mod tests {
         for bad in ["elastic:3:1", "elastic:x:1", "a:b"] {
             let e = bad.parse::<Window>().unwrap_err();
             assert_eq!(e.options(), ["--scene"], "{bad}: {e}");
+        }
+    }
+
+    /// A window's end (`--t-end` for a scene without its own) is refused by the run
+    /// specification's rule, at its field, before any window runs.
+    #[test]
+    fn windows_are_checked_by_the_run_specifications_rules_before_any_runs() {
+        for t1 in [f64::NAN, f64::INFINITY, -1.0, 0.0, 3601.0] {
+            let args = AccuracyArgs {
+                model: "reference".into(),
+                windows: vec!["elastic:150:152".parse().unwrap(), "full".parse().unwrap()],
+                t_end: Some(t1),
+                out: PathBuf::from("unused"),
+                quick: true,
+            };
+            let mut ran = 0;
+            let e = study(&args, &mut |_| ran += 1).unwrap_err();
+            assert_eq!(e.fields(), [Field::TEnd], "{t1}: {e}");
+            assert_eq!(
+                e.to_string(),
+                format!("--t-end must be > 0 and at most 3600 s, got {t1}")
+            );
+            assert_eq!(ran, 0);
         }
     }
 }

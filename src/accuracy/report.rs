@@ -4,16 +4,13 @@ use super::{CLASSES, COMPARE_RATE, SETTLE, Study, Trial, WindowStudy};
 use crate::analysis::metrics::BAND_HZ;
 use crate::analysis::plot::init_fonts;
 use crate::error::Error;
+use crate::error_class::db;
 use plotters::prelude::*;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 pub(super) fn e(v: Option<f64>) -> String {
     v.map_or("-".into(), |v| format!("{v:.1e}"))
-}
-
-pub(super) fn db(v: Option<f64>) -> String {
-    v.map_or("-".into(), |v| format!("{v:.3}"))
 }
 
 /// For each error class, the cheapest (wall time) setting measured that reaches it.
@@ -73,7 +70,7 @@ fn window_head(m: &mut String, w: &WindowStudy) {
     if let Some(h) = &w.model_hash {
         let _ = writeln!(
             m,
-            "Model content hash `{h}` (`accuracy::class::content_hash`): a run reports \
+            "Model content hash `{h}` (`error_class::content_hash`): a run reports \
              an error class from this window only for this content.\n"
         );
     }

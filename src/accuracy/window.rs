@@ -4,7 +4,7 @@
 
 use super::{
     COMPARE_RATE, LONG, RHO_INF, SAMPLE_RATE, SETTLE, Sim, TRUNCATION_CUTS_HZ, Trial, Window,
-    WindowStudy, class, is_elastic, simulate, sweep, trial,
+    WindowStudy, is_elastic, simulate, sweep, trial,
 };
 use crate::analysis::metrics::{Tracks, order_tracks, trim};
 use crate::error::Error;
@@ -72,7 +72,10 @@ impl<'a> Stages<'a> {
         };
         Ok(WindowStudy {
             window: self.w.clone(),
-            model_hash: Some(class::content_hash(&self.source.model, &self.scene)),
+            model_hash: Some(crate::error_class::content_hash(
+                &self.source.model,
+                &self.scene,
+            )),
             reference,
             confirmation,
             trials,

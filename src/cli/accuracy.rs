@@ -3,8 +3,6 @@
 use super::{Failure, wrote};
 use std::path::PathBuf;
 use std::process::ExitCode;
-use washdyn::Error;
-use washdyn::spec::Field;
 
 /// `washdyn accuracy`'s arguments.
 #[derive(clap::Args)]
@@ -16,7 +14,8 @@ pub struct Args {
     /// [default: full and elastic:150:152].
     #[arg(long)]
     pub scene: Vec<String>,
-    /// End of the window of scenes given without one, s.
+    /// End of the window of scenes given without one, s (checked by the run specification's
+    /// rule, as `run`'s).
     #[arg(long)]
     pub t_end: Option<f64>,
     /// Output directory (the repository keeps the study in docs/).
@@ -35,18 +34,6 @@ pub fn accuracy(a: Args) -> Result<ExitCode, Failure> {
         out,
         quick,
     } = a;
-    if let Some(t) = t_end
-        && !(t > 0.0 && t <= washdyn::spec::T_END_MAX)
-    {
-        return Err(Error::setting(
-            Field::TEnd,
-            format!(
-                "--t-end must be > 0 and at most {} s, got {t}",
-                washdyn::spec::T_END_MAX
-            ),
-        )
-        .into());
-    }
     let scenes = if scene.is_empty() {
         vec!["full".to_string(), "elastic:150:152".to_string()]
     } else {
@@ -54,15 +41,12 @@ pub fn accuracy(a: Args) -> Result<ExitCode, Failure> {
     };
     let mut windows = Vec::new();
     for sc in &scenes {
-        let mut w = sc.parse::<washdyn::accuracy::Window>()?;
-        if let (true, Some(t)) = (w.t1.is_nan(), t_end) {
-            w.t1 = t;
-        }
-        windows.push(w);
+        windows.push(sc.parse::<washdyn::error_class::Window>()?);
     }
     let args = washdyn::accuracy::AccuracyArgs {
         model,
         windows,
+        t_end,
         out: out.clone(),
         quick,
     };

@@ -199,7 +199,7 @@ fn report(
 ) -> Result<ExitCode, Failure> {
     // The set-up's own warning (a loose tolerance) is every variant's: said once.
     let (method, tol) = s.spec.solver(&s.source.model);
-    let common = washdyn::accuracy::class::tolerance_warning(method, tol);
+    let common = washdyn::error_class::tolerance_warning(method, tol);
     if let Some(w) = &common {
         eprintln!("warning: {w}");
     }

@@ -91,7 +91,7 @@ pub struct Study {
     pub text: String,
     pub source: Source,
     /// The model as the study file names it, and its content as the scene runs it
-    /// (`accuracy::class::content_hash`: what a re-run must find unchanged).
+    /// (`error_class::content_hash`: what a re-run must find unchanged).
     pub model_spec: String,
     pub model_content: String,
     /// The scene's name and the end of the run, s (the profile's end unless `t_end`).
@@ -218,7 +218,7 @@ impl Study {
             file: path.to_path_buf(),
             text: text.clone(),
             model_spec: parsed.model.clone(),
-            model_content: crate::accuracy::class::content_hash(&source.model, &base.scene),
+            model_content: crate::error_class::content_hash(&source.model, &base.scene),
             scene: base.scene.name.clone(),
             t_end: base.run.t_end,
             source,

@@ -244,7 +244,7 @@ fn run_variant(study: &Study, layout: &Layout, v: &Variant) -> Result<Outcome, E
             let rate = sim.run.sample_rate;
             let mut sink = SensorRecorder::deferred(&tmp.dir(VARIANTS)?, Format::Parquet);
             phases.write_s = lap.next();
-            let verdict = crate::accuracy::class::Verdict::of(&sim);
+            let verdict = crate::error_class::Verdict::of(&sim);
             let (mut summary, error) = sim.integrate(&mut sink, &mut |_| {});
             verdict.apply(&mut summary, error.is_none());
             phases.run_s = lap.next();

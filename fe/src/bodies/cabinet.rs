@@ -332,15 +332,30 @@ impl Cabinet {
         let mut m = Mesh::new(
             "washdyn cabinet: S8R panels and worktop, B32 frame and base, masses, feet springs",
         );
-        let (a, h, na, nz) = (self.half, self.height, self.n_across, self.n_up);
         let sheet = Section::Shell {
             thickness: self.sheet,
             material: steel(),
         };
+        self.panels(&mut m, &sheet);
+        let edge = self.front(&mut m, &sheet);
+        m.add_to_set("GASKET", &edge);
+        self.door(&mut m, &edge);
+        self.frame(&mut m);
+        self.base(&mut m);
+        self.brackets(&mut m);
+        self.masses(&mut m);
+        self.feet(&mut m);
+        m
+    }
+
+    /// The sides (y = +-half), the worktop and the back (x = -half); the sides and the back
+    /// crowned outwards.
+    fn panels(&self, m: &mut Mesh, sheet: &Section) {
+        let (a, h, na, nz) = (self.half, self.height, self.n_across, self.n_up);
         let s = |u: f64| -a + 2.0 * a * u;
         // Sides y = +-a, bulging outwards (a sine-sine bump).
         for side in [-1.0, 1.0] {
-            shell_grid(&mut m, "CAB_SIDE", &sheet, na, nz, false, |u, v| {
+            shell_grid(m, "CAB_SIDE", sheet, na, nz, false, |u, v| {
                 let b = self.bulge * (PI * u).sin() * (PI * v).sin();
                 [s(u), side * (a + b), h * v]
             });
@@ -349,29 +364,28 @@ impl Cabinet {
             thickness: self.worktop_thickness(),
             material: self.worktop.clone(),
         };
-        shell_grid(&mut m, "CAB_TOP", &top, na, na, false, |u, v| {
-            [s(u), s(v), h]
-        });
+        shell_grid(m, "CAB_TOP", &top, na, na, false, |u, v| [s(u), s(v), h]);
         // The back bulges outwards too (a sheet pressed with a shallow crown).
-        shell_grid(&mut m, "CAB_BACK", &sheet, na, nz, false, |u, v| {
+        shell_grid(m, "CAB_BACK", sheet, na, nz, false, |u, v| {
             let b = self.back_bulge * (PI * u).sin() * (PI * v).sin();
             [-a - b, s(u), h * v]
         });
-        let edge = self.front(&mut m, &sheet);
-        m.add_to_set("GASKET", &edge);
-        self.door(&mut m, &edge);
-        // Frame: the 12 edges.
+    }
+
+    /// The 12 edges (posts, top and base frame) and the top rails under the springs.
+    fn frame(&self, m: &mut Mesh) {
+        let (a, h, na, nz) = (self.half, self.height, self.n_across, self.n_up);
         let frame = self.edge.section("STEEL_EDGE", [0.0, 0.0, 1.0]);
         let vertical = self.edge.section("STEEL_EDGE", [1.0, 0.0, 0.0]);
         for (x, y) in [(-a, -a), (-a, a), (a, -a), (a, a)] {
-            beam_line(&mut m, "CAB_POSTS", &vertical, [x, y, 0.0], [x, y, h], nz);
+            beam_line(m, "CAB_POSTS", &vertical, [x, y, 0.0], [x, y, h], nz);
         }
         for z in [0.0, h] {
             for y in [-a, a] {
-                beam_line(&mut m, "CAB_FRAME", &frame, [-a, y, z], [a, y, z], na);
+                beam_line(m, "CAB_FRAME", &frame, [-a, y, z], [a, y, z], na);
             }
             for x in [-a, a] {
-                beam_line(&mut m, "CAB_FRAME", &frame, [x, -a, z], [x, a, z], na);
+                beam_line(m, "CAB_FRAME", &frame, [x, -a, z], [x, a, z], na);
             }
         }
         // Top rails across under the springs' cabinet ends (x = -0.10 and 0.12): the spring
@@ -383,10 +397,14 @@ impl Cabinet {
             material: steel(),
         };
         for x in [-0.10, 0.12] {
-            beam_line(&mut m, "CAB_RAILS", &rail, [x, -a, h], [x, a, h], na);
+            beam_line(m, "CAB_RAILS", &rail, [x, -a, h], [x, a, h], na);
         }
-        // Base frame: rails along x under the dampers (y = +-damper_rail) and along y under the
-        // feet (x = +-foot), crossing at shared nodes.
+    }
+
+    /// The base frame: rails along x under the dampers (y = +-damper_rail) and along y under
+    /// the feet (x = +-foot), crossing at shared nodes.
+    fn base(&self, m: &mut Mesh) {
+        let (a, na) = (self.half, self.n_across);
         let base = Section::Beam {
             width: self.base_rail_depth,
             height: self.base_rail_width,
@@ -394,25 +412,28 @@ impl Cabinet {
             material: steel(),
         };
         for y in [-self.damper_rail, self.damper_rail] {
-            beam_line(&mut m, "CAB_BASE", &base, [-a, y, 0.0], [a, y, 0.0], na);
+            beam_line(m, "CAB_BASE", &base, [-a, y, 0.0], [a, y, 0.0], na);
         }
         let f = self.foot;
         for x in [-f, f] {
-            beam_line(&mut m, "CAB_BASE", &base, [x, -a, 0.0], [x, a, 0.0], na);
+            beam_line(m, "CAB_BASE", &base, [x, -a, 0.0], [x, a, 0.0], na);
         }
-        // Damper brackets: a stiff stub from the base rail up and out to the damper's end. The
-        // node set is the stub and its rail nodes within one node spacing: a local, stiff patch
-        // that the rigid fit reads as a translation and a rotation.
+    }
+
+    /// The damper brackets: a stiff stub from the base rail up and out to the damper's end.
+    /// The node set is the stub and its rail nodes within one node spacing: a local, stiff
+    /// patch that the rigid fit reads as a translation and a rotation.
+    fn brackets(&self, m: &mut Mesh) {
         let bracket = Section::Beam {
             width: self.bracket,
             height: self.bracket,
             normal: [1.0, 0.0, 0.0],
             material: steel(),
         };
-        let spacing = 2.0 * a / (2 * na) as f64;
+        let spacing = 2.0 * self.half / (2 * self.n_across) as f64;
         for (k, p) in self.damper_points().iter().enumerate() {
             let foot_of = [p[0], p[1].signum() * self.damper_rail, 0.0];
-            let stub = beam_line(&mut m, "CAB_BRACKETS", &bracket, foot_of, *p, 1);
+            let stub = beam_line(m, "CAB_BRACKETS", &bracket, foot_of, *p, 1);
             let on_rail: Vec<usize> = (1..=m.nodes.len())
                 .filter(|&id| {
                     let q = m.nodes[id - 1];
@@ -424,7 +445,11 @@ impl Cabinet {
             m.add_to_set(&format!("DAMPER_{}", k + 1), &stub);
             m.add_to_set(&format!("DAMPER_{}", k + 1), &on_rail);
         }
-        // Pump, valves and electronics: point masses on the base and frame nodes near them.
+    }
+
+    /// Pump, valves and electronics: point masses on the base and frame nodes near them (the
+    /// nearest such node if none lies within the part's radius).
+    fn masses(&self, m: &mut Mesh) {
         let carriers: Vec<usize> = {
             let mut v: Vec<usize> = m
                 .parts
@@ -437,7 +462,7 @@ impl Cabinet {
             v
         };
         for c in &self.carried {
-            let mut ids = near(&m, carriers.iter().copied(), c.at, c.radius);
+            let mut ids = near(m, carriers.iter().copied(), c.at, c.radius);
             if ids.is_empty() {
                 ids = vec![m.nearest(c.at, Some(&carriers))];
             }
@@ -449,7 +474,12 @@ impl Cabinet {
             )
             .elements = ids.iter().map(|&id| vec![id]).collect();
         }
-        // Feet: springs to the ground in x, y and z at each foot node.
+    }
+
+    /// The feet: springs to the ground in x, y and z at each foot node (FOOT_1..4), which must
+    /// be a base rail node.
+    fn feet(&self, m: &mut Mesh) {
+        let f = self.foot;
         let mut feet = Vec::new();
         for (k, (x, y)) in [(f, f), (f, -f), (-f, f), (-f, -f)].iter().enumerate() {
             let known = m.nodes.len();
@@ -466,6 +496,5 @@ impl Cabinet {
             m.part(name, Section::Ground { dof, k }).elements =
                 feet.iter().map(|&id| vec![id]).collect();
         }
-        m
     }
 }

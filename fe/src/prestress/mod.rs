@@ -40,6 +40,7 @@
 //! at its tip has the same prestressed frequencies with and without their loads), so the
 //! comparison with ccx leaves both out (`point_mass_softening`).
 
+mod gauss;
 pub mod hex20;
 #[cfg(test)]
 mod tests;
@@ -47,6 +48,7 @@ mod tests;
 use crate::deck::Deck;
 use crate::error::{Error, PipelineError, Within};
 use crate::mesh::{Mesh, Section};
+use gauss::GaussSums;
 use nalgebra::DMatrix;
 use std::collections::HashMap;
 use washdyn_model::geom::f::{dot, sub, unit};
@@ -317,15 +319,43 @@ impl Prestress {
         &self,
         shapes: &[&[(usize, [f64; 3])]],
     ) -> Result<(DMatrix<f64>, DMatrix<f64>), PipelineError> {
-        let n = shapes.len();
-        // Node id -> row of u: u[row * 3n + 3k + c] is component c of shape k.
+        let (rows, u) = self.shapes_at_nodes(shapes)?;
+        let stride = 3 * shapes.len();
+        let mut sums = GaussSums::new(shapes.len());
+        let mut local = vec![0.0; 20 * stride];
+        for brick in &self.bricks {
+            let x: [[f64; 3]; 20] = std::array::from_fn(|i| self.coords[&brick.nodes[i]]);
+            let u0: [[f64; 3]; 20] = std::array::from_fn(|i| self.u0[&brick.nodes[i]]);
+            for (i, id) in brick.nodes.iter().enumerate() {
+                let r = rows[id];
+                local[i * stride..(i + 1) * stride]
+                    .copy_from_slice(&u[r * stride..(r + 1) * stride]);
+            }
+            let rule = hex20::rule_of(brick.stress.len()).expect("checked on reading");
+            for ((p, w), s) in rule.iter().zip(&brick.stress) {
+                let (g, det) = hex20::spatial_gradient(&x, *p).ok_or(PipelineError::Jacobian {
+                    element: brick.number,
+                })?;
+                sums.point(&g, w * det, s, &u0, &local, brick.lame);
+            }
+        }
+        Ok(sums.finish())
+    }
+
+    /// `shapes` gathered by node: the rows of the bricks' nodes (node id -> row) and u, where
+    /// u[row * 3n + 3k + c] is component c of shape k at the row's node. Fails if a shape
+    /// lacks a node.
+    fn shapes_at_nodes(
+        &self,
+        shapes: &[&[(usize, [f64; 3])]],
+    ) -> Result<(HashMap<usize, usize>, Vec<f64>), PipelineError> {
         let rows: HashMap<usize, usize> = self
             .coords
             .keys()
             .enumerate()
             .map(|(i, id)| (*id, i))
             .collect();
-        let stride = 3 * n;
+        let stride = 3 * shapes.len();
         let mut u = vec![f64::NAN; rows.len() * stride];
         for (k, s) in shapes.iter().enumerate() {
             for (id, v) in s.iter() {
@@ -341,99 +371,7 @@ impl Prestress {
                 node: id,
             });
         }
-        // Per Gauss point the n x 9 gradients A9 (A9[k, 3i + j] = d u_k,i / d x_j) and
-        // B9 = A9 (E x sigma) w det J: K_sigma += B9 A9^T; and sym(grad u_k) A6 (6: xx, yy,
-        // zz, xy, yz, zx) and B6 = 2 w det J C : sym(G0^T grad u_k) (off-diagonals doubled):
-        // K_u += B6 A6^T, symmetrised at the end. A batch of points at a time.
-        const BATCH: usize = 256;
-        let mut a9 = DMatrix::<f64>::zeros(n, 9 * BATCH);
-        let mut b9 = DMatrix::<f64>::zeros(n, 9 * BATCH);
-        let mut a6 = DMatrix::<f64>::zeros(n, 6 * BATCH);
-        let mut b6 = DMatrix::<f64>::zeros(n, 6 * BATCH);
-        let mut ks = DMatrix::<f64>::zeros(n, n);
-        let mut ku = DMatrix::<f64>::zeros(n, n);
-        let flush = |a: &DMatrix<f64>, b: &DMatrix<f64>, cols: usize, k: &mut DMatrix<f64>| {
-            k.gemm(
-                1.0,
-                &b.columns(0, cols),
-                &a.columns(0, cols).transpose(),
-                1.0,
-            );
-        };
-        let mut filled = 0;
-        let mut local = vec![0.0; 20 * stride];
-        for brick in &self.bricks {
-            let x: [[f64; 3]; 20] = std::array::from_fn(|i| self.coords[&brick.nodes[i]]);
-            let u0: [[f64; 3]; 20] = std::array::from_fn(|i| self.u0[&brick.nodes[i]]);
-            for (i, id) in brick.nodes.iter().enumerate() {
-                let r = rows[id];
-                local[i * stride..(i + 1) * stride]
-                    .copy_from_slice(&u[r * stride..(r + 1) * stride]);
-            }
-            let (lam, mu) = brick.lame;
-            let rule = hex20::rule_of(brick.stress.len()).expect("checked on reading");
-            for ((p, w), s) in rule.iter().zip(&brick.stress) {
-                let (g, det) = hex20::spatial_gradient(&x, *p).ok_or(PipelineError::Jacobian {
-                    element: brick.number,
-                })?;
-                let sig = [[s[0], s[3], s[5]], [s[3], s[1], s[4]], [s[5], s[4], s[2]]];
-                let mut g0 = [[0.0; 3]; 3];
-                for (node, gn) in g.iter().enumerate() {
-                    for i in 0..3 {
-                        for j in 0..3 {
-                            g0[i][j] += u0[node][i] * gn[j];
-                        }
-                    }
-                }
-                let wd = w * det;
-                let (c9, c6) = (9 * filled, 6 * filled);
-                for m in 0..n {
-                    let mut h = [[0.0; 3]; 3];
-                    for (node, gn) in g.iter().enumerate() {
-                        for c in 0..3 {
-                            let v = local[node * stride + 3 * m + c];
-                            for j in 0..3 {
-                                h[c][j] += v * gn[j];
-                            }
-                        }
-                    }
-                    for c in 0..3 {
-                        for j in 0..3 {
-                            a9[(m, c9 + 3 * c + j)] = h[c][j];
-                            b9[(m, c9 + 3 * c + j)] = wd
-                                * (h[c][0] * sig[0][j] + h[c][1] * sig[1][j] + h[c][2] * sig[2][j]);
-                        }
-                    }
-                    // (G0^T H)_ij = sum_c G0_ci H_cj.
-                    let gh: [[f64; 3]; 3] = std::array::from_fn(|i| {
-                        std::array::from_fn(|j| (0..3).map(|c| g0[c][i] * h[c][j]).sum())
-                    });
-                    let pairs = [(0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (2, 0)];
-                    let tr = gh[0][0] + gh[1][1] + gh[2][2];
-                    for (v, &(i, j)) in pairs.iter().enumerate() {
-                        a6[(m, c6 + v)] = 0.5 * (h[i][j] + h[j][i]);
-                        let e = 0.5 * (gh[i][j] + gh[j][i]);
-                        let c = if i == j {
-                            lam * tr + 2.0 * mu * e
-                        } else {
-                            4.0 * mu * e
-                        };
-                        b6[(m, c6 + v)] = 2.0 * wd * c;
-                    }
-                }
-                filled += 1;
-                if filled == BATCH {
-                    flush(&a9, &b9, 9 * filled, &mut ks);
-                    flush(&a6, &b6, 6 * filled, &mut ku);
-                    filled = 0;
-                }
-            }
-        }
-        if filled > 0 {
-            flush(&a9, &b9, 9 * filled, &mut ks);
-            flush(&a6, &b6, 6 * filled, &mut ku);
-        }
-        Ok((0.5 * (&ks + ks.transpose()), 0.5 * (&ku + ku.transpose())))
+        Ok((rows, u))
     }
 }
 

@@ -201,7 +201,7 @@ fn jacobians_code(body_jac: &str, np: usize, n: usize) -> (String, String) {
     // The force Jacobians of the same derivation (`equations/jacobian.rs`): every scene has
     // them (`type_source`). Up to the traced size the implicit methods take the traced
     // d q''/d q instead.
-    let force_impl = "    fn equations(&self) -> Option<&::washdyn_runtime::model::equations::Equations> {\n        Some(&self.jac.eq)\n    }\n    fn force_jacobians(&mut self, t: f64, q: &[f64], qd: &[f64], hq: &mut [f64], hqd: &mut [f64]) -> bool {\n        let d = self.speed.drive(t);\n        self.jac.eval(&d, q, qd, hq, hqd);\n        true\n    }\n";
+    let force_impl = "    fn equations(&self) -> Option<&::washdyn_runtime::model::equations::Equations> {\n        Some(&self.jac.eq)\n    }\n    fn force_jacobians(&mut self, t: f64, q: &[f64], qd: &[f64], hq: &mut [f64], hqd: &mut [f64]) {\n        let d = self.speed.drive(t);\n        self.jac.eval(&d, q, qd, hq, hqd);\n    }\n";
     let (jac_fn, jac_impl) = if body_jac.is_empty() {
         (String::new(), force_impl.to_string())
     } else {

@@ -2,16 +2,21 @@
 //! only: a class is printed when the study measured the same model content (a hash of the
 //! model as the scene runs it), the same scene, method and tolerance (nearest within half a
 //! decade), over the same window (within [`WINDOW_SLACK`] of its length). And the warning for a
-//! tolerance no class covers.
+//! tolerance no class covers. Below the runners (`run`, the sweep, the study), which look it up;
+//! the accuracy study (`accuracy`) writes the record it reads (`record.rs`).
 
-use super::report::db;
-use super::{CLASSES, Study, Window};
 use crate::simulation::Simulation;
 use std::sync::OnceLock;
 use washdyn_model::ir::files::content_hash as fnv1a64;
 use washdyn_model::ir::{Effect, EffectSet, Model};
 use washdyn_ode::Method;
 use washdyn_runtime::run::Summary;
+
+mod record;
+pub use record::{Study, Trial, Window, WindowStudy};
+
+/// Error classes a run is told it reaches (relative RMS error of the sensor accelerations).
+pub const CLASSES: [f64; 3] = [1e-2, 1e-3, 1e-4];
 
 /// The committed study (`docs/accuracy.json`), compiled in for the error class.
 const COMMITTED: &str = include_str!("../../docs/accuracy.json");
@@ -20,6 +25,11 @@ const COMMITTED: &str = include_str!("../../docs/accuracy.json");
 /// study's window: a class measured over the 178 s run-up says nothing of its first 0.05 s
 /// (nor of 150 s), but a run-up cut a second short is the same run-up.
 pub const WINDOW_SLACK: f64 = 0.01;
+
+/// An order amplitude error, dB, as the study's report prints it.
+pub(crate) fn db(v: Option<f64>) -> String {
+    v.map_or("-".into(), |v| format!("{v:.3}"))
+}
 
 /// The committed study, parsed once.
 pub fn committed() -> Option<&'static Study> {

@@ -77,7 +77,7 @@ pub fn markdown(c: &Comparison, opts: &AnalysisOptions) -> String {
          (SI units, amplitude), with the drum speed of that block; **dB** = 20 log10(peak B / \
          peak A); **worst track dB**: 20 log10(B / A) where its magnitude is largest along the \
          track, over the blocks where both runs are within {:.0} dB of their track's peak (the \
-         accuracy study's floor, `accuracy::track_error`), with its speed. `-`: not resolved.",
+         accuracy study's floor, `analysis::metrics::track_error`), with its speed. `-`: not resolved.",
         c.order_block_revs,
         c.samples_per_rev,
         DRUM_ORDERS

@@ -44,7 +44,9 @@ fn exit_code(e: &Error) -> ExitCode {
         | Error::Modes(_)
         | Error::Fe(_)
         | Error::FullMesh(_)
-        | Error::Refused { .. }
+        | Error::Reference(_)
+        | Error::Plot { .. }
+        | Error::Threads(_)
         | Error::Study(StudyError::Slurm(
             SlurmError::Missing { .. } | SlurmError::Failed { .. } | SlurmError::Answer { .. },
         )) => 5,

@@ -91,7 +91,7 @@ pub const RHO_INF: [f64; 4] = [0.0, 0.5, 0.8, 1.0];
 struct Sim {
     mem: MemorySink,
     summary: Summary,
-    error: Option<String>,
+    error: Option<Error>,
     /// Samples per second of `mem`.
     rate: f64,
 }
@@ -133,7 +133,7 @@ fn simulate(
     Ok(Sim {
         mem,
         summary,
-        error: error.map(|e| e.to_string()),
+        error,
         rate,
     })
 }

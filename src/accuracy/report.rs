@@ -224,7 +224,10 @@ fn model_comparisons(m: &mut String, w: &WindowStudy) {
 
 /// A plot that could not be drawn or written.
 fn plot_error(path: &Path, e: impl std::fmt::Display) -> Error {
-    Error::refused("accuracy", format!("{}: {e}", path.display()))
+    Error::Plot {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    }
 }
 
 type PResult = Result<(), Box<dyn std::error::Error + Send + Sync>>;

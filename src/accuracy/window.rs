@@ -98,11 +98,8 @@ impl<'a> Stages<'a> {
             (1e-10, 1e-9)
         };
         let r = self.run(Method::Dopri5, ref_tol, &self.scene, self.backend)?;
-        if let Some(e) = &r.error {
-            return Err(Error::refused(
-                "accuracy",
-                format!("reference run failed: {e}"),
-            ));
+        if let Some(e) = r.error {
+            return Err(Error::Reference(Box::new(e)));
         }
         let rt = order_tracks(&r.mem, w.t0, SAMPLE_RATE);
         let reference = trial("dopri5", ref_tol, &r, Some((&r.mem, &rt)));

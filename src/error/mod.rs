@@ -88,13 +88,16 @@ pub enum Error {
     /// `washdyn fe reference`: the full-mesh study.
     #[error(transparent)]
     FullMesh(#[from] fe::FullMeshError),
-    /// Another command refused its input or could not finish (the sweep's and the study's
-    /// runs, the accuracy study): its message.
-    #[error("{message}")]
-    Refused {
-        command: &'static str,
-        message: String,
-    },
+    /// The accuracy study's reference run did not finish: no method can be measured
+    /// against it.
+    #[error("reference run failed: {0}")]
+    Reference(Box<Error>),
+    /// A plot the accuracy study could not draw or write (plotters' message).
+    #[error("{}: {message}", path.display())]
+    Plot { path: PathBuf, message: String },
+    /// The threads of a sweep's or study's parallel runs could not start.
+    #[error("cannot start the parallel runs: {0}")]
+    Threads(#[from] rayon::ThreadPoolBuildError),
 }
 
 fn join<T: fmt::Display>(v: &[T]) -> String {
@@ -144,11 +147,4 @@ impl Error {
         }
     }
 
-    /// A command whose errors are text.
-    pub fn refused(command: &'static str, message: impl Into<String>) -> Error {
-        Error::Refused {
-            command,
-            message: message.into(),
-        }
-    }
 }

@@ -150,8 +150,7 @@ pub fn execute(
     check_jobs(jobs)?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(jobs)
-        .build()
-        .map_err(|e| Error::refused("study", e.to_string()))?;
+        .build()?;
     let stop = study.control.guard.interrupt.clone();
     let stopped = || stop.as_ref().is_some_and(|f| f.load(Ordering::Relaxed));
     pool.install(|| {

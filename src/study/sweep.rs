@@ -135,8 +135,8 @@ pub fn study_text(base: &Source, spec: &RunSpec, grid: &Grid) -> Result<String, 
         parameter,
         design: Design { kind: "grid" },
     };
-    let text = toml::to_string(&file)
-        .map_err(|e| Error::refused("sweep", format!("cannot write its study file: {e}")))?;
+    // Strings, numbers and tables only: TOML writes every value of them.
+    let text = toml::to_string(&file).expect("a sweep's study file serialises");
     Ok(format!(
         "# The study `washdyn sweep` ran (a grid design): `washdyn study run` of this file \
          completes it.\n{text}"

@@ -4,6 +4,7 @@
 
 use crate::analysis::plot::init_fonts;
 pub use crate::error::campbell::CampbellError;
+use crate::error::{FileError, PlotError};
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
 use washdyn_model::ir::modal::{self, ModalData};
@@ -106,14 +107,8 @@ pub fn run(
         });
     }
     let c = compute(&d, max_rpm, 140)?;
-    let io = |path: &Path| {
-        let path = path.to_path_buf();
-        move |source| CampbellError::Io { path, source }
-    };
-    let plot = |path: &Path| {
-        let path = path.to_path_buf();
-        move |source| CampbellError::Plot { path, source }
-    };
+    let io = FileError::at::<CampbellError>;
+    let plot = PlotError::at::<CampbellError>;
     std::fs::create_dir_all(out).map_err(io(out))?;
     let csv = out.join("campbell.csv");
     let mut text = String::from("drum_rpm");

@@ -198,8 +198,7 @@ pub fn merge_report(old: &str, new: &[(String, String)], order: &[String]) -> St
 
 /// An I/O failure on `path`, as `washdyn fe` words it (`path: error`).
 fn fe_io(path: &Path) -> impl FnOnce(std::io::Error) -> FeError {
-    let path = path.to_path_buf();
-    move |source| FeError::Io { path, source }
+    crate::error::FileError::at(path)
 }
 
 /// `washdyn fe write`: the built-in decks (frequency decks, and the drum's prestressed one).

@@ -4,34 +4,18 @@
 //! write is one grid layout with point and cell data, about a page of code.
 
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-/// Why a grid or a collection was not written.
-#[derive(Debug, thiserror::Error)]
-pub enum VtkError {
-    /// The file cannot be written.
-    #[error("{}: {source}", path.display())]
-    Io {
-        path: PathBuf,
-        #[source]
-        source: std::io::Error,
-    },
-    /// Data whose length is not `components` per point (or cell).
-    #[error("{}: {name} has {values} values for {count} x {components}", path.display())]
-    Length {
-        path: PathBuf,
-        name: String,
-        values: usize,
-        count: usize,
-        components: usize,
-    },
-}
+use crate::error::FileError;
+pub use crate::error::vtk::VtkError;
 
 impl VtkError {
     fn io(path: &Path) -> impl Fn(std::io::Error) -> VtkError + Copy + '_ {
-        move |source| VtkError::Io {
-            path: path.to_path_buf(),
-            source,
+        move |source| {
+            VtkError::Io(FileError {
+                path: path.to_path_buf(),
+                source,
+            })
         }
     }
 }

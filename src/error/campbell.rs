@@ -2,8 +2,7 @@
 //! the files it writes. Here with the crate's errors so that the error enum reaches no module
 //! above it.
 
-use super::Error;
-use std::path::PathBuf;
+use super::{Error, FileError, PlotError};
 use washdyn_fe::error::PipelineError;
 
 #[derive(Debug, thiserror::Error)]
@@ -55,19 +54,11 @@ pub enum CampbellError {
         modes: usize,
     },
     /// A file or directory that cannot be written.
-    #[error("{}: {source}", path.display())]
-    Io {
-        path: PathBuf,
-        #[source]
-        source: std::io::Error,
-    },
+    #[error(transparent)]
+    Io(#[from] FileError),
     /// A plot that cannot be drawn or written.
-    #[error("{}: {source}", path.display())]
-    Plot {
-        path: PathBuf,
-        #[source]
-        source: Box<dyn std::error::Error + Send + Sync>,
-    },
+    #[error(transparent)]
+    Plot(#[from] PlotError),
 }
 
 impl From<Error> for CampbellError {

@@ -2,7 +2,7 @@
 //! stop: washdyn-fe's own errors as their source, the files they write, the committed answer
 //! they refuse. Here with the crate's errors so that the error enum reaches no module above it.
 
-use super::Error;
+use super::{Error, FileError};
 use std::path::PathBuf;
 use washdyn_runtime::harmonic::HarmonicError;
 
@@ -16,12 +16,8 @@ pub enum FeError {
     #[error(transparent)]
     Fe(Box<washdyn_fe::Error>),
     /// A file or directory that cannot be written.
-    #[error("{}: {source}", path.display())]
-    Io {
-        path: PathBuf,
-        #[source]
-        source: std::io::Error,
-    },
+    #[error(transparent)]
+    Io(#[from] FileError),
 }
 
 /// `washdyn fe reference`: the full-mesh study.
@@ -46,12 +42,8 @@ pub enum FullMeshError {
     #[error(transparent)]
     Fe(Box<washdyn_fe::Error>),
     /// A file or directory that cannot be read or written.
-    #[error("{}: {source}", path.display())]
-    Io {
-        path: PathBuf,
-        #[source]
-        source: std::io::Error,
-    },
+    #[error(transparent)]
+    Io(#[from] FileError),
     /// The committed answer is no JSON of its kind.
     #[error("{}: {source}", path.display())]
     Json {

@@ -2,8 +2,8 @@
 //! instants asked for, the field files, what it writes. Here with the crate's errors so that
 //! the error enum reaches no module above it.
 
-use super::Error;
-use crate::vtk::VtkError;
+use super::vtk::VtkError;
+use super::{Error, FileError, PlotError};
 use std::path::PathBuf;
 
 #[derive(Debug, thiserror::Error)]
@@ -96,19 +96,11 @@ pub enum FieldsError {
     #[error("the drum is rigid in this scene: no deformation to show")]
     RigidDrum,
     /// A file or directory that cannot be written.
-    #[error("{}: {source}", path.display())]
-    Io {
-        path: PathBuf,
-        #[source]
-        source: std::io::Error,
-    },
+    #[error(transparent)]
+    Io(#[from] FileError),
     /// A plot that cannot be drawn or written.
-    #[error("{}: {source}", path.display())]
-    Plot {
-        path: PathBuf,
-        #[source]
-        source: Box<dyn std::error::Error + Send + Sync>,
-    },
+    #[error(transparent)]
+    Plot(#[from] PlotError),
     /// A VTK grid or collection that cannot be written.
     #[error(transparent)]
     Vtk(#[from] VtkError),

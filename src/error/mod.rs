@@ -10,6 +10,7 @@ pub mod fields;
 pub mod modes;
 pub mod slurm;
 pub mod study;
+pub mod vtk;
 
 use crate::spec::{Field, Subject};
 use std::fmt;
@@ -100,6 +101,43 @@ pub enum Error {
     Threads(#[from] rayon::ThreadPoolBuildError),
 }
 
+/// A file or directory a command could not read or write: `path: the system's message`.
+/// One type for every command's enum (`Io(#[from] FileError)`).
+#[derive(Debug, thiserror::Error)]
+#[error("{}: {source}", path.display())]
+pub struct FileError {
+    pub path: PathBuf,
+    #[source]
+    pub source: std::io::Error,
+}
+
+impl FileError {
+    /// The error of an I/O call on `path`, for `map_err`.
+    pub fn at<E: From<FileError>>(path: &std::path::Path) -> impl FnOnce(std::io::Error) -> E {
+        let path = path.to_path_buf();
+        move |source| E::from(FileError { path, source })
+    }
+}
+
+/// A plot that could not be drawn or written: `path: plotters' message`.
+#[derive(Debug, thiserror::Error)]
+#[error("{}: {source}", path.display())]
+pub struct PlotError {
+    pub path: PathBuf,
+    #[source]
+    pub source: Box<dyn std::error::Error + Send + Sync>,
+}
+
+impl PlotError {
+    /// The error of drawing or writing the plot at `path`, for `map_err`.
+    pub fn at<E: From<PlotError>>(
+        path: &std::path::Path,
+    ) -> impl FnOnce(Box<dyn std::error::Error + Send + Sync>) -> E {
+        let path = path.to_path_buf();
+        move |source| E::from(PlotError { path, source })
+    }
+}
+
 fn join<T: fmt::Display>(v: &[T]) -> String {
     v.iter()
         .map(|e| e.to_string())
@@ -146,5 +184,4 @@ impl Error {
             source,
         }
     }
-
 }

@@ -3,6 +3,7 @@
 //! the grids: every stored sample, one number per sample, no mesh written.
 
 use crate::error::fields::FieldsError;
+use crate::error::{FileError, PlotError};
 use std::path::{Path, PathBuf};
 use washdyn_model::ir::BodyRef;
 
@@ -80,14 +81,8 @@ pub fn write_drum_edge(
     svg: bool,
 ) -> Result<Vec<PathBuf>, FieldsError> {
     use plotters::prelude::*;
-    let io = |path: &Path| {
-        let path = path.to_path_buf();
-        move |source| FieldsError::Io { path, source }
-    };
-    let plot = |path: &Path| {
-        let path = path.to_path_buf();
-        move |source| FieldsError::Plot { path, source }
-    };
+    let io = FileError::at::<FieldsError>;
+    let plot = PlotError::at::<FieldsError>;
     std::fs::create_dir_all(out).map_err(io(out))?;
     let csv = out.join("drum_edge.csv");
     let mut text =

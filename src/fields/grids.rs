@@ -1,6 +1,7 @@
 //! The output of `washdyn fields` at instants: a VTK grid per body and instant with
 //! displacements and stresses, a `.pvd` collection per body, and what was written.
 
+use crate::error::FileError;
 use crate::error::fields::FieldsError;
 use crate::vtk::{Cell, Data, write_pvd, write_vtu};
 use std::path::{Path, PathBuf};
@@ -39,10 +40,7 @@ pub fn write_fields(
     for &t in instants {
         states.at(t)?;
     }
-    std::fs::create_dir_all(out).map_err(|source| FieldsError::Io {
-        path: out.to_path_buf(),
-        source,
-    })?;
+    std::fs::create_dir_all(out).map_err(FileError::at::<FieldsError>(out))?;
     let mut w = Written {
         files: Vec::new(),
         bytes: 0,

@@ -1,5 +1,6 @@
 //! ccx's committed answer for the full-mesh reference, tied to the deck it solved.
 
+use crate::error::FileError;
 use crate::error::fe::FullMeshError;
 use nalgebra::Complex;
 use serde::{Deserialize, Serialize};
@@ -56,10 +57,7 @@ impl CcxReference {
         channels: usize,
     ) -> Result<Solution, FullMeshError> {
         let path_buf = || path.to_path_buf();
-        let text = std::fs::read_to_string(path).map_err(|source| FullMeshError::Io {
-            path: path_buf(),
-            source,
-        })?;
+        let text = std::fs::read_to_string(path).map_err(FileError::at::<FullMeshError>(path))?;
         let r: CcxReference =
             serde_json::from_str(&text).map_err(|source| FullMeshError::Json {
                 path: path_buf(),

@@ -12,6 +12,7 @@ pub use crate::error::fe::FullMeshError;
 pub use committed::CcxReference;
 pub use report::write;
 
+use crate::error::FileError;
 use serde::Serialize;
 use std::f64::consts::PI;
 use std::path::PathBuf;
@@ -339,10 +340,7 @@ fn solve_ccx(
             .map(|b| &b.mesh)
             .ok_or_else(|| FullMeshError::NoBody(name.to_string()))
     };
-    std::fs::create_dir_all(&args.work).map_err(|source| FullMeshError::Io {
-        path: args.work.clone(),
-        source,
-    })?;
+    std::fs::create_dir_all(&args.work).map_err(FileError::at::<FullMeshError>(&args.work))?;
     let mut runs: Vec<(usize, Solution)> = Vec::new();
     let mut info = None;
     let mut reference_answer = None;

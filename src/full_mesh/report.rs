@@ -1,6 +1,7 @@
 //! full-mesh.md and full-mesh.json: the study as a reader sees it.
 
 use super::{COMPARED_SHARE, FullMeshError, Study};
+use crate::error::FileError;
 use std::path::{Path, PathBuf};
 
 /// What the reference relies on in CalculiX 2.20, measured on small decks (issue 19).
@@ -46,10 +47,7 @@ fn pct(x: f64) -> String {
 
 /// full-mesh.md and full-mesh.json in `out`.
 pub fn write(s: &Study, out: &Path) -> Result<Vec<PathBuf>, FullMeshError> {
-    let io = |path: &Path| {
-        let path = path.to_path_buf();
-        move |source| FullMeshError::Io { path, source }
-    };
+    let io = FileError::at::<FullMeshError>;
     std::fs::create_dir_all(out).map_err(io(out))?;
     let mut md = String::new();
     summary_section(&mut md, s);

@@ -148,9 +148,7 @@ pub fn execute(
     done: &(dyn Fn(&Outcome) + Sync),
 ) -> Result<Vec<Outcome>, Error> {
     check_jobs(jobs)?;
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(jobs)
-        .build()?;
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(jobs).build()?;
     let stop = study.control.guard.interrupt.clone();
     let stopped = || stop.as_ref().is_some_and(|f| f.load(Ordering::Relaxed));
     pool.install(|| {

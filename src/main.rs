@@ -36,7 +36,7 @@ fn exit_code(e: &Error) -> ExitCode {
         | Error::Scene { .. }
         | Error::UnknownModel { .. }
         | Error::Study(StudyError::Variants(_)) => 3,
-        Error::Io { .. } | Error::File { .. } | Error::Analysis(AnalysisError::Io { .. }) => 4,
+        Error::Io(_) | Error::File { .. } | Error::Analysis(AnalysisError::Io { .. }) => 4,
         Error::Analysis(_)
         | Error::Compare(_)
         | Error::Fields(_)

@@ -249,10 +249,12 @@ pub fn run(spec: &str, scene: Option<&str>, out: Option<&Path>) -> Result<PathBu
     let dir = out.map_or_else(|| PathBuf::from("out").join(&model.name), Path::to_path_buf);
     let io = |action, path: &Path| {
         let path = path.to_path_buf();
-        move |source| ModesError::Io {
-            action,
-            path,
-            source,
+        move |source| {
+            ModesError::Io(crate::error::ActionError {
+                action,
+                path,
+                source,
+            })
         }
     };
     std::fs::create_dir_all(&dir).map_err(io("create", &dir))?;

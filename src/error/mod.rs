@@ -48,13 +48,8 @@ pub enum Error {
     )]
     UnknownModel { spec: String },
     /// A file or directory the command writes or reads could not be.
-    #[error("cannot {action} {}: {source}", path.display())]
-    Io {
-        action: &'static str,
-        path: PathBuf,
-        #[source]
-        source: std::io::Error,
-    },
+    #[error(transparent)]
+    Io(ActionError),
     /// A file named by the model or a run that cannot be read or hashed (the message names it).
     #[error("{message}")]
     File { message: String },
@@ -99,6 +94,17 @@ pub enum Error {
     /// The threads of a sweep's or study's parallel runs could not start.
     #[error("cannot start the parallel runs: {0}")]
     Threads(#[from] rayon::ThreadPoolBuildError),
+}
+
+/// What a command could not do to a file or directory: `cannot {action} {path}: {source}`
+/// (`washdyn::Error::Io`, and `modes`' table).
+#[derive(Debug, thiserror::Error)]
+#[error("cannot {action} {}: {source}", path.display())]
+pub struct ActionError {
+    pub action: &'static str,
+    pub path: PathBuf,
+    #[source]
+    pub source: std::io::Error,
 }
 
 /// A file or directory a command could not read or write: `path: the system's message`.
@@ -178,10 +184,10 @@ impl Error {
 
     /// An I/O failure on `path`.
     pub fn io(action: &'static str, path: impl Into<PathBuf>, source: std::io::Error) -> Error {
-        Error::Io {
+        Error::Io(ActionError {
             action,
             path: path.into(),
             source,
-        }
+        })
     }
 }

@@ -2,7 +2,6 @@
 //! enum reaches no module above it.
 
 use super::Error;
-use std::path::PathBuf;
 
 #[derive(Debug, thiserror::Error)]
 pub enum ModesError {
@@ -16,13 +15,8 @@ pub enum ModesError {
     #[error("{0}")]
     Rest(String),
     /// The table cannot be written.
-    #[error("cannot {action} {}: {source}", path.display())]
-    Io {
-        action: &'static str,
-        path: PathBuf,
-        #[source]
-        source: std::io::Error,
-    },
+    #[error(transparent)]
+    Io(super::ActionError),
 }
 
 impl From<Error> for ModesError {

@@ -90,14 +90,23 @@ pub fn run_command_with(
     let verdict = crate::error_class::Verdict::of(&sim);
     let (mut summary, error) = sim.integrate(&mut sink, progress);
     verdict.apply(&mut summary, error.is_none());
-    let finished = sink.finish();
-    write_summary(&out_dir, &summary)?;
-    finished.map_err(|e| Error::io("write", sink.path(), e))?;
-    if let Some(e) = &sink.energy {
+    let mut written = sink
+        .finish()
+        .map_err(|e| Error::io("write", sink.path(), e));
+    if let (Ok(()), Some(e)) = (&written, &sink.energy) {
         let (t, lines) = e.lines();
         let opts = crate::analysis::AnalysisOptions::default();
-        crate::analysis::plot::energy_plot(&t, &lines, &opts, &out_dir.join("energy"))?;
+        written = crate::analysis::plot::energy_plot(&t, &lines, &opts, &out_dir.join("energy"))
+            .map(drop)
+            .map_err(Error::from);
     }
+    // The summary says what the exit code will: a file the run could not write fails it.
+    if let (Err(e), None) = (&written, &error) {
+        summary.status = washdyn_runtime::run::RunStatus::Failed;
+        summary.error = Some(e.to_string());
+    }
+    write_summary(&out_dir, &summary)?;
+    written?;
     let samples = keep_samples.then(|| (sink.names.clone(), std::mem::take(&mut sink.memory)));
     Ok(RunOutcome {
         out_dir,

@@ -514,12 +514,21 @@ fn a_run_without_progress_stops() {
         matches!(
             e,
             Error::Integration {
-                source: RunError::Stalled { .. },
+                source: RunError::Stalled { budget_s: 1e-3, .. },
                 ..
             }
         ),
         "{e:?}"
     );
+    // What to do about it (issue 50): a faster method, or more time.
+    let m = e.to_string();
+    for part in [
+        "beyond the 0.001 s budget: a faster method may finish it",
+        "the scene's default: leave out --integrator; on a stiff scene `--integrator galpha`",
+        "or give it the time with `--max-projected-wall <s>` (`inf`: never stop)",
+    ] {
+        assert!(m.contains(part), "`{part}` in: {m}");
+    }
     assert_eq!(o.summary.status, washdyn_runtime::run::RunStatus::Failed);
     std::fs::remove_dir_all(out_dir("stall")).ok();
 }
@@ -696,4 +705,101 @@ fn periodic_start_without_constant_speed() {
     };
     let m = refused(&a, &RunControl::default(), "--start");
     assert!(m[0].contains("the drum stands still at the start"), "{m:?}");
+}
+
+/// Times computed as sums of steps print rounded to 12 significant digits in messages (issue
+/// 50): the run's errors, the integrators' and the settings' refusals.
+#[test]
+fn computed_times_print_rounded_in_messages() {
+    let t = 0.013000000000000001;
+    assert_eq!(
+        RunError::Interrupted { t }.to_string(),
+        "interrupted at t = 0.013 s"
+    );
+    let e = RunError::Ode(washdyn_ode::OdeError::StepSizeUnderflow { t, h: 1e-14 });
+    assert_eq!(
+        e.to_string(),
+        "integration failed: step size underflow at t = 0.013 s (h = 1e-14 s)"
+    );
+    let e = RunError::Setup {
+        t: 0.1 + 0.2,
+        reason: "no static equilibrium".into(),
+    };
+    assert_eq!(e.to_string(), "no static equilibrium (at t = 0.3 s)");
+    // The end of the run a start must precede: t_end as computed (0.1 + 0.2).
+    let a = RunSpec {
+        t_end: Some(0.1 + 0.2),
+        t_start: 0.5,
+        ..args("rounded")
+    };
+    let m = refused(&a, &RunControl::default(), "--t-start");
+    assert!(
+        m[0].contains("before the end of the run (0.3 s), got 0.5"),
+        "{m:?}"
+    );
+}
+
+/// Negative numbers reach the settings' rules instead of being taken for options (issue 50):
+/// `--t-end -1` is refused by the rule with exit code 2, nothing written.
+#[test]
+fn negative_numbers_reach_the_rules() {
+    let dir = out_dir("hyphen");
+    std::fs::remove_dir_all(&dir).ok();
+    for (option, value, says) in [
+        (
+            "--t-end",
+            "-1",
+            "--t-end must be > 0 and at most 3600 s, got -1",
+        ),
+        (
+            "--tol",
+            "-1e-6",
+            "--tol must be in [1e-12, 1e-1], got -0.000001",
+        ),
+        (
+            "--sample-rate",
+            "-2000",
+            "--sample-rate must be in [1e0, 1e5] Hz, got -2000",
+        ),
+        (
+            "--max-projected-wall",
+            "-5",
+            "--max-projected-wall must be > 0 s (inf: never stop), got -5",
+        ),
+    ] {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_washdyn"))
+            .args(["run", "reference", option, value, "--no-plots", "--out"])
+            .arg(&dir)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{option} {value}: {err}");
+        assert!(err.contains(says), "{option} {value}: {err}");
+        assert!(!dir.exists(), "{option} {value}");
+    }
+}
+
+/// An unknown scene is refused listing the model's scenes, each once (issue 50: the reference
+/// declares `full`, which the message named a second time).
+#[test]
+fn an_unknown_scene_lists_each_scene_once() {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_washdyn"))
+        .args(["modes", "reference", "--scene", "nope"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{err}");
+    assert!(
+        err.contains(
+            "unknown scene `nope`; this model has: full, presliding, rigid_low_speed, \
+             damper_mass, contact, elastic, elastic_fine, elastic_rigid_tub\n"
+        ),
+        "{err}"
+    );
+    // A model that declares no `full` still has it, first.
+    let (m, _) = resolve_model("compact").unwrap();
+    let e = m.scene(Some("nope")).unwrap_err();
+    let names = m.every_scene();
+    assert_eq!(names.iter().filter(|n| **n == "full").count(), 1, "{e}");
+    assert!(e.ends_with(&names.join(", ")), "{e}");
 }

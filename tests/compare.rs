@@ -310,3 +310,85 @@ fn runs_that_do_not_match_are_refused_naming_the_directories() {
     assert!(!root.join("out").exists(), "nothing written");
     let _ = std::fs::remove_dir_all(&root);
 }
+
+/// A run whose summary says it did not finish is refused as such (its status, its error and
+/// where its output ends), not as another speed profile, unless `--until` compares the span it
+/// reached; a span shorter than the analysis' 1 s block is analysed in one block over all of it,
+/// down to 0.25 s, and refused below (issue 50).
+#[test]
+fn unfinished_runs_and_spans_shorter_than_a_block() {
+    let root = scratch("unfinished");
+    let a = root.join("a");
+    write_run(&a, Format::Parquet, &CHANNELS, 2.0, run_a);
+    let failed = root.join("failed");
+    write_run(&failed, Format::Parquet, &CHANNELS, 1.5, run_a);
+    let path = failed.join("summary.json");
+    let mut v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    v["status"] = "failed".into();
+    v["error"] = "integration failed: step size underflow at t = 1.5 s (h = 1e-14 s)".into();
+    std::fs::write(&path, v.to_string()).unwrap();
+    let e = compare(&args(&a, &failed, &root.join("out"))).unwrap_err();
+    assert!(
+        matches!(&e, CompareError::Unfinished { status, last, .. } if status == "failed" && *last == 1.5),
+        "{e}"
+    );
+    let msg = e.to_string();
+    for part in [
+        "failed: the run did not finish (status failed: integration failed: step size underflow",
+        "its output ends at 1.5 s: compare up to there with --until 1.5",
+    ] {
+        assert!(msg.contains(part), "`{part}` in: {msg}");
+    }
+    assert!(!root.join("out").exists(), "nothing written");
+    let (c, _) = compare(&CompareArgs {
+        until: Some(1.5),
+        ..args(&a, &failed, &root.join("out_until"))
+    })
+    .unwrap();
+    assert_eq!(c.note, None, "1.5 s holds a 1 s block");
+
+    // Half a second: one block of its 1001 samples; a tenth: refused, nothing written.
+    let (c, _) = compare(&CompareArgs {
+        until: Some(0.5),
+        ..args(&a, &a, &root.join("out_short"))
+    })
+    .unwrap();
+    assert_eq!(c.samples, 1001);
+    let note = c.note.expect("a note");
+    assert!(
+        note.contains("0.5005 s, is shorter than the analysis' 1 s blocks"),
+        "{note}"
+    );
+    let md = std::fs::read_to_string(root.join("out_short").join("compare.md")).unwrap();
+    assert!(md.contains(&note), "{md}");
+    let e = compare(&CompareArgs {
+        until: Some(0.1),
+        ..args(&a, &a, &root.join("out"))
+    })
+    .unwrap_err();
+    assert!(
+        matches!(
+            e,
+            CompareError::Read(washdyn::analysis::AnalysisError::TooFewSamples {
+                found: 201,
+                needed: 500,
+                ..
+            })
+        ),
+        "{e}"
+    );
+    assert!(!root.join("out").exists(), "nothing written");
+    // The command line takes a negative --until as a value, and the comparison refuses it.
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_washdyn"))
+        .arg("compare")
+        .args([&a, &a])
+        .args(["--until", "-1", "--out"])
+        .arg(root.join("out"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(5), "{err}");
+    assert!(err.contains("--until -1 s is not inside it"), "{err}");
+    let _ = std::fs::remove_dir_all(&root);
+}

@@ -514,3 +514,54 @@ fn drum_stresses_by_modal_superposition_match_calculix_under_the_same_displaceme
     assert!(pct(0.9) < 3e-2, "{}", pct(0.9));
     assert!(worst < 0.25, "{worst} at node {at}");
 }
+
+/// `washdyn fields` on a run whose scene keeps every body with a field file rigid and fixed (the
+/// reference's `full`: the cabinet) names the files it found, why they serve nothing and the
+/// scenes that would (issue 50), before reading them or the states; a folder without any says
+/// so as before. No CalculiX needed: the file is never read.
+#[test]
+fn field_files_of_bodies_the_scene_keeps_rigid_are_named_with_the_remedy() {
+    use washdyn::fields::{FieldsError, Request, Times, fields_command};
+    let dir = tempfile::tempdir().unwrap();
+    let run = dir.path().join("run");
+    let fe = dir.path().join("fe");
+    std::fs::create_dir_all(&run).unwrap();
+    std::fs::create_dir_all(&fe).unwrap();
+    std::fs::write(
+        run.join("summary.json"),
+        r#"{"model": "reference", "scene": "full"}"#,
+    )
+    .unwrap();
+    let req = Request::Fields(Times::List(vec![0.0]));
+    let e = fields_command(&run, None, &req, &fe, None).err().unwrap();
+    assert!(matches!(e, FieldsError::NoFieldFiles { .. }), "{e}");
+    std::fs::write(fe.join("cabinet.field.bin"), b"never read").unwrap();
+    let e = fields_command(&run, None, &req, &fe, None).err().unwrap();
+    match &e {
+        FieldsError::NoMovingBody {
+            scene,
+            files,
+            elastic_scenes,
+            ..
+        } => {
+            assert_eq!(scene, "full");
+            assert_eq!(files, &["cabinet.field.bin"]);
+            assert_eq!(
+                elastic_scenes,
+                &["elastic", "elastic_fine", "elastic_rigid_tub"]
+            );
+        }
+        e => panic!("{e}"),
+    }
+    let out = common::washdyn_in(&["fields", "run", "--times", "0", "--fe", "fe"], dir.path());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(5), "{err}");
+    for part in [
+        "fe holds cabinet.field.bin, but in the run's scene `full` none of these bodies is elastic",
+        "run a scene that keeps them elastic (elastic, elastic_fine, elastic_rigid_tub) with \
+         --states",
+    ] {
+        assert!(err.contains(part), "`{part}` in: {err}");
+    }
+    assert!(!run.join("fields").exists());
+}

@@ -428,3 +428,84 @@ fn runs_take_their_scenes_default_solver() {
         "no solver named"
     );
 }
+
+/// A run shorter than the analysis' 1 s block (issue 50) is analysed in one block of all its
+/// samples, down to 0.25 s, and skipped below, each saying so on stderr and in summary.json's
+/// `analysis`, with exit 0 and status ok; an analysis that fails (its folder taken by a file)
+/// fails the run's status with the exit code; `--no-plots` leaves `analysis` out.
+#[test]
+fn short_runs_are_analysed_in_one_block_or_skipped_and_say_so() {
+    let dir = tmp("short");
+    let d = dir.to_str().unwrap();
+    let summary = || -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap()
+    };
+    let run = |t_end: &str, more: &[&str]| {
+        let mut a = vec![
+            "run",
+            "reference",
+            "--t-end",
+            t_end,
+            "--sample-rate",
+            "1000",
+        ];
+        a.extend(["--out", d]);
+        a.extend(more);
+        washdyn(&a)
+    };
+    std::fs::remove_dir_all(&dir).ok();
+    let (code, err) = run("0.5", &[]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(
+        err.contains(
+            "note: the run's 501 samples (0.501 s) are fewer than the analysis' 1 s block: \
+             analysed in one block of them (frequency resolution 1.996 Hz)"
+        ),
+        "{err}"
+    );
+    let s = summary();
+    assert_eq!(s["status"], "ok", "{s}");
+    assert_eq!(s["analysis"]["status"], "done", "{s}");
+    assert_eq!(s["analysis"]["block_length_s"], 0.501, "{s}");
+    assert!(dir.join("analysis").join("orders.parquet").is_file());
+
+    std::fs::remove_dir_all(&dir).ok();
+    let (code, err) = run("0.1", &[]);
+    assert_eq!(code, Some(0), "{err}");
+    let note = "no analysis: the signal spans 0.101 s at 1000 Hz, shorter than the shortest \
+                analysis block (0.25 s)";
+    assert!(err.contains(&format!("note: {note}")), "{err}");
+    let s = summary();
+    assert_eq!(s["status"], "ok", "{s}");
+    assert_eq!(s["analysis"]["status"], "skipped", "{s}");
+    assert!(
+        s["analysis"]["note"].as_str().unwrap().starts_with(note),
+        "{s}"
+    );
+    assert!(!dir.join("analysis").exists());
+
+    // The analysis cannot write its folder: exit 5, and the summary says failed with it.
+    std::fs::write(dir.join("analysis"), "a file").unwrap();
+    let (code, err) = run("0.5", &[]);
+    assert_eq!(code, Some(5), "{err}");
+    assert!(
+        err.contains("error: analysis failed: cannot write"),
+        "{err}"
+    );
+    let s = summary();
+    assert_eq!(s["status"], "failed", "{s}");
+    assert!(
+        s["error"]
+            .as_str()
+            .unwrap()
+            .starts_with("analysis failed: cannot write"),
+        "{s}"
+    );
+    assert_eq!(s["analysis"]["status"], "failed", "{s}");
+
+    let (code, err) = run("0.1", &["--no-plots"]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(!err.contains("note:"), "{err}");
+    assert!(summary().get("analysis").is_none());
+    std::fs::remove_dir_all(&dir).ok();
+}

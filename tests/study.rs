@@ -395,6 +395,12 @@ fn study_file_errors_name_file_and_line() {
             5,
             "unknown field `tolerance`",
         ),
+        // No [[parameter]] at all: at the [design] table (issue 50: not 0:0).
+        (
+            "[run]\nt_end = 0.5\n[design]\nkind = \"grid\"\n",
+            5,
+            "parameter: no [[parameter]]: a study varies at least one",
+        ),
         (
             "[[parameter]]\npath = \"springs.nosuch.stiffness\"\nlevels = [1.0]\n[design]\nkind = \"grid\"\n",
             4,

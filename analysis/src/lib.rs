@@ -31,7 +31,7 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 
 pub use error::AnalysisError;
-pub use options::{AnalysisOptions, ColourScale};
+pub use options::{AnalysisOptions, ColourScale, MIN_BLOCK_LENGTH_S};
 pub use orders::{Block, BlockLayout, OrderTrack, RunUp};
 pub use signals::{Channel, Quantity, Signals, parse_signals, read_signals};
 pub use spectrum::{Spectrum, SpectrumAnalyzer, Window};

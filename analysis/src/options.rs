@@ -30,6 +30,11 @@ impl Default for ColourScale {
     }
 }
 
+/// Shortest block [`AnalysisOptions::fit_to`] shortens the blocks to for a short signal, s:
+/// 0.25 s has 4 Hz bins: drum orders 1 and 2 two bins apart (the Hann main lobe) from 480 rpm,
+/// motor orders 1 and 2 from 45 rpm; a shorter block's bins blur even those.
+pub const MIN_BLOCK_LENGTH_S: f64 = 0.25;
+
 /// Settings of [`super::analyse_file`] / [`super::analyse_signals`].
 ///
 /// Defaults are chosen for the simulator's 2 kHz output and drum speeds up to
@@ -176,6 +181,38 @@ impl AnalysisOptions {
             ));
         }
         Ok(())
+    }
+
+    /// These options for a signal of `samples` samples at `sample_rate` Hz: unchanged where one
+    /// block fits, else one block over the whole signal (a run shorter than a block), down to
+    /// [`MIN_BLOCK_LENGTH_S`] (or the options' own block, if shorter) and the 16 samples a
+    /// block needs. `TooFewSamples` below that.
+    pub fn fit_to(
+        &self,
+        samples: usize,
+        sample_rate: f64,
+    ) -> Result<AnalysisOptions, AnalysisError> {
+        let len = |s: f64| (s * sample_rate).round();
+        if len(self.block_length_s) <= samples as f64 {
+            return Ok(self.clone());
+        }
+        let needed = len(MIN_BLOCK_LENGTH_S.min(self.block_length_s)).max(16.0) as usize;
+        if samples < needed {
+            return Err(AnalysisError::TooFewSamples {
+                context: format!(
+                    "the signal spans {} s at {sample_rate} Hz, shorter than the shortest \
+                     analysis block ({} s)",
+                    samples as f64 / sample_rate,
+                    needed as f64 / sample_rate
+                ),
+                found: samples,
+                needed,
+            });
+        }
+        Ok(AnalysisOptions {
+            block_length_s: samples as f64 / sample_rate,
+            ..self.clone()
+        })
     }
 
     /// Drum orders of the motor orders to mark: `motor_ratio * n` up to `max_order`.

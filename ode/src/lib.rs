@@ -20,6 +20,7 @@ pub mod ported;
 pub mod problems;
 pub mod rk4;
 pub mod rodas4;
+mod rounded;
 pub mod sdirk4;
 pub mod tableau;
 #[cfg(test)]
@@ -33,6 +34,7 @@ pub use method::{AnySolver, Method, UnknownMethod};
 pub use ported::PortedJacobian;
 pub use rk4::Rk4;
 pub use rodas4::Rodas4;
+pub use rounded::Rounded;
 pub use sdirk4::Sdirk4;
 
 /// A first-order ODE system y' = f(t, y).
@@ -103,19 +105,19 @@ pub trait OdeSystem {
 /// Why an integration stopped early. Every variant carries the time reached.
 #[derive(Clone, Debug, PartialEq, Error)]
 pub enum OdeError {
-    #[error("step size underflow at t = {t} s (h = {h:e} s)")]
+    #[error("step size underflow at t = {} s (h = {h:e} s)", Rounded(*t))]
     StepSizeUnderflow { t: f64, h: f64 },
-    #[error("Newton iteration diverged at t = {t} s (h = {h:e} s)")]
+    #[error("Newton iteration diverged at t = {} s (h = {h:e} s)", Rounded(*t))]
     NewtonDivergence { t: f64, h: f64 },
-    #[error("non-finite state at t = {t} s")]
+    #[error("non-finite state at t = {} s", Rounded(*t))]
     NonFinite { t: f64 },
-    #[error("step budget of {steps} steps exhausted at t = {t} s")]
+    #[error("step budget of {steps} steps exhausted at t = {} s", Rounded(*t))]
     StepBudget { t: f64, steps: u64 },
-    #[error("singular iteration matrix at t = {t} s")]
+    #[error("singular iteration matrix at t = {} s", Rounded(*t))]
     Singular { t: f64 },
-    #[error("the method needs a second-order system y = [q; q'] (at t = {t} s)")]
+    #[error("the method needs a second-order system y = [q; q'] (at t = {} s)", Rounded(*t))]
     NotSecondOrder { t: f64 },
-    #[error("the IMEX method needs the system's linear part (at t = {t} s)")]
+    #[error("the IMEX method needs the system's linear part (at t = {} s)", Rounded(*t))]
     NoLinearPart { t: f64 },
 }
 

@@ -5,7 +5,7 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use washdyn::Error;
-use washdyn::analysis::{AnalysisOptions, analyse_file};
+use washdyn::analysis::{AnalysisOptions, analyse_signals, read_signals};
 use washdyn::results::Format;
 
 /// `washdyn analyse`'s arguments.
@@ -47,7 +47,23 @@ pub fn analyse(a: Args) -> Result<ExitCode, Failure> {
         svg,
         ..AnalysisOptions::default()
     };
-    let r = analyse_file(&file, &dir, &opts).map_err(Error::from)?;
+    opts.validate().map_err(Error::from)?;
+    let signals = read_signals(&file).map_err(Error::from)?;
+    // A file shorter than a block is analysed in one block over all of it (down to the
+    // analysis' shortest block), as `washdyn run` does.
+    let fitted = opts
+        .fit_to(signals.len(), signals.sample_rate)
+        .map_err(Error::from)?;
+    if fitted.block_length_s < opts.block_length_s {
+        eprintln!(
+            "note: {} spans {} s, shorter than the analysis' {} s blocks: analysed in one block \
+             of it",
+            file.display(),
+            washdyn_ode::Rounded(fitted.block_length_s),
+            opts.block_length_s
+        );
+    }
+    let r = analyse_signals(&signals, &dir, &fitted).map_err(Error::from)?;
     let _ = writeln!(
         std::io::stdout(),
         "{r}\nplots and spectra in {}",

@@ -31,7 +31,7 @@ pub struct Args {
     pub svg: bool,
     /// Compare up to this time only, s (both runs must reach it): a run that stopped early
     /// against a longer one, or a stretch of a run-up.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub until: Option<f64>,
 }
 
@@ -60,6 +60,9 @@ pub fn compare(a: Args) -> Result<ExitCode, Failure> {
         svg,
         until,
     };
-    let (_, files) = washdyn::compare::compare(&args).map_err(Error::from)?;
+    let (c, files) = washdyn::compare::compare(&args).map_err(Error::from)?;
+    if let Some(n) = &c.note {
+        eprintln!("note: {n}");
+    }
     Ok(wrote(files))
 }

@@ -5,9 +5,11 @@ use super::Failure;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::Write;
 use std::process::ExitCode;
-use washdyn::analysis::AnalysisOptions;
+use washdyn::analysis::{AnalysisError, AnalysisOptions, AnalysisReport};
 use washdyn::commands::{RunControl, run_command_with};
 use washdyn::spec::RunSpec;
+use washdyn_ode::Rounded;
+use washdyn_runtime::run::{AnalysisStatus, RunStatus};
 
 /// Post-processing of a run from the samples it kept in memory: channels that are identically
 /// zero (a fixed cabinet's) are left out, and spectra stop at 300 Hz (motor order 1 at 1400 rpm
@@ -19,7 +21,7 @@ fn analyse_run(
     sample_rate: f64,
     dir: &std::path::Path,
     opts: AnalysisOptions,
-) -> Result<washdyn::analysis::AnalysisReport, washdyn::analysis::AnalysisError> {
+) -> Result<AnalysisReport, AnalysisError> {
     let (names, mut cols) = samples;
     let data = cols.split_off(2.min(cols.len()));
     let rpm = cols.pop().unwrap_or_default();
@@ -37,6 +39,54 @@ fn analyse_run(
         ..opts
     };
     washdyn::analysis::analyse_signals(&signals, dir, &opts)
+}
+
+/// The analysis after the run and what it did (for summary.json): skipped, with the reason, for
+/// a run that failed or kept fewer samples than the shortest block
+/// ([`washdyn::analysis::MIN_BLOCK_LENGTH_S`]); else done, in one block over the whole run where
+/// it is shorter than the default block (with a note saying so). `Err`: the analysis failed.
+fn analyse_after(
+    o: &mut washdyn::commands::RunOutcome,
+    spec: &RunSpec,
+    c: &Args,
+    dir: &std::path::Path,
+) -> Result<(AnalysisStatus, Option<AnalysisReport>), AnalysisError> {
+    let skipped = |note: String| Ok((AnalysisStatus::Skipped { note }, None));
+    let samples = o.samples.take();
+    if o.error.is_some() {
+        return skipped("no analysis: the run stopped before its end (its error)".into());
+    }
+    let Some(samples) = samples else {
+        return skipped("no analysis: the run kept no samples".into());
+    };
+    let defaults = AnalysisOptions {
+        motor_ratio: o.motor_ratio.unwrap_or(11.25),
+        format: spec.format,
+        svg: c.svg,
+        cascades: c.cascades,
+        ..AnalysisOptions::default()
+    };
+    let n = samples.1.first().map_or(0, Vec::len);
+    let opts = match defaults.fit_to(n, spec.sample_rate) {
+        Ok(opts) => opts,
+        Err(e) => return skipped(format!("no analysis: {e}")),
+    };
+    let block = opts.block_length_s;
+    let note = (block < defaults.block_length_s).then(|| {
+        format!(
+            "the run's {n} samples ({} s) are fewer than the analysis' {} s block: analysed in \
+             one block of them (frequency resolution {:.3} Hz)",
+            Rounded(block),
+            defaults.block_length_s,
+            1.0 / block
+        )
+    });
+    let report = analyse_run(samples, spec.sample_rate, dir, opts)?;
+    let status = AnalysisStatus::Done {
+        block_length_s: block,
+        note,
+    };
+    Ok((status, Some(report)))
 }
 
 /// `washdyn run`'s arguments: the run's specification and the analysis after it.
@@ -82,7 +132,7 @@ pub fn run(c: Args) -> Result<ExitCode, Failure> {
     };
     let outcome = run_command_with(spec, &ctl, &mut progress);
     bar.finish_and_clear();
-    let o = outcome?;
+    let mut o = outcome?;
     let s = &o.summary;
     // A closed stdout (e.g. `| head`) must not turn a finished run into a panic.
     let mut out = std::io::stdout();
@@ -107,22 +157,32 @@ pub fn run(c: Args) -> Result<ExitCode, Failure> {
         eprintln!("warning: {w}");
     }
     let mut failed_analysis = None;
-    if let Some(samples) = o.samples.filter(|_| s.samples > 1 && o.error.is_none()) {
+    if !c.no_plots {
         let dir = o.out_dir.join("analysis");
-        let opts = AnalysisOptions {
-            motor_ratio: o.motor_ratio.unwrap_or(11.25),
-            format: spec.format,
-            svg: c.svg,
-            cascades: c.cascades,
-            ..AnalysisOptions::default()
-        };
-        match analyse_run(samples, spec.sample_rate, &dir, opts) {
-            Ok(r) => {
-                let _ = writeln!(out, "{r}");
-                let _ = writeln!(out, "plots and tables in {}", dir.display());
+        let status = match analyse_after(&mut o, spec, &c, &dir) {
+            Ok((status, report)) => {
+                if let Some(r) = report {
+                    let _ = writeln!(out, "{r}");
+                    let _ = writeln!(out, "plots and tables in {}", dir.display());
+                }
+                status
             }
-            Err(e) => failed_analysis = Some(e),
+            Err(e) => {
+                // The run's status says what the exit code says: failed, with the analysis' error.
+                o.summary.status = RunStatus::Failed;
+                o.summary.error = Some(format!("analysis failed: {e}"));
+                let error = e.to_string();
+                failed_analysis = Some(e);
+                AnalysisStatus::Failed { error }
+            }
+        };
+        if let AnalysisStatus::Done { note: Some(n), .. } | AnalysisStatus::Skipped { note: n } =
+            &status
+        {
+            eprintln!("note: {n}");
         }
+        o.summary.analysis = Some(status);
+        washdyn::commands::write_summary(&o.out_dir, &o.summary)?;
     }
     if let Some(e) = o.error {
         eprintln!(

@@ -37,7 +37,8 @@ mod runs;
 
 use report::write;
 pub use report::{cost_table, markdown};
-pub use runs::{Cost, check_comparable, load};
+pub use runs::{Cost, check_comparable, load, load_pair};
+use washdyn_ode::Rounded;
 
 /// Drum orders the comparison tracks (the friction dampers' odd harmonics lie among them); the
 /// motor's first order is tracked beside them.
@@ -131,6 +132,9 @@ pub struct Comparison {
     pub channels: Vec<ChannelComparison>,
     /// Channels that are zero throughout in both runs (a fixed cabinet's): not analysed.
     pub zero_in_both: Vec<String>,
+    /// What was fitted to a span shorter than the analysis' block (one shorter block).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
 }
 
 /// The analysis settings both runs are analysed with: `washdyn analyse`'s defaults, tracking
@@ -230,24 +234,20 @@ fn overlay_orders(c: &ChannelComparison) -> Vec<f64> {
 /// Compare the runs: read, check, analyse both with the same options, write the tables and
 /// plots into `args.out`. Returns the comparison and the files written.
 pub fn compare(args: &CompareArgs) -> Result<(Comparison, Vec<PathBuf>), CompareError> {
-    let [da, db] = [args.runs[0].as_path(), args.runs[1].as_path()];
-    let (mut sa, ca) = load(da, &args.labels[0])?;
-    let (mut sb, cb) = load(db, &args.labels[1])?;
-    if let Some(t) = args.until {
-        for (s, d) in [(&mut sa, da), (&mut sb, db)] {
-            let span = [s.time[0], s.time[s.len() - 1]];
-            if !s.truncate(t) {
-                return Err(CompareError::Until {
-                    dir: d.to_path_buf(),
-                    until: t,
-                    span,
-                });
-            }
-        }
-    }
-    check_comparable([da, db], &sa, &sb)?;
-    let opts = options(args.motor_ratio, args.svg);
-    opts.validate()?;
+    let ([sa, sb], [ca, cb]) = load_pair(args)?;
+    let defaults = options(args.motor_ratio, args.svg);
+    defaults.validate()?;
+    // A span shorter than a block (`--until 0.5`) is analysed in one block over all of it, down
+    // to the analysis' shortest; shorter is refused.
+    let opts = defaults.fit_to(sa.len(), sa.sample_rate)?;
+    let note = (opts.block_length_s < defaults.block_length_s).then(|| {
+        format!(
+            "the span compared, {} s, is shorter than the analysis' {} s blocks: both runs are \
+             analysed in one block of it",
+            Rounded(opts.block_length_s),
+            defaults.block_length_s
+        )
+    });
     // Channels by A's order; a channel zero in both (a fixed cabinet's) has nothing to compare.
     let mut pairs = Vec::new();
     let mut zero_in_both = Vec::new();
@@ -321,6 +321,7 @@ pub fn compare(args: &CompareArgs) -> Result<(Comparison, Vec<PathBuf>), Compare
         floor: ORDER_FLOOR,
         channels,
         zero_in_both,
+        note,
     };
     let mut files = write(&comparison, &args.out, &opts)?;
     files.extend(plots.into_iter().flatten());

@@ -88,6 +88,9 @@ pub fn markdown(c: &Comparison, opts: &AnalysisOptions) -> String {
         fmt_order(opts.motor_ratio),
         -20.0 * c.floor.log10()
     );
+    if let Some(n) = &c.note {
+        let _ = writeln!(s, "\nNote: {n}.");
+    }
     if !c.zero_in_both.is_empty() {
         let _ = writeln!(
             s,

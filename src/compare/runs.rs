@@ -5,8 +5,9 @@
 use crate::analysis::{Signals, read_signals};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
+use washdyn_ode::Rounded;
 
-use super::{CompareError, PROFILE_TOLERANCE};
+use super::{CompareArgs, CompareError, PROFILE_TOLERANCE};
 
 /// What a run cost, from its summary.json (fields a summary lacks stay empty).
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
@@ -85,6 +86,42 @@ pub fn load(dir: &Path, label: &str) -> Result<(Signals, Cost), CompareError> {
     Ok((read_signals(file)?, cost))
 }
 
+/// Both runs' signals, up to `--until` if given, and costs; refused where they cannot be
+/// compared: a run that did not finish compared whole, an `--until` outside a run, other
+/// channels, sample rates or drum speeds ([`check_comparable`]).
+pub fn load_pair(args: &CompareArgs) -> Result<([Signals; 2], [Cost; 2]), CompareError> {
+    let [da, db] = [args.runs[0].as_path(), args.runs[1].as_path()];
+    let (mut sa, ca) = load(da, &args.labels[0])?;
+    let (mut sb, cb) = load(db, &args.labels[1])?;
+    // A run that did not finish is not another speed profile: say what became of it.
+    if args.until.is_none() {
+        for (s, c, d) in [(&sa, &ca, da), (&sb, &cb, db)] {
+            if let Some(status) = c.status.as_ref().filter(|st| st.as_str() != "ok") {
+                return Err(CompareError::Unfinished {
+                    dir: d.to_path_buf(),
+                    status: status.clone(),
+                    error: c.error.clone(),
+                    last: s.time[s.len() - 1],
+                });
+            }
+        }
+    }
+    if let Some(t) = args.until {
+        for (s, d) in [(&mut sa, da), (&mut sb, db)] {
+            let span = [s.time[0], s.time[s.len() - 1]];
+            if !s.truncate(t) {
+                return Err(CompareError::Until {
+                    dir: d.to_path_buf(),
+                    until: t,
+                    span,
+                });
+            }
+        }
+    }
+    check_comparable([da, db], &sa, &sb)?;
+    Ok(([sa, sb], [ca, cb]))
+}
+
 /// Refuse runs that cannot be compared sample by sample: other channels, sample rates or drum
 /// speeds.
 pub fn check_comparable(dirs: [&Path; 2], a: &Signals, b: &Signals) -> Result<(), CompareError> {
@@ -118,8 +155,8 @@ pub fn check_comparable(dirs: [&Path; 2], a: &Signals, b: &Signals) -> Result<()
         format!(
             "{} samples, {} to {} s",
             s.len(),
-            s.time[0],
-            s.time[s.len() - 1]
+            Rounded(s.time[0]),
+            Rounded(s.time[s.len() - 1])
         )
     };
     let dt = 1.0 / a.sample_rate;
@@ -144,7 +181,9 @@ pub fn check_comparable(dirs: [&Path; 2], a: &Signals, b: &Signals) -> Result<()
     if d > PROFILE_TOLERANCE * top.max(1.0) {
         return Err(profile(format!(
             "drum_rpm differs by {d:.6} rpm at t = {} s ({} against {} rpm)",
-            a.time[k], a.drum_rpm[k], b.drum_rpm[k]
+            Rounded(a.time[k]),
+            a.drum_rpm[k],
+            b.drum_rpm[k]
         )));
     }
     Ok(())

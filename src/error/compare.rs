@@ -3,6 +3,7 @@
 
 use crate::analysis::AnalysisError;
 use std::path::PathBuf;
+use washdyn_ode::Rounded;
 
 /// Why two runs cannot be compared.
 #[derive(Debug, thiserror::Error)]
@@ -48,8 +49,28 @@ pub enum CompareError {
         b: PathBuf,
         detail: String,
     },
+    /// A run that did not finish (summary status `failed` or `interrupted`), compared whole:
+    /// its status, error and the end of its output, which `--until` may compare up to.
+    #[error(
+        "{dir}: the run did not finish (status {status}{}); its output ends at {} s: compare \
+         up to there with --until {}",
+        error.as_ref().map_or(String::new(), |e| format!(": {e}")),
+        Rounded(*last),
+        Rounded(*last)
+    )]
+    Unfinished {
+        dir: PathBuf,
+        status: String,
+        error: Option<String>,
+        /// Time of its last sample, s.
+        last: f64,
+    },
     /// `--until` outside a run's span.
-    #[error("{dir} runs from {} to {} s; --until {until} s is not inside it", span[0], span[1])]
+    #[error(
+        "{dir} runs from {} to {} s; --until {until} s is not inside it",
+        Rounded(span[0]),
+        Rounded(span[1])
+    )]
     Until {
         dir: PathBuf,
         until: f64,

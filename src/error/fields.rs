@@ -5,6 +5,7 @@
 use super::vtk::VtkError;
 use super::{Error, FileError, PlotError};
 use std::path::PathBuf;
+use washdyn_ode::Rounded;
 
 #[derive(Debug, thiserror::Error)]
 pub enum FieldsError {
@@ -46,7 +47,11 @@ pub enum FieldsError {
     #[error("{}: not a states file (time_s, drum_angle_rad, q...)", path.display())]
     NotStates { path: PathBuf },
     /// An instant outside the stored states (a NaN one too).
-    #[error("t = {t} s is outside the stored states ({first} to {last} s)")]
+    #[error(
+        "t = {t} s is outside the stored states ({} to {} s)",
+        Rounded(*first),
+        Rounded(*last)
+    )]
     Outside { t: f64, first: f64, last: f64 },
     /// The instants of `option` outside the stored states, every one.
     #[error("{option}: {}", outside.iter().map(|e| e.to_string()).collect::<Vec<_>>().join("; "))]
@@ -89,6 +94,23 @@ pub enum FieldsError {
         dir.display()
     )]
     NoFieldFiles { dir: PathBuf },
+    /// Field files there, but none of a body the run's scene moves (the cabinet is rigid and
+    /// fixed outside the elastic scenes): which files, and the scenes that keep one elastic.
+    #[error(
+        "{} holds {}, but in the run's scene `{scene}` none of these bodies is elastic or moves \
+         (rigid on the fixed frame): no deformation to recover; {}",
+        dir.display(),
+        files.join(", "),
+        elastic_advice(elastic_scenes)
+    )]
+    NoMovingBody {
+        dir: PathBuf,
+        scene: String,
+        /// The `<body>.field.bin` files found.
+        files: Vec<String>,
+        /// The model's scenes that keep one of their bodies elastic.
+        elastic_scenes: Vec<String>,
+    },
     /// `--drum-edge` without the drum's field.
     #[error("no drum field")]
     NoDrumField,
@@ -104,6 +126,18 @@ pub enum FieldsError {
     /// A VTK grid or collection that cannot be written.
     #[error(transparent)]
     Vtk(#[from] VtkError),
+}
+
+/// What to run instead, for [`FieldsError::NoMovingBody`].
+fn elastic_advice(scenes: &[String]) -> String {
+    if scenes.is_empty() {
+        "this model has no scene that keeps them elastic".into()
+    } else {
+        format!(
+            "run a scene that keeps them elastic ({}) with --states and recover that run's fields",
+            scenes.join(", ")
+        )
+    }
 }
 
 impl From<Error> for FieldsError {

@@ -84,7 +84,10 @@ pub fn fields_command(
         .scene(Some(&text("scene")?))
         .map_err(FieldsError::Scene)?;
     let eq = Equations::new(&model, &scene);
-    let rec = Recovery::new(&eq, fe_dir)?;
+    let rec = Recovery::new(&eq, fe_dir).map_err(|e| match e {
+        FieldsError::NoFieldFiles { .. } => Recovery::no_field_for(&model, &scene.name, fe_dir),
+        e => e,
+    })?;
     let states =
         States::read(&run_dir.join("states.parquet")).map_err(|e| FieldsError::NoStates {
             source: Box::new(e),

@@ -8,6 +8,7 @@ use washdyn_fe::field::Field;
 use washdyn_model::equations::{Body, BodyState, Equations, Frame, rotate};
 use washdyn_model::geom::V;
 use washdyn_model::geom::f::{add, sub};
+use washdyn_model::ir::{Effect, Model};
 
 use super::projection::modal;
 
@@ -62,6 +63,44 @@ impl Recovery {
             n: eq.layout.n(),
             notes,
         })
+    }
+
+    /// Why `dir`'s field files serve no body of the run's scene (`Recovery::new` found none):
+    /// none there ([`FieldsError::NoFieldFiles`]), or only of bodies the scene keeps rigid and
+    /// fixed ([`FieldsError::NoMovingBody`], with the model's scenes that keep one elastic).
+    pub fn no_field_for(model: &Model, scene: &str, dir: &Path) -> FieldsError {
+        let mut files: Vec<String> = std::fs::read_dir(dir)
+            .into_iter()
+            .flatten()
+            .flatten()
+            .filter_map(|e| e.file_name().into_string().ok())
+            .filter(|n| n.ends_with(".field.bin"))
+            .collect();
+        files.sort();
+        if files.is_empty() {
+            return FieldsError::NoFieldFiles {
+                dir: dir.to_path_buf(),
+            };
+        }
+        let elastic_scenes = model
+            .every_scene()
+            .into_iter()
+            .filter(|name| {
+                model.scene(Some(name)).is_ok_and(|set| {
+                    files.iter().any(|f| {
+                        let body = f.trim_end_matches(".field.bin").to_string();
+                        set.has(&Effect::Elastic(body))
+                    })
+                })
+            })
+            .map(str::to_string)
+            .collect();
+        FieldsError::NoMovingBody {
+            dir: dir.to_path_buf(),
+            scene: scene.to_string(),
+            files,
+            elastic_scenes,
+        }
     }
 
     /// The body's coordinates in its field's (file) modes, q_file = T q_scene.

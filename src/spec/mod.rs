@@ -79,20 +79,20 @@ pub struct RunSpec {
     /// Relative tolerance of the adaptive integrators (absolute: 1e-3 x this, in m, m/s and
     /// rad; a modal coordinate in the metres it moves a marker by). 1e-2 or looser warns: no
     /// error class covers it. Default: the scene's own with its method, else 1e-6.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     #[serde(skip_serializing_if = "Option::is_none")]
     pub tol: Option<f64>,
     /// Fixed step of rk4, s (default 1e-4).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     #[serde(skip_serializing_if = "Option::is_none")]
     pub step: Option<f64>,
     /// galpha's spectral radius at infinity, in [0, 1] (default 0.8): 1 keeps the
     /// unresolved high modes undamped, 0 removes them in one step.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     #[serde(skip_serializing_if = "Option::is_none")]
     pub rho_inf: Option<f64>,
     /// Step budget; the run stops with an error (keeping its output) when it is spent.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     #[serde(skip_serializing_if = "Option::is_none")]
     pub max_steps: Option<u64>,
     /// Start of the window, s.
@@ -100,11 +100,11 @@ pub struct RunSpec {
     #[serde(default)]
     pub t_start: f64,
     /// End time, s (default: the end of the speed profile).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     #[serde(skip_serializing_if = "Option::is_none")]
     pub t_end: Option<f64>,
     /// Sampling rate of the sensor file, Hz.
-    #[arg(long, default_value_t = 2000.0)]
+    #[arg(long, default_value_t = 2000.0, allow_hyphen_values = true)]
     #[serde(default = "default_sample_rate")]
     pub sample_rate: f64,
     /// Format of the result files: parquet (columnar, compact) or csv.
@@ -129,7 +129,7 @@ pub struct RunSpec {
     /// The progress guard: a run whose recent rate projects the rest of it beyond this many
     /// seconds of wall time stops (keeping its output). Raise it for a run meant to take hours.
     /// `inf` never stops.
-    #[arg(long, default_value_t = Guard::default().max_projected_s)]
+    #[arg(long, default_value_t = Guard::default().max_projected_s, allow_hyphen_values = true)]
     #[serde(default = "default_max_projected_wall")]
     pub max_projected_wall: f64,
     /// Write sensor output beyond the 2 GB limit.

@@ -5,7 +5,7 @@
 
 use super::RunSpec;
 use super::field::{Field, Refusal, Spelling};
-use washdyn_ode::Method;
+use washdyn_ode::{Method, Rounded};
 
 /// Fixed step of rk4, s: below 1e-7 s a 20 s run-up needs 2e8 steps (hours); above 1e-2 s the
 /// step exceeds the stability limit of the stiffest element of the reference machine (the
@@ -154,8 +154,9 @@ fn check_window(c: &mut Ctxt) {
     if !(t0.is_finite() && t0 >= 0.0 && t0 < end) {
         c.error(Field::TStart, |s| {
             format!(
-                "{} must be at least 0 and before the end of the run ({end} s), got {t0}",
-                Field::TStart.name(s)
+                "{} must be at least 0 and before the end of the run ({} s), got {t0}",
+                Field::TStart.name(s),
+                Rounded(end)
             )
         });
     }

@@ -119,7 +119,18 @@ struct Problems<'a> {
 
 impl Problems<'_> {
     fn at(&mut self, path: &Path, message: impl Into<String>) {
-        let (line, column) = locate(self.src, path);
+        self.at_near(path, path, message);
+    }
+    /// A problem of `path` located at it, else (absent from the file) at `near`, else at the
+    /// file's first line: never at 0:0.
+    fn at_near(&mut self, path: &Path, near: &Path, message: impl Into<String>) {
+        let (line, column) = match locate(self.src, path) {
+            (0, _) => match locate(self.src, near) {
+                (0, _) => (1, 1),
+                at => at,
+            },
+            at => at,
+        };
         self.found.push(Located {
             file: self.file.to_string(),
             line,
@@ -160,7 +171,7 @@ impl Study {
     pub fn from_text(path: &FsPath, text: String) -> Result<Study, Error> {
         let shown = path.display().to_string();
         let parsed: StudyFile = from_toml(&text).map_err(|(span, message)| {
-            let at = span.map_or((0, 0), |s| line_col(&text, s.start));
+            let at = span.map_or((1, 1), |s| line_col(&text, s.start));
             Error::from(StudyError::at(&shown, at, message))
         })?;
         let mut p = Problems {
@@ -200,8 +211,9 @@ impl Study {
             Ok(points) => points,
             Err(e) => {
                 // A parameter refused above has no axis: the design's view of it would mislead.
+                // No [[parameter]] at all: shown at the design that has none to vary.
                 if parameters.len() == parsed.parameters.len() {
-                    p.at(&e.at, e.message);
+                    p.at_near(&e.at, &Path::default().key("design"), e.message);
                 }
                 Vec::new()
             }

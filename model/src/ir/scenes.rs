@@ -203,6 +203,16 @@ impl Model {
         }
     }
 
+    /// Every scene [`Model::scene`] resolves, each once: `full` first unless declared (it
+    /// always exists), then the declared ones in their order.
+    pub fn every_scene(&self) -> Vec<&str> {
+        let mut names: Vec<&str> = self.scenes.iter().map(|s| s.name.as_str()).collect();
+        if !names.contains(&"full") {
+            names.insert(0, "full");
+        }
+        names
+    }
+
     /// The default integration of the scene `name` resolves to (`scene`'s rule), if it
     /// declares one.
     pub fn scene_solver(&self, name: Option<&str>) -> Option<SceneSolver> {
@@ -229,11 +239,8 @@ impl Model {
         }
         let scene = self.scenes.iter().find(|s| s.name == name).ok_or_else(|| {
             format!(
-                "unknown scene `{name}`; this model has: full{}",
-                self.scenes
-                    .iter()
-                    .map(|s| format!(", {}", s.name))
-                    .collect::<String>()
+                "unknown scene `{name}`; this model has: {}",
+                self.every_scene().join(", ")
             )
         })?;
         let rotors: Vec<&str> = self.rotors.iter().map(|r| r.name.as_str()).collect();

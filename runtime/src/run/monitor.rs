@@ -213,6 +213,7 @@ impl<'a> Monitor<'a> {
                 gained,
                 remaining,
                 projected_s,
+                budget_s: self.guard.max_projected_s,
             });
         }
         self.window_start = Instant::now();

@@ -3,7 +3,7 @@
 
 use serde::Serialize;
 use thiserror::Error;
-use washdyn_ode::{OdeError, Stats};
+use washdyn_ode::{OdeError, Rounded, Stats};
 
 /// The largest tub motion of a run, with when it happened.
 #[derive(Clone, Debug, Default, Serialize)]
@@ -95,6 +95,27 @@ pub struct Summary {
     /// recovers with that model and refuses it if it changed. Empty for a built-in model.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub model_files: Vec<washdyn_model::ir::files::FileHash>,
+    /// What the analysis after the run did, when one was asked for (set by the CLI).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub analysis: Option<AnalysisStatus>,
+}
+
+/// The analysis after a run (`washdyn run` without `--no-plots`), in summary.json as
+/// `{"status": "done" | "skipped" | "failed", ...}`: a short run is analysed in shorter blocks
+/// or not at all, and says so, and a failed analysis fails the run's status with it.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(tag = "status", rename_all = "lowercase")]
+pub enum AnalysisStatus {
+    /// Written, in blocks of `block_length_s`; `note`: what was fitted to the run.
+    Done {
+        block_length_s: f64,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        note: Option<String>,
+    },
+    /// Not made, and why.
+    Skipped { note: String },
+    /// Failed with this error.
+    Failed { error: String },
 }
 
 /// How a run ended: `ok`, `failed` (the error and its time in the summary) or `interrupted`
@@ -165,6 +186,7 @@ impl Summary {
             error: None,
             error_class: None,
             model_files: Vec::new(),
+            analysis: None,
         }
     }
 
@@ -200,14 +222,15 @@ impl Summary {
 pub enum RunError {
     #[error("integration failed: {0}")]
     Ode(#[from] OdeError),
-    #[error("writing samples failed at t = {t} s: {source}")]
+    #[error("writing samples failed at t = {} s: {source}", Rounded(*t))]
     Io { t: f64, source: std::io::Error },
     /// The run could not start (e.g. no static equilibrium); `t` is the start time.
-    #[error("{reason} (at t = {t} s)")]
+    #[error("{reason} (at t = {} s)", Rounded(*t))]
     Setup { t: f64, reason: String },
     #[error(
-        "{what} {value:.4e} {unit} at t = {t} s is more than {factor} x the {bound} {unit} bound \
-         of the small-motion linearisation: the result would be meaningless (see --no-validity-stop)"
+        "{what} {value:.4e} {unit} at t = {} s is more than {factor} x the {bound} {unit} bound \
+         of the small-motion linearisation: the result would be meaningless (see --no-validity-stop)",
+        Rounded(*t)
     )]
     Validity {
         t: f64,
@@ -219,8 +242,9 @@ pub enum RunError {
     },
     #[error(
         "the fixed step {h:e} s exceeds the stability limit {limit:.3e} s of rk4 for this model \
-         (spectral radius of the Jacobian {radius:.3e} 1/s at t = {t} s): use a step below it or \
-         an adaptive integrator"
+         (spectral radius of the Jacobian {radius:.3e} 1/s at t = {} s): use a step below it or \
+         an adaptive integrator",
+        Rounded(*t)
     )]
     Unstable {
         t: f64,
@@ -228,11 +252,17 @@ pub enum RunError {
         limit: f64,
         radius: f64,
     },
-    #[error("interrupted at t = {t} s")]
+    #[error("interrupted at t = {} s", Rounded(*t))]
     Interrupted { t: f64 },
+    /// The progress guard: the rest of the run projected beyond its wall-time budget.
     #[error(
-        "no progress: at t = {t} s the last {window_s:.0} s of wall time gained {gained:.3e} s \
-         of simulated time; the remaining {remaining:.3e} s would take about {projected_s:.2e} s"
+        "no progress: at t = {} s the last {window_s:.0} s of wall time gained {gained:.3e} s \
+         of simulated time; the remaining {remaining:.3e} s would take about {projected_s:.2e} s, \
+         beyond the {} s budget: a faster method may finish it (the scene's default: leave out \
+         --integrator; on a stiff scene `--integrator galpha`), or give it the time with \
+         `--max-projected-wall <s>` (`inf`: never stop)",
+        Rounded(*t),
+        Rounded(*budget_s)
     )]
     Stalled {
         t: f64,
@@ -240,6 +270,8 @@ pub enum RunError {
         gained: f64,
         remaining: f64,
         projected_s: f64,
+        /// The guard's budget, s of wall time.
+        budget_s: f64,
     },
 }
 

@@ -278,7 +278,8 @@ pub fn fe_deck(spec: &Path, out: &Path, work: &Path) -> Result<(), FeError> {
     for d in [out, work] {
         fs::create_dir_all(d).map_err(fe_io(d))?;
     }
-    let (data, report, c) = washdyn_fe::user::build_checked(&body, work)?;
+    let (mut data, report, c) = washdyn_fe::user::build_checked(&body, work)?;
+    data.source = washdyn_fe::user::deck_source(&data.source, spec);
     let header = format!("`{}` from {} (washdyn fe deck)", body.name, spec.display());
     let line = write_modal(out, &body.name, &header, &data)?;
     print!("{report}");

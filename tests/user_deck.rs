@@ -277,3 +277,116 @@ fn a_users_mm_t_s_cabinet_deck_gives_the_committed_modes_and_runs_in_the_machine
         String::from_utf8_lossy(&out.stderr)
     );
 }
+
+/// The mistakes the modal data's check refused only after ccx ran (issue 50: 55 s for a zero
+/// correction direction, a point 1000x off the mesh or a name twice, 278 s for an SI deck
+/// declared mm-t-s) are refused before it starts: by their typed problem from
+/// `user::load`, and through the CLI with exit code 5, the key words, and no work directory
+/// (made only once the spec is taken, before ccx's first deck). Needs no ccx.
+#[test]
+fn spec_mistakes_are_refused_before_ccx_starts() {
+    use washdyn_fe::Error;
+    use washdyn_fe::inp::{Units, in_units};
+    use washdyn_fe::mesh::Section;
+    use washdyn_fe::user::SpecProblem as P;
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let cab = washdyn_fe::bodies::builtin()
+        .into_iter()
+        .find(|b| b.name == "cabinet")
+        .unwrap();
+    let write = |name: &str, mesh: &washdyn_fe::mesh::Mesh| {
+        std::fs::write(dir.join(name), mesh.deck(60).text()).unwrap()
+    };
+    write("my_cabinet.inp", &in_units(&cab.mesh, Units::MmTS));
+    write("si.inp", &cab.mesh);
+    // Feet of 1e11 N/m: a rigid support, not springs.
+    let mut stiff = cab.mesh.clone();
+    for p in &mut stiff.parts {
+        if let Section::Ground { k, .. } = &mut p.section {
+            *k = 1e11;
+        }
+    }
+    write("stiff.inp", &in_units(&stiff, Units::MmTS));
+    let sets: String = SETS[..14]
+        .iter()
+        .map(|s| format!("  {{ name = \"{s}\", nset = \"{s}\" }},\n"))
+        .collect();
+    let good = spec("my_cabinet.inp", &sets);
+    type Is = fn(&P) -> bool;
+    // Each refused at the line of its field: units, the first direction, the new point, the
+    // name's second entry, the points (the foot left out), the points (the springs' deck).
+    let lines = [3, 26, 24, 24, 9, 9];
+    let cases: [(&str, String, Is, &str); 6] = [
+        (
+            "units",
+            spec("si.inp", &sets),
+            |p| matches!(p, P::Units { read, fits } if read.units == Units::MmTS && fits.len() == 1),
+            "if the deck is in SI, write units = \"SI\"",
+        ),
+        (
+            "direction",
+            good.replacen(
+                "direction = [0.0, 0.0, 1.0]",
+                "direction = [0.0, 0.0, 0.0]",
+                1,
+            ),
+            |p| matches!(p, P::CorrectionDirection { index: 0, .. }),
+            "correction[0] at `SPRING_1`: direction [0.0, 0.0, 0.0] is no direction",
+        ),
+        (
+            "off the mesh",
+            spec(
+                "my_cabinet.inp",
+                &format!("{sets}  {{ name = \"MY_SENSOR\", at = [0.0, 300.0, 600.0] }},\n"),
+            ),
+            |p| matches!(p, P::PointOffMesh { point, .. } if point == "MY_SENSOR"),
+            "point `MY_SENSOR` at [0.0, 300.0, 600.0] m is",
+        ),
+        (
+            "twice",
+            spec(
+                "my_cabinet.inp",
+                &format!("{sets}  {{ name = \"GASKET\", nset = \"GASKET\" }},\n"),
+            ),
+            |p| matches!(p, P::DuplicatePoint { point } if point == "GASKET"),
+            "point `GASKET` is named twice",
+        ),
+        (
+            "lone spring",
+            good.replace("  { name = \"FOOT_4\", nset = \"FOOT_4\" },\n", ""),
+            |p| matches!(p, P::LoneSpring { .. }),
+            "is at no point of its own",
+        ),
+        (
+            "stiff",
+            spec("stiff.inp", &sets),
+            |p| matches!(p, P::SupportStiffness { .. }),
+            "beyond 1e10 N/m",
+        ),
+    ];
+    for (k, (what, text, is, words)) in cases.iter().enumerate() {
+        let line = Some(lines[k]);
+        let file = format!("bad{k}.toml");
+        std::fs::write(dir.join(&file), text).unwrap();
+        match washdyn_fe::user::load(&dir.join(&file)) {
+            Err(Error::Spec(e)) => assert!(is(&e.problem) && e.line == line, "{what}: {e}"),
+            other => panic!("{what}: {:?}", other.map(|b| b.name)),
+        }
+        let work = format!("work{k}");
+        let start = std::time::Instant::now();
+        let out = common::washdyn_in(&["fe", "deck", &file, "--work", &work], dir);
+        let s = start.elapsed().as_secs_f64();
+        let err = String::from_utf8_lossy(&out.stderr);
+        println!("{what}: refused in {s:.2} s: {err}");
+        assert_eq!(out.status.code(), Some(5), "{what}: {err}");
+        assert!(
+            err.contains(&format!("{file}:{}: ", lines[k])) && err.contains(words),
+            "{what}: {err}"
+        );
+        assert!(
+            !dir.join(&work).exists(),
+            "{what}: ccx's work directory was made"
+        );
+    }
+}

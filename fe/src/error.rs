@@ -110,29 +110,35 @@ pub enum ResultsError {
     },
     #[error(transparent)]
     Encode(#[from] serde_json::Error),
-    #[error("the field of `{body}` has {field} modes, its modal data {data} ({REGENERATE})")]
+    #[error("the field of `{body}` has {field} modes, its modal data {data} ({how})")]
     FieldModes {
         body: String,
         field: usize,
         data: usize,
+        how: Regenerate,
     },
-    #[error("the field of `{body}` has a point `{point}` its modal data lacks ({REGENERATE})")]
-    FieldPoint { body: String, point: String },
+    #[error("the field of `{body}` has a point `{point}` its modal data lacks ({how})")]
+    FieldPoint {
+        body: String,
+        point: String,
+        how: Regenerate,
+    },
     #[error(
         "the field of `{body}`: point `{point}` has {field} values, its modal data {data} \
-         ({REGENERATE})"
+         ({how})"
     )]
     FieldValues {
         body: String,
         point: String,
         field: usize,
         data: usize,
+        how: Regenerate,
     },
     #[error(
         "the field of `{body}` has other mode shapes than its modal data: {} ({frequency:.6} Hz) \
          at the data's {points} points: largest principal angle sin {:.1e}, residual after the \
          best rotation {:.1e} (allowed {:e}; a turn or sign flip within a group of \
-         equal frequencies is re-projected, not refused; {REGENERATE})",
+         equal frequencies is re-projected, not refused; {how})",
         modes_of(fit), fit.sin_angle, fit.residual, crate::subspace::SUBSPACE_TOLERANCE
     )]
     FieldShapes {
@@ -140,11 +146,42 @@ pub enum ResultsError {
         fit: GroupFit,
         frequency: f64,
         points: usize,
+        how: Regenerate,
     },
 }
 
-/// How a field and its modal data that disagree are made one again.
-const REGENERATE: &str = "regenerate both with `washdyn fe modal`";
+/// How a field and its modal data that disagree are made one again: by the command that made
+/// them, read from the modal data's `source` (`user::deck_source` marks a user's deck's).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Regenerate {
+    /// A built-in body: `washdyn fe modal`.
+    BuiltIn,
+    /// A user's deck: `washdyn fe deck` with the spec it was made from (as it was named then).
+    Deck { spec: String },
+}
+
+impl Regenerate {
+    /// The command behind modal data of this `source`.
+    pub fn of(source: &str) -> Regenerate {
+        match source.split_once(crate::user::DECK_SOURCE) {
+            Some((_, spec)) => Regenerate::Deck {
+                spec: spec.trim().to_string(),
+            },
+            None => Regenerate::BuiltIn,
+        }
+    }
+}
+
+impl std::fmt::Display for Regenerate {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Regenerate::BuiltIn => f.write_str("regenerate both with `washdyn fe modal`"),
+            Regenerate::Deck { spec } => {
+                write!(f, "regenerate both with `washdyn fe deck {spec}`")
+            }
+        }
+    }
+}
 
 fn modes_of(g: &GroupFit) -> String {
     if g.modes.len() == 1 {

@@ -266,6 +266,7 @@ impl Field {
         data: &washdyn_model::ir::modal::ModalData,
     ) -> Result<crate::subspace::Alignment, ResultsError> {
         let h = &self.header;
+        let how = crate::error::Regenerate::of(&data.source);
         let file = data.file_modes();
         let m = file.frequencies.len();
         if m != self.modes() {
@@ -273,6 +274,7 @@ impl Field {
                 body: h.body.clone(),
                 field: self.modes(),
                 data: m,
+                how,
             });
         }
         let legacy = [(h.check_point.clone(), h.check_w.clone())];
@@ -290,6 +292,7 @@ impl Field {
                 .ok_or_else(|| ResultsError::FieldPoint {
                     body: h.body.clone(),
                     point: name.clone(),
+                    how: how.clone(),
                 })?;
             for a in 0..3 {
                 let (f, d) = (&w[a], &file.w[i][a]);
@@ -299,6 +302,7 @@ impl Field {
                         point: name.clone(),
                         field: f.len(),
                         data: d.len(),
+                        how,
                     });
                 }
                 rows.push((f, d));
@@ -312,6 +316,7 @@ impl Field {
             frequency: file.frequencies[fit.modes.start],
             fit,
             points: recorded.len(),
+            how,
         })
     }
 
@@ -357,6 +362,7 @@ impl Field {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::error::Regenerate;
     use washdyn_model::ir::modal::ModalData;
 
     /// A field recording `data`'s points with `w` changed by `f` (no nodes: `align` reads the
@@ -448,8 +454,28 @@ mod tests {
         fewer.file_modes = None;
         fewer.basis = None;
         let e = field(&data, |_| {}).align(&fewer).unwrap_err();
-        assert!(matches!(e, ResultsError::FieldModes { .. }), "{e}");
+        assert!(
+            matches!(&e, ResultsError::FieldModes { how, .. } if *how == Regenerate::BuiltIn),
+            "{e}"
+        );
         assert!(e.to_string().contains("modes, its modal data"), "{e}");
+        assert!(e.to_string().contains("`washdyn fe modal`"), "{e}");
+        // A user's deck's data: the advice is its own command and spec (issue 50).
+        let spec = std::path::Path::new("specs/my_drum.toml");
+        fewer.source = crate::user::deck_source(&fewer.source, spec);
+        let e = field(&data, |_| {}).align(&fewer).unwrap_err();
+        let deck = Regenerate::Deck {
+            spec: "specs/my_drum.toml".into(),
+        };
+        assert!(
+            matches!(&e, ResultsError::FieldModes { how, .. } if *how == deck),
+            "{e}"
+        );
+        assert!(
+            e.to_string()
+                .contains("regenerate both with `washdyn fe deck specs/my_drum.toml`"),
+            "{e}"
+        );
     }
 
     /// Truncated data keeps the file's modes at the points: a field of the file aligns with it.

@@ -83,6 +83,23 @@ pub enum FeCmd {
     },
 }
 
+/// On Ctrl-C (SIGTERM, SIGHUP) during `fe deck`, say what is kept: nothing in `--out` (written
+/// only once checked), the decks and ccx's files so far in `work`; exit 130. ccx, in the same
+/// process group, takes the terminal's Ctrl-C itself.
+fn interrupted_keeps(work: &std::path::Path) {
+    let work = work.to_path_buf();
+    let said = ctrlc::set_handler(move || {
+        eprintln!(
+            "interrupted: no modal data written; the decks and ccx's files so far are in {}",
+            work.display()
+        );
+        std::process::exit(130);
+    });
+    if let Err(e) = said {
+        eprintln!("warning: Ctrl-C will not say what was kept: {e}");
+    }
+}
+
 pub fn fe(a: Args) -> Result<ExitCode, Failure> {
     match a.cmd {
         FeCmd::Write { out } => {
@@ -90,6 +107,7 @@ pub fn fe(a: Args) -> Result<ExitCode, Failure> {
             Ok(ExitCode::SUCCESS)
         }
         FeCmd::Deck { spec, out, work } => {
+            interrupted_keeps(&work);
             washdyn::commands::fe_deck(&spec, &out, &work).map_err(Error::from)?;
             Ok(ExitCode::SUCCESS)
         }

@@ -6,10 +6,11 @@
 //! centre of gravity (EMAS) against the mass the modal data integrates, the rigid-body modes a
 //! free body must have, and the mass normalisation of the kept modes.
 
+mod check;
 mod error;
 mod points;
 
-pub use error::{SpecError, SpecProblem};
+pub use error::{SpecError, SpecProblem, UnitsReading};
 
 use crate::error::{Error, PipelineError};
 use crate::inp::{self, Units};
@@ -124,6 +125,10 @@ pub fn load(spec_path: &Path) -> Result<BodySpec, Error> {
     let deck = dir.join(&spec.deck);
     let mut mesh = inp::read(&deck, spec.units)?;
     check_counts(&spec).map_err(|(needle, problem)| bad(needle, problem))?;
+    // The rules of the modal data that need no solve, before ccx (`check.rs`).
+    let refuse = |(line, problem)| err(line, problem);
+    check::units(&text, &spec, &mesh).map_err(refuse)?;
+    check::positions(&text, &spec, &mesh).map_err(refuse)?;
     let attachments = match &spec.model {
         Some(file) => model_attachments(&dir.join(file), spec.body, &bad)?,
         None => Vec::new(),
@@ -138,6 +143,7 @@ pub fn load(spec_path: &Path) -> Result<BodySpec, Error> {
             return Err(bad(&format!("\"{}\"", c.point), problem).into());
         }
     }
+    check::placed(&text, &spec, &mesh, &points).map_err(refuse)?;
     let spin = match spec.spin {
         Some(s) => {
             let n = s.axis.iter().map(|v| v * v).sum::<f64>().sqrt();
@@ -154,6 +160,7 @@ pub fn load(spec_path: &Path) -> Result<BodySpec, Error> {
         }
         None => None,
     };
+    check::spin(&text, &spec).map_err(refuse)?;
     Ok(BodySpec {
         name: spec.name,
         kind: spec.body,
@@ -251,6 +258,15 @@ fn model_attachments(
         return Err(bad("model =", problem).into());
     }
     Ok(found)
+}
+
+/// What a user's modal data's `source` ends with, then the spec: the advice on a field that
+/// disagrees with its data names the command that remakes them (`error::Regenerate`).
+pub const DECK_SOURCE: &str = "; made by washdyn fe deck ";
+
+/// The `source` of modal data made from a user's deck by `spec`.
+pub fn deck_source(source: &str, spec: &Path) -> String {
+    format!("{source}{DECK_SOURCE}{}", spec.display())
 }
 
 /// What the checks after the build measured.

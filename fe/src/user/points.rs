@@ -13,7 +13,7 @@ use washdyn_model::ir::modal::POINT_TOLERANCE;
 /// about the nearest node, m: 1.6 x the farthest built-in patch (the tub's SPRING_3 lug point,
 /// 0.094 m from its shell); a point in a hole, such as a gasket's centre (0.20 and 0.25 m from
 /// the built-in cabinet's and tub's edges), needs the deck's set of that edge.
-const FAR: f64 = 0.15;
+pub(super) const FAR: f64 = 0.15;
 
 /// Where an error in the spec stands: `bad(needle, message)` names the spec's file and the line
 /// of `needle`.

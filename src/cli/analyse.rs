@@ -47,6 +47,10 @@ pub fn analyse(a: Args) -> Result<ExitCode, Failure> {
         svg,
         ..AnalysisOptions::default()
     };
+    // A run's sensor file beside its summary.json: the two must be one run's.
+    if let Some(run) = file.parent() {
+        washdyn::run_dir::check_same_run(run, &file).map_err(Error::from)?;
+    }
     let r = analyse_file(&file, &dir, &opts).map_err(Error::from)?;
     let _ = writeln!(
         std::io::stdout(),

@@ -82,7 +82,27 @@ pub fn run(c: Args) -> Result<ExitCode, Failure> {
     };
     let outcome = run_command_with(spec, &ctl, &mut progress);
     bar.finish_and_clear();
-    let o = outcome?;
+    let mut o = outcome?;
+    // The analysis into the run's folder before it goes into place; its order peaks join the
+    // summary.
+    let mut analysis = None;
+    let samples = o.samples.take();
+    if let Some(samples) = samples.filter(|_| o.summary.samples > 1 && o.error.is_none()) {
+        let dir = o.out_dir.join("analysis");
+        let opts = AnalysisOptions {
+            motor_ratio: o.motor_ratio.unwrap_or(11.25),
+            format: spec.format,
+            svg: c.svg,
+            cascades: c.cascades,
+            ..AnalysisOptions::default()
+        };
+        let r = analyse_run(samples, spec.sample_rate, &dir, opts);
+        if let Ok(r) = &r {
+            o.summary.order_peaks = washdyn::commands::order_peaks(r);
+        }
+        analysis = Some(r);
+    }
+    o.publish()?;
     let s = &o.summary;
     // A closed stdout (e.g. `| head`) must not turn a finished run into a panic.
     let mut out = std::io::stdout();
@@ -107,24 +127,19 @@ pub fn run(c: Args) -> Result<ExitCode, Failure> {
         eprintln!("warning: {w}");
     }
     let mut failed_analysis = None;
-    if let Some(samples) = o.samples.filter(|_| s.samples > 1 && o.error.is_none()) {
-        let dir = o.out_dir.join("analysis");
-        let opts = AnalysisOptions {
-            motor_ratio: o.motor_ratio.unwrap_or(11.25),
-            format: spec.format,
-            svg: c.svg,
-            cascades: c.cascades,
-            ..AnalysisOptions::default()
-        };
-        match analyse_run(samples, spec.sample_rate, &dir, opts) {
-            Ok(r) => {
-                let _ = writeln!(out, "{r}");
-                let _ = writeln!(out, "plots and tables in {}", dir.display());
-            }
-            Err(e) => failed_analysis = Some(e),
+    match analysis {
+        Some(Ok(r)) => {
+            let _ = writeln!(out, "{r}");
+            let _ = writeln!(
+                out,
+                "plots and tables in {}",
+                o.out_dir.join("analysis").display()
+            );
         }
+        Some(Err(e)) => failed_analysis = Some(e),
+        None => {}
     }
-    if let Some(e) = o.error {
+    if let Some(e) = o.error.take() {
         eprintln!(
             "error: {e}; the output up to then is in {}",
             o.out_dir.display()

@@ -3,6 +3,7 @@
 use crate::error::Error;
 pub use crate::error::fe::FeError;
 use crate::results::{SensorRecorder, StateRecorder};
+use crate::run_dir::RunDir;
 pub use crate::simulation::{RunControl, resolve_model};
 use crate::simulation::{Simulation, Source};
 use crate::spec::Field;
@@ -15,8 +16,11 @@ use washdyn_model::ir::{DRUM, MOTOR, Model};
 use washdyn_runtime::run::{Guard, Progress, Summary};
 use washdyn_runtime::system::Interpreter;
 
-/// Outcome of a run: where the files are, and the summary.
+/// Outcome of a run: where the files are, and the summary. Until [`RunOutcome::publish`] the
+/// files are in the run's own folder beside the target (`run_dir`).
+#[derive(Debug)]
 pub struct RunOutcome {
+    /// The run's folder: its fresh folder until published, then the target.
     pub out_dir: PathBuf,
     /// The sensor file written.
     pub sensors: PathBuf,
@@ -27,6 +31,67 @@ pub struct RunOutcome {
     pub samples: Option<(Vec<String>, Vec<Vec<f64>>)>,
     /// The model's belt ratio (motor rotor speed / drum speed), for marking motor orders.
     pub motor_ratio: Option<f64>,
+    dir: RunDir,
+    published: bool,
+}
+
+impl RunOutcome {
+    /// summary.json again (with what was added after the run: the analysis' order peaks) and
+    /// the list of the files written, then the folder renamed into place.
+    pub fn publish(&mut self) -> Result<(), Error> {
+        if self.published {
+            return Ok(());
+        }
+        self.published = true;
+        self.summary.files = files_below(&self.dir.tmp);
+        if !self.summary.files.iter().any(|f| f == "summary.json") {
+            self.summary.files.push("summary.json".into());
+        }
+        write_summary(&self.dir.tmp, &self.summary)?;
+        let target = self.dir.publish()?;
+        if let Some(name) = self.sensors.file_name() {
+            self.sensors = target.join(name);
+        }
+        self.out_dir = target;
+        Ok(())
+    }
+}
+
+/// The files below `dir`, relative to it, sorted.
+fn files_below(dir: &Path) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in fs::read_dir(&d).into_iter().flatten().flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                stack.push(p);
+            } else if let Ok(rel) = p.strip_prefix(dir) {
+                out.push(rel.to_string_lossy().replace('\\', "/"));
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// The summary's order peaks from the analysis: per channel and tracked order, its largest
+/// amplitude (SI units) and the drum speed there; orders never resolved are left out.
+pub fn order_peaks(r: &crate::analysis::AnalysisReport) -> Vec<washdyn_runtime::run::OrderPeak> {
+    r.channels
+        .iter()
+        .flat_map(|c| {
+            c.orders.iter().filter_map(|o| {
+                Some(washdyn_runtime::run::OrderPeak {
+                    channel: c.name.clone(),
+                    order: o.order,
+                    level: o.max_amplitude?,
+                    unit: c.quantity.si_unit().to_string(),
+                    rpm: o.rpm_at_max?,
+                })
+            })
+        })
+        .collect()
 }
 
 /// Motor speed / drum speed: the ratio of a rotor named `motor`, else of the fastest rotor
@@ -52,12 +117,14 @@ pub fn write_summary(dir: &Path, summary: &Summary) -> Result<(), Error> {
     fs::write(&path, json + "\n").map_err(|e| Error::io("write", path, e))
 }
 
-/// [`run_command_with`] with the default [`RunControl`].
+/// [`run_command_with`] with the default [`RunControl`], published.
 pub fn run_command(
     spec: &RunSpec,
     progress: &mut dyn FnMut(Progress),
 ) -> Result<RunOutcome, Error> {
-    run_command_with(spec, &RunControl::default(), progress)
+    let mut o = run_command_with(spec, &RunControl::default(), progress)?;
+    o.publish()?;
+    Ok(o)
 }
 
 /// The simulation `washdyn run` sets up for `spec` (every setting checked; nothing written).
@@ -75,21 +142,31 @@ pub fn run_command_with(
     progress: &mut dyn FnMut(Progress),
 ) -> Result<RunOutcome, Error> {
     let sim = run_simulation(spec, ctl)?;
-    let out_dir = spec
+    let target = spec
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from("out").join(&sim.model().name));
-    fs::create_dir_all(&out_dir).map_err(|e| Error::io("create", &out_dir, e))?;
+    let id = crate::run_dir::new_run_id();
+    let dir = RunDir::claim(&target, &id, spec.force)?;
+    let out_dir = dir.tmp.clone();
     let motor_ratio = motor_ratio(sim.model());
     let keep_samples = ctl.analysis_band_hz.is_some();
     let mut sink = SensorRecorder::new(&out_dir, spec.format, keep_samples);
-    sink.states = spec.states.then(|| StateRecorder::new(&out_dir));
-    sink.energy = spec
-        .energy
-        .then(|| crate::results::EnergyRecorder::new(&out_dir, spec.format));
+    sink.run_id = Some(id.clone());
+    sink.states = spec.states.then(|| {
+        let mut r = StateRecorder::new(&out_dir);
+        r.run_id = Some(id.clone());
+        r
+    });
+    sink.energy = spec.energy.then(|| {
+        let mut r = crate::results::EnergyRecorder::new(&out_dir, spec.format);
+        r.run_id = Some(id.clone());
+        r
+    });
     let verdict = crate::error_class::Verdict::of(&sim);
     let (mut summary, error) = sim.integrate(&mut sink, progress);
     verdict.apply(&mut summary, error.is_none());
+    summary.run_id = Some(id);
     let mut written = sink
         .finish()
         .map_err(|e| Error::io("write", sink.path(), e));
@@ -115,6 +192,8 @@ pub fn run_command_with(
         error,
         samples,
         motor_ratio,
+        dir,
+        published: false,
     })
 }
 

@@ -11,6 +11,7 @@ pub mod error_class;
 pub mod fields;
 pub mod full_mesh;
 pub mod modes;
+pub mod run_dir;
 pub mod simulation;
 pub mod spec;
 pub mod study;

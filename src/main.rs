@@ -47,6 +47,7 @@ fn exit_code(e: &Error) -> ExitCode {
         | Error::Reference(_)
         | Error::Plot { .. }
         | Error::Threads(_)
+        | Error::OtherRun(_)
         | Error::Study(StudyError::Slurm(
             SlurmError::Missing { .. } | SlurmError::Failed { .. } | SlurmError::Answer { .. },
         )) => 5,

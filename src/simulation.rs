@@ -236,6 +236,8 @@ impl Simulation {
     /// The model files and rho_inf a summary of this simulation records.
     fn label(&self, s: &mut Summary) {
         s.model_files = self.source.files.clone();
+        s.start = Some(self.run.start.name().to_string());
+        s.sample_rate_hz = Some(self.run.sample_rate);
         if self.method == Method::GeneralizedAlpha {
             s.rho_inf = Some(self.options.rho_inf);
         }
@@ -268,21 +270,6 @@ impl Simulation {
         self.label(&mut summary);
         (summary, error)
     }
-}
-
-/// The summary of a run that took no step (a sweep's variant refused before its run), labelled
-/// as [`Simulation::integrate`] labels one: the method's name, galpha's rho_inf.
-pub fn unstarted_summary(
-    labels: &Labels,
-    method: Method,
-    options: &Options,
-    span: (f64, f64),
-) -> Summary {
-    let mut s = Summary::new(labels, method.name(), (options.rtol, options.atol), span);
-    if method == Method::GeneralizedAlpha {
-        s.rho_inf = Some(options.rho_inf);
-    }
-    s
 }
 
 /// The back end's equations of `scene`.

@@ -43,6 +43,7 @@ mod model_files;
 mod parquet_roundtrip;
 mod presliding;
 mod rigid_physics;
+mod run_dir;
 mod simulation;
 mod slurm;
 mod starts_and_sensors;

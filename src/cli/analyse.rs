@@ -48,6 +48,10 @@ pub fn analyse(a: Args) -> Result<ExitCode, Failure> {
         ..AnalysisOptions::default()
     };
     opts.validate().map_err(Error::from)?;
+    // A run's sensor file beside its summary.json: the two must be one run's.
+    if let Some(run) = file.parent() {
+        washdyn::run_dir::check_same_run(run, &file).map_err(Error::from)?;
+    }
     let signals = read_signals(&file).map_err(Error::from)?;
     // A file shorter than a block is analysed in one block over all of it (down to the
     // analysis' shortest block), as `washdyn run` does.

@@ -133,6 +133,37 @@ pub fn run(c: Args) -> Result<ExitCode, Failure> {
     let outcome = run_command_with(spec, &ctl, &mut progress);
     bar.finish_and_clear();
     let mut o = outcome?;
+    // The analysis into the run's folder before it goes into place: its status and order
+    // peaks join the summary that publishing writes.
+    let mut report = None;
+    let mut failed_analysis = None;
+    if !c.no_plots {
+        let dir = o.out_dir.join("analysis");
+        let status = match analyse_after(&mut o, spec, &c, &dir) {
+            Ok((status, r)) => {
+                if let Some(r) = &r {
+                    o.summary.order_peaks = washdyn::commands::order_peaks(r);
+                }
+                report = r;
+                status
+            }
+            Err(e) => {
+                // The run's status says what the exit code says: failed, with the analysis' error.
+                o.summary.status = RunStatus::Failed;
+                o.summary.error = Some(format!("analysis failed: {e}"));
+                let error = e.to_string();
+                failed_analysis = Some(e);
+                AnalysisStatus::Failed { error }
+            }
+        };
+        if let AnalysisStatus::Done { note: Some(n), .. } | AnalysisStatus::Skipped { note: n } =
+            &status
+        {
+            eprintln!("note: {n}");
+        }
+        o.summary.analysis = Some(status);
+    }
+    o.publish()?;
     let s = &o.summary;
     // A closed stdout (e.g. `| head`) must not turn a finished run into a panic.
     let mut out = std::io::stdout();
@@ -156,35 +187,15 @@ pub fn run(c: Args) -> Result<ExitCode, Failure> {
     for w in &s.warnings {
         eprintln!("warning: {w}");
     }
-    let mut failed_analysis = None;
-    if !c.no_plots {
-        let dir = o.out_dir.join("analysis");
-        let status = match analyse_after(&mut o, spec, &c, &dir) {
-            Ok((status, report)) => {
-                if let Some(r) = report {
-                    let _ = writeln!(out, "{r}");
-                    let _ = writeln!(out, "plots and tables in {}", dir.display());
-                }
-                status
-            }
-            Err(e) => {
-                // The run's status says what the exit code says: failed, with the analysis' error.
-                o.summary.status = RunStatus::Failed;
-                o.summary.error = Some(format!("analysis failed: {e}"));
-                let error = e.to_string();
-                failed_analysis = Some(e);
-                AnalysisStatus::Failed { error }
-            }
-        };
-        if let AnalysisStatus::Done { note: Some(n), .. } | AnalysisStatus::Skipped { note: n } =
-            &status
-        {
-            eprintln!("note: {n}");
-        }
-        o.summary.analysis = Some(status);
-        washdyn::commands::write_summary(&o.out_dir, &o.summary)?;
+    if let Some(r) = report {
+        let _ = writeln!(out, "{r}");
+        let _ = writeln!(
+            out,
+            "plots and tables in {}",
+            o.out_dir.join("analysis").display()
+        );
     }
-    if let Some(e) = o.error {
+    if let Some(e) = o.error.take() {
         eprintln!(
             "error: {e}; the output up to then is in {}",
             o.out_dir.display()

@@ -82,6 +82,7 @@ pub fn load(dir: &Path, label: &str) -> Result<(Signals, Cost), CompareError> {
         .ok_or_else(|| CompareError::NoSensors {
             dir: dir.to_path_buf(),
         })?;
+    crate::run_dir::check_same_run(dir, &file)?;
     let cost = Cost::read(dir, label)?;
     Ok((read_signals(file)?, cost))
 }

@@ -11,6 +11,9 @@ pub enum CompareError {
     /// The run directory does not exist.
     #[error("{dir}: no such run directory")]
     NoRun { dir: PathBuf },
+    /// The sensor file is another run's than the summary's.
+    #[error(transparent)]
+    OtherRun(#[from] super::OtherRun),
     /// No sensor file in the run directory.
     #[error(
         "{dir}: no sensors.parquet or sensors.csv; a run directory is what `washdyn run` writes"

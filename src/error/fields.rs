@@ -40,6 +40,9 @@ pub enum FieldsError {
         #[source]
         source: Box<FieldsError>,
     },
+    /// The states are another run's than the summary's.
+    #[error(transparent)]
+    OtherRun(#[from] super::OtherRun),
     /// The states file cannot be read as Parquet (the reader's message).
     #[error("{message}")]
     StatesFile { message: String },

@@ -91,6 +91,9 @@ pub enum Error {
     /// A plot the accuracy study could not draw or write (plotters' message).
     #[error("{}: {message}", path.display())]
     Plot { path: PathBuf, message: String },
+    /// A run's file that another run wrote.
+    #[error(transparent)]
+    OtherRun(#[from] OtherRun),
     /// The threads of a sweep's or study's parallel runs could not start.
     #[error("cannot start the parallel runs: {0}")]
     Threads(#[from] rayon::ThreadPoolBuildError),
@@ -105,6 +108,22 @@ pub struct ActionError {
     pub path: PathBuf,
     #[source]
     pub source: std::io::Error,
+}
+
+/// A run's file that another run wrote: its id and its folder's summary.json's differ
+/// (`run_dir::check_same_run`).
+#[derive(Debug, thiserror::Error)]
+#[error(
+    "{} belongs to the run {file_id}, but {} to the run {summary_id}: the folder mixes two \
+     runs; run again into a fresh folder",
+    file.display(),
+    summary.display()
+)]
+pub struct OtherRun {
+    pub file: PathBuf,
+    pub file_id: String,
+    pub summary: PathBuf,
+    pub summary_id: String,
 }
 
 /// A file or directory a command could not read or write: `path: the system's message`.

@@ -10,6 +10,7 @@ use super::recovery::Recovery;
 use super::states::States;
 
 /// What `washdyn fields` wrote.
+#[derive(Debug)]
 pub struct Written {
     pub files: Vec<PathBuf>,
     pub bytes: u64,

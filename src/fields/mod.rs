@@ -48,6 +48,8 @@ pub fn fields_command(
     fe_dir: &Path,
     out: Option<&Path>,
 ) -> Result<Written, FieldsError> {
+    // The states must be the summary's run's before anything is read of either.
+    crate::run_dir::check_same_run(run_dir, &run_dir.join("states.parquet"))?;
     let summary = std::fs::read_to_string(run_dir.join("summary.json")).map_err(|source| {
         FieldsError::NoSummary {
             dir: run_dir.to_path_buf(),

@@ -24,6 +24,7 @@ pub enum Field {
     AllowLargeOutput,
     Energy,
     States,
+    Force,
 }
 
 /// Who reads a refusal: the command line or a study file.
@@ -55,6 +56,7 @@ impl Field {
             Field::AllowLargeOutput => "--allow-large-output",
             Field::Energy => "--energy",
             Field::States => "--states",
+            Field::Force => "--force",
         }
     }
 
@@ -80,6 +82,7 @@ impl Field {
             Field::AllowLargeOutput => "allow_large_output",
             Field::Energy => "energy",
             Field::States => "states",
+            Field::Force => "force",
         }
     }
 

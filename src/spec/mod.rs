@@ -151,6 +151,10 @@ pub struct RunSpec {
     #[arg(long)]
     #[serde(skip)]
     pub states: bool,
+    /// Replace the output folder where it holds another run's files (refused without).
+    #[arg(long)]
+    #[serde(skip)]
+    pub force: bool,
 }
 
 fn default_sample_rate() -> f64 {
@@ -218,6 +222,7 @@ impl Default for RunSpec {
             out: None,
             energy: false,
             states: false,
+            force: false,
         }
     }
 }

@@ -79,6 +79,7 @@ pub fn study_text(base: &Source, spec: &RunSpec, grid: &Grid) -> Result<String, 
         ),
         (Field::Energy, spec.energy),
         (Field::States, spec.states),
+        (Field::Force, spec.force),
     ];
     if let Some((f, _)) = unsupported.iter().find(|(_, given)| *given) {
         return Err(Error::setting(

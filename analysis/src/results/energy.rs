@@ -18,6 +18,8 @@ pub struct EnergyRecorder {
     pub categories: Vec<washdyn_model::equations::Category>,
     /// time_s, drum_rpm, kinetic_J, the categories' work, residual_J.
     pub cols: Vec<Vec<f64>>,
+    /// The run's id, written into the file's metadata.
+    pub run_id: Option<String>,
 }
 
 impl EnergyRecorder {
@@ -27,6 +29,7 @@ impl EnergyRecorder {
             format,
             categories: Vec::new(),
             cols: Vec::new(),
+            run_id: None,
         }
     }
 
@@ -166,6 +169,7 @@ impl EnergyRecorder {
              work"
                 .into(),
         ));
+        metadata.extend(super::run_id_entry(&self.run_id));
         let mut w = TableWriter::create_f64(&self.path, self.format, &names, &metadata)?;
         let cols: Vec<&[f64]> = self.cols.iter().map(Vec::as_slice).collect();
         w.append_slices(&cols)?;

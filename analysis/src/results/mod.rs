@@ -28,10 +28,19 @@ mod states;
 mod table;
 
 pub use energy::EnergyRecorder;
-pub use read::{Table, read_parquet_f64, read_table};
+pub use read::{Table, read_metadata, read_parquet_f64, read_table};
 pub use sensors::{SensorRecorder, unit_of_column};
 pub use states::StateRecorder;
 pub use table::{Batched, Column, Schema, TableWriter};
+
+/// The key of a run's id in its Parquet files' key-value metadata: the commands that read a
+/// run refuse files whose id and summary.json's disagree (`washdyn::run_dir`).
+pub const RUN_ID_KEY: &str = "washdyn.run_id";
+
+/// The metadata entry of a run id, if any.
+fn run_id_entry(id: &Option<String>) -> Option<(String, String)> {
+    id.as_ref().map(|id| (RUN_ID_KEY.to_string(), id.clone()))
+}
 
 /// File format of results.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]

@@ -93,6 +93,25 @@ impl Table {
     }
 }
 
+/// A Parquet file's key-value metadata, from its footer alone (the data is not read).
+pub fn read_metadata(path: &Path) -> Result<Vec<(String, String)>, String> {
+    let at = |m: String| format!("{}: {m}", path.display());
+    let file = File::open(path).map_err(|e| at(e.to_string()))?;
+    let reader =
+        SerializedFileReader::new(file).map_err(|e| at(format!("not a Parquet file: {e}")))?;
+    Ok(key_values(reader.metadata().file_metadata()))
+}
+
+fn key_values(meta: &parquet::file::metadata::FileMetaData) -> Vec<(String, String)> {
+    meta.key_value_metadata()
+        .map(|kv| {
+            kv.iter()
+                .map(|k| (k.key.clone(), k.value.clone().unwrap_or_default()))
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
 /// A Parquet table of text (UTF-8) and float64 columns, as [`super::TableWriter`] writes them;
 /// nulls of a number column read as NaN. Other column types are an error naming the column.
 pub fn read_table(path: &Path) -> Result<Table, String> {
@@ -110,14 +129,7 @@ pub fn read_table(path: &Path) -> Result<Table, String> {
     let nullable: Vec<bool> = (0..names.len())
         .map(|i| schema.column(i).max_def_level() > 0)
         .collect();
-    let metadata = meta
-        .key_value_metadata()
-        .map(|kv| {
-            kv.iter()
-                .map(|k| (k.key.clone(), k.value.clone().unwrap_or_default()))
-                .collect()
-        })
-        .unwrap_or_default();
+    let metadata = key_values(meta);
     let mut columns = Vec::with_capacity(names.len());
     for (i, name) in names.iter().enumerate() {
         columns.push(match schema.column(i).physical_type() {

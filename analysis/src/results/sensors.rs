@@ -9,7 +9,7 @@ use std::time::Instant;
 use super::energy::EnergyRecorder;
 use super::states::StateRecorder;
 use super::table::{Batched, Column, TableWriter, write_due};
-use super::{Format, GROUP_ROWS, GROUP_WAIT};
+use super::{Format, GROUP_ROWS, GROUP_WAIT, run_id_entry};
 
 /// Unit of a sensor-file column, from its name (`time_s`, `drum_rpm`, `*_a?`, `*_u?`).
 pub fn unit_of_column(name: &str) -> &'static str {
@@ -43,6 +43,8 @@ pub struct SensorRecorder {
     pub states: Option<StateRecorder>,
     /// The energy balance, when the run keeps it (`run --energy`).
     pub energy: Option<EnergyRecorder>,
+    /// The run's id, written into the file's metadata (`RUN_ID_KEY`).
+    pub run_id: Option<String>,
 }
 
 impl SensorRecorder {
@@ -60,6 +62,7 @@ impl SensorRecorder {
             names: Vec::new(),
             states: None,
             energy: None,
+            run_id: None,
         }
     }
     /// The samples kept in memory, written only at [`SensorRecorder::finish`], in row groups
@@ -122,6 +125,7 @@ impl washdyn_runtime::output::SampleSink for SensorRecorder {
              global axes (x along the drum axis towards the door, z up)"
                 .into(),
         ));
+        metadata.extend(run_id_entry(&self.run_id));
         let w = TableWriter::create_f64(&self.path, self.format, &names, &metadata)?;
         // Kept samples are written from `memory`; the batch buffers stay empty then.
         let buffers = if self.keep { 0 } else { n };

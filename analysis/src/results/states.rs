@@ -19,6 +19,8 @@ pub struct StateRecorder {
     last_send: Instant,
     tx: Option<std::sync::mpsc::SyncSender<Vec<Vec<f64>>>>,
     writer: Option<std::thread::JoinHandle<io::Result<()>>>,
+    /// The run's id, written into the file's metadata.
+    pub run_id: Option<String>,
 }
 
 impl StateRecorder {
@@ -29,6 +31,7 @@ impl StateRecorder {
             last_send: Instant::now(),
             tx: None,
             writer: None,
+            run_id: None,
         }
     }
 
@@ -36,17 +39,14 @@ impl StateRecorder {
         let mut names = vec!["time_s".to_string(), "drum_angle_rad".to_string()];
         names.extend((0..n_q).map(|i| format!("q{i}")));
         let n = names.len();
-        let mut w = TableWriter::create_f64(
-            &self.path,
-            Format::Parquet,
-            &names,
-            &[(
-                "washdyn".into(),
-                "states on the sample grid: q in the scene's layout (tub u m, alpha rad, \
-                 then modal coordinates)"
-                    .into(),
-            )],
-        )?;
+        let mut metadata = vec![(
+            "washdyn".to_string(),
+            "states on the sample grid: q in the scene's layout (tub u m, alpha rad, then modal \
+             coordinates)"
+                .to_string(),
+        )];
+        metadata.extend(super::run_id_entry(&self.run_id));
+        let mut w = TableWriter::create_f64(&self.path, Format::Parquet, &names, &metadata)?;
         // Two groups in flight at most: a slow disk holds the run back instead of the memory
         // growing without bound.
         let (tx, rx) = std::sync::mpsc::sync_channel::<Vec<Vec<f64>>>(2);

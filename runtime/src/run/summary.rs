@@ -98,6 +98,23 @@ pub struct Summary {
     /// What the analysis after the run did, when one was asked for (set by the CLI).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub analysis: Option<AnalysisStatus>,
+    /// The run's id (`washdyn run`: its UTC start and a suffix), which every file it wrote
+    /// carries (`washdyn::run_dir`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub run_id: Option<String>,
+    /// How the run started (`static`, `mean`, `periodic`, `reference`; set by the set-up).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub start: Option<String>,
+    /// The sensor file's samples per second, Hz (set by the set-up).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sample_rate_hz: Option<f64>,
+    /// The files the run wrote, relative to its folder, in writing order.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub files: Vec<String>,
+    /// Per channel and tracked drum order, the largest amplitude over the run and the drum
+    /// speed there (the analysis' order tracks; empty without the analysis).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub order_peaks: Vec<OrderPeak>,
 }
 
 /// The analysis after a run (`washdyn run` without `--no-plots`), in summary.json as
@@ -116,6 +133,19 @@ pub enum AnalysisStatus {
     Skipped { note: String },
     /// Failed with this error.
     Failed { error: String },
+}
+
+/// The largest amplitude of one drum order in one channel over the run.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct OrderPeak {
+    pub channel: String,
+    /// Drum order.
+    pub order: f64,
+    /// Amplitude, in `unit`.
+    pub level: f64,
+    pub unit: String,
+    /// Drum speed at the peak, rpm.
+    pub rpm: f64,
 }
 
 /// How a run ended: `ok`, `failed` (the error and its time in the summary) or `interrupted`
@@ -187,6 +217,11 @@ impl Summary {
             error_class: None,
             model_files: Vec::new(),
             analysis: None,
+            run_id: None,
+            start: None,
+            sample_rate_hz: None,
+            files: Vec::new(),
+            order_peaks: Vec::new(),
         }
     }
 

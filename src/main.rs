@@ -16,7 +16,18 @@ use washdyn_runtime::run::RunError;
 /// The exit code of an error: the one mapping (the table is `cli::EXIT_CODES`, shown by
 /// `washdyn --help`, and docs/commands.md).
 fn exit_code(e: &Error) -> ExitCode {
-    ExitCode::from(match e {
+    ExitCode::from(code(e))
+}
+
+/// The code of [`exit_code`]: by the error's cause, whichever command met it (a model that
+/// does not resolve is 3 under `run`, `modes`, `campbell`, `fields` and `fe reference` alike;
+/// a file that cannot be written 4).
+fn code(e: &Error) -> u8 {
+    use washdyn::campbell::CampbellError as C;
+    use washdyn::error::compare::CompareError;
+    use washdyn::error::{fe::FeError, fe::FullMeshError as M, fields::FieldsError as F};
+    use washdyn::modes::ModesError;
+    match e {
         Error::Integration {
             source: RunError::Interrupted { .. },
             ..
@@ -31,12 +42,31 @@ fn exit_code(e: &Error) -> ExitCode {
                 SlurmError::Busy { .. } | SlurmError::Path { .. } | SlurmError::Assignment { .. },
             ),
         ) => 2,
+        // A command's model: the code of why it did not resolve.
+        Error::Campbell(C::Model(m))
+        | Error::Fields(F::Model(m))
+        | Error::Modes(ModesError::Model(m))
+        | Error::FullMesh(M::Model(m)) => code(m),
         Error::Model(_)
         | Error::Check { .. }
         | Error::Scene { .. }
         | Error::UnknownModel { .. }
+        | Error::Fields(F::Scene(_))
+        | Error::Modes(ModesError::Scene(_))
+        | Error::FullMesh(M::Scene(_))
         | Error::Study(StudyError::Variants(_)) => 3,
-        Error::Io(_) | Error::File { .. } | Error::Analysis(AnalysisError::Io { .. }) => 4,
+        Error::Io(_)
+        | Error::File { .. }
+        | Error::Analysis(AnalysisError::Io { .. } | AnalysisError::Write { .. })
+        | Error::Compare(
+            CompareError::Write { .. }
+            | CompareError::Read(AnalysisError::Io { .. } | AnalysisError::Write { .. }),
+        )
+        | Error::Campbell(C::Io(_))
+        | Error::Fields(F::Io(_))
+        | Error::Modes(ModesError::Io(_))
+        | Error::Fe(FeError::Io(_))
+        | Error::FullMesh(M::Io(_)) => 4,
         Error::Analysis(_)
         | Error::Compare(_)
         | Error::Fields(_)
@@ -51,7 +81,7 @@ fn exit_code(e: &Error) -> ExitCode {
         | Error::Study(StudyError::Slurm(
             SlurmError::Missing { .. } | SlurmError::Failed { .. } | SlurmError::Answer { .. },
         )) => 5,
-    })
+    }
 }
 
 fn main() -> ExitCode {

@@ -21,6 +21,7 @@ mod damper_mass;
 mod elastic_cabinet;
 mod elastic_machine;
 mod energy;
+mod exit_codes;
 mod failed_run;
 mod fe_bodies;
 mod fe_cabinet;

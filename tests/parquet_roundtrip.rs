@@ -155,8 +155,10 @@ fn analysis_tables_read_in_pyarrow() {
 fn states_file_holds_every_sample_with_the_drum_angle() {
     let dir = tempfile::tempdir().unwrap();
     let args = reference_run(dir.path(), 2.0, 1000.0, true);
-    let o = run_command_with(&args, &analysed(&args), &mut |_| {}).unwrap();
+    let mut o = run_command_with(&args, &analysed(&args), &mut |_| {}).unwrap();
     assert!(o.error.is_none());
+    // The run writes into its own folder, renamed into place here.
+    o.publish().unwrap();
     let (names, cols) = o.samples.unwrap();
     let s = washdyn::fields::States::read(&dir.path().join("states.parquet")).unwrap();
     assert_eq!(s.t, cols[0], "the same sample times");

@@ -185,3 +185,52 @@ fn files_of_another_run_are_refused_naming_both() {
     assert_eq!(o.status.code(), Some(5), "{err}");
     assert!(err.contains(&ia) && err.contains(&ib), "{err}");
 }
+
+/// docs/summary-json.md names every key a run's summary.json holds (issue 50 point 6), read
+/// from a run of the binary with its analysis (the `analysis` and `order_peaks` the CLI adds),
+/// the energy balance and a model file (`model_files`): the reference at a constant 600 rpm,
+/// so that 1 s resolves its orders.
+#[test]
+fn every_summary_field_is_documented() {
+    let dir = tempfile::tempdir().unwrap();
+    let src = concat!(env!("CARGO_MANIFEST_DIR"), "/models/data/reference.toml");
+    let text = std::fs::read_to_string(src).unwrap();
+    let profile = "table = [[0.0, 0.0], [5.0, 93.0], [15.0, 93.0], [178.375, 1400.0]]";
+    assert!(text.contains(profile), "reference.toml's profile changed");
+    let text = text.replacen(profile, "table = [[0.0, 600.0], [2.0, 600.0]]", 1);
+    let fe = format!("\"{}/models/fe/", env!("CARGO_MANIFEST_DIR"));
+    std::fs::write(dir.path().join("m.toml"), text.replace("\"../fe/", &fe)).unwrap();
+    let o = common::washdyn_in(
+        &["run", "m.toml", "--t-end", "1", "--energy", "--out", "d"],
+        dir.path(),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(dir.path().join("d/summary.json")).unwrap();
+    let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert!(
+        !json["order_peaks"].as_array().unwrap().is_empty(),
+        "{json}"
+    );
+    let doc = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/summary-json.md"))
+        .unwrap();
+    let mut keys = Vec::new();
+    let mut stack = vec![&json];
+    while let Some(v) = stack.pop() {
+        match v {
+            serde_json::Value::Object(m) => {
+                for (k, v) in m {
+                    keys.push(k.clone());
+                    stack.push(v);
+                }
+            }
+            serde_json::Value::Array(a) => stack.extend(a),
+            _ => {}
+        }
+    }
+    let missing: Vec<_> = keys
+        .iter()
+        .filter(|k| !doc.contains(&format!("`{k}`")))
+        .collect();
+    assert!(keys.len() > 40, "{keys:?}");
+    assert!(missing.is_empty(), "docs/summary-json.md lacks {missing:?}");
+}

@@ -22,19 +22,21 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use washdyn::Error;
 use washdyn_runtime::run::Guard;
 
-/// The exit codes (docs/commands.md), shown by `washdyn --help`.
-const EXIT_CODES: &str = "Exit codes:
+/// The exit codes, shown by `washdyn --help`; the README's table is this text (tidy holds it).
+const EXIT_CODES: &str = "Exit codes (by the cause, whichever command meets it):
   0    success
   1    a run stopped early (its output up to then is kept), or a sweep's or study's variant
        failed
-  2    a setting refused before anything was written (an option or its value, a study file
-       at its line, a study directory that is another study's or has tasks in Slurm's queue)
-  3    a model refused: it does not load, fails the checker (also a study's variant), a scene
-       cannot run, or it is neither built in nor a file
-  4    a file or directory that cannot be read or written
+  2    a setting refused before anything was written (an option or its value, clap's usage
+       errors, a study file at its line, a study directory that is another study's or has
+       tasks in Slurm's queue)
+  3    a model refused, under every command that takes one: it does not load, fails the
+       checker (also a study's variant), lacks the scene, or is neither built in nor a file
+  4    a file or directory that cannot be read or written (also an --out that is a file)
   5    other refused data: a signal file the analysis cannot take (also after a run), runs
-       that cannot be compared, FE or field input, a Slurm command that failed
-  130  interrupted (Ctrl-C); summary.json says so";
+       that cannot be compared or files of two runs, FE or field input, a Slurm command that
+       failed
+  130  interrupted (Ctrl-C, SIGTERM, SIGHUP); summary.json says so and the output is kept";
 
 #[derive(Parser)]
 #[command(

@@ -61,7 +61,7 @@ fn line_values(
             Some(v) => out.push(v),
             None => {
                 out.truncate(start);
-                return fixed_width(text, width, out).map_err(|t| bad(t));
+                return fixed_width(text, width, out).map_err(bad);
             }
         }
     }

@@ -61,24 +61,24 @@ fn line_values(
             Some(v) => out.push(v),
             None => {
                 out.truncate(start);
-                return fixed_width(text, width, out).map_err(bad);
+                // The token that failed names the error better than a field cut at the width.
+                return fixed_width(text, width, out).ok_or_else(|| bad(t));
             }
         }
     }
     Ok(())
 }
 
-/// The values of a line cut at the format's field width; the first field that does not parse.
-fn fixed_width<'a>(text: &'a str, width: usize, out: &mut Vec<f64>) -> Result<(), &'a str> {
+/// The values of a line cut at the format's field width; `None` at a field that does not parse.
+fn fixed_width(text: &str, width: usize, out: &mut Vec<f64>) -> Option<()> {
     if !text.is_ascii() {
-        return Err(text.trim());
+        return None;
     }
     for field in text.as_bytes().chunks(width) {
-        let t = std::str::from_utf8(field).map_err(|_| text.trim())?.trim();
-        if t.is_empty() {
-            continue;
+        let t = std::str::from_utf8(field).ok()?.trim();
+        if !t.is_empty() {
+            out.push(value(t)?);
         }
-        out.push(value(t).ok_or(t)?);
     }
-    Ok(())
+    Some(())
 }

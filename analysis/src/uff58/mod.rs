@@ -319,7 +319,7 @@ fn missing(ctx: &Ctx, side: Side, line: usize, found: Option<&[u8]>) -> UffError
         side,
         line,
         found: found.map(|raw| {
-            let text: String = decode(raw).chars().take(40).collect();
+            let text: String = decode(raw).trim().chars().take(40).collect();
             text.escape_debug().to_string()
         }),
     }

@@ -255,6 +255,20 @@ fn milliseconds_abscissa_and_general_abscissa() {
     assert_eq!((c.dt, c.start_time), (0.5e-3, 2e-3));
 }
 
+#[test]
+fn touching_values_are_cut_at_the_field_width() {
+    let s = Spec {
+        ord_type: 2,
+        ..spec(vec![0.0, 0.0, 0.0])
+    };
+    let f = format!(
+        "    -1\n    58\n{}-1.23456E-100-2.00000D+000  3.00000E+00\n    -1\n",
+        header(&s)
+    );
+    let c = &parse_ok(f.as_bytes()).channels[0];
+    assert_eq!(c.samples, [-1.23456e-100, -2.0, 3.0]);
+}
+
 /// A good file with `from` replaced by `to` (once).
 fn corrupt(bytes: &[u8], from: &str, to: &str) -> Vec<u8> {
     let text = String::from_utf8_lossy(bytes);

@@ -55,6 +55,7 @@ mod sweep;
 mod tidy;
 mod truncation;
 mod tutorial;
+mod uff58;
 mod unbalance_response;
 mod user_deck;
 mod user_spinning;

@@ -26,6 +26,9 @@ pub mod results;
 pub mod signals;
 pub mod spectrum;
 pub mod study;
+/// Measured time histories from test rigs: Universal File Format dataset 58 and 58b, read
+/// into SI channels (issue 51).
+pub mod uff58;
 
 use std::fmt;
 use std::path::{Path, PathBuf};

@@ -26,6 +26,7 @@ pub mod results;
 pub mod signals;
 pub mod spectrum;
 pub mod study;
+pub mod tacho;
 
 use std::fmt;
 use std::path::{Path, PathBuf};

@@ -14,6 +14,7 @@
 //! sensor, state and energy recorders) are here too: the analysis reads and writes them, and the
 //! energy table draws with the plots. [`study`] analyses many runs at once: designs of variant
 //! studies, Sobol indices, Pareto fronts and their plots.
+//! [`tacho`] turns a test rig's tacho pulse channel into the drum's angle and speed.
 
 pub mod angle;
 pub mod error;

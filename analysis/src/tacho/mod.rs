@@ -176,7 +176,8 @@ pub struct TachoSpeed {
     pub first: usize,
     /// Sample times (s) inside the valid span: `input_time[first..first + time.len()]`.
     pub time: Vec<f64>,
-    /// Drum angle (rad), 0 at the first pulse used, increasing.
+    /// Drum angle (rad), increasing, 0 at the first pulse used (up to the fit's correction of
+    /// that pulse's edge noise, ~1e-4 rad).
     pub angle: Vec<f64>,
     /// Drum speed (rad/s).
     pub speed: Vec<f64>,

@@ -3,13 +3,15 @@
 //!
 //! Three steps, each in its own file:
 //!
-//! 1. [`edges`]: a Schmitt trigger (threshold ± hysteresis/2) finds the pulses; each edge's
+//! 1. `edges`: a Schmitt trigger (threshold ± hysteresis/2) finds the pulses; each edge's
 //!    time is interpolated linearly between the two samples around the threshold crossing, so
-//!    it is sub-sample accurate where the sensor's edge spans a sample or two, as real edges do.
-//! 2. [`pulses`]: missing pulses (an interval much longer than its neighbours') are filled in
+//!    it is sub-sample accurate where the edge spans a sample or two (a sensor behind an
+//!    anti-alias filter). A logic-level edge sharper than a sample is only known to ±half a
+//!    sample (29 µs rms at 10 kHz): then the fit window must average more pulses.
+//! 2. `pulses`: missing pulses (an interval much longer than its neighbours') are filled in
 //!    and extra pulses (much shorter) dropped, judged against neighbours on both sides so that
 //!    a run-up from standstill is not a defect.
-//! 3. [`fit`]: the angle and speed between pulses. Edge-timing noise is what limits the
+//! 3. `fit`: the angle and speed between pulses. Edge-timing noise is what limits the
 //!    speed: ±5 % of noise on a 0.2 ms edge moves each edge by ~5 µs (rms), which is 0.2 rpm
 //!    at 1400 rpm from one 1-pulse-per-revolution interval (43 ms). So each pulse's angle,
 //!    speed and acceleration come from a local quadratic least-squares fit over the pulses

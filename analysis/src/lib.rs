@@ -14,6 +14,7 @@
 //! sensor, state and energy recorders) are here too: the analysis reads and writes them, and the
 //! energy table draws with the plots. [`study`] analyses many runs at once: designs of variant
 //! studies, Sobol indices, Pareto fronts and their plots.
+//! [`tacho`] turns a test rig's tacho pulse channel into the drum's angle and speed.
 
 pub mod angle;
 pub mod error;
@@ -26,6 +27,7 @@ pub mod results;
 pub mod signals;
 pub mod spectrum;
 pub mod study;
+pub mod tacho;
 /// Measured time histories from test rigs: Universal File Format dataset 58 and 58b, read
 /// into SI channels (issue 51).
 pub mod uff58;

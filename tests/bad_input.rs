@@ -613,10 +613,18 @@ fn a_stop_signal_to_the_binary_writes_an_interrupted_summary_and_a_readable_file
             .stderr(Stdio::piped())
             .spawn()
             .unwrap();
-        // The output folder appears once the settings passed and the run starts (the 178 s
-        // run-up takes seconds); stop it shortly after.
+        // The run's own folder (`<name>.tmp-<id>` beside the target, renamed into place at
+        // the end) appears once the settings passed and the run starts (the 178 s run-up
+        // takes seconds); stop it shortly after.
+        let tmp = format!("{}.tmp-", dir.file_name().unwrap().to_string_lossy());
+        let started = || {
+            std::fs::read_dir(dir.parent().unwrap())
+                .unwrap()
+                .flatten()
+                .any(|e| e.file_name().to_string_lossy().starts_with(&tmp))
+        };
         let start = std::time::Instant::now();
-        while !dir.exists() {
+        while !started() {
             assert!(
                 start.elapsed().as_secs() < 60,
                 "no output folder after 60 s"

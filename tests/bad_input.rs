@@ -810,3 +810,30 @@ fn an_unknown_scene_lists_each_scene_once() {
     assert_eq!(names.iter().filter(|n| **n == "full").count(), 1, "{e}");
     assert!(e.ends_with(&names.join(", ")), "{e}");
 }
+
+/// A run whose stderr is no terminal (a pipe, a Slurm log) says how far it is: a `progress:`
+/// line every interval (`WASHDYN_PROGRESS_INTERVAL_S` shortens the 10 s) with the simulated
+/// time and the end projected from the speed profile's remaining work.
+#[test]
+fn a_run_piped_prints_progress_lines() {
+    let dir = out_dir("progress");
+    std::fs::remove_dir_all(&dir).ok();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_washdyn"))
+        .args(["run", "reference", "--no-plots", "--out"])
+        .arg(&dir)
+        .env("WASHDYN_PROGRESS_INTERVAL_S", "0.2")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let lines: Vec<&str> = stderr
+        .lines()
+        .filter(|l| l.starts_with("progress: t = ") && l.contains("projected end"))
+        .collect();
+    assert!(lines.len() >= 2, "{stderr}");
+    assert!(
+        lines.iter().any(|l| l.contains("projected end in ")),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

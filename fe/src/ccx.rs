@@ -81,6 +81,28 @@ pub fn version() -> Option<String> {
     Some(v.split_whitespace().next()?.to_string())
 }
 
+/// A ccx solve starting or ending, for the observer a program set ([`observe`]).
+#[derive(Debug, Clone, Copy)]
+pub enum Event<'a> {
+    Started { deck: &'a Path },
+    Finished { deck: &'a Path, wall_s: f64 },
+}
+
+type Observer = Box<dyn Fn(Event<'_>) + Send + Sync>;
+static OBSERVER: std::sync::OnceLock<Observer> = std::sync::OnceLock::new();
+
+/// Let `f` hear when each ccx solve starts and ends: a solve runs for minutes deep inside the
+/// FE pipelines, and a command's progress says which (once a process; false if already set).
+pub fn observe(f: impl Fn(Event<'_>) + Send + Sync + 'static) -> bool {
+    OBSERVER.set(Box::new(f)).is_ok()
+}
+
+fn tell(e: Event<'_>) {
+    if let Some(f) = OBSERVER.get() {
+        f(e);
+    }
+}
+
 /// Run ccx on `deck` (`<dir>/<job>.inp`) in the deck's folder; errors from its output.
 pub fn run(deck: &Path) -> Result<CcxRun, CcxError> {
     run_threads(deck, 1)
@@ -101,6 +123,7 @@ pub fn run_threads(deck: &Path, threads: usize) -> Result<CcxRun, CcxError> {
         .ok_or_else(|| io(std::io::Error::other("deck has no file name")))?;
     let text = std::fs::read_to_string(deck).map_err(io)?;
     let start = Instant::now();
+    tell(Event::Started { deck });
     let out = Command::new(program())
         .arg("-i")
         .arg(job)
@@ -115,11 +138,15 @@ pub fn run_threads(deck: &Path, threads: usize) -> Result<CcxRun, CcxError> {
         .env("CCX_NPROC_STIFFNESS", &threads)
         .env("CCX_NPROC_EQUATION_SOLVER", &threads)
         .env("CCX_NPROC_RESULTS", &threads)
-        .output()
-        .map_err(|e| match e.kind() {
-            std::io::ErrorKind::NotFound => CcxError::Missing { program: program() },
-            _ => io(e),
-        })?;
+        .output();
+    tell(Event::Finished {
+        deck,
+        wall_s: start.elapsed().as_secs_f64(),
+    });
+    let out = out.map_err(|e| match e.kind() {
+        std::io::ErrorKind::NotFound => CcxError::Missing { program: program() },
+        _ => io(e),
+    })?;
     let stdout =
         String::from_utf8_lossy(&out.stdout).into_owned() + &String::from_utf8_lossy(&out.stderr);
     let messages = errors(&stdout, &text);

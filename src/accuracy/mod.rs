@@ -16,7 +16,7 @@ use std::path::PathBuf;
 use washdyn_model::ir::EffectSet;
 use washdyn_ode::Method;
 use washdyn_runtime::output::MemorySink;
-use washdyn_runtime::run::{Start, Summary};
+use washdyn_runtime::run::{Progress, Start, Summary};
 
 mod report;
 mod window;
@@ -108,6 +108,7 @@ fn simulate(
     w: &Window,
     rho_inf: Option<f64>,
     rate: f64,
+    progress: &dyn Fn(&str, Progress),
 ) -> Result<Sim, Error> {
     let (tol, step) = if method == Method::Rk4 {
         (1e-6, Some(tol))
@@ -129,7 +130,8 @@ fn simulate(
     };
     let sim = Simulation::with_scene(source.clone(), scene.clone(), &spec, &RunControl::default())?;
     let mut mem = MemorySink::default();
-    let (summary, error) = sim.integrate(&mut mem, &mut |_| {});
+    let label = format!("{} {method} {tol:e} ({})", scene.name, backend.name());
+    let (summary, error) = sim.integrate(&mut mem, &mut |p| progress(&label, p));
     Ok(Sim {
         mem,
         summary,
@@ -229,9 +231,14 @@ fn window_spec(source: &Source, w: &Window) -> RunSpec {
     }
 }
 
-/// Runs the whole study; `log` hears one line a run. Every window is checked first, by the
-/// run specification's rules (`RunSpec::validate`): nothing runs if one is refused.
-pub fn study(args: &AccuracyArgs, log: &mut dyn FnMut(&str)) -> Result<Study, Error> {
+/// Runs the whole study; `log` hears one line a run, `progress` each run's progress (its
+/// label: scene, method, tolerance, back end). Every window is checked first, by the run
+/// specification's rules (`RunSpec::validate`): nothing runs if one is refused.
+pub fn study(
+    args: &AccuracyArgs,
+    log: &mut dyn FnMut(&str),
+    progress: &dyn Fn(&str, Progress),
+) -> Result<Study, Error> {
     let source = Source::load(&args.model)?;
     let model = &source.model;
     let profile_end = model.speed.table.last().map_or(1.0, |r| r[0]);
@@ -259,7 +266,7 @@ pub fn study(args: &AccuracyArgs, log: &mut dyn FnMut(&str)) -> Result<Study, Er
     }
     let mut windows = Vec::new();
     for (scene, w) in resolved {
-        windows.push(window::Stages::new(&source, scene, w, args.quick).study(log)?);
+        windows.push(window::Stages::new(&source, scene, w, args.quick, progress).study(log)?);
     }
     Ok(Study {
         model: model.name.clone(),
@@ -320,7 +327,7 @@ mod tests {
                 quick: true,
             };
             let mut ran = 0;
-            let e = study(&args, &mut |_| ran += 1).unwrap_err();
+            let e = study(&args, &mut |_| ran += 1, &|_, _| {}).unwrap_err();
             assert_eq!(e.fields(), [Field::TEnd], "{t1}: {e}");
             assert_eq!(
                 e.to_string(),

@@ -13,6 +13,7 @@ use crate::spec::Field;
 use washdyn_model::ir::EffectSet;
 use washdyn_ode::Method;
 use washdyn_runtime::output::MemorySink;
+use washdyn_runtime::run::Progress;
 use washdyn_runtime::system::Interpreter;
 
 /// What every stage of a window shares.
@@ -26,10 +27,18 @@ pub(super) struct Stages<'a> {
     /// A whole run-up: the comparisons that need their own long runs (back ends, modal
     /// truncation, scenes) are the short windows' job.
     long: bool,
+    /// Each run's progress, with its label.
+    progress: &'a dyn Fn(&str, Progress),
 }
 
 impl<'a> Stages<'a> {
-    pub(super) fn new(source: &'a Source, scene: EffectSet, w: Window, quick: bool) -> Self {
+    pub(super) fn new(
+        source: &'a Source,
+        scene: EffectSet,
+        w: Window,
+        quick: bool,
+        progress: &'a dyn Fn(&str, Progress),
+    ) -> Self {
         let backend = if source.built_in.is_some() {
             Backend::Generated
         } else {
@@ -43,6 +52,7 @@ impl<'a> Stages<'a> {
             w,
             backend,
             quick,
+            progress,
         }
     }
 
@@ -56,6 +66,7 @@ impl<'a> Stages<'a> {
             &self.w,
             None,
             SAMPLE_RATE,
+            self.progress,
         )
     }
 
@@ -166,7 +177,17 @@ impl<'a> Stages<'a> {
         for rho in RHO_INF {
             let m = Method::GeneralizedAlpha;
             let (src, sc, w) = (self.source, &self.scene, &self.w);
-            let s = simulate(src, sc, self.backend, m, tol, w, Some(rho), SAMPLE_RATE)?;
+            let s = simulate(
+                src,
+                sc,
+                self.backend,
+                m,
+                tol,
+                w,
+                Some(rho),
+                SAMPLE_RATE,
+                self.progress,
+            )?;
             let t = trial(m.name(), tol, &s, Some((r, rt)));
             log(&format!(
                 "{}: galpha {tol:e} rho_inf {rho}: {} steps, {:.3} s, accel {:?}, orders {:?} dB, {}",
@@ -212,6 +233,7 @@ impl<'a> Stages<'a> {
             &early,
             None,
             COMPARE_RATE,
+            self.progress,
         )
     }
 

@@ -1,8 +1,12 @@
-//! `washdyn accuracy`: its arguments and what it prints.
+//! `washdyn accuracy`: its arguments, what it prints, its progress (each run's) and what
+//! Ctrl-C keeps.
 
+use super::progress::RunLine;
 use super::{Failure, wrote};
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::sync::{Mutex, PoisonError};
+use washdyn_runtime::run::Progress;
 
 /// `washdyn accuracy`'s arguments.
 #[derive(clap::Args)]
@@ -50,6 +54,24 @@ pub fn accuracy(a: Args) -> Result<ExitCode, Failure> {
         out: out.clone(),
         quick,
     };
-    let study = washdyn::accuracy::study(&args, &mut |l| println!("{l}"))?;
+    let written = out.display().to_string();
+    super::progress::on_interrupt(move || {
+        format!(
+            "nothing written to {written} (accuracy.md and accuracy.json come at the end); the \
+             runs finished so far are the lines on stdout"
+        )
+    });
+    let reporter = super::progress::Reporter::new(0);
+    let current = Mutex::new((String::new(), RunLine::default()));
+    let progress = |label: &str, p: Progress| {
+        let mut c = current.lock().unwrap_or_else(PoisonError::into_inner);
+        if c.0 != label {
+            *c = (label.to_string(), RunLine::default());
+        }
+        let line = c.1.line(&p, reporter.elapsed_s());
+        reporter.set(None, format!("{label}: {line}"));
+    };
+    let study = washdyn::accuracy::study(&args, &mut |l| println!("{l}"), &progress)?;
+    drop(reporter);
     Ok(wrote(washdyn::accuracy::write(&study, &out)?))
 }

@@ -1,12 +1,16 @@
 //! `washdyn fe solve | write | deck | modal | reference`: their arguments and what they print.
 
+use super::progress::{Reporter, duration};
 use super::{Failure, wrote};
 use clap::Subcommand;
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::sync::Arc;
+use std::time::Instant;
 use washdyn::Error;
 use washdyn::commands::FeError;
+use washdyn_fe::ccx::Event;
 
 /// `washdyn fe`'s arguments: one of its commands.
 #[derive(clap::Args)]
@@ -100,7 +104,52 @@ fn interrupted_keeps(work: &std::path::Path) {
     }
 }
 
+/// The progress of the ccx solves below a command: a line when each starts and ends, and while
+/// one runs `ccx still running on <deck>, <elapsed>` (every interval when not on a terminal).
+/// The observer holds it weakly: the command's end drops it.
+fn ccx_progress() -> Arc<Reporter> {
+    let reporter = Arc::new(Reporter::new(0));
+    let weak = Arc::downgrade(&reporter);
+    washdyn_fe::ccx::observe(move |e| {
+        let Some(r) = weak.upgrade() else { return };
+        match e {
+            Event::Started { deck } => {
+                r.say(&format!("ccx started on {}", deck.display()));
+                let name = deck.file_stem().unwrap_or_default().to_string_lossy();
+                let name = name.into_owned();
+                let start = Instant::now();
+                r.live(move || {
+                    format!(
+                        "ccx still running on {name}, {}",
+                        duration(start.elapsed().as_secs_f64())
+                    )
+                });
+            }
+            Event::Finished { deck, wall_s } => {
+                r.say(&format!(
+                    "ccx finished on {} in {}",
+                    deck.display(),
+                    duration(wall_s)
+                ));
+                let start = Instant::now();
+                r.live(move || {
+                    format!(
+                        "between ccx solves, {} since the last",
+                        duration(start.elapsed().as_secs_f64())
+                    )
+                });
+            }
+        }
+    });
+    reporter
+}
+
 pub fn fe(a: Args) -> Result<ExitCode, Failure> {
+    let _progress = matches!(
+        a.cmd,
+        FeCmd::Deck { .. } | FeCmd::Modal { .. } | FeCmd::Reference { .. }
+    )
+    .then(ccx_progress);
     match a.cmd {
         FeCmd::Write { out } => {
             washdyn::commands::fe_write(&out).map_err(Error::from)?;

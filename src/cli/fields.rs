@@ -1,8 +1,10 @@
-//! `washdyn fields`: its arguments and what it prints.
+//! `washdyn fields`: its arguments, what it prints, its progress (grids recovered) and what
+//! Ctrl-C keeps.
 
 use super::Failure;
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::sync::{Arc, Mutex, PoisonError};
 use washdyn::Error;
 
 /// `washdyn fields`'s arguments.
@@ -67,8 +69,38 @@ pub fn fields(a: Args) -> Result<ExitCode, Failure> {
             "give exactly one of --times, --range, --revolution, --drum-edge",
         )),
     }?;
-    let w = washdyn::fields::fields_command(&run, model.as_deref(), &request, &fe, out.as_deref())
-        .map_err(Error::from)?;
+    let dir = out.clone().unwrap_or_else(|| run.join("fields"));
+    // Grids written, of how many, the last.
+    let kept = Arc::new(Mutex::new((0, 0, PathBuf::new())));
+    let k = kept.clone();
+    super::progress::on_interrupt(move || {
+        let (n, total, last) = &*k.lock().unwrap_or_else(PoisonError::into_inner);
+        match n {
+            0 => format!("no grid written yet in {}", dir.display()),
+            n => format!(
+                "{n} of {total} grids written in {} (the last {}); a body's .pvd collection \
+                 comes after its grids",
+                dir.display(),
+                last.display()
+            ),
+        }
+    });
+    let reporter = super::progress::Reporter::new(0);
+    reporter.set(None, "reading the run's states and the field files".into());
+    let mut frame = |n: usize, total: usize, path: &std::path::Path| {
+        *kept.lock().unwrap_or_else(PoisonError::into_inner) = (n, total, path.to_path_buf());
+        reporter.set(None, format!("{n} / {total} grids recovered"));
+    };
+    let w = washdyn::fields::fields_command_with(
+        &run,
+        model.as_deref(),
+        &request,
+        &fe,
+        out.as_deref(),
+        &mut frame,
+    )
+    .map_err(Error::from)?;
+    drop(reporter);
     for n in &w.notes {
         eprintln!("note: {n}");
     }

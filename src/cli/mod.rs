@@ -10,6 +10,7 @@ pub mod compare;
 pub mod fe;
 pub mod fields;
 pub mod modes;
+pub mod progress;
 pub mod run;
 pub mod study;
 pub mod sweep;

@@ -1,8 +1,8 @@
 //! `washdyn run`: its arguments (the run's specification, `washdyn::spec::RunSpec`, and the
-//! analysis after it), the progress bar, the summary on stdout and the warnings on stderr.
+//! analysis after it), its progress (`progress::RunLine`), the summary on stdout and the
+//! warnings on stderr.
 
 use super::Failure;
-use indicatif::{ProgressBar, ProgressStyle};
 use std::io::Write;
 use std::process::ExitCode;
 use washdyn::analysis::{AnalysisError, AnalysisOptions, AnalysisReport};
@@ -109,21 +109,11 @@ pub struct Args {
 /// `washdyn run`: the run, its summary on stdout and warnings on stderr, then the analysis.
 pub fn run(c: Args) -> Result<ExitCode, Failure> {
     let spec = &c.spec;
-    let bar = ProgressBar::new(1000);
-    bar.set_style(
-        ProgressStyle::with_template("{bar:40} t = {msg} [{elapsed_precise}, ETA {eta}]")
-            .expect("valid template"),
-    );
+    let reporter = super::progress::Reporter::new(1000);
+    let mut line = super::progress::RunLine::default();
     let mut progress = |p: washdyn_runtime::run::Progress| {
-        bar.set_position((1000.0 * p.t / p.t_end) as u64);
-        bar.set_message(match p.start {
-            // The periodic start iterates before t moves: say how far it is.
-            Some((k, r)) => format!(
-                "{:.2} s, periodic start at {:.0} rpm: {k} periods, residual {r:.1e} x tolerance",
-                p.t, p.rpm
-            ),
-            None => format!("{:.2} / {:.2} s, drum {:.0} rpm", p.t, p.t_end, p.rpm),
-        });
+        let position = (1000.0 * p.t / p.t_end) as u64;
+        reporter.set(Some(position), line.line(&p, reporter.elapsed_s()));
     };
     let ctl = RunControl {
         guard: super::guard(),
@@ -131,7 +121,7 @@ pub fn run(c: Args) -> Result<ExitCode, Failure> {
         variant: None,
     };
     let outcome = run_command_with(spec, &ctl, &mut progress);
-    bar.finish_and_clear();
+    drop(reporter);
     let mut o = outcome?;
     // The analysis into the run's folder before it goes into place: its status and order
     // peaks join the summary that publishing writes.

@@ -1,13 +1,15 @@
-//! `washdyn study run | status | collect | task`: their arguments, the study's progress bar and
+//! `washdyn study run | status | collect | task`: their arguments, the study's progress and
 //! report on the terminal; the study itself is `washdyn::study` (on Slurm:
 //! `washdyn::study::slurm`).
 
+use super::progress::duration;
 use super::{Failure, interrupt_flag, wrote};
 use clap::Subcommand;
-use indicatif::{ProgressBar, ProgressStyle};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use washdyn::Error;
 use washdyn::study::{self, Study, slurm};
 use washdyn_runtime::run::{RunError, RunStatus};
@@ -151,7 +153,7 @@ pub fn study(a: Args) -> Result<ExitCode, Failure> {
 }
 
 /// `study run` on this machine (and `sweep`): check and plan, run the variants still to run on
-/// `jobs` threads (default: all cores) with a progress bar, report.
+/// `jobs` threads (default: all cores) with its progress (`study_line`), report.
 pub fn run_here(s: &Study, out: &Path, jobs: Option<usize>) -> Result<ExitCode, Failure> {
     let jobs = jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(2, |n| n.get()));
     study::check_jobs(jobs)?;
@@ -159,20 +161,41 @@ pub fn run_here(s: &Study, out: &Path, jobs: Option<usize>) -> Result<ExitCode, 
     slurm::check_idle(out)?;
     let plan = study::plan(s, out)?;
     planned(out, &plan);
-    let bar = ProgressBar::new(plan.todo.len() as u64);
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{bar:40} {pos}/{len} variants [{elapsed_precise}, ETA {eta}] {msg}",
-        )
-        .expect("valid template"),
-    );
+    let reporter = super::progress::Reporter::new(plan.todo.len() as u64);
+    let counts = Arc::new([AtomicUsize::new(0), AtomicUsize::new(0)]);
+    reporter.live(study_line(plan.todo.len(), counts.clone()));
     let done = |o: &study::Outcome| {
-        bar.inc(1);
-        bar.set_message(format!("{}: {}", o.id, o.status));
+        let n = counts[0].fetch_add(1, Ordering::Relaxed) + 1;
+        if o.status == RunStatus::Failed {
+            counts[1].fetch_add(1, Ordering::Relaxed);
+        }
+        reporter.position(n as u64);
     };
     let res = study::execute(s, &plan, jobs, &done)?;
-    bar.finish_and_clear();
+    drop(reporter);
     report(s, &plan, &res, out)
+}
+
+/// A study's progress line from its counts (variants finished, failed): `variants 3 / 10
+/// done (1 failed), 2 min 10 s wall, projected end in 4 min 53 s`, the end projected from the
+/// mean wall time a variant took so far (the jobs in parallel included).
+fn study_line(total: usize, counts: Arc<[AtomicUsize; 2]>) -> impl Fn() -> String + Send + 'static {
+    let start = std::time::Instant::now();
+    move || {
+        let (done, failed) = (
+            counts[0].load(Ordering::Relaxed),
+            counts[1].load(Ordering::Relaxed),
+        );
+        let wall = start.elapsed().as_secs_f64();
+        let end = match done {
+            0 => "not yet known".to_string(),
+            n => format!("in {}", duration(wall / n as f64 * (total - n) as f64)),
+        };
+        format!(
+            "variants {done} / {total} done ({failed} failed), {} wall, projected end {end}",
+            duration(wall)
+        )
+    }
 }
 
 /// The plan's first line: what is to run.
@@ -245,8 +268,15 @@ fn report(
     );
     if interrupted {
         let e = Error::integration(RunError::Interrupted { t: 0.0 });
+        let kept = res
+            .iter()
+            .filter(|o| o.status != RunStatus::Interrupted)
+            .count();
         eprintln!(
-            "interrupted: the finished variants are kept; run the study again to complete it"
+            "interrupted: {kept} variants finished here and {} before are kept in {}; run the \
+             study again to complete it",
+            plan.variants.len() - plan.todo.len(),
+            out.display()
         );
         return Err(Failure::Printed(e));
     }

@@ -30,6 +30,18 @@ pub fn write_fields(
     instants: &[f64],
     out: &Path,
 ) -> Result<Written, FieldsError> {
+    write_fields_with(rec, states, instants, out, &mut |_, _, _| {})
+}
+
+/// [`write_fields`], telling `frame` of each grid written: how many so far, of how many, the
+/// file (a long recovery's progress, and what Ctrl-C keeps).
+pub fn write_fields_with(
+    rec: &Recovery,
+    states: &States,
+    instants: &[f64],
+    out: &Path,
+    frame: &mut dyn FnMut(usize, usize, &Path),
+) -> Result<Written, FieldsError> {
     let start = std::time::Instant::now();
     if states.q.len() != rec.n {
         return Err(FieldsError::Coordinates {
@@ -50,6 +62,8 @@ pub fn write_fields(
         peak_stress: None,
         notes: rec.notes.clone(),
     };
+    let total = rec.bodies.len() * instants.len();
+    let mut frames = 0;
     for b in &rec.bodies {
         let cells: Vec<Cell> = b
             .field
@@ -112,6 +126,8 @@ pub fn write_fields(
                 }
             }
             w.bytes += write_vtu(&path, &points, &cells, &data, &[])?;
+            frames += 1;
+            frame(frames, total, &path);
             w.files.push(path);
             steps.push((t, file));
         }

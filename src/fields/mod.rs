@@ -27,7 +27,7 @@ mod states;
 
 pub use crate::error::fields::FieldsError;
 pub use drum_edge::{EdgeRow, drum_edge, write_drum_edge};
-pub use grids::{Written, write_fields};
+pub use grids::{Written, write_fields, write_fields_with};
 pub use recovery::{BodyField, NodeStresses, Recovery};
 pub use states::{MAX_FRAMES, REVOLUTION_FRAMES, States, Times, check_times};
 
@@ -47,6 +47,18 @@ pub fn fields_command(
     request: &Request,
     fe_dir: &Path,
     out: Option<&Path>,
+) -> Result<Written, FieldsError> {
+    fields_command_with(run_dir, model, request, fe_dir, out, &mut |_, _, _| {})
+}
+
+/// [`fields_command`], telling `frame` of each grid written ([`write_fields_with`]).
+pub fn fields_command_with(
+    run_dir: &Path,
+    model: Option<&str>,
+    request: &Request,
+    fe_dir: &Path,
+    out: Option<&Path>,
+    frame: &mut dyn FnMut(usize, usize, &Path),
 ) -> Result<Written, FieldsError> {
     // The states must be the summary's run's before anything is read of either.
     crate::run_dir::check_same_run(run_dir, &run_dir.join("states.parquet"))?;
@@ -98,7 +110,7 @@ pub fn fields_command(
     match request {
         Request::Fields(times) => {
             let instants = states.instants(times)?;
-            write_fields(&rec, &states, &instants, &out)
+            write_fields_with(&rec, &states, &instants, &out, frame)
         }
         Request::DrumEdge { stride, svg } => {
             let start = std::time::Instant::now();

@@ -7,10 +7,12 @@ mod options;
 mod summary;
 #[cfg(test)]
 mod tests;
+mod work;
 
 pub use monitor::spectral_radius;
 pub use options::*;
 pub use summary::*;
+pub use work::*;
 
 use crate::output::SampleSink;
 use crate::statics::static_equilibrium;
@@ -139,6 +141,7 @@ where
 
     // Restart points: the profile's breakpoints inside (t0, t_end), then t_end.
     let stops = sys.sys.speed().stops(t0, t_end);
+    let work_end = work(sys.sys.speed(), t0, t_end);
 
     let dt = 1.0 / opts.sample_rate;
     let n_samples = ((t_end - t0) * opts.sample_rate + 1e-9).floor() as u64 + 1;
@@ -203,6 +206,9 @@ where
                     t_end,
                     rpm: sys.sys.speed().rpm(t),
                     start: None,
+                    steps: solver.stats().steps,
+                    work: work(sys.sys.speed(), t0, t),
+                    work_end,
                 });
             }
         }
@@ -221,6 +227,9 @@ where
         t_end,
         rpm: sys.sys.speed().rpm(t_end),
         start: None,
+        steps: solver.stats().steps,
+        work: work_end,
+        work_end,
     });
     Ok(())
 }
@@ -260,12 +269,16 @@ fn start_state<S: Mechanical>(
         Start::Periodic => {
             use crate::periodic::{StartStop, Watch, periodic_state_watched};
             let rpm = sys.sys.speed().rpm(t0);
+            let work_end = work(sys.sys.speed(), t0, t_end);
             let mut report = |k: usize, r: f64| {
                 progress(Progress {
                     t: t0,
                     t_end,
                     rpm,
                     start: Some((k, r)),
+                    steps: 0,
+                    work: 0.0,
+                    work_end,
                 })
             };
             let watch = Watch {

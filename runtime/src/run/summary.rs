@@ -334,6 +334,11 @@ pub struct Progress {
     /// While the periodic start iterates (before t moves): one-period integrations so far and
     /// the fixed point's residual relative to its tolerance (done at 1).
     pub start: Option<(usize, f64)>,
+    /// Accepted steps so far.
+    pub steps: u64,
+    /// The run's [`work`] from its start to `t` and to `t_end`: what projects its wall time.
+    pub work: f64,
+    pub work_end: f64,
 }
 
 /// Labels for the summary.

@@ -7,7 +7,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::sync::{Arc, Condvar, Mutex, MutexGuard, PoisonError};
 use std::time::{Duration, Instant};
-use washdyn_runtime::run::{Progress, projected_remaining_s};
+use washdyn_runtime::run::{CostFit, Progress};
 
 /// The most seconds between two progress lines when stderr is not a terminal.
 pub const INTERVAL_S: f64 = 10.0;
@@ -178,8 +178,10 @@ pub fn on_interrupt(kept: impl Fn() -> String + Send + 'static) {
 /// iterations and the set-up are no integration work).
 #[derive(Default)]
 pub struct RunLine {
-    /// When the integration was first seen and its work then.
-    clock: Option<(Instant, f64)>,
+    /// When the integration was first seen, with its simulated time and swept angle then.
+    clock: Option<(Instant, f64, f64)>,
+    /// The run's cost model, fitted to its history since then.
+    fit: CostFit,
 }
 
 impl RunLine {
@@ -196,9 +198,14 @@ impl RunLine {
                 duration(wall_s)
             );
         }
-        let (since, w_from) = *self.clock.get_or_insert((Instant::now(), p.work));
-        let projected =
-            projected_remaining_s(since.elapsed().as_secs_f64(), w_from, p.work, p.work_end);
+        let (since, t_c, s_c) = *self.clock.get_or_insert((Instant::now(), p.t, p.swept_rad));
+        if p.t > t_c {
+            let wall = since.elapsed().as_secs_f64();
+            self.fit.add(wall, p.t - t_c, p.swept_rad - s_c);
+        }
+        let projected = self
+            .fit
+            .remaining_s(p.t_end - p.t, p.swept_end_rad - p.swept_rad);
         format!(
             "t = {:.2} / {:.2} s, drum {:.0} rpm, {} steps, {} wall, projected end {}",
             p.t,

@@ -141,7 +141,7 @@ where
 
     // Restart points: the profile's breakpoints inside (t0, t_end), then t_end.
     let stops = sys.sys.speed().stops(t0, t_end);
-    let work_end = work(sys.sys.speed(), t0, t_end);
+    let swept_end_rad = swept(sys.sys.speed(), t0, t_end);
 
     let dt = 1.0 / opts.sample_rate;
     let n_samples = ((t_end - t0) * opts.sample_rate + 1e-9).floor() as u64 + 1;
@@ -207,8 +207,8 @@ where
                     rpm: sys.sys.speed().rpm(t),
                     start: None,
                     steps: solver.stats().steps,
-                    work: work(sys.sys.speed(), t0, t),
-                    work_end,
+                    swept_rad: swept(sys.sys.speed(), t0, t),
+                    swept_end_rad,
                 });
             }
         }
@@ -228,8 +228,8 @@ where
         rpm: sys.sys.speed().rpm(t_end),
         start: None,
         steps: solver.stats().steps,
-        work: work_end,
-        work_end,
+        swept_rad: swept_end_rad,
+        swept_end_rad,
     });
     Ok(())
 }
@@ -269,7 +269,7 @@ fn start_state<S: Mechanical>(
         Start::Periodic => {
             use crate::periodic::{StartStop, Watch, periodic_state_watched};
             let rpm = sys.sys.speed().rpm(t0);
-            let work_end = work(sys.sys.speed(), t0, t_end);
+            let swept_end_rad = swept(sys.sys.speed(), t0, t_end);
             let mut report = |k: usize, r: f64| {
                 progress(Progress {
                     t: t0,
@@ -277,8 +277,8 @@ fn start_state<S: Mechanical>(
                     rpm,
                     start: Some((k, r)),
                     steps: 0,
-                    work: 0.0,
-                    work_end,
+                    swept_rad: 0.0,
+                    swept_end_rad,
                 })
             };
             let watch = Watch {

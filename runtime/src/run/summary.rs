@@ -336,9 +336,10 @@ pub struct Progress {
     pub start: Option<(usize, f64)>,
     /// Accepted steps so far.
     pub steps: u64,
-    /// The run's [`work`] from its start to `t` and to `t_end`: what projects its wall time.
-    pub work: f64,
-    pub work_end: f64,
+    /// The angle the drum swept ([`swept`]) from the run's start to `t` and to `t_end`, rad:
+    /// with the simulated time, what projects its wall time ([`CostFit`]).
+    pub swept_rad: f64,
+    pub swept_end_rad: f64,
 }
 
 /// Labels for the summary.

@@ -201,13 +201,13 @@ fn levels(option: &'static str, xs: &[f64]) -> Result<Vec<f64>, Error> {
         if !x.is_finite() {
             return Err(Error::setting(
                 option,
-                format!("{x} is not a finite number"),
+                format!("{option}: {x} is not a finite number"),
             ));
         }
         if xs[..k].contains(x) {
             return Err(Error::setting(
                 option,
-                format!("{x} given twice: two variants would be the same"),
+                format!("{option}: {x} given twice: two variants would be the same"),
             ));
         }
     }

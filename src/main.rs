@@ -26,6 +26,7 @@ fn code(e: &Error) -> u8 {
     use washdyn::campbell::CampbellError as C;
     use washdyn::error::compare::CompareError;
     use washdyn::error::{fe::FeError, fe::FullMeshError as M, fields::FieldsError as F};
+    use washdyn::measured::MeasuredError as Me;
     use washdyn::modes::ModesError;
     match e {
         Error::Integration {
@@ -34,6 +35,7 @@ fn code(e: &Error) -> u8 {
         } => 130,
         Error::Integration { .. } => 1,
         Error::Settings(_)
+        | Error::Measured(Me::Mapping { .. })
         | Error::Analysis(AnalysisError::InvalidOptions(_))
         | Error::Study(
             StudyError::File(_)
@@ -62,12 +64,16 @@ fn code(e: &Error) -> u8 {
             CompareError::Write { .. }
             | CompareError::Read(AnalysisError::Io { .. } | AnalysisError::Write { .. }),
         )
+        | Error::Measured(Me::Io { .. } | Me::Write { .. })
+        | Error::Measured(Me::Signals(AnalysisError::Io { .. }))
+        | Error::Measured(Me::Uff(washdyn::analysis::uff58::UffError::Io { .. }))
         | Error::Campbell(C::Io(_))
         | Error::Fields(F::Io(_))
         | Error::Modes(ModesError::Io(_))
         | Error::Fe(FeError::Io(_))
         | Error::FullMesh(M::Io(_)) => 4,
         Error::Analysis(_)
+        | Error::Measured(_)
         | Error::Compare(_)
         | Error::Fields(_)
         | Error::Campbell(_)

@@ -63,6 +63,10 @@ pub enum Error {
     /// A signal file the analysis cannot read or analyse.
     #[error(transparent)]
     Analysis(#[from] crate::analysis::AnalysisError),
+    /// A measurement refused: its mapping file at a line and field, a measured file at its
+    /// dataset or column.
+    #[error(transparent)]
+    Measured(#[from] crate::measured::MeasuredError),
     /// Two runs that cannot be compared.
     #[error(transparent)]
     Compare(#[from] compare::CompareError),

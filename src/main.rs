@@ -35,7 +35,6 @@ fn code(e: &Error) -> u8 {
         } => 130,
         Error::Integration { .. } => 1,
         Error::Settings(_)
-        | Error::Measured(Me::Mapping { .. })
         | Error::Analysis(AnalysisError::InvalidOptions(_))
         | Error::Study(
             StudyError::File(_)
@@ -64,16 +63,20 @@ fn code(e: &Error) -> u8 {
             CompareError::Write { .. }
             | CompareError::Read(AnalysisError::Io { .. } | AnalysisError::Write { .. }),
         )
-        | Error::Measured(Me::Io { .. } | Me::Write { .. })
-        | Error::Measured(Me::Signals(AnalysisError::Io { .. }))
-        | Error::Measured(Me::Uff(washdyn::analysis::uff58::UffError::Io { .. }))
         | Error::Campbell(C::Io(_))
         | Error::Fields(F::Io(_))
         | Error::Modes(ModesError::Io(_))
         | Error::Fe(FeError::Io(_))
         | Error::FullMesh(M::Io(_)) => 4,
+        Error::Measured(m) => match **m {
+            Me::Mapping { .. } => 2,
+            Me::Io { .. }
+            | Me::Write { .. }
+            | Me::Signals(AnalysisError::Io { .. })
+            | Me::Uff(washdyn::analysis::uff58::UffError::Io { .. }) => 4,
+            _ => 5,
+        },
         Error::Analysis(_)
-        | Error::Measured(_)
         | Error::Compare(_)
         | Error::Fields(_)
         | Error::Campbell(_)

@@ -70,21 +70,24 @@ pub enum MeasuredError {
     )]
     TimeBase {
         what: &'static str,
-        first: ChannelAt,
-        second: ChannelAt,
+        first: Box<ChannelAt>,
+        second: Box<ChannelAt>,
         a: String,
         b: String,
     },
     /// The tacho channel gives no speed.
     #[error("{channel}: {source}")]
     Tacho {
-        channel: ChannelAt,
+        channel: Box<ChannelAt>,
         #[source]
         source: TachoError,
     },
     /// A speed channel that is not in rpm (1/s after conversion).
     #[error("{channel}: the speed channel's unit is `{unit}`, not a rotational speed (rpm, 1/s)")]
-    NotASpeed { channel: ChannelAt, unit: String },
+    NotASpeed {
+        channel: Box<ChannelAt>,
+        unit: String,
+    },
     /// The speed table could not be written.
     #[error("cannot write {}: {source}", path.display())]
     Write {

@@ -194,7 +194,7 @@ fn speed_of(
     let settings = tacho_settings(t, speed_at)?;
     let s = tacho::speed_from_tacho(&time, &raw.samples, &settings).map_err(|source| {
         MeasuredError::Tacho {
-            channel: raw.at.clone(),
+            channel: Box::new(raw.at.clone()),
             source,
         }
     })?;
@@ -284,8 +284,8 @@ fn same_time_base(used: &[&Raw]) -> Result<(), MeasuredError> {
     for r in &used[1..] {
         let refuse = |what, a: String, b: String| MeasuredError::TimeBase {
             what,
-            first: first.at.clone(),
-            second: r.at.clone(),
+            first: Box::new(first.at.clone()),
+            second: Box::new(r.at.clone()),
             a,
             b,
         };
@@ -399,7 +399,7 @@ fn channel(
 fn rpm_of(raw: &Raw) -> Result<Vec<f64>, MeasuredError> {
     if raw.unit.si != Some(SiUnit::PerSecond) {
         return Err(MeasuredError::NotASpeed {
-            channel: raw.at.clone(),
+            channel: Box::new(raw.at.clone()),
             unit: raw.unit.label.clone(),
         });
     }

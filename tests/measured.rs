@@ -10,7 +10,8 @@
 //! cross the 2.5 V threshold at revs = k + 0.02 and its rising edge spans 5 or more samples
 //! at 2 kHz, so the linear interpolation of the edge times is exact to rounding, and the
 //! tacho's quadratic fit is exact for a constant acceleration: the speed must match the ramp
-//! to 0.1 rpm (the brief's bound; the error is ~1e-6 rpm). The accelerations are
+//! to 0.1 rpm (the bound; measured: 1.3e-5 rpm at the valid span's ends, where the
+//! fit extrapolates). The accelerations are
 //! 0.5 g sin(2 pi revs) (`tub front`, node 101 +Z) and 0.2 g sin(4 pi revs) (`tub rear`,
 //! node 102 -X, flipped by the mapping); in m/s^2 they are 9.80665 (standard gravity, exact)
 //! times that. pyuff writes ASCII values with 6 significant digits (`%13.5e`), so the ASCII
@@ -211,6 +212,38 @@ fn analyse_of_a_mapping_writes_order_plots_and_a_speed_table() {
     );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(out2.join("tub_front__101_Z__order.png").is_file());
+    // Exit codes: a mapping refused at its line is 2 (a setting), as a UFF file without its
+    // speed source; a tacho without pulses is refused data, 5.
+    let bad = mapping(dir.path(), "binary.uff", "");
+    let text = std::fs::read_to_string(&bad).unwrap();
+    std::fs::write(&bad, text.replace("1.02", "0")).unwrap();
+    let o = common::washdyn_in(&["analyse", bad.to_str().unwrap()], dir.path());
+    assert_eq!(
+        o.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let o = common::washdyn_in(&["analyse", uff.to_str().unwrap()], dir.path());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("--tacho") && err.contains("`tacho [1]`"),
+        "{err}"
+    );
+    let args = [
+        "analyse",
+        uff.to_str().unwrap(),
+        "--tacho",
+        "dead tacho [2]",
+    ];
+    let o = common::washdyn_in(&args, dir.path());
+    assert_eq!(
+        o.status.code(),
+        Some(5),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
 }
 
 /// The message of a refused load.

@@ -24,8 +24,8 @@ impl fmt::Display for Measured {
                 };
                 writeln!(
                     f,
-                    "drum speed from the tacho {channel}: {} pulses per revolution {side}, {edge} \
-                     edges",
+                    "drum speed from the tacho {channel}: pulses per revolution {}, {side}, \
+                     {edge} edges",
                     settings.pulses_per_rev
                 )?;
                 writeln!(

@@ -26,6 +26,7 @@ fn code(e: &Error) -> u8 {
     use washdyn::campbell::CampbellError as C;
     use washdyn::error::compare::CompareError;
     use washdyn::error::{fe::FeError, fe::FullMeshError as M, fields::FieldsError as F};
+    use washdyn::measured::MeasuredError as Me;
     use washdyn::modes::ModesError;
     match e {
         Error::Integration {
@@ -67,6 +68,14 @@ fn code(e: &Error) -> u8 {
         | Error::Modes(ModesError::Io(_))
         | Error::Fe(FeError::Io(_))
         | Error::FullMesh(M::Io(_)) => 4,
+        Error::Measured(m) => match **m {
+            Me::Mapping { .. } => 2,
+            Me::Io { .. }
+            | Me::Write { .. }
+            | Me::Signals(AnalysisError::Io { .. })
+            | Me::Uff(washdyn::analysis::uff58::UffError::Io { .. }) => 4,
+            _ => 5,
+        },
         Error::Analysis(_)
         | Error::Compare(_)
         | Error::Fields(_)

@@ -40,6 +40,7 @@ mod half_wave;
 mod hard_cases;
 mod installed_binary;
 mod jacobians;
+mod measured;
 mod model_files;
 mod parquet_roundtrip;
 mod presliding;

@@ -160,17 +160,30 @@ fn short_model(dir: &Path) -> PathBuf {
     path
 }
 
-fn washdyn(args: &[&str]) {
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_washdyn"))
+fn washdyn(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_washdyn"))
         .args(args)
         .output()
-        .unwrap();
+        .unwrap()
+}
+
+fn washdyn_ok(args: &[&str]) {
+    let out = washdyn(args);
     assert!(
         out.status.success(),
         "washdyn {args:?}: {}\n{}",
         String::from_utf8_lossy(&out.stdout),
         String::from_utf8_lossy(&out.stderr)
     );
+}
+
+/// `args` refused with exit code `code`, its message holding `says`, nothing written to `out`.
+fn refused(args: &[&str], code: i32, says: &str, out: &Path) {
+    let o = washdyn(args);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(code), "washdyn {args:?}: {err}");
+    assert!(err.contains(says), "washdyn {args:?}: {err}");
+    assert!(!out.exists(), "{args:?} wrote {}", out.display());
 }
 
 /// (c) A run of the reference machine (rigid, low-speed scene, 6 s) against its own sensor
@@ -182,7 +195,7 @@ fn a_run_against_its_own_sensors_over_speed_is_0_db() {
     let model = short_model(dir.path());
     let run = dir.path().join("run");
     let s = |p: &Path| p.display().to_string();
-    washdyn(&[
+    washdyn_ok(&[
         "run",
         &s(&model),
         "--scene",
@@ -201,7 +214,7 @@ fn a_run_against_its_own_sensors_over_speed_is_0_db() {
         all.extend(["--out".into(), s(&out), "--calibrate".into()]);
         let mut cmd = vec!["compare"];
         cmd.extend(all.iter().map(String::as_str));
-        washdyn(&cmd);
+        washdyn_ok(&cmd);
         let json: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(out.join("compare.json")).unwrap())
                 .unwrap();
@@ -228,5 +241,71 @@ fn a_run_against_its_own_sensors_over_speed_is_0_db() {
             "# run against run over speed"
         };
         assert!(md.starts_with(title), "{md}");
+    }
+    // Refused at their option (exit 2): ranges not increasing, --calibrate or --until where
+    // they do not apply; a measurement file that is not there (exit 4, named).
+    let out = dir.path().join("refused");
+    let (r, o) = (s(&run), s(&out));
+    let m = s(&dir.path().join("missing.csv"));
+    for (args, code, says) in [
+        (
+            vec![&*r, &*s(&sensors), "--speed-ranges", "800,400"],
+            2,
+            "--speed-ranges",
+        ),
+        (
+            vec![&*r, &*s(&sensors), "--speed-ranges", "nan"],
+            2,
+            "--speed-ranges",
+        ),
+        (vec![&*r, &*s(&sensors), "--until", "1"], 2, "--until"),
+        (vec![&*r, &*r, "--calibrate"], 2, "--calibrate"),
+        (vec![&*r, &*r, "--speed-ranges", "400"], 2, "--speed-ranges"),
+        (vec![&*r, &*m], 4, "missing.csv"),
+    ] {
+        let mut all = vec!["compare", "--out", &*o];
+        all.extend(args);
+        refused(&all, code, says, &out);
+    }
+}
+
+/// Channels by name: B's extra channel is listed, not compared; sides with no speed in common
+/// or no channel in common are refused naming both; bad range edges are refused.
+#[test]
+fn channels_by_name_and_what_cannot_be_compared() {
+    use washdyn::compare::CompareError;
+    let a = run_up(12.0, 1.0);
+    let mut b = run_up(12.0, 1.0);
+    let extra = b.channels[0].data.clone();
+    b.channels.push(Channel::new("tub9_ax", extra));
+    let o = over_speed(&a, &b, false);
+    assert_eq!(
+        (o.only_a.len(), o.only_b.clone()),
+        (0, vec!["tub9_ax".to_string()])
+    );
+    assert_eq!(o.channels.len(), 1);
+    let names = [Path::new("sim"), Path::new("meas.csv")];
+    let opts = options(11.25, false);
+    let go = |a: &Signals, b: &Signals, edges: &[f64]| {
+        compare_signals_over_speed(a, b, &opts, false, edges, names).unwrap_err()
+    };
+    // B turns 2000-2750 rpm, A 150-900: nothing in common.
+    let fast = Signals::from_uniform(
+        0.0,
+        FS,
+        a.drum_rpm.iter().map(|r| r + 1850.0).collect(),
+        a.channels.clone(),
+    )
+    .unwrap();
+    let e = go(&a, &fast, &DEFAULT_RANGE_EDGES);
+    assert!(matches!(e, CompareError::NoCommonSpeed { .. }), "{e}");
+    assert!(e.to_string().contains("meas.csv"), "{e}");
+    let mut other = b.clone();
+    other.channels = vec![Channel::new("tub1_ay", a.channels[0].data.clone())];
+    let e = go(&a, &other, &DEFAULT_RANGE_EDGES);
+    assert!(matches!(e, CompareError::Channels { .. }), "{e}");
+    for edges in [vec![-1.0], vec![500.0, 500.0], vec![f64::INFINITY]] {
+        let e = go(&a, &b, &edges);
+        assert!(matches!(e, CompareError::SpeedRanges { .. }), "{e}");
     }
 }

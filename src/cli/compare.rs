@@ -70,7 +70,13 @@ pub fn compare(a: Args) -> Result<ExitCode, Failure> {
                 .map_or_else(|| p.display().to_string(), |n| n.to_string_lossy().into())
         })
     };
-    let measured = run_b.exists() && !run_b.is_dir();
+    // A file, or a path named like one that is missing (then its read says so), is a measurement.
+    let ext = run_b
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    let measured =
+        !run_b.is_dir() && (run_b.is_file() || matches!(ext.as_deref(), Some("csv" | "parquet")));
     if over_speed || measured {
         if let Some(t) = until {
             let m = format!("--until {t} compares in time; over speed every common speed counts");

@@ -175,10 +175,10 @@ pub fn ranges(grid: &[f64], db: &[Option<f64>], edges: &[f64]) -> Vec<SpeedRange
                 .filter_map(|(g, d)| d.map(|d| (*g, d)))
                 .collect();
             let n = vals.len();
-            let worst =
-                vals.iter()
-                    .copied()
-                    .reduce(|w, v| if v.1.abs() > w.1.abs() { v } else { w });
+            let worst = vals
+                .iter()
+                .copied()
+                .reduce(|w, v| if v.1.abs() > w.1.abs() { v } else { w });
             Some(SpeedRange {
                 from_rpm: lo,
                 to_rpm: hi,

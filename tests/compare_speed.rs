@@ -87,6 +87,8 @@ fn one_oscillator_on_two_ramps_is_0_db_at_equal_speed() {
     let o = over_speed(&a, &b, false);
     let ch = &o.channels[0];
     let ranges = order_one(&o);
+    // Measured: |dB| at most 0.036 dB (RMS 0.017, 0.011, 0.0004 dB in 0-400, 400-800,
+    // 800-900 rpm); resonances at 491.8 and 491.5 rpm against the closed form's 491.18.
     // 0-400 (from ~245 rpm, where X is 20 dB below its peak), 400-800, 800-900.
     assert_eq!(ranges.len(), 3, "{ranges:?}");
     for (from, rms, max) in &ranges {

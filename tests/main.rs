@@ -16,6 +16,7 @@ mod backend_agreement;
 mod bad_input;
 mod bad_modal_input;
 mod compare;
+mod compare_speed;
 mod contact;
 mod damper_mass;
 mod elastic_cabinet;

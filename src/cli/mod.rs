@@ -65,7 +65,9 @@ pub enum Cmd {
     /// Compare two finished runs of one speed profile (directories written by `washdyn run`):
     /// per channel and order the peaks over the run and their difference in dB (B against A),
     /// the RMS differences, each run's cost; compare.md, compare.json and per channel the two
-    /// order plots side by side and the order tracks overlaid.
+    /// order plots side by side and the order tracks overlaid. A run against a measurement
+    /// file (or `--over-speed`: runs of different profiles) is compared at equal drum speed:
+    /// dB per speed range, resonance speeds, a calibration factor (`--calibrate` applies it).
     Compare(compare::Args),
     /// FE models with CalculiX: `solve DECK.inp` runs ccx on a deck (errors with the deck's
     /// line) and lists its eigenfrequencies.

@@ -87,6 +87,13 @@ pub fn load(dir: &Path, label: &str) -> Result<(Signals, Cost), CompareError> {
     Ok((read_signals(file)?, cost))
 }
 
+/// A measured signal file to compare a run with over speed: CSV or Parquet with `time_s`,
+/// `drum_rpm` and channels named like the run's sensors (the analysis' reader). The one door
+/// for measured data, so that other formats (UFF58 with a tacho channel) come in here.
+pub fn load_measured(path: &Path) -> Result<Signals, CompareError> {
+    Ok(read_signals(path)?)
+}
+
 /// Both runs' signals, up to `--until` if given, and costs; refused where they cannot be
 /// compared: a run that did not finish compared whole, an `--until` outside a run, other
 /// channels, sample rates or drum speeds ([`check_comparable`]).

@@ -79,6 +79,24 @@ pub enum CompareError {
         until: f64,
         span: [f64; 2],
     },
+    /// Over speed: the two runs' order-1 tracks share no speed (the common grid is empty).
+    #[error(
+        "{a} resolves order 1 from {} to {} rpm, {b} from {} to {} rpm: no common speed to \
+         compare over",
+        Rounded(span_a[0]),
+        Rounded(span_a[1]),
+        Rounded(span_b[0]),
+        Rounded(span_b[1])
+    )]
+    NoCommonSpeed {
+        a: PathBuf,
+        b: PathBuf,
+        span_a: [f64; 2],
+        span_b: [f64; 2],
+    },
+    /// Over speed: the edges of the speed ranges are not positive, finite and increasing.
+    #[error("--speed-ranges must be positive, finite, increasing rpm, got {edges:?}")]
+    SpeedRanges { edges: Vec<f64> },
     /// An output file could not be written.
     #[error("cannot write {path}: {message}")]
     Write { path: PathBuf, message: String },

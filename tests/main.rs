@@ -61,4 +61,5 @@ mod uff58;
 mod unbalance_response;
 mod user_deck;
 mod user_spinning;
+mod validation_e2e;
 mod validity_watch;

@@ -25,6 +25,17 @@ pub enum CompareError {
     /// The sensor file could not be read.
     #[error(transparent)]
     Read(#[from] AnalysisError),
+    /// The measurement's mapping file, or the files it names, refused.
+    #[error(transparent)]
+    Measured(Box<crate::measured::MeasuredError>),
+    /// A UFF file given alone: which channel is which sensor, and where the speed comes from,
+    /// is a mapping file's to say.
+    #[error(
+        "{}: a UFF file is compared through a mapping file that names its sensors and its speed \
+         channel (measurement.toml; docs/validation.md, \"Measured data in\")",
+        path.display()
+    )]
+    UffWithoutMapping { path: PathBuf },
     /// The runs do not record the same channels.
     #[error(
         "{a} and {b} record different channels: only in the first: [{}], only in the second: [{}]",

@@ -78,6 +78,11 @@ impl Speed {
         stops
     }
 
+    /// The profile's breakpoints, s (what [`Speed::stops`] filters, without allocating).
+    pub fn knots(&self) -> &[f64] {
+        &self.t
+    }
+
     /// The last breakpoint: the end of the profile.
     pub fn end(&self) -> f64 {
         *self.t.last().expect("non-empty")

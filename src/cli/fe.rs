@@ -87,14 +87,14 @@ pub enum FeCmd {
     },
 }
 
-/// On Ctrl-C (SIGTERM, SIGHUP) during `fe deck`, say what is kept: nothing in `--out` (written
-/// only once checked), the decks and ccx's files so far in `work`; exit 130. ccx, in the same
-/// process group, takes the terminal's Ctrl-C itself.
-fn interrupted_keeps(work: &std::path::Path) {
+/// On Ctrl-C (SIGTERM, SIGHUP) during `fe deck`, `modal` or `reference`, say what is kept:
+/// `out_kept` (what `--out` holds by then), the decks and ccx's files so far in `work`; exit
+/// 130. ccx, in the same process group, takes the terminal's Ctrl-C itself.
+fn interrupted_keeps(out_kept: String, work: &std::path::Path) {
     let work = work.to_path_buf();
     let said = ctrlc::set_handler(move || {
         eprintln!(
-            "interrupted: no modal data written; the decks and ccx's files so far are in {}",
+            "interrupted: {out_kept}; the decks and ccx's files so far are in {}",
             work.display()
         );
         std::process::exit(130);
@@ -156,11 +156,19 @@ pub fn fe(a: Args) -> Result<ExitCode, Failure> {
             Ok(ExitCode::SUCCESS)
         }
         FeCmd::Deck { spec, out, work } => {
-            interrupted_keeps(&work);
+            // The modal data are written only once checked.
+            interrupted_keeps("no modal data written".into(), &work);
             washdyn::commands::fe_deck(&spec, &out, &work).map_err(Error::from)?;
             Ok(ExitCode::SUCCESS)
         }
         FeCmd::Modal { out, work, only } => {
+            // Each body's modal data are written as its solve ends; report.txt at the end.
+            let kept = format!(
+                "the bodies solved so far have their <body>.modal.toml in {} (report.txt not \
+                 updated)",
+                out.display()
+            );
+            interrupted_keeps(kept, &work);
             washdyn::commands::fe_modal(&out, &work, &only).map_err(Error::from)?;
             Ok(ExitCode::SUCCESS)
         }
@@ -173,6 +181,8 @@ pub fn fe(a: Args) -> Result<ExitCode, Failure> {
             no_convergence,
             ccx_results,
         } => {
+            // The study's files are written at its end.
+            interrupted_keeps(format!("nothing written to {}", out.display()), &work);
             let args = washdyn::full_mesh::Args {
                 model,
                 modes,

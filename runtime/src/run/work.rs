@@ -25,21 +25,25 @@ pub fn swept(speed: &Speed, t0: f64, t: f64) -> f64 {
     if t <= t0 {
         return 0.0;
     }
-    let mut knots = vec![t0];
-    knots.extend(speed.stops(t0, t));
     let omega = |t: f64| speed.drive(t).omega;
-    let mut w = 0.0;
-    for pair in knots.windows(2) {
-        let (a, b) = (omega(pair[0]), omega(pair[1]));
-        let dt = pair[1] - pair[0];
-        // Linear between knots: the mean of |Omega|, or the two triangles around its zero.
-        w += if a * b >= 0.0 {
+    // Linear between knots: the mean of |Omega|, or the two triangles around its zero. No
+    // allocation: the run loop reports its progress with it (tests/no_alloc.rs).
+    let segment = |from: f64, to: f64| {
+        let (a, b) = (omega(from), omega(to));
+        let dt = to - from;
+        if a * b >= 0.0 {
             0.5 * (a.abs() + b.abs()) * dt
         } else {
             0.5 * (a * a + b * b) / (a.abs() + b.abs()) * dt
-        };
+        }
+    };
+    let mut from = t0;
+    let mut w = 0.0;
+    for &k in speed.knots().iter().filter(|&&k| k > t0 && k < t) {
+        w += segment(from, k);
+        from = k;
     }
-    w
+    w + segment(from, t)
 }
 
 /// The run's cost model `wall = c0 dt + c1 dS` fitted by least squares to its history (wall

@@ -17,6 +17,21 @@ pub const ORDER_FLOOR: f64 = 1e-2;
 /// a model comparison's 0.1 dB target applies (issue 21).
 pub const STRONG_FLOOR: f64 = 0.1;
 
+/// The median of `v` (the mean of the middle two for an even count); NaN when empty. One for
+/// the tacho's pulse intervals and the full-mesh study's amplitude differences.
+pub fn median(mut v: Vec<f64>) -> f64 {
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
 /// `m` from `skip` samples on, with only the channels whose name starts with `prefix`.
 pub fn trim(m: &MemorySink, skip: usize, prefix: &str) -> MemorySink {
     let keep: Vec<usize> = (0..m.channels.len())

@@ -12,6 +12,7 @@ pub use crate::error::fe::FullMeshError;
 pub use committed::CcxReference;
 pub use report::write;
 
+use crate::analysis::metrics::median;
 use crate::error::FileError;
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -123,19 +124,6 @@ pub struct Study {
     /// ccx's answer for the reference mode count (full-mesh.ccx.json).
     #[serde(skip)]
     pub reference: Option<CcxReference>,
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
 }
 
 /// Which channels are compared: at least `COMPARED_SHARE` of the largest amplitude of their

@@ -52,17 +52,12 @@ fn interval(t: &[f64], k: usize) -> f64 {
 /// Median of the intervals within two of `k`, without `k` itself.
 fn neighbour_median(t: &[f64], k: usize) -> f64 {
     let m = t.len() - 1;
-    let mut v: Vec<f64> = (k.saturating_sub(2)..(k + 3).min(m))
-        .filter(|&j| j != k)
-        .map(|j| interval(t, j))
-        .collect();
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
+    crate::metrics::median(
+        (k.saturating_sub(2)..(k + 3).min(m))
+            .filter(|&j| j != k)
+            .map(|j| interval(t, j))
+            .collect(),
+    )
 }
 
 /// Interval `k` as expected from a constant acceleration fitted to the pulse rates of its

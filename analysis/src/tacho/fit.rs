@@ -105,8 +105,9 @@ fn solve(
         b.swap(col, piv);
         for row in col + 1..m {
             let f = a[row][col] / a[col][col];
-            for j in col..m {
-                a[row][j] -= f * a[col][j];
+            let pivot_row = a[col];
+            for (x, p) in a[row][col..m].iter_mut().zip(&pivot_row[col..m]) {
+                *x -= f * p;
             }
             b[row] -= f * b[col];
         }

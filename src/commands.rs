@@ -129,7 +129,37 @@ pub fn run_command(
 
 /// The simulation `washdyn run` sets up for `spec` (every setting checked; nothing written).
 pub fn run_simulation(spec: &RunSpec, ctl: &RunControl) -> Result<Simulation, Error> {
-    Simulation::new(Source::load(&spec.model)?, spec, ctl)
+    let source = Source::load(&spec.model)?;
+    let source = match &spec.speed {
+        Some(file) => with_speed(source, file)?,
+        None => source,
+    };
+    Simulation::new(source, spec, ctl)
+}
+
+/// The model with its speed table replaced by `file`'s (`--speed`), read as a study's
+/// profiles are and held to the model checker's speed rules (times increasing, rpm finite
+/// and >= 0). A changed model: the interpreter runs it.
+fn with_speed(source: Source, file: &Path) -> Result<Source, Error> {
+    let refuse = |m: String| Error::setting(Field::Speed, format!("{}: {m}", file.display()));
+    let table = washdyn_model::ir::toml_file::read_speed_csv(file)
+        .map_err(|e| Error::setting(Field::Speed, e.to_string()))?;
+    let mut model = source.model.clone();
+    model.speed.table = table;
+    model.speed.csv = None;
+    if let Err(errors) = washdyn_model::ir::check::check(&model) {
+        let speed: Vec<String> = errors
+            .iter()
+            .filter(|e| {
+                e.path.0.first() == Some(&washdyn_model::ir::check::Seg::Key("speed".into()))
+            })
+            .map(|e| e.to_string())
+            .collect();
+        let all = || errors.iter().map(|e| e.to_string()).collect();
+        let shown: Vec<String> = if speed.is_empty() { all() } else { speed };
+        return Err(refuse(shown.join("; ")));
+    }
+    Ok(source.variant(model))
 }
 
 /// `washdyn run`: validate every setting (nothing is written before), integrate, stream

@@ -10,6 +10,7 @@ pub mod error;
 pub mod error_class;
 pub mod fields;
 pub mod full_mesh;
+pub mod measured;
 pub mod modes;
 pub mod run_dir;
 pub mod simulation;

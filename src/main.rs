@@ -19,6 +19,20 @@ fn exit_code(e: &Error) -> ExitCode {
     ExitCode::from(code(e))
 }
 
+/// A refused measurement's code: its mapping file at a line 2, a file that cannot be read or
+/// written 4, other refused measured data 5.
+fn measured_code(m: &washdyn::measured::MeasuredError) -> u8 {
+    use washdyn::measured::MeasuredError as Me;
+    match m {
+        Me::Mapping { .. } => 2,
+        Me::Io { .. }
+        | Me::Write { .. }
+        | Me::Signals(AnalysisError::Io { .. })
+        | Me::Uff(washdyn::analysis::uff58::UffError::Io { .. }) => 4,
+        _ => 5,
+    }
+}
+
 /// The code of [`exit_code`]: by the error's cause, whichever command met it (a model that
 /// does not resolve is 3 under `run`, `modes`, `campbell`, `fields` and `fe reference` alike;
 /// a file that cannot be written 4).
@@ -67,6 +81,7 @@ fn code(e: &Error) -> u8 {
         | Error::Modes(ModesError::Io(_))
         | Error::Fe(FeError::Io(_))
         | Error::FullMesh(M::Io(_)) => 4,
+        Error::Measured(m) | Error::Compare(CompareError::Measured(m)) => measured_code(m),
         Error::Analysis(_)
         | Error::Compare(_)
         | Error::Fields(_)

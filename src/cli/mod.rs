@@ -29,12 +29,13 @@ const EXIT_CODES: &str = "Exit codes (by the cause, whichever command meets it):
   1    a run stopped early (its output up to then is kept), or a sweep's or study's variant
        failed
   2    a setting refused before anything was written (an option or its value, clap's usage
-       errors, a study file at its line, a study directory that is another study's or has
-       tasks in Slurm's queue)
+       errors, a study file or a measurement's mapping file at its line, a study directory
+       that is another study's or has tasks in Slurm's queue)
   3    a model refused, under every command that takes one: it does not load, fails the
        checker (also a study's variant), lacks the scene, or is neither built in nor a file
   4    a file or directory that cannot be read or written (also an --out that is a file)
-  5    other refused data: a signal file the analysis cannot take (also after a run), runs
+  5    other refused data: a signal or measured file the analysis cannot take (also after a
+       run; a tacho without pulses, channels of two sample rates), runs
        that cannot be compared or files of two runs, FE or field input, a Slurm command that
        failed
   130  interrupted (Ctrl-C, SIGTERM, SIGHUP); summary.json says so and the output is kept";
@@ -64,7 +65,9 @@ pub enum Cmd {
     /// Compare two finished runs of one speed profile (directories written by `washdyn run`):
     /// per channel and order the peaks over the run and their difference in dB (B against A),
     /// the RMS differences, each run's cost; compare.md, compare.json and per channel the two
-    /// order plots side by side and the order tracks overlaid.
+    /// order plots side by side and the order tracks overlaid. A run against a measurement
+    /// file (or `--over-speed`: runs of different profiles) is compared at equal drum speed:
+    /// dB per speed range, resonance speeds, a calibration factor (`--calibrate` applies it).
     Compare(compare::Args),
     /// FE models with CalculiX: `solve DECK.inp` runs ccx on a deck (errors with the deck's
     /// line) and lists its eigenfrequencies.

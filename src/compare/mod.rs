@@ -21,6 +21,10 @@
 //! This file holds the comparison itself (the options, the channels analysed and compared, the
 //! plots); the runs' input (`runs.rs`: reading a run directory, its cost, whether two runs can be
 //! compared) and the report (`report.rs`: compare.md and compare.json) have a file each.
+//!
+//! Runs of different speed profiles, or a run and a measurement, are compared at equal drum
+//! speed instead ([`compare_over_speed`]: `over_speed.rs`, its arithmetic in [`speed`], its
+//! report in `speed_report.rs`).
 
 use crate::analysis::angle::{AngleGrid, Kernel};
 use crate::analysis::metrics::{
@@ -32,12 +36,19 @@ use crate::analysis::{
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
+mod over_speed;
 mod report;
 mod runs;
+pub mod speed;
+mod speed_report;
 
+pub use over_speed::{
+    Calibration, ChannelOverSpeed, OrderOverSpeed, OverSpeed, SpeedArgs, SpeedComparison,
+    SpeedSource, check_edges, compare_over_speed, compare_signals_over_speed,
+};
 use report::write;
 pub use report::{cost_table, markdown};
-pub use runs::{Cost, check_comparable, load, load_pair};
+pub use runs::{Cost, check_comparable, load, load_measured, load_pair};
 use washdyn_ode::Rounded;
 
 /// Drum orders the comparison tracks (the friction dampers' odd harmonics lie among them); the

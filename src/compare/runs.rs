@@ -87,6 +87,23 @@ pub fn load(dir: &Path, label: &str) -> Result<(Signals, Cost), CompareError> {
     Ok((read_signals(file)?, cost))
 }
 
+/// A measurement to compare a run with over speed, through the one door for measured data: a
+/// mapping file (`measurement.toml`: UFF 58/58b, CSV or Parquet files, which channel is which
+/// sensor, the speed from a tacho or an rpm channel; `crate::measured`), or a CSV or Parquet
+/// file with `time_s`, `drum_rpm` and channels named like the run's sensors. Uncalibrated: the
+/// comparison reports its own factor and applies it only when asked.
+pub fn load_measured(path: &Path) -> Result<Signals, CompareError> {
+    match path.extension().and_then(|e| e.to_str()) {
+        Some("toml") => Ok(crate::measured::load(path)
+            .map_err(|e| CompareError::Measured(Box::new(e)))?
+            .signals),
+        Some("uff" | "unv" | "58") => Err(CompareError::UffWithoutMapping {
+            path: path.to_path_buf(),
+        }),
+        _ => Ok(read_signals(path)?),
+    }
+}
+
 /// Both runs' signals, up to `--until` if given, and costs; refused where they cannot be
 /// compared: a run that did not finish compared whole, an `--until` outside a run, other
 /// channels, sample rates or drum speeds ([`check_comparable`]).

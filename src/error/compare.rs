@@ -25,6 +25,17 @@ pub enum CompareError {
     /// The sensor file could not be read.
     #[error(transparent)]
     Read(#[from] AnalysisError),
+    /// The measurement's mapping file, or the files it names, refused.
+    #[error(transparent)]
+    Measured(Box<crate::measured::MeasuredError>),
+    /// A UFF file given alone: which channel is which sensor, and where the speed comes from,
+    /// is a mapping file's to say.
+    #[error(
+        "{}: a UFF file is compared through a mapping file that names its sensors and its speed \
+         channel (measurement.toml; docs/validation.md, \"Measured data in\")",
+        path.display()
+    )]
+    UffWithoutMapping { path: PathBuf },
     /// The runs do not record the same channels.
     #[error(
         "{a} and {b} record different channels: only in the first: [{}], only in the second: [{}]",
@@ -79,6 +90,24 @@ pub enum CompareError {
         until: f64,
         span: [f64; 2],
     },
+    /// Over speed: the two runs' order-1 tracks share no speed (the common grid is empty).
+    #[error(
+        "{a} resolves order 1 from {} to {} rpm, {b} from {} to {} rpm: no common speed to \
+         compare over",
+        Rounded(span_a[0]),
+        Rounded(span_a[1]),
+        Rounded(span_b[0]),
+        Rounded(span_b[1])
+    )]
+    NoCommonSpeed {
+        a: PathBuf,
+        b: PathBuf,
+        span_a: [f64; 2],
+        span_b: [f64; 2],
+    },
+    /// Over speed: the edges of the speed ranges are not positive, finite and increasing.
+    #[error("--speed-ranges must be positive, finite, increasing rpm, got {edges:?}")]
+    SpeedRanges { edges: Vec<f64> },
     /// An output file could not be written.
     #[error("cannot write {path}: {message}")]
     Write { path: PathBuf, message: String },

@@ -63,6 +63,10 @@ pub enum Error {
     /// A signal file the analysis cannot read or analyse.
     #[error(transparent)]
     Analysis(#[from] crate::analysis::AnalysisError),
+    /// A measurement refused: its mapping file at a line and field, a measured file at its
+    /// dataset or column.
+    #[error(transparent)]
+    Measured(Box<crate::measured::MeasuredError>),
     /// Two runs that cannot be compared.
     #[error(transparent)]
     Compare(#[from] compare::CompareError),
@@ -97,6 +101,13 @@ pub enum Error {
     /// The threads of a sweep's or study's parallel runs could not start.
     #[error("cannot start the parallel runs: {0}")]
     Threads(#[from] rayon::ThreadPoolBuildError),
+}
+
+impl From<crate::measured::MeasuredError> for Error {
+    /// Boxed: a refusal names two channels, more than the other variants carry.
+    fn from(e: crate::measured::MeasuredError) -> Error {
+        Error::Measured(Box::new(e))
+    }
 }
 
 /// What a command could not do to a file or directory: `cannot {action} {path}: {source}`

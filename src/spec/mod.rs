@@ -99,6 +99,11 @@ pub struct RunSpec {
     #[arg(skip)]
     #[serde(default)]
     pub t_start: f64,
+    /// A drum speed table run instead of the model's: CSV `time_s,drum_rpm` (header optional),
+    /// as `sweep --profiles` reads; `washdyn analyse --speed-table` writes a measured run-up's.
+    #[arg(long, value_name = "FILE")]
+    #[serde(skip)]
+    pub speed: Option<std::path::PathBuf>,
     /// End time, s (default: the end of the speed profile).
     #[arg(long, allow_hyphen_values = true)]
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -212,6 +217,7 @@ impl Default for RunSpec {
             rho_inf: None,
             max_steps: None,
             t_start: 0.0,
+            speed: None,
             t_end: None,
             sample_rate: default_sample_rate(),
             format: Format::Parquet,

@@ -71,6 +71,12 @@ pub fn out_dir(spec: &RunSpec, base: &Model) -> PathBuf {
 /// back end, CSV, energy or states: run such a variant with `washdyn run`), and a position,
 /// mass or profile that is no level (unknown, not finite, unreadable, given twice).
 pub fn study_text(base: &Source, spec: &RunSpec, grid: &Grid) -> Result<String, Error> {
+    if spec.speed.is_some() {
+        return Err(Error::setting(
+            Field::Speed,
+            "a sweep varies the speed with --profiles (files of the same format)",
+        ));
+    }
     let unsupported = [
         (Field::Backend, spec.backend.is_some()),
         (

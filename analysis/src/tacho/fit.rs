@@ -1,4 +1,4 @@
-//! Angle and speed between pulses: a local quadratic fit at each pulse, a monotone cubic
+//! Angle and speed between pulses: a local polynomial fit at each pulse, a monotone cubic
 //! Hermite curve through the fitted pulses.
 //!
 //! The speed is not the angle curve's derivative but its own cubic Hermite curve through the
@@ -9,7 +9,7 @@
 //!
 //! Why not Fritsch-Carlson's PCHIP as is: its harmonic-mean slopes are only first-order
 //! accurate on uneven intervals, which a run-up's pulses are: at 50 rpm, one pulse per
-//! revolution and 22.5 rpm/s, the slope errs by ~3 rpm. The local quadratic's slope is exact
+//! revolution and 22.5 rpm/s, the slope errs by ~3 rpm. The local fit's slope is exact
 //! for a constant acceleration, and Hyman's limiter (`0 <= slope <= 3 min(secants)`) keeps
 //! the curve monotone where the data would otherwise make it overshoot. A piecewise-linear
 //! speed matching each interval's angle is the other choice, but it is a recurrence that
@@ -35,20 +35,34 @@ pub(super) struct AngleCurve {
 /// residual.
 const WEIGHT_FLOOR: f64 = 1e-3;
 
-/// Weighted least-squares quadratic through `(t_j - t_k, phi_j - phi_k)`: value, slope and
-/// second derivative at `t_k`. Tricube weights over `half` s, so pulses enter and leave the
-/// fit smoothly from one pulse's fit to the next: with a hard window the fitted angles of
-/// neighbouring pulses jump by the noise of the pulse that enters, and the short secant
-/// between them turns that into a speed error. Times are scaled to order 1 for the normal
-/// equations.
-fn local_quadratic(t: &[f64], phi: &[f64], k: usize, half: f64) -> [f64; 3] {
+/// Most coefficients of a local fit (a quartic).
+const MAX_TERMS: usize = 5;
+
+/// Pulses in a window below which the fit is a quartic. On a symmetric window a quadratic's
+/// slope is the straight line's and errs by the speed's curvature: a 0.5 Hz ripple of 2 rpm
+/// sampled by a 1-pulse drum tacho at 300 rpm (pulses 0.2 s apart) errs by 0.13 rpm, the
+/// three-point stencil's `(w h)^2 / 6`. A quartic's slope errs by the fifth derivative only
+/// (0.01 rpm there) but carries ~2x the quadratic's noise over the same pulses: worth it
+/// where the window holds too few pulses to average noise anyway, not where it holds many
+/// (a motor-side tacho). Local polynomials of even degree for a slope, after Fan & Gijbels
+/// (1996, Local Polynomial Modelling, sec. 3.3): odd degrees add variance, not accuracy.
+const FEW_PULSES: usize = 7;
+
+/// Weighted least-squares polynomial of `degree` (2 or 4) through
+/// `(t_j - t_k, phi_j - phi_k)`: value, slope and second derivative at `t_k`. Tricube
+/// weights over `half` s, so pulses enter and leave the fit smoothly from one pulse's fit to
+/// the next: with a hard window the fitted angles of neighbouring pulses jump by the noise of
+/// the pulse that enters, and the short secant between them turns that into a speed error.
+/// Times are scaled to order 1 for the normal equations.
+fn local_fit(t: &[f64], phi: &[f64], k: usize, half: f64, degree: usize) -> [f64; 3] {
+    let terms = degree + 1;
     let scale = t
         .iter()
         .map(|tj| (tj - t[k]).abs())
         .fold(0.0, f64::max)
         .max(f64::MIN_POSITIVE);
-    let mut s = [0.0; 5];
-    let mut r = [0.0; 3];
+    let mut s = [0.0; 2 * MAX_TERMS - 1];
+    let mut r = [0.0; MAX_TERMS];
     for (tj, pj) in t.iter().zip(phi) {
         let d = tj - t[k];
         let q = (1.0 - (d.abs() / half.max(f64::MIN_POSITIVE)).powi(3)).max(0.0);
@@ -56,55 +70,74 @@ fn local_quadratic(t: &[f64], phi: &[f64], k: usize, half: f64) -> [f64; 3] {
         let x = d / scale;
         let y = pj - phi[k];
         let mut xp = wt;
-        for (i, si) in s.iter_mut().enumerate() {
+        for (i, si) in s.iter_mut().take(2 * terms - 1).enumerate() {
             *si += xp;
-            if i < 3 {
+            if i < terms {
                 r[i] += xp * y;
             }
             xp *= x;
         }
     }
-    let a = [[s[0], s[1], s[2]], [s[1], s[2], s[3]], [s[2], s[3], s[4]]];
-    let c = solve3(a, r).unwrap_or([0.0, 0.0, 0.0]);
+    let mut a = [[0.0; MAX_TERMS]; MAX_TERMS];
+    for (i, row) in a.iter_mut().enumerate().take(terms) {
+        for (j, aij) in row.iter_mut().enumerate().take(terms) {
+            *aij = s[i + j];
+        }
+    }
+    let c = solve(&mut a, &mut r, terms).unwrap_or([0.0; MAX_TERMS]);
     [c[0], c[1] / scale, 2.0 * c[2] / (scale * scale)]
 }
 
-/// Cramer's rule for a symmetric positive definite 3x3 system (`None` if singular).
-fn solve3(a: [[f64; 3]; 3], b: [f64; 3]) -> Option<[f64; 3]> {
-    let det = |m: [[f64; 3]; 3]| {
-        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
-            - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
-    };
-    let d = det(a);
-    if !d.is_finite() || d.abs() <= 1e-300 {
-        return None;
-    }
-    let mut x = [0.0; 3];
-    for (col, xi) in x.iter_mut().enumerate() {
-        let mut m = a;
-        for row in 0..3 {
-            m[row][col] = b[row];
+/// Gaussian elimination with partial pivoting on the leading `m` rows and columns (`None` if
+/// singular).
+fn solve(
+    a: &mut [[f64; MAX_TERMS]; MAX_TERMS],
+    b: &mut [f64; MAX_TERMS],
+    m: usize,
+) -> Option<[f64; MAX_TERMS]> {
+    let norm = a.iter().flatten().fold(0.0f64, |x, v| x.max(v.abs()));
+    for col in 0..m {
+        let piv = (col..m).max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs()))?;
+        if a[piv][col].abs() <= 1e-14 * norm {
+            return None;
         }
-        *xi = det(m) / d;
+        a.swap(col, piv);
+        b.swap(col, piv);
+        for row in col + 1..m {
+            let f = a[row][col] / a[col][col];
+            let pivot_row = a[col];
+            for (x, p) in a[row][col..m].iter_mut().zip(&pivot_row[col..m]) {
+                *x -= f * p;
+            }
+            b[row] -= f * b[col];
+        }
+    }
+    let mut x = [0.0; MAX_TERMS];
+    for row in (0..m).rev() {
+        let tail: f64 = (row + 1..m).map(|j| a[row][j] * x[j]).sum();
+        x[row] = (b[row] - tail) / a[row][row];
     }
     Some(x)
 }
 
-/// Pulses `lo..=hi` of pulse `k`'s fit: those within `half` s, at least one on each side
-/// where there is one, at least three in all. Not widened near the record's ends: a
-/// one-sided fit over more time errs more on a changing acceleration (a 0.5 Hz speed ripple:
-/// 0.12 rpm instead of 0.07 rpm with a 1.5-fold window) than it gains on noise.
-fn fit_range(t: &[f64], k: usize, half: f64) -> (usize, usize) {
+/// Pulses `lo..=hi` of pulse `k`'s fit and the fit's degree. The pulses within `half` s, at
+/// least one on each side where there is one, at least three in all: a quadratic. Where
+/// those are fewer than [`FEW_PULSES`], a quartic over at least five, two on each side where
+/// there are two (see [`FEW_PULSES`]); not at the first and last pulse, where a one-sided
+/// quartic's slope carries 2.2x the one-sided quadratic's noise (its stencil
+/// `(-25, 48, -36, 16, -3) / 12h` against `(-3, 4, -1) / 2h`). Not widened near the ends either: a one-sided fit over more
+/// time errs more on a changing acceleration than it gains on noise.
+fn fit_range(t: &[f64], k: usize, half: f64) -> (usize, usize, usize) {
     let n = t.len();
-    let mut lo = t.partition_point(|&x| x < t[k] - half).min(k);
-    let mut hi = (t.partition_point(|&x| x <= t[k] + half) - 1).max(k);
-    if k > 0 {
-        lo = lo.min(k - 1);
+    let lo = t.partition_point(|&x| x < t[k] - half).min(k);
+    let hi = (t.partition_point(|&x| x <= t[k] + half) - 1).max(k);
+    if hi - lo + 1 < FEW_PULSES && k >= 1 && k + 1 < n && n >= 5 {
+        let lo = lo.min(k.saturating_sub(2)).min(n - 5);
+        let hi = hi.max(k + 2).max(4).min(n - 1);
+        return (lo, hi, 4);
     }
-    if k + 1 < n {
-        hi = hi.max(k + 1);
-    }
+    let mut lo = lo.min(k.saturating_sub(1));
+    let mut hi = hi.max((k + 1).min(n - 1));
     while hi - lo < 2 {
         if lo > 0 {
             lo -= 1;
@@ -112,7 +145,7 @@ fn fit_range(t: &[f64], k: usize, half: f64) -> (usize, usize) {
             hi += 1;
         }
     }
-    (lo, hi)
+    (lo, hi, 2)
 }
 
 impl AngleCurve {
@@ -122,8 +155,8 @@ impl AngleCurve {
         let raw: Vec<f64> = (0..n).map(|k| k as f64 * dphi).collect();
         let fits: Vec<[f64; 3]> = (0..n)
             .map(|k| {
-                let (lo, hi) = fit_range(times, k, 0.5 * window);
-                local_quadratic(&times[lo..=hi], &raw[lo..=hi], k - lo, 0.5 * window)
+                let (lo, hi, degree) = fit_range(times, k, 0.5 * window);
+                local_fit(&times[lo..=hi], &raw[lo..=hi], k - lo, 0.5 * window, degree)
             })
             .collect();
         let mut phi: Vec<f64> = raw.iter().zip(&fits).map(|(p, f)| p + f[0]).collect();

@@ -14,7 +14,7 @@
 //! 3. `fit`: the angle and speed between pulses. Edge-timing noise is what limits the
 //!    speed: ±5 % of noise on a 0.2 ms edge moves each edge by ~5 µs (rms), which is 0.2 rpm
 //!    at 1400 rpm from one 1-pulse-per-revolution interval (43 ms). So each pulse's angle,
-//!    speed and acceleration come from a local quadratic least-squares fit over the pulses
+//!    speed and acceleration come from a local polynomial least-squares fit over the pulses
 //!    within `smoothing_s` (exact for a constant acceleration, noise averaged over the
 //!    window). A monotone cubic Hermite curve (Hyman's limiter) through the fitted angles
 //!    gives the angle, which never runs backwards; a cubic Hermite curve through the fitted

@@ -116,8 +116,19 @@ fn a_synthetic_measurement_round_trips_through_uff_and_the_comparison_over_speed
     if !pyuff() {
         return;
     }
+    // WASHDYN_E2E_DIR keeps the rig's files, the runs and the comparison's plots there
+    // (docs/validation.md's figure); otherwise a temporary directory.
     let tmp = tempfile::tempdir().unwrap();
-    let d = tmp.path();
+    let kept = std::env::var_os("WASHDYN_E2E_DIR").map(std::path::PathBuf::from);
+    if let Some(k) = &kept {
+        std::fs::create_dir_all(k).unwrap();
+        assert!(
+            std::fs::read_dir(k).unwrap().next().is_none(),
+            "WASHDYN_E2E_DIR {} is not empty",
+            k.display()
+        );
+    }
+    let d = kept.as_deref().unwrap_or(tmp.path());
     // The rig: the model on the controller's profile, its drum angle kept.
     model_with(d, "rig.toml", &rig_table());
     washdyn(

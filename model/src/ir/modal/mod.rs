@@ -6,6 +6,7 @@
 //! File format: TOML (documented in `docs/modal-data.md`), one file per body, written with
 //! round-trip floats. Matrices are flat row-major lists; index k runs over the kept modes.
 
+mod curves;
 mod limits;
 mod read;
 mod rules;
@@ -19,6 +20,7 @@ pub use limits::{
     PARTICIPATION_TOLERANCE, SUPPORT_ENERGY_TOLERANCE, UNIT_TOLERANCE,
 };
 
+pub use curves::{Curves, Fit, Term};
 pub use read::{from_toml, read_file, read_str, resolve};
 pub use rules::problems;
 pub use truncate::{DEPENDENT_SHAPE, FOLD_BLOCKS, generalised_eigen, orthonormal_static_basis};

@@ -69,7 +69,81 @@ pub struct Fit {
     pub bound: f64,
 }
 
+/// Most chosen modes of one body's curves: the derivation evaluates them on the stack.
+pub const MAX_CURVE_MODES: usize = 8;
+
 impl Curves {
+    /// What is wrong with these curves for `data` (the modal data file they were fitted on,
+    /// before truncation), each naming its field; empty when they fit.
+    pub fn problems(&self, body: &str, data: &super::ModalData) -> Vec<String> {
+        let mut out = Vec::new();
+        if self.body != body {
+            out.push(format!("body: `{}`, but the entry is `{body}`", self.body));
+        }
+        let n = self.modes.len();
+        if n == 0 || n > MAX_CURVE_MODES {
+            out.push(format!("modes: {n} chosen, 1 to {MAX_CURVE_MODES} allowed"));
+        }
+        for (i, &m) in self.modes.iter().enumerate() {
+            if m >= data.eigenmodes() {
+                out.push(format!(
+                    "modes[{i}]: mode {m}, the modal data has {} eigenmodes",
+                    data.eigenmodes()
+                ));
+            } else if let Some(f) = self.frequencies.get(i) {
+                let g = data.frequencies[m];
+                if !((f - g).abs() <= 1e-6 * g.abs()) {
+                    out.push(format!(
+                        "frequencies[{i}]: {f} Hz, mode {m} of the modal data is {g} Hz: the \
+                         curves were fitted on other modes (regenerate them)"
+                    ));
+                }
+            }
+            if self.modes[..i].contains(&m) {
+                out.push(format!("modes[{i}]: mode {m} chosen twice"));
+            }
+        }
+        if self.frequencies.len() != n {
+            out.push(format!(
+                "frequencies: {} given for {n} modes",
+                self.frequencies.len()
+            ));
+        }
+        for (key, terms, degree) in [("cubic", &self.cubic, 3), ("quartic", &self.quartic, 4)] {
+            for (j, t) in terms.iter().enumerate() {
+                let ok = t.modes.len() == degree
+                    && t.modes.windows(2).all(|w| w[0] <= w[1])
+                    && t.modes.iter().all(|&m| m < n);
+                if !ok {
+                    out.push(format!(
+                        "{key}[{j}].modes: {:?}, want {degree} ascending indices below {n}",
+                        t.modes
+                    ));
+                }
+                if !t.c.is_finite() {
+                    out.push(format!("{key}[{j}].c: {} is not finite", t.c));
+                }
+            }
+        }
+        let f = &self.fit;
+        if !(f.bound > 0.0 && f.bound <= 1.0) {
+            out.push(format!("fit.bound: {}, want in (0, 1]", f.bound));
+        }
+        for (key, r) in [
+            ("residual", f.residual),
+            ("unseen_residual", f.unseen_residual),
+        ] {
+            if !(r >= 0.0 && r <= f.bound) {
+                out.push(format!(
+                    "fit.{key}: {r} is above the fit's bound {} (or not a number): the \
+                     polynomial does not reproduce the FE solutions",
+                    f.bound
+                ));
+            }
+        }
+        out
+    }
+
     /// The nonlinear modal force on the chosen modes at their coordinates `q` (same order as
     /// [`Curves::modes`]): dV/dq, added into `f`. Over [`Scalar`], so the derivation (either
     /// back end) and the FE fit evaluate the one polynomial.

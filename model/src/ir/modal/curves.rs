@@ -205,6 +205,58 @@ mod tests {
         }
     }
 
+    /// Every rule names its field: the body, modes beyond the data or chosen twice,
+    /// frequencies of other modes (a regenerated file), terms of the wrong degree or order,
+    /// a fit above its bound.
+    #[test]
+    fn curves_that_do_not_fit_their_modal_data_are_refused_by_field() {
+        let d = crate::ir::modal::tests::tiny();
+        let mut c = one_mode(1.0, 1.0);
+        c.modes = vec![1];
+        c.frequencies = vec![20.0];
+        assert_eq!(c.problems("cabinet", &d), Vec::<String>::new());
+        let found = |edit: &dyn Fn(&mut Curves), body: &str| {
+            let mut x = c.clone();
+            edit(&mut x);
+            x.problems(body, &d).join("; ")
+        };
+        assert!(found(&|_| {}, "tub").starts_with("body: `cabinet`"));
+        let e = found(&|x| x.modes = vec![2], "cabinet");
+        assert!(
+            e.contains("modes[0]: mode 2, the modal data has 2 eigenmodes"),
+            "{e}"
+        );
+        let e = found(&|x| x.frequencies = vec![20.5], "cabinet");
+        assert!(
+            e.contains("frequencies[0]: 20.5 Hz, mode 1 of the modal data is 20 Hz"),
+            "{e}"
+        );
+        let e = found(
+            &|x| {
+                x.modes = vec![1, 1];
+                x.frequencies = vec![20.0, 20.0];
+            },
+            "cabinet",
+        );
+        assert!(e.contains("modes[1]: mode 1 chosen twice"), "{e}");
+        let e = found(&|x| x.cubic[0].modes = vec![0, 0], "cabinet");
+        assert!(
+            e.contains("cubic[0].modes: [0, 0], want 3 ascending"),
+            "{e}"
+        );
+        let e = found(&|x| x.quartic[0].modes = vec![0, 0, 0, 1], "cabinet");
+        assert!(e.contains("quartic[0].modes: [0, 0, 0, 1], want 4 ascending indices below 1"));
+        let e = found(&|x| x.cubic[0].c = f64::NAN, "cabinet");
+        assert!(e.contains("cubic[0].c: NaN is not finite"), "{e}");
+        let e = found(&|x| x.fit.unseen_residual = 0.2, "cabinet");
+        assert!(
+            e.contains("fit.unseen_residual: 0.2 is above the fit's bound 0.05"),
+            "{e}"
+        );
+        let e = found(&|x| x.fit.bound = 0.0, "cabinet");
+        assert!(e.contains("fit.bound: 0, want in (0, 1]"), "{e}");
+    }
+
     /// V = a2 q^3 / 3 + a3 q^4 / 4 gives f = a2 q^2 + a3 q^3 (differentiated by hand).
     #[test]
     fn single_mode_force_is_the_energy_gradient() {

@@ -111,7 +111,7 @@ fn the_curves_force_is_minus_the_energy_gradient_through_the_basis() {
         None => f64::from(u8::from(c.curves.modes[r] == j)),
     };
     let energy = |qb: &[f64]| {
-        let qc: Vec<f64> = (0..c.len())
+        let qc: Vec<f64> = (0..c.chosen_modes())
             .map(|r| (0..cab.n).map(|j| t(r, j) * qb[j]).sum())
             .collect();
         c.curves.energy(&qc)
@@ -208,7 +208,7 @@ fn the_curves_power_is_the_cabinets_modal_strain() {
     };
     let r = cab.start..cab.start + cab.n;
     let energy_at = |e: f64| {
-        let qc: Vec<f64> = (0..c.len())
+        let qc: Vec<f64> = (0..c.chosen_modes())
             .map(|k| {
                 (0..cab.n)
                     .map(|j| t(k, j) * (q[r.start + j] + e * qd[r.start + j]))

@@ -64,21 +64,21 @@ impl CurveTerms {
         }
     }
 
-    /// Chosen modes.
-    pub fn len(&self) -> usize {
+    /// Chosen modes (at least one: the checker's rule).
+    pub fn chosen_modes(&self) -> usize {
         self.curves.modes.len()
     }
 
     /// q_c = T_c q into the first `len()` entries.
     fn chosen<T: Scalar>(&self, q: &[T]) -> [T; MAX_CURVE_MODES] {
         let mut qc = [T::zero(); MAX_CURVE_MODES];
-        T::mat_vec(&self.t, q, &mut qc[..self.len()]);
+        T::mat_vec(&self.t, q, &mut qc[..self.chosen_modes()]);
         qc
     }
 
     /// h -= T_c^T f_nl(T_c q) over the body's own coordinates `q` and rows `h`.
     pub fn add<T: Scalar>(&self, q: &[T], h: &mut [T]) {
-        let nc = self.len();
+        let nc = self.chosen_modes();
         let qc = self.chosen(q);
         let mut f = [T::zero(); MAX_CURVE_MODES];
         self.curves.force_into(&qc[..nc], &mut f[..nc]);
@@ -88,7 +88,7 @@ impl CurveTerms {
 
     /// The power of the curves' force at velocities `v`: -(T_c v) . f_nl(T_c q), W.
     pub fn power(&self, q: &[f64], v: &[f64]) -> f64 {
-        let nc = self.len();
+        let nc = self.chosen_modes();
         let (qc, vc) = (self.chosen(q), self.chosen(v));
         let mut f = [0.0; MAX_CURVE_MODES];
         self.curves.force_into(&qc[..nc], &mut f[..nc]);
@@ -98,7 +98,7 @@ impl CurveTerms {
     /// dh/dq of `add` into `hq` (row-major, `dim` columns, the body's block at `at`):
     /// -T_c^T H T_c with H the energy's Hessian in the chosen modes (one pass over duals).
     pub fn add_jacobian(&self, q: &[f64], hq: &mut [f64], dim: usize, at: usize) {
-        let nc = self.len();
+        let nc = self.chosen_modes();
         let n = self.tt.len() / nc.max(1);
         let qc = self.chosen(q);
         let qd: [Dual<MAX_CURVE_MODES>; MAX_CURVE_MODES] =

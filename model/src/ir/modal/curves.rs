@@ -92,7 +92,8 @@ impl Curves {
                 ));
             } else if let Some(f) = self.frequencies.get(i) {
                 let g = data.frequencies[m];
-                if !((f - g).abs() <= 1e-6 * g.abs()) {
+                let close = (f - g).abs() <= 1e-6 * g.abs();
+                if !close {
                     out.push(format!(
                         "frequencies[{i}]: {f} Hz, mode {m} of the modal data is {g} Hz: the \
                          curves were fitted on other modes (regenerate them)"

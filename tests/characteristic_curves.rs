@@ -320,3 +320,79 @@ fn a_quadratic_curve_gives_the_closed_form_second_harmonic() {
     );
     assert!((mean / nf - mean_expect).abs() <= 1e-3 * mean_expect.abs());
 }
+
+/// A model file's `curves` entry: resolved relative to the model like its modal file, the
+/// effect `characteristic_curves.cabinet` known once the entry has curves and refused without
+/// `elastic.cabinet`; a curves file fitted on other modes refused at the entry's `curves`,
+/// naming the curves file and its field, before anything runs.
+#[test]
+fn a_model_files_curves_are_resolved_and_refused_by_file_and_field() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    let text = std::fs::read_to_string(root.join("models/data/reference.toml")).unwrap();
+    let fe = root.join("models/fe").display().to_string() + "/";
+    let entry = "file = \"../fe/cabinet.modal.toml\"\ndamping = 0.02\n";
+    assert!(text.contains(entry), "the reference's cabinet entry moved");
+    let text = text
+        .replace(entry, &format!("{entry}curves = \"cab.curves.toml\"\n"))
+        .replace("../fe/", &fe);
+    let scene = |effects: &str| format!("\n[[scenes]]\nname = \"curved\"\neffects = [{effects}]\n");
+    let model = |extra: &str| {
+        std::fs::write(d.join("m.toml"), format!("{text}{extra}")).unwrap();
+    };
+    let curves = |f0: f64| {
+        let toml = format!(
+            "body = \"cabinet\"\nsource = \"test\"\nmodes = [0]\nfrequencies = [{f0}]\n\
+             cubic = [{{ modes = [0, 0, 0], c = 1e6 }}]\n\
+             [fit]\nloads = [1e-3]\nresidual = 0.01\nunseen_loads = [2e-3]\n\
+             unseen_residual = 0.02\nbound = 0.05\n"
+        );
+        std::fs::write(d.join("cab.curves.toml"), toml).unwrap();
+    };
+    let check = || {
+        let o = washdyn_in_dir(&["check", "m.toml"], d);
+        (
+            o.status.code(),
+            String::from_utf8_lossy(&o.stderr).to_string(),
+        )
+    };
+    curves(26.40195992);
+    model(&scene(
+        "\"elastic.cabinet\", \"characteristic_curves.cabinet\"",
+    ));
+    let (code, err) = check();
+    assert_eq!(code, Some(0), "{err}");
+    model(&scene("\"characteristic_curves.cabinet\""));
+    let (code, err) = check();
+    assert_eq!(code, Some(3), "{err}");
+    assert!(
+        err.contains("`characteristic_curves.cabinet` needs the effect `elastic.cabinet`"),
+        "{err}"
+    );
+    curves(26.5);
+    model(&scene(
+        "\"elastic.cabinet\", \"characteristic_curves.cabinet\"",
+    ));
+    let (code, err) = check();
+    assert_eq!(code, Some(3), "{err}");
+    // At the model file's line of the `curves` key (`m.toml:343:10: elastic `cabinet`: ...`).
+    let line = text
+        .lines()
+        .position(|l| l.starts_with("curves = "))
+        .unwrap()
+        + 1;
+    assert!(
+        err.contains(&format!("m.toml:{line}:")) && err.contains("elastic `cabinet`: "),
+        "{err}"
+    );
+    assert!(
+        err.contains("cab.curves.toml")
+            && err.contains("frequencies[0]: 26.5 Hz, mode 0 of the modal data is 26.40195992 Hz"),
+        "{err}"
+    );
+}
+
+fn washdyn_in_dir(args: &[&str], dir: &std::path::Path) -> std::process::Output {
+    crate::common::washdyn_in(args, dir)
+}

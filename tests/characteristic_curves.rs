@@ -136,8 +136,8 @@ fn the_curves_force_is_minus_the_energy_gradient_through_the_basis() {
         worst / big
     );
     // Central differences of a quartic at step 1e-7 on q ~ 1e-3: truncation ~ (e / q)^2 ~ 1e-8
-    // relative, round-off ~ 1e-16 V / e.
-    assert!(big > 0.0 && worst <= 1e-6 * big, "{worst:e} of {big:e}");
+    // relative, round-off ~ 1e-16 V / e (measured 5.8e-9).
+    assert!(big > 0.0 && worst <= 1e-7 * big, "{worst:e} of {big:e}");
 }
 
 /// Structured against whole-derivation Jacobians with the curves on; the ported form declines.
@@ -160,7 +160,8 @@ fn structured_jacobians_with_curves_equal_the_whole_derivation_over_duals() {
             .zip(b.iter())
             .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
         eprintln!("{name}: {:.2e} of {big:.2e}", err / big);
-        assert!(err <= 1e-14 * big, "{name}: {err:e} of {big:e}");
+        // Round-off of two summation orders (measured 3.0e-16 of the largest entry).
+        assert!(err <= 5e-15 * big, "{name}: {err:e} of {big:e}");
     }
 }
 
@@ -238,7 +239,8 @@ fn the_curves_power_is_the_cabinets_modal_strain() {
 /// A = F / |D(W)|, D(s) = w^2 - s^2 + 2 i zeta w s, and a second harmonic of amplitude
 /// a2 A^2 / (2 |D(2 W)|) (from a2 A^2 / 2 cos(2 W t - 2 theta)), and a mean -a2 A^2 / (2 w^2);
 /// the next corrections are of relative order (a2 A / w^2) (A2 + |mean|) / A, ~1e-4 here
-/// (a2 A / w^2 = 0.003).
+/// (a2 A / w^2 = 0.003). Measured: the second harmonic within 6.8e-5 of the closed form, the
+/// mean within 1.3e-4.
 #[test]
 fn a_quadratic_curve_gives_the_closed_form_second_harmonic() {
     use std::f64::consts::PI;

@@ -113,8 +113,8 @@ fn shallow_arch_quadratic_and_cubic_stiffness_match_the_closed_form() {
     assert!(e3.abs() < 0.01 && e4.abs() < 0.01, "{e3} {e4}");
     // The fit at the loads it did not see (a = +-0.75 h in the linear estimate): measured
     // 2.4e-5 of the largest nonlinear force (fitted: 6.4e-5); the polynomial is the theory's
-    // exact form, so 1e-3 leaves room for ccx's convergence tolerance only.
-    assert!(c.fit.unseen_residual < 1e-3, "{:?}", c.fit);
+    // exact form, so 5e-4 leaves room for ccx's convergence tolerance only.
+    assert!(c.fit.unseen_residual < 5e-4, "{:?}", c.fit);
     assert_eq!(c.fit.unseen_loads.len(), 2);
 }
 
@@ -141,7 +141,7 @@ fn flat_beam_has_no_quadratic_stiffness_and_the_cubic_of_the_closed_form() {
     // residuals 5.0e-5 fitted, 7.1e-5 unseen.
     assert!(e4.abs() < 0.01, "{e4}");
     assert!(share < 1e-6, "{share}");
-    assert!(c.fit.unseen_residual < 1e-3, "{:?}", c.fit);
+    assert!(c.fit.unseen_residual < 5e-4, "{:?}", c.fit);
 
     // The same curves under a bound below their residual are refused, naming the field.
     let mut tight = c.clone();

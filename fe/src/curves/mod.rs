@@ -160,8 +160,7 @@ pub fn check(c: &Curves, file: &str) -> Result<(), PipelineError> {
         ("residual", c.fit.residual),
         ("unseen_residual", c.fit.unseen_residual),
     ] {
-        // NaN is refused too.
-        if !(residual <= c.fit.bound) {
+        if residual.is_nan() || residual > c.fit.bound {
             return Err(PipelineError::CurveFit {
                 file: file.to_string(),
                 field,
@@ -329,4 +328,63 @@ pub fn from_mesh(
         bound,
     };
     identify(&spec, dir)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn curves(residual: f64, unseen: f64) -> Curves {
+        Curves {
+            body: "cabinet".into(),
+            source: "test".into(),
+            modes: vec![2],
+            frequencies: vec![40.0],
+            cubic: Vec::new(),
+            quartic: Vec::new(),
+            fit: Fit {
+                loads: vec![0.01],
+                residual,
+                unseen_loads: vec![0.02],
+                unseen_residual: unseen,
+                bound: 0.01,
+            },
+        }
+    }
+
+    /// Each residual above the bound is refused under its own field name and the file's;
+    /// a NaN residual (a failed projection) too; at the bound it passes.
+    #[test]
+    fn a_fit_above_its_bound_is_refused_naming_file_and_field() {
+        assert!(check(&curves(0.01, 0.005), "c.toml").is_ok());
+        let e = check(&curves(0.02, 0.005), "c.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("c.toml: fit.residual = 2.00e-2"), "{e}");
+        let e = check(&curves(0.001, 0.03), "c.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("c.toml: fit.unseen_residual = 3.00e-2"),
+            "{e}"
+        );
+        assert!(check(&curves(f64::NAN, 0.0), "c.toml").is_err());
+    }
+
+    /// Two modes, levels [1, 2] fitted and [1.5] unseen, with pairs: 2 x 2 x 2 singles and
+    /// 1 x 2 x 2 unseen, 4 sign pairs per fitted level; lambda = w^2 level.
+    #[test]
+    fn plan_covers_both_signs_and_pairs() {
+        let f = 1.0 / (2.0 * std::f64::consts::PI);
+        let p = plan(&[f, 2.0 * f], &[1.0, 2.0], &[1.5], true);
+        assert_eq!(p.iter().filter(|c| c.seen).count(), 8 + 8);
+        assert_eq!(p.iter().filter(|c| !c.seen).count(), 4);
+        assert!((p[1].lambda[0] + 1.0).abs() < 1e-12 && p[1].lambda[1] == 0.0);
+        assert!((p[2].lambda[1] - 4.0).abs() < 1e-12);
+        let pairs: Vec<&Case> = p
+            .iter()
+            .filter(|c| c.lambda.iter().all(|&l| l != 0.0))
+            .collect();
+        assert_eq!(pairs.len(), 8);
+    }
 }

@@ -322,7 +322,7 @@ pub enum PipelineError {
     },
     #[error("{job}: ccx wrote no static result")]
     NoStaticResult { job: String },
-    #[error("{body}: chosen mode {mode} is not among the {modes} modes solved")]
+    #[error("{body}: chosen mode {mode} is not among the {modes} modes solved, or chosen twice")]
     NoSuchMode {
         body: String,
         mode: usize,

@@ -13,6 +13,8 @@
 //! do not hold (the arch's axial stretch, a panel's in-plane strain) stays in x and is condensed
 //! into the coefficients: that is why the loads, not the displacements, are prescribed.
 
+#[cfg(test)]
+mod cabinet;
 mod fit;
 
 pub use fit::{Sample, curves as fit_samples, fit, level, monomials, residual};
@@ -272,27 +274,58 @@ fn solve_case(
     ))
 }
 
-/// The body's linear modal solve (`modes` eigenmodes, `keep` as the modal pipeline keeps
-/// them), then [`identify`] on the modes at `chosen` (indices into the kept modes, which are
-/// the modal data file's).
-#[allow(clippy::too_many_arguments)]
-pub fn from_mesh(
+/// The body's linear modal solve: `modes` eigenmodes, kept as the modal pipeline keeps them
+/// (`keep`), so that their indices are the modal data file's.
+pub fn linear_modes(
     body: &str,
     mesh: &Mesh,
     modes: usize,
     keep: crate::modal::Keep,
+    dir: &Path,
+) -> Result<Vec<Shapes>, Error> {
+    let solved = crate::modal::solve(mesh, dir, &format!("{body}_modes"), modes, false)?;
+    Ok(crate::modal::select(
+        mesh,
+        &solved.frd,
+        &solved.prints,
+        keep,
+    )?)
+}
+
+/// The `count` modes of `all` that move the nodes `of` most, as a share of the mode's
+/// translations over every node (sum of |w|^2 over `of` against over all nodes; a mesh of even
+/// elements makes it the share of the kinetic energy): a panel's dominant modes. Ascending.
+pub fn dominant(all: &[Shapes], of: &[usize], count: usize) -> Vec<usize> {
+    let share = |s: &Shapes| {
+        let sq = |u: &[f64; 3]| u.iter().map(|x| x * x).sum::<f64>();
+        let total: f64 = s.w.values().map(sq).sum();
+        let part: f64 = of.iter().filter_map(|id| s.w.get(id)).map(sq).sum();
+        if total > 0.0 { part / total } else { 0.0 }
+    };
+    let mut order: Vec<(usize, f64)> = all.iter().map(share).enumerate().collect();
+    order.sort_by(|a, b| b.1.total_cmp(&a.1));
+    let mut out: Vec<usize> = order.into_iter().take(count).map(|x| x.0).collect();
+    out.sort_unstable();
+    out
+}
+
+/// [`identify`] on the modes of `all` (the body's kept modes) at `chosen`, with the load plan
+/// of `levels` (fitted, unseen; [`plan`]).
+#[allow(clippy::too_many_arguments)]
+pub fn from_modes(
+    body: &str,
+    mesh: &Mesh,
+    mut all: Vec<Shapes>,
     chosen: &[usize],
     levels: (&[f64], &[f64]),
     pairs: bool,
     bound: f64,
     dir: &Path,
 ) -> Result<(Curves, Report), Error> {
-    let solved = crate::modal::solve(mesh, dir, &format!("{body}_modes"), modes, false)?;
-    let mut all = crate::modal::select(mesh, &solved.frd, &solved.prints, keep)?;
     let count = all.len();
     let mut shapes = Vec::with_capacity(chosen.len());
-    for &m in chosen {
-        if m >= count {
+    for (k, &m) in chosen.iter().enumerate() {
+        if m >= count || chosen[..k].contains(&m) {
             return Err(PipelineError::NoSuchMode {
                 body: body.to_string(),
                 mode: m,
@@ -328,6 +361,23 @@ pub fn from_mesh(
         bound,
     };
     identify(&spec, dir)
+}
+
+/// [`linear_modes`], then [`from_modes`].
+#[allow(clippy::too_many_arguments)]
+pub fn from_mesh(
+    body: &str,
+    mesh: &Mesh,
+    modes: usize,
+    keep: crate::modal::Keep,
+    chosen: &[usize],
+    levels: (&[f64], &[f64]),
+    pairs: bool,
+    bound: f64,
+    dir: &Path,
+) -> Result<(Curves, Report), Error> {
+    let all = linear_modes(body, mesh, modes, keep, dir)?;
+    from_modes(body, mesh, all, chosen, levels, pairs, bound, dir)
 }
 
 #[cfg(test)]

@@ -1,0 +1,76 @@
+//! The reference cabinet's side panels (`#[ignore]`d: ccx's modal solve of the cabinet and its
+//! nonlinear statics take many minutes; run it to regenerate models/fe/cabinet.curves.toml).
+
+use super::{dominant, from_modes, linear_modes};
+use crate::bodies::builtin;
+
+/// The side panels' two dominant modes among the cabinet's lowest, at loads a linear panel
+/// would take to 1 and 2 sheet thicknesses (0.7 mm; unseen: 1.5) at the mode's largest
+/// displacement, both signs and paired. Writes `<WASHDYN_CURVES_OUT or a temp dir>/
+/// cabinet.curves.toml`; prints the chosen modes, the residuals and ccx's times.
+#[test]
+#[ignore = "ccx on the full cabinet: about 4 min of modal solve and minutes per nonlinear static solve"]
+fn cabinet_side_panels() {
+    let spec = builtin().into_iter().find(|b| b.name == "cabinet").unwrap();
+    let mesh = &spec.mesh;
+    let tmp = tempfile::tempdir().unwrap();
+    let out = std::env::var("WASHDYN_CURVES_OUT")
+        .map(std::path::PathBuf::from)
+        .unwrap_or_else(|_| tmp.path().to_path_buf());
+    let dir = tmp.path();
+    let t0 = std::time::Instant::now();
+    let all = linear_modes("cabinet", mesh, 40, spec.keep, dir).unwrap();
+    let modal_s = t0.elapsed().as_secs_f64();
+    let mut side: Vec<usize> = mesh
+        .parts
+        .iter()
+        .filter(|p| p.name == "CAB_SIDE")
+        .flat_map(|p| p.elements.iter().flatten().copied())
+        .collect();
+    side.sort_unstable();
+    side.dedup();
+    let chosen = dominant(&all, &side, 2);
+    let peak = |k: usize| {
+        all[k]
+            .w
+            .values()
+            .map(|u| u.iter().map(|x| x * x).sum::<f64>().sqrt())
+            .fold(0.0, f64::max)
+    };
+    let unit = 0.0007 / chosen.iter().map(|&k| peak(k)).fold(0.0, f64::max);
+    eprintln!(
+        "modal solve {modal_s:.0} s; chosen {chosen:?} at {:?} Hz; level unit {unit:.3e}",
+        chosen
+            .iter()
+            .map(|&k| all[k].frequency_hz)
+            .collect::<Vec<_>>()
+    );
+    let t1 = std::time::Instant::now();
+    let (c, report) = from_modes(
+        "cabinet",
+        mesh,
+        all,
+        &chosen,
+        (&[unit, 2.0 * unit], &[1.5 * unit]),
+        true,
+        0.05,
+        dir,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    eprintln!(
+        "{} nonlinear solves: {:?} s ({:.0} s in all); G - E {:.1e}; residual {:.2e}, unseen \
+         {:.2e}",
+        report.solve_s.len(),
+        report.solve_s,
+        t1.elapsed().as_secs_f64(),
+        report.normalisation,
+        c.fit.residual,
+        c.fit.unseen_residual
+    );
+    let text = "# Characteristic curves of the cabinet's side panels (issue 52), written by \
+                washdyn-fe's curves::cabinet test (#[ignore]d; cargo test -p washdyn-fe \
+                cabinet_side_panels -- --ignored).\n"
+        .to_string()
+        + &toml::to_string(&c).unwrap();
+    std::fs::write(out.join("cabinet.curves.toml"), text).unwrap();
+}

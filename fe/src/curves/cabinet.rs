@@ -1,5 +1,8 @@
 //! The reference cabinet's side panels (`#[ignore]`d: ccx's modal solve of the cabinet and its
-//! nonlinear statics take many minutes; run it to regenerate models/fe/cabinet.curves.toml).
+//! nonlinear statics take many minutes). Measured (ccx 2.20, one thread, the machine shared):
+//! 24 s for 40 modes, 3-4 min per nonlinear static solve; one mode (37, 105.65 Hz, the most
+//! side-panel of the lowest 40) at 1, 2 (fitted) and 1.5 (unseen) sheet thicknesses was
+//! refused, fit.residual 0.93: see the notes before trusting curves from it.
 
 use super::{dominant, from_modes, linear_modes};
 use crate::bodies::builtin;
@@ -17,7 +20,14 @@ fn cabinet_side_panels() {
     let out = std::env::var("WASHDYN_CURVES_OUT")
         .map(std::path::PathBuf::from)
         .unwrap_or_else(|_| tmp.path().to_path_buf());
-    let dir = tmp.path();
+    // With an output folder, ccx's decks and results stay in its `work` (a refused fit can
+    // then be examined); else in the temporary folder.
+    let dir = match std::env::var("WASHDYN_CURVES_OUT") {
+        Ok(_) => out.join("work"),
+        Err(_) => tmp.path().to_path_buf(),
+    };
+    std::fs::create_dir_all(&dir).unwrap();
+    let dir = dir.as_path();
     let t0 = std::time::Instant::now();
     let all = linear_modes("cabinet", mesh, 40, spec.keep, dir).unwrap();
     let modal_s = t0.elapsed().as_secs_f64();

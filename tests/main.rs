@@ -29,6 +29,7 @@ mod fe_bodies;
 mod fe_cabinet;
 mod fe_closed_forms;
 mod fe_correction_order;
+mod fe_curves;
 mod fe_drum;
 mod fe_free_body;
 mod fe_modal_import;

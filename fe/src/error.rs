@@ -309,6 +309,26 @@ pub enum PipelineError {
     #[error("no mode shape at point mass node {node}")]
     NoShapeAtPointMass { node: usize },
 
+    // Characteristic curves (`curves`).
+    #[error(
+        "{file}: fit.{field} = {residual:.2e} is above fit.bound = {bound:.2e}: the polynomial \
+         does not reproduce ccx's nonlinear static solutions (smaller load levels, or more modes)"
+    )]
+    CurveFit {
+        file: String,
+        field: &'static str,
+        residual: f64,
+        bound: f64,
+    },
+    #[error("{job}: ccx wrote no static result")]
+    NoStaticResult { job: String },
+    #[error("{body}: chosen mode {mode} is not among the {modes} modes solved, or chosen twice")]
+    NoSuchMode {
+        body: String,
+        mode: usize,
+        modes: usize,
+    },
+
     // The rotating body's eigenvalues (`rotating.rs`).
     #[error("the reduced matrices are not finite")]
     NotFinite,

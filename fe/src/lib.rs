@@ -11,6 +11,7 @@ pub mod bodies;
 pub mod ccx;
 pub mod consistent;
 pub mod correction;
+pub mod curves;
 pub mod dat;
 pub mod deck;
 pub mod error;

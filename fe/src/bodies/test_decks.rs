@@ -1,6 +1,8 @@
 //! Decks with closed-form answers, to check the FE chain (deck writer, ccx, import).
 
 use crate::deck::Deck;
+use crate::mesh::{Material, Mesh, Section};
+use std::f64::consts::PI;
 
 /// A cantilever of B32 beams along x, clamped at x = 0: length `l`, square section of side `a`,
 /// steel (E 210 GPa, nu 0.3, rho 7850), `n` elements, `modes` eigenmodes. Euler-Bernoulli:
@@ -84,4 +86,40 @@ pub fn plate_simply_supported(a: f64, b: f64, h: f64, nx: usize, ny: usize, mode
         .line(&format!("{h}"))
         .frequency_step(modes);
     d
+}
+
+/// A shallow sinusoidal arch of B32 beams in the x-y plane for the characteristic curves'
+/// closed form: span `l`, rise y0 = `h` sin(pi x / l) (`h` = 0: a straight beam), rectangular
+/// section `t` in the plane (bending) by `b` across it, steel, `n` elements. Pinned at both
+/// ends on immovable supports (translations and the out-of-plane rotations held, the in-plane
+/// rotation free); every node held out of the plane, so that only the in-plane problem of the
+/// closed form is solved.
+pub fn arch(l: f64, h: f64, t: f64, b: f64, n: usize) -> Mesh {
+    let mut m = Mesh::new(&format!(
+        "shallow arch, span {l} m, rise {h} m, {n} B32 elements"
+    ));
+    let ids: Vec<usize> = (0..=2 * n)
+        .map(|i| {
+            let x = l * i as f64 / (2 * n) as f64;
+            m.node([x, h * (PI * x / l).sin(), 0.0])
+        })
+        .collect();
+    let section = Section::Beam {
+        width: b,
+        height: t,
+        normal: [0.0, 0.0, 1.0],
+        material: Material {
+            name: "STEEL".into(),
+            e: 210e9,
+            nu: 0.3,
+            rho: 7850.0,
+        },
+    };
+    m.part("BEAM", section).elements = (0..n)
+        .map(|e| vec![ids[2 * e], ids[2 * e + 1], ids[2 * e + 2]])
+        .collect();
+    m.add_to_set("ENDS", &[ids[0], ids[2 * n]]);
+    m.add_to_set("MID", &[ids[n]]);
+    m.fixed = vec![("ENDS".into(), 1, 5), ("NALL".into(), 3, 3)];
+    m
 }

@@ -2,6 +2,7 @@
 //! the wrench on each body (global components), so the same element serves rigid and elastic
 //! bodies and both back ends.
 
+pub mod bolted_joint;
 mod contact;
 mod damper_joint;
 mod friction_damper;

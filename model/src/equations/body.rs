@@ -139,7 +139,8 @@ impl Bodies {
         let modes = |b: BodyRef, start: &mut usize| {
             model.modes_in(b, scene).map(|e| {
                 let loads = model.element_loads(b, scene);
-                let m = ModalBody::new(e, *start, g, scene.mode_cutoff, &loads);
+                let curves = scene.has(&Effect::CharacteristicCurves(b.name().into()));
+                let m = ModalBody::new(e, *start, g, (scene.mode_cutoff, curves), &loads);
                 *start += m.n;
                 m
             })

@@ -3,9 +3,10 @@
 //! no rigid DOF, mass-normalised modes, so M2 = E).
 
 use super::kinematics::ModalRows;
+use crate::dual::Dual;
 use crate::ir::Elastic;
 use crate::ir::loads::ElementLoad;
-use crate::ir::modal::point_at;
+use crate::ir::modal::{Curves, MAX_CURVE_MODES, ModalData, point_at};
 use crate::scalar::Scalar;
 
 /// A body's modes as the derivation uses them.
@@ -25,7 +26,105 @@ pub struct ModalBody {
     /// with s_k the mode's strain-energy share in them; `None` without `support_damping`
     /// (the feet's damping is then not told apart from the structure's).
     pub support_damping: Option<Vec<f64>>,
+    /// The characteristic curves when the scene switches them on.
+    pub curves: Option<CurveTerms>,
     data: crate::ir::modal::ModalData,
+}
+
+/// A body's characteristic curves in its kept coordinates: the chosen file modes are
+/// q_c = T_c q (T_c: rows of the truncation's basis, or unit rows), their force enters h as
+/// -T_c^T f_nl(q_c), so a truncated or folded basis carries the curves by the same Ritz
+/// projection as every other term.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CurveTerms {
+    pub curves: Curves,
+    /// T_c column-major (n_c rows): `Scalar::mat_vec`'s layout for q_c = T_c q.
+    t: Vec<f64>,
+    /// T_c^T column-major (n rows), i.e. T_c row by row: for T_c^T f.
+    tt: Vec<f64>,
+}
+
+impl CurveTerms {
+    fn new(curves: &Curves, d: &ModalData) -> Self {
+        let (n, nc) = (d.modes(), curves.modes.len());
+        let row = |r: usize| -> Vec<f64> {
+            let m = curves.modes[r];
+            match &d.basis {
+                Some(b) => b[m * n..(m + 1) * n].to_vec(),
+                None => (0..n).map(|j| if j == m { 1.0 } else { 0.0 }).collect(),
+            }
+        };
+        let rows: Vec<Vec<f64>> = (0..nc).map(row).collect();
+        CurveTerms {
+            curves: curves.clone(),
+            t: (0..n)
+                .flat_map(|j| rows.iter().map(move |r| r[j]))
+                .collect(),
+            tt: rows.concat(),
+        }
+    }
+
+    /// Chosen modes (at least one: the checker's rule).
+    pub fn chosen_modes(&self) -> usize {
+        self.curves.modes.len()
+    }
+
+    /// q_c = T_c q into the first `len()` entries.
+    fn chosen<T: Scalar>(&self, q: &[T]) -> [T; MAX_CURVE_MODES] {
+        let mut qc = [T::zero(); MAX_CURVE_MODES];
+        T::mat_vec(&self.t, q, &mut qc[..self.chosen_modes()]);
+        qc
+    }
+
+    /// h -= T_c^T f_nl(T_c q) over the body's own coordinates `q` and rows `h`.
+    pub fn add<T: Scalar>(&self, q: &[T], h: &mut [T]) {
+        let nc = self.chosen_modes();
+        let qc = self.chosen(q);
+        let mut f = [T::zero(); MAX_CURVE_MODES];
+        self.curves.force_into(&qc[..nc], &mut f[..nc]);
+        let neg = f.map(|x| -x);
+        T::mat_vec(&self.tt, &neg[..nc], h);
+    }
+
+    /// The power of the curves' force at velocities `v`: -(T_c v) . f_nl(T_c q), W.
+    pub fn power(&self, q: &[f64], v: &[f64]) -> f64 {
+        let nc = self.chosen_modes();
+        let (qc, vc) = (self.chosen(q), self.chosen(v));
+        let mut f = [0.0; MAX_CURVE_MODES];
+        self.curves.force_into(&qc[..nc], &mut f[..nc]);
+        -(0..nc).map(|r| vc[r] * f[r]).sum::<f64>()
+    }
+
+    /// dh/dq of `add` into `hq` (row-major, `dim` columns, the body's block at `at`):
+    /// -T_c^T H T_c with H the energy's Hessian in the chosen modes (one pass over duals).
+    pub fn add_jacobian(&self, q: &[f64], hq: &mut [f64], dim: usize, at: usize) {
+        let nc = self.chosen_modes();
+        let n = self.tt.len() / nc.max(1);
+        let qc = self.chosen(q);
+        let qd: [Dual<MAX_CURVE_MODES>; MAX_CURVE_MODES] =
+            std::array::from_fn(|r| Dual::seed(qc[r], r));
+        let mut f = [Dual::<MAX_CURVE_MODES>::c(0.0); MAX_CURVE_MODES];
+        self.curves.force_into(&qd[..nc], &mut f[..nc]);
+        // HT = H T_c, row by row, then -T_c^T HT, skipping the modes no chosen row touches.
+        let t_row = |r: usize| &self.tt[r * n..(r + 1) * n];
+        for i in 0..n {
+            if (0..nc).all(|r| t_row(r)[i] == 0.0) {
+                continue;
+            }
+            for j in 0..n {
+                let mut v = 0.0;
+                for r in 0..nc {
+                    let tri = t_row(r)[i];
+                    if tri == 0.0 {
+                        continue;
+                    }
+                    let hs: f64 = (0..nc).map(|s| f[r].d[s] * t_row(s)[j]).sum();
+                    v += tri * hs;
+                }
+                hq[(at + i) * dim + at + j] -= v;
+            }
+        }
+    }
 }
 
 /// Each kept mode's damping ratio: the entry's `damping`, moved towards `support_damping` by
@@ -52,11 +151,12 @@ impl ModalBody {
     /// scene's `cutoff` (Hz) only the eigenmodes up to it are kept (at least one), the static
     /// correction modes, and the dropped modes' static response to `loads` (the scene's
     /// elements' loads on this body, `Model::element_loads`).
+    /// `curves`: whether the scene switches the entry's characteristic curves on.
     pub fn new(
         e: &Elastic,
         start: usize,
         gravity: [f64; 3],
-        cutoff: Option<f64>,
+        (cutoff, curves): (Option<f64>, bool),
         loads: &[ElementLoad],
     ) -> Self {
         let mut d = e.data.clone().expect("checked: modal data resolved");
@@ -84,6 +184,11 @@ impl ModalBody {
             omega2: w.iter().map(|w| w * w).collect(),
             damping: w.iter().zip(&zeta).map(|(w, z)| 2.0 * z * w).collect(),
             support_damping,
+            curves: e
+                .curves_data
+                .as_ref()
+                .filter(|_| curves)
+                .map(|c| CurveTerms::new(c, &d)),
             weight: (0..n)
                 .map(|k| (0..3).map(|a| d.elementary.c[a][k] * gravity[a]).sum())
                 .collect(),
@@ -126,6 +231,10 @@ impl ModalBody {
             let i = self.start + k;
             h[i] -= q[i] * self.omega2[k] + qd[i] * self.damping[k];
         }
+        if let Some(c) = &self.curves {
+            let r = self.start..self.start + self.n;
+            c.add(&q[r.clone()], &mut h[r]);
+        }
     }
 
     /// The Jacobians of `add_elastic`: dh/dq -= diag(omega^2), dh/dq' -= diag(2 zeta omega)
@@ -135,6 +244,14 @@ impl ModalBody {
             let i = self.start + k;
             hq[i * n + i] -= self.omega2[k];
             hqd[i * n + i] -= self.damping[k];
+        }
+    }
+
+    /// The curves' part of dh/dq (row-major `dim` columns), at the body's coordinates in `q`
+    /// (the whole state): not diagonal, so subsystem 2 with curves declines the ported form.
+    pub fn add_curves_jacobian(&self, q: &[f64], hq: &mut [f64], dim: usize) {
+        if let Some(c) = &self.curves {
+            c.add_jacobian(&q[self.start..self.start + self.n], hq, dim, self.start);
         }
     }
 
@@ -200,6 +317,8 @@ mod tests {
             damping: 0.02,
             support_damping: support,
             stiffness_damping: beta,
+            curves: None,
+            curves_data: None,
             data: Some(d),
         }
     }
@@ -209,7 +328,13 @@ mod tests {
         let d = on_a_foot();
         // Closed form: e = (0.5, 0) from the spring above.
         assert_eq!(d.support_energy(), vec![0.5, 0.0]);
-        let b = ModalBody::new(&entry(d.clone(), Some(0.06), 1e-3), 0, [0.0; 3], None, &[]);
+        let b = ModalBody::new(
+            &entry(d.clone(), Some(0.06), 1e-3),
+            0,
+            [0.0; 3],
+            (None, false),
+            &[],
+        );
         let w = [2.0 * PI * 10.0, 2.0 * PI * 20.0];
         // zeta_k = 0.02 + (0.06 - 0.02) e_k + beta omega_k / 2.
         let zeta = [
@@ -220,7 +345,7 @@ mod tests {
             assert!((b.damping[k] - 2.0 * zeta[k] * w[k]).abs() < 1e-12, "{k}");
         }
         // Without the new keys: every mode has `damping` (old files and models unchanged).
-        let b = ModalBody::new(&entry(d, None, 0.0), 0, [0.0; 3], None, &[]);
+        let b = ModalBody::new(&entry(d, None, 0.0), 0, [0.0; 3], (None, false), &[]);
         for k in 0..2 {
             assert_eq!(b.damping[k], 2.0 * 0.02 * w[k]);
         }
@@ -275,7 +400,7 @@ mod tests {
             &entry(full.clone(), Some(0.06), 0.0),
             0,
             [0.0; 3],
-            Some(10.0),
+            (Some(10.0), false),
             &[],
         );
         let d = b.data();

@@ -9,7 +9,8 @@
 //!   Omega(t) and is not in T);
 //! - gravity: the weights' share of h (the body terms at g minus at g = 0, and a fixed frame's
 //!   modal weight);
-//! - `<body> modal strain`, `<body> modal damping`, `<body> feet`: -omega^2 q q' and
+//! - `<body> modal strain`, `<body> modal damping`, `<body> feet`: -omega^2 q q' (and the
+//!   characteristic curves' -f_nl(q_c) . q_c', minus the change of their strain energy) and
 //!   -2 zeta omega q'^2 of the body's modes, the latter split by the modal strain energy method
 //!   into the support springs' share 2 omega zeta_s s (the cabinet's feet, where the entry has
 //!   `support_damping`) and the structure's;
@@ -166,7 +167,8 @@ impl Equations {
             if b.frame == Frame::Fixed {
                 fixed_weight += dot(&m.weight, vm);
             }
-            let strain: f64 = (0..m.n).map(|k| -m.omega2[k] * qm[k] * vm[k]).sum();
+            let curves = m.curves.as_ref().map_or(0.0, |c| c.power(qm, vm));
+            let strain: f64 = (0..m.n).map(|k| -m.omega2[k] * qm[k] * vm[k]).sum::<f64>() + curves;
             let damping: f64 = (0..m.n).map(|k| -m.damping[k] * vm[k] * vm[k]).sum();
             own += strain + damping;
             match &m.support_damping {

@@ -77,10 +77,11 @@ impl Equations {
         self.seeded_passes(d, q, qd, w, hq, hqd, rows, 2 * n1, Terms::Bodies, |s| {
             (s >= n1, s % n1)
         });
-        // Subsystem 2's own terms are diagonal (modes on a fixed frame).
+        // Subsystem 2's own terms are diagonal (modes on a fixed frame), but for the curves'.
         for b in self.bodies.list.iter().filter(|b| b.in_subsystem2()) {
             if let Some(m) = b.modal() {
                 m.add_elastic_jacobian(hq, hqd, n);
+                m.add_curves_jacobian(q, hq, n);
             }
         }
         // Force elements by their local Jacobians.
@@ -148,6 +149,8 @@ impl Equations {
         let mut modes = 0;
         for b in self.bodies.list.iter().filter(|b| b.in_subsystem2()) {
             match (&b.modes, b.modal()) {
+                // Characteristic curves couple the chosen modes: no diagonal subsystem 2.
+                (Modes::Frame(_), Some(m)) if m.curves.is_some() => return None,
                 (Modes::Frame(_), Some(m)) => modes += m.n,
                 (Modes::Rigid, None) => {}
                 _ => return None,

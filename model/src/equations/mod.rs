@@ -36,7 +36,7 @@ use crate::scalar::Scalar;
 pub use bodies::{RotorDef, TubDef, UnbalanceDef, rotate};
 pub use body::{Bodies, Body, Frame, Modes};
 pub use drum::ElasticDrum;
-pub use elastic::{ModalBody, modal_damping};
+pub use elastic::{CurveTerms, ModalBody, modal_damping};
 pub use energy::{Category, EnergyWork, Kind};
 pub use jacobian::{ForceJacobians, JacobianWork};
 pub use kinematics::{

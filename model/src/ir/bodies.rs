@@ -50,6 +50,14 @@ pub struct Elastic {
     /// K-orthogonal modes (CalculiX's `*MODAL DAMPING, RAYLEIGH` with alpha = 0).
     #[serde(default, skip_serializing_if = "is_zero")]
     pub stiffness_damping: f64,
+    /// Characteristic curves of the body (`<body>.curves.toml`, `washdyn fe curves`), relative
+    /// like `file`: a nonlinear restoring force on chosen modes that a scene switches on with
+    /// `characteristic_curves.<body>`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub curves: Option<String>,
+    /// The curves' content, read by `modal::resolve` and checked against the modal data file.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub curves_data: Option<modal::Curves>,
     /// The file's content, read by `modal::resolve` (both front ends), truncated to `modes`.
     /// Serialised so a `machine!` model's embedded IR carries it; `resolve` always replaces it
     /// from the file.

@@ -27,7 +27,7 @@ pub use force_elements::{
     Contact, DEFAULT_BREAKAWAY, FrictionDamper, FrictionLaw, Gasket, LinearDamper, LossFactor,
     MovingPart, Spring,
 };
-pub use scenes::{Effect, EffectSet, Integrator, MODE_MARGIN, Scene, SceneSolver};
+pub use scenes::{Effect, EffectNames, EffectSet, Integrator, MODE_MARGIN, Scene, SceneSolver};
 pub use sensors::{Sensor, SensorKind};
 
 use serde::{Deserialize, Serialize};

@@ -85,12 +85,46 @@ pub enum Effect {
     /// Every friction damper of the scene on this law, whatever its `law` says
     /// (`friction_law.arctan`: the paper's machine beside the one as built).
     FrictionLaw(FrictionLaw),
+    /// The named elastic body's characteristic curves (its `curves` file): the nonlinear
+    /// restoring force on its chosen modes. Needs `elastic.<body>`.
+    CharacteristicCurves(String),
+}
+
+/// The names effects refer to: rotors, elastic bodies, those of them with characteristic
+/// curves, friction dampers with a moving part.
+#[derive(Clone, Debug, Default)]
+pub struct EffectNames<'a> {
+    pub rotors: Vec<&'a str>,
+    pub elastic: Vec<&'a str>,
+    pub curved: Vec<&'a str>,
+    pub massive: Vec<&'a str>,
+}
+
+impl<'a> EffectNames<'a> {
+    pub fn of(m: &'a Model) -> Self {
+        EffectNames {
+            rotors: m.rotors.iter().map(|r| r.name.as_str()).collect(),
+            elastic: m.elastic.iter().map(|e| e.name.as_str()).collect(),
+            curved: m
+                .elastic
+                .iter()
+                .filter(|e| e.curves.is_some())
+                .map(|e| e.name.as_str())
+                .collect(),
+            massive: m.massive_dampers(),
+        }
+    }
 }
 
 impl Effect {
-    /// Parse an effect name; `rotors` are the model's rotor names, `elastic` its elastic
-    /// bodies, `massive` its friction dampers with a moving part.
-    pub fn parse(s: &str, rotors: &[&str], elastic: &[&str], massive: &[&str]) -> Option<Effect> {
+    /// Parse an effect name against the names it may refer to.
+    pub fn parse(s: &str, names: &EffectNames) -> Option<Effect> {
+        let EffectNames {
+            rotors,
+            elastic,
+            curved,
+            massive,
+        } = names;
         match s {
             "gyroscopic" => Some(Effect::Gyroscopic),
             "friction_dampers" => Some(Effect::FrictionDampers),
@@ -102,6 +136,11 @@ impl Effect {
             _ => {
                 if let Some(b) = s.strip_prefix("elastic.") {
                     return elastic.contains(&b).then(|| Effect::Elastic(b.to_string()));
+                }
+                if let Some(b) = s.strip_prefix("characteristic_curves.") {
+                    return curved
+                        .contains(&b)
+                        .then(|| Effect::CharacteristicCurves(b.to_string()));
                 }
                 if let Some(l) = s.strip_prefix("friction_law.") {
                     return FrictionLaw::parse(l).map(Effect::FrictionLaw);
@@ -132,6 +171,7 @@ impl Effect {
             Effect::CentrifugalStiffening => "centrifugal_stiffening".into(),
             Effect::Contact => "contact".into(),
             Effect::FrictionLaw(l) => format!("friction_law.{}", l.name()),
+            Effect::CharacteristicCurves(b) => format!("characteristic_curves.{b}"),
         }
     }
 }
@@ -187,6 +227,9 @@ impl Model {
         }
         for e in &self.elastic {
             v.push(Effect::Elastic(e.name.clone()));
+            if e.curves.is_some() {
+                v.push(Effect::CharacteristicCurves(e.name.clone()));
+            }
             if e.body() == Some(BodyRef::Drum) {
                 v.push(Effect::CentrifugalStiffening);
             }
@@ -243,12 +286,10 @@ impl Model {
                 self.every_scene().join(", ")
             )
         })?;
-        let rotors: Vec<&str> = self.rotors.iter().map(|r| r.name.as_str()).collect();
-        let elastic: Vec<&str> = self.elastic.iter().map(|e| e.name.as_str()).collect();
-        let massive = self.massive_dampers();
+        let names = EffectNames::of(self);
         let mut effects = Vec::new();
         for e in &scene.effects {
-            let eff = Effect::parse(e, &rotors, &elastic, &massive)
+            let eff = Effect::parse(e, &names)
                 .ok_or_else(|| format!("scene `{name}`: unknown effect `{e}`"))?;
             if !effects.contains(&eff) {
                 effects.push(eff);

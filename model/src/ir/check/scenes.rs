@@ -2,7 +2,7 @@
 //! known effects (`damper_mass.<name>` with `friction_dampers`), a positive `max_order`.
 
 use super::{Ctx, Names, Path};
-use crate::ir::{Effect, FrictionLaw, Model};
+use crate::ir::{Effect, EffectNames, FrictionLaw, Model};
 use std::collections::HashSet;
 
 /// Sensors: a unique name and a finite point (the drum's sensors: `elastic.rs`).
@@ -17,9 +17,7 @@ pub(super) fn sensors<'a>(c: &mut Ctx, names: &mut Names<'a>, m: &'a Model) {
 /// Scenes: a unique name, known effects (`damper_mass.<name>` only with `friction_dampers`), a
 /// positive `max_order`.
 pub(super) fn scenes(c: &mut Ctx, m: &Model) {
-    let rotors: Vec<&str> = m.rotors.iter().map(|r| r.name.as_str()).collect();
-    let elastic_names: Vec<&str> = m.elastic.iter().map(|e| e.name.as_str()).collect();
-    let massive = m.massive_dampers();
+    let names = EffectNames::of(m);
     let mut scene_names = HashSet::new();
     for (i, s) in m.scenes.iter().enumerate() {
         let p = Path::of(&["scenes"]).idx(i);
@@ -30,16 +28,28 @@ pub(super) fn scenes(c: &mut Ctx, m: &Model) {
             );
         }
         for (j, e) in s.effects.iter().enumerate() {
-            if Effect::parse(e, &rotors, &elastic_names, &massive).is_none() {
+            if Effect::parse(e, &names).is_none() {
                 c.err(
                     p.clone().key("effects").idx(j),
                     format!(
                         "scene `{}`: unknown effect `{e}` (known: gyroscopic, friction_dampers, \
                          gasket_damping, element_geometry, unbalance_inertia, unbalance.<rotor>, \
                          elastic.<body>, centrifugal_stiffening, damper_mass.<friction damper \
-                         with a moving_part>, contact, friction_law.<arctan|elasto_plastic>)",
+                         with a moving_part>, contact, friction_law.<arctan|elasto_plastic>, \
+                         characteristic_curves.<elastic body with curves>)",
                         s.name
                     ),
+                );
+            }
+        }
+        for (j, e) in s.effects.iter().enumerate() {
+            let Some(b) = e.strip_prefix("characteristic_curves.") else {
+                continue;
+            };
+            if !s.effects.iter().any(|x| *x == format!("elastic.{b}")) {
+                c.err(
+                    p.clone().key("effects").idx(j),
+                    format!("scene `{}`: `{e}` needs the effect `elastic.{b}`", s.name),
                 );
             }
         }

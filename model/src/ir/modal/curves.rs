@@ -69,7 +69,82 @@ pub struct Fit {
     pub bound: f64,
 }
 
+/// Most chosen modes of one body's curves: the derivation evaluates them on the stack.
+pub const MAX_CURVE_MODES: usize = 8;
+
 impl Curves {
+    /// What is wrong with these curves for `data` (the modal data file they were fitted on,
+    /// before truncation), each naming its field; empty when they fit.
+    pub fn problems(&self, body: &str, data: &super::ModalData) -> Vec<String> {
+        let mut out = Vec::new();
+        if self.body != body {
+            out.push(format!("body: `{}`, but the entry is `{body}`", self.body));
+        }
+        let n = self.modes.len();
+        if n == 0 || n > MAX_CURVE_MODES {
+            out.push(format!("modes: {n} chosen, 1 to {MAX_CURVE_MODES} allowed"));
+        }
+        for (i, &m) in self.modes.iter().enumerate() {
+            if m >= data.eigenmodes() {
+                out.push(format!(
+                    "modes[{i}]: mode {m}, the modal data has {} eigenmodes",
+                    data.eigenmodes()
+                ));
+            } else if let Some(f) = self.frequencies.get(i) {
+                let g = data.frequencies[m];
+                let close = (f - g).abs() <= 1e-6 * g.abs();
+                if !close {
+                    out.push(format!(
+                        "frequencies[{i}]: {f} Hz, mode {m} of the modal data is {g} Hz: the \
+                         curves were fitted on other modes (regenerate them)"
+                    ));
+                }
+            }
+            if self.modes[..i].contains(&m) {
+                out.push(format!("modes[{i}]: mode {m} chosen twice"));
+            }
+        }
+        if self.frequencies.len() != n {
+            out.push(format!(
+                "frequencies: {} given for {n} modes",
+                self.frequencies.len()
+            ));
+        }
+        for (key, terms, degree) in [("cubic", &self.cubic, 3), ("quartic", &self.quartic, 4)] {
+            for (j, t) in terms.iter().enumerate() {
+                let ok = t.modes.len() == degree
+                    && t.modes.windows(2).all(|w| w[0] <= w[1])
+                    && t.modes.iter().all(|&m| m < n);
+                if !ok {
+                    out.push(format!(
+                        "{key}[{j}].modes: {:?}, want {degree} ascending indices below {n}",
+                        t.modes
+                    ));
+                }
+                if !t.c.is_finite() {
+                    out.push(format!("{key}[{j}].c: {} is not finite", t.c));
+                }
+            }
+        }
+        let f = &self.fit;
+        if !(f.bound > 0.0 && f.bound <= 1.0) {
+            out.push(format!("fit.bound: {}, want in (0, 1]", f.bound));
+        }
+        for (key, r) in [
+            ("residual", f.residual),
+            ("unseen_residual", f.unseen_residual),
+        ] {
+            if !(r >= 0.0 && r <= f.bound) {
+                out.push(format!(
+                    "fit.{key}: {r} is above the fit's bound {} (or not a number): the \
+                     polynomial does not reproduce the FE solutions",
+                    f.bound
+                ));
+            }
+        }
+        out
+    }
+
     /// The nonlinear modal force on the chosen modes at their coordinates `q` (same order as
     /// [`Curves::modes`]): dV/dq, added into `f`. Over [`Scalar`], so the derivation (either
     /// back end) and the FE fit evaluate the one polynomial.
@@ -129,6 +204,58 @@ mod tests {
                 bound: 0.05,
             },
         }
+    }
+
+    /// Every rule names its field: the body, modes beyond the data or chosen twice,
+    /// frequencies of other modes (a regenerated file), terms of the wrong degree or order,
+    /// a fit above its bound.
+    #[test]
+    fn curves_that_do_not_fit_their_modal_data_are_refused_by_field() {
+        let d = crate::ir::modal::tests::tiny();
+        let mut c = one_mode(1.0, 1.0);
+        c.modes = vec![1];
+        c.frequencies = vec![20.0];
+        assert_eq!(c.problems("cabinet", &d), Vec::<String>::new());
+        let found = |edit: &dyn Fn(&mut Curves), body: &str| {
+            let mut x = c.clone();
+            edit(&mut x);
+            x.problems(body, &d).join("; ")
+        };
+        assert!(found(&|_| {}, "tub").starts_with("body: `cabinet`"));
+        let e = found(&|x| x.modes = vec![2], "cabinet");
+        assert!(
+            e.contains("modes[0]: mode 2, the modal data has 2 eigenmodes"),
+            "{e}"
+        );
+        let e = found(&|x| x.frequencies = vec![20.5], "cabinet");
+        assert!(
+            e.contains("frequencies[0]: 20.5 Hz, mode 1 of the modal data is 20 Hz"),
+            "{e}"
+        );
+        let e = found(
+            &|x| {
+                x.modes = vec![1, 1];
+                x.frequencies = vec![20.0, 20.0];
+            },
+            "cabinet",
+        );
+        assert!(e.contains("modes[1]: mode 1 chosen twice"), "{e}");
+        let e = found(&|x| x.cubic[0].modes = vec![0, 0], "cabinet");
+        assert!(
+            e.contains("cubic[0].modes: [0, 0], want 3 ascending"),
+            "{e}"
+        );
+        let e = found(&|x| x.quartic[0].modes = vec![0, 0, 0, 1], "cabinet");
+        assert!(e.contains("quartic[0].modes: [0, 0, 0, 1], want 4 ascending indices below 1"));
+        let e = found(&|x| x.cubic[0].c = f64::NAN, "cabinet");
+        assert!(e.contains("cubic[0].c: NaN is not finite"), "{e}");
+        let e = found(&|x| x.fit.unseen_residual = 0.2, "cabinet");
+        assert!(
+            e.contains("fit.unseen_residual: 0.2 is above the fit's bound 0.05"),
+            "{e}"
+        );
+        let e = found(&|x| x.fit.bound = 0.0, "cabinet");
+        assert!(e.contains("fit.bound: 0, want in (0, 1]"), "{e}");
     }
 
     /// V = a2 q^3 / 3 + a3 q^4 / 4 gives f = a2 q^2 + a3 q^3 (differentiated by hand).

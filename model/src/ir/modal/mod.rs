@@ -20,7 +20,7 @@ pub use limits::{
     PARTICIPATION_TOLERANCE, SUPPORT_ENERGY_TOLERANCE, UNIT_TOLERANCE,
 };
 
-pub use curves::{Curves, Fit, Term};
+pub use curves::{Curves, Fit, MAX_CURVE_MODES, Term};
 pub use read::{from_toml, read_file, read_str, resolve};
 pub use rules::problems;
 pub use truncate::{DEPENDENT_SHAPE, FOLD_BLOCKS, generalised_eigen, orthonormal_static_basis};

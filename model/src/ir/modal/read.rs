@@ -1,7 +1,7 @@
 //! Reading modal data: the TOML file or text into `ModalData` with file and line in its errors,
 //! and the one resolver that reads every elastic body's file into a model.
 
-use super::{ModalData, problems};
+use super::{Curves, ModalData, problems};
 use crate::ir::Model;
 use crate::ir::check::{CheckError, Path};
 use crate::ir::files::DataFiles;
@@ -68,6 +68,19 @@ pub fn resolve(model: &mut Model, files: DataFiles) -> (Vec<PathBuf>, Vec<CheckE
                     }));
                     continue;
                 }
+                if let Some(file) = &e.curves {
+                    let curves = files.read(file).map_err(|e| e.to_string()).and_then(|f| {
+                        read.extend(f.path.clone());
+                        read_curves(&f.text, &f.shown, &e.name, &d)
+                    });
+                    match curves {
+                        Ok(c) => e.curves_data = Some(c),
+                        Err(m) => errors.push(CheckError {
+                            path: Path::default().key("elastic").idx(i).key("curves"),
+                            message: format!("elastic `{}`: {m}", e.name),
+                        }),
+                    }
+                }
                 if let Some(n) = e.modes {
                     if n > d.eigenmodes() {
                         errors.push(CheckError {
@@ -91,4 +104,19 @@ pub fn resolve(model: &mut Model, files: DataFiles) -> (Vec<PathBuf>, Vec<CheckE
         }
     }
     (read, errors)
+}
+
+/// Parse a body's characteristic curves and check them against its modal data file (before
+/// truncation); errors carry the file (as `shown`), and the line or the field.
+fn read_curves(src: &str, shown: &str, body: &str, d: &ModalData) -> Result<Curves, String> {
+    let c: Curves = from_toml(src).map_err(|(span, m)| {
+        let line = span.map_or(0, |s| src[..s.start.min(src.len())].lines().count().max(1));
+        format!("{shown}:{line}: {m}")
+    })?;
+    let found = c.problems(body, d);
+    if found.is_empty() {
+        Ok(c)
+    } else {
+        Err(format!("{shown}: {}", found.join("; ")))
+    }
 }

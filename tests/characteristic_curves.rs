@@ -12,7 +12,7 @@
 //! - the energy balance: the curves' power lands in `cabinet modal strain` and equals -dV/dt
 //!   by central differences of the energy along q'.
 
-use washdyn_model::equations::{Drive, EnergyWork, Equations, JacobianWork};
+use washdyn_model::equations::{Drive, EnergyWork, Equations, JacobianWork, ModalBody};
 use washdyn_model::ir::modal::{Curves, Fit, Term};
 use washdyn_model::ir::{Model, Scene};
 
@@ -66,6 +66,34 @@ fn curved_reference() -> Model {
     m
 }
 
+/// The cabinet's modal body and its curves' energy at its coordinates, through the scene's
+/// basis as the data holds it (the file's chosen modes q_c = T_c q; not `CurveTerms`).
+fn cabinet_energy(eq: &Equations) -> (&ModalBody, impl Fn(&[f64]) -> f64 + '_) {
+    let cab = eq
+        .bodies
+        .list
+        .iter()
+        .filter_map(|b| b.modal())
+        .find(|b| b.name == "cabinet")
+        .unwrap();
+    let c = &cab
+        .curves
+        .as_ref()
+        .expect("the scene switches them on")
+        .curves;
+    let t = move |r: usize, j: usize| match &cab.data().basis {
+        Some(b) => b[c.modes[r] * cab.n + j],
+        None => f64::from(u8::from(c.modes[r] == j)),
+    };
+    let energy = move |qb: &[f64]| {
+        let qc: Vec<f64> = (0..c.modes.len())
+            .map(|r| (0..cab.n).map(|j| t(r, j) * qb[j]).sum())
+            .collect();
+        c.energy(&qc)
+    };
+    (cab, energy)
+}
+
 fn state(n: usize) -> (Vec<f64>, Vec<f64>) {
     let q = (0..n)
         .map(|i| 1e-3 * ((i as f64 * 0.37).sin() + 0.2))
@@ -98,24 +126,7 @@ fn the_curves_force_is_minus_the_energy_gradient_through_the_basis() {
     let (mut m1, mut h1, mut h0) = (vec![0.0; n1 * n1], vec![0.0; n], vec![0.0; n]);
     with.eval(&drive(), &q, &qd, &mut m1, &mut h1);
     without.eval(&drive(), &q, &qd, &mut m1, &mut h0);
-    let cab = with
-        .bodies
-        .list
-        .iter()
-        .filter_map(|b| b.modal())
-        .find(|b| b.name == "cabinet")
-        .unwrap();
-    let c = cab.curves.as_ref().expect("the scene switches them on");
-    let t = |r: usize, j: usize| match &cab.data().basis {
-        Some(b) => b[c.curves.modes[r] * cab.n + j],
-        None => f64::from(u8::from(c.curves.modes[r] == j)),
-    };
-    let energy = |qb: &[f64]| {
-        let qc: Vec<f64> = (0..c.chosen_modes())
-            .map(|r| (0..cab.n).map(|j| t(r, j) * qb[j]).sum())
-            .collect();
-        c.curves.energy(&qc)
-    };
+    let (cab, energy) = cabinet_energy(&with);
     let qb = &q[cab.start..cab.start + cab.n];
     let (mut worst, mut big) = (0.0f64, 0.0f64);
     for j in 0..cab.n {
@@ -195,28 +206,11 @@ fn the_curves_power_is_the_cabinets_modal_strain() {
     let (names, with, eq, q, qd) = powers("elastic_curves");
     let (names0, without, ..) = powers("elastic");
     assert_eq!(names, names0);
-    let cab = eq
-        .bodies
-        .list
-        .iter()
-        .filter_map(|b| b.modal())
-        .find(|b| b.name == "cabinet")
-        .unwrap();
-    let c = cab.curves.as_ref().unwrap();
-    let t = |r: usize, j: usize| match &cab.data().basis {
-        Some(b) => b[c.curves.modes[r] * cab.n + j],
-        None => f64::from(u8::from(c.curves.modes[r] == j)),
-    };
+    let (cab, energy) = cabinet_energy(&eq);
     let r = cab.start..cab.start + cab.n;
     let energy_at = |e: f64| {
-        let qc: Vec<f64> = (0..c.chosen_modes())
-            .map(|k| {
-                (0..cab.n)
-                    .map(|j| t(k, j) * (q[r.start + j] + e * qd[r.start + j]))
-                    .sum()
-            })
-            .collect();
-        c.curves.energy(&qc)
+        let qb: Vec<f64> = r.clone().map(|i| q[i] + e * qd[i]).collect();
+        energy(&qb)
     };
     let power = -(energy_at(1e-4) - energy_at(-1e-4)) / 2e-4;
     for (k, name) in names.iter().enumerate() {

@@ -26,11 +26,7 @@ use washdyn::measured::{self, MeasuredError};
 const G: f64 = 9.80665;
 
 fn pyuff() -> bool {
-    let ok = Command::new("python3")
-        .args(["-c", "import pyuff"])
-        .status()
-        .is_ok_and(|s| s.success());
-    common::required_tool(ok, "python3 with pyuff", "python3 -m pip install pyuff")
+    common::python_modules("pyuff")
 }
 
 /// ascii.uff (58) and binary.uff (58b): tub front, tub rear (g), tacho and a dead tacho (V,

@@ -15,11 +15,7 @@ use std::process::Command;
 use washdyn_analysis::uff58::{self, Encoding, Precision, Record, SiUnit, UffError};
 
 fn pyuff() -> bool {
-    let ok = Command::new("python3")
-        .args(["-c", "import pyuff"])
-        .status()
-        .is_ok_and(|s| s.success());
-    common::required_tool(ok, "python3 with pyuff", "python3 -m pip install pyuff")
+    common::python_modules("pyuff")
 }
 
 /// Writes ascii_double (after a dataset 151), ascii_single, binary_le and binary_be, three

@@ -25,15 +25,7 @@ use std::path::Path;
 use std::process::Command;
 
 fn pyuff() -> bool {
-    let ok = Command::new("python3")
-        .args(["-c", "import pyuff, pyarrow"])
-        .status()
-        .is_ok_and(|s| s.success());
-    common::required_tool(
-        ok,
-        "python3 with pyuff and pyarrow",
-        "python3 -m pip install pyuff pyarrow",
-    )
+    common::python_modules("pyuff, pyarrow")
 }
 
 /// The rig's profile, rpm: the ramp, the ripples; as a table every 0.05 s (piecewise linear,

@@ -139,6 +139,20 @@ pub fn required_tool(ok: bool, what: &str, install: &str) -> bool {
     ok
 }
 
+/// Whether python3 imports `modules` (`import pyuff, pyarrow`): `required_tool` for the
+/// independent references from PyPI.
+pub fn python_modules(modules: &str) -> bool {
+    let ok = std::process::Command::new("python3")
+        .args(["-c", &format!("import {modules}")])
+        .status()
+        .is_ok_and(|s| s.success());
+    required_tool(
+        ok,
+        &format!("python3 with {modules}"),
+        &format!("python3 -m pip install {}", modules.replace(',', "")),
+    )
+}
+
 /// The built `washdyn` run with `args` in `dir`, as a user would from there.
 pub fn washdyn_in(args: &[&str], dir: &std::path::Path) -> std::process::Output {
     std::process::Command::new(env!("CARGO_BIN_EXE_washdyn"))

@@ -72,6 +72,19 @@ pub struct Fit {
 /// Most chosen modes of one body's curves: the derivation evaluates them on the stack.
 pub const MAX_CURVE_MODES: usize = 8;
 
+impl Fit {
+    /// The residuals (field, value) not within [0, `bound`] (NaN included): the one rule the
+    /// fit (`washdyn_fe::curves`) and the model's checker both apply.
+    pub fn beyond_bound(&self) -> impl Iterator<Item = (&'static str, f64)> + '_ {
+        [
+            ("residual", self.residual),
+            ("unseen_residual", self.unseen_residual),
+        ]
+        .into_iter()
+        .filter(|(_, r)| !(*r >= 0.0 && *r <= self.bound))
+    }
+}
+
 impl Curves {
     /// What is wrong with these curves for `data` (the modal data file they were fitted on,
     /// before truncation), each naming its field; empty when they fit.
@@ -130,17 +143,12 @@ impl Curves {
         if !(f.bound > 0.0 && f.bound <= 1.0) {
             out.push(format!("fit.bound: {}, want in (0, 1]", f.bound));
         }
-        for (key, r) in [
-            ("residual", f.residual),
-            ("unseen_residual", f.unseen_residual),
-        ] {
-            if !(r >= 0.0 && r <= f.bound) {
-                out.push(format!(
-                    "fit.{key}: {r} is above the fit's bound {} (or not a number): the \
-                     polynomial does not reproduce the FE solutions",
-                    f.bound
-                ));
-            }
+        for (key, r) in f.beyond_bound() {
+            out.push(format!(
+                "fit.{key}: {r} is above the fit's bound {} (or not a number): the \
+                 polynomial does not reproduce the FE solutions",
+                f.bound
+            ));
         }
         out
     }

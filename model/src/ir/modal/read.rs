@@ -15,6 +15,11 @@ pub fn read_file(path: &FsPath, shown: &str) -> Result<ModalData, String> {
 
 /// Parse modal data text; errors carry the file (as `shown`) and line.
 pub fn read_str(src: &str, shown: &str) -> Result<ModalData, String> {
+    parse(src, shown)
+}
+
+/// Deserialize a data file's text; errors carry the file (as `shown`) and line.
+fn parse<T: serde::de::DeserializeOwned>(src: &str, shown: &str) -> Result<T, String> {
     from_toml(src).map_err(|(span, m)| {
         let line = span.map_or(0, |s| src[..s.start.min(src.len())].lines().count().max(1));
         format!("{shown}:{line}: {m}")
@@ -109,10 +114,7 @@ pub fn resolve(model: &mut Model, files: DataFiles) -> (Vec<PathBuf>, Vec<CheckE
 /// Parse a body's characteristic curves and check them against its modal data file (before
 /// truncation); errors carry the file (as `shown`), and the line or the field.
 fn read_curves(src: &str, shown: &str, body: &str, d: &ModalData) -> Result<Curves, String> {
-    let c: Curves = from_toml(src).map_err(|(span, m)| {
-        let line = span.map_or(0, |s| src[..s.start.min(src.len())].lines().count().max(1));
-        format!("{shown}:{line}: {m}")
-    })?;
+    let c: Curves = parse(src, shown)?;
     let found = c.problems(body, d);
     if found.is_empty() {
         Ok(c)

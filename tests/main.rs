@@ -19,6 +19,7 @@ mod characteristic_curves;
 mod compare;
 mod compare_speed;
 mod contact;
+mod counterweights;
 mod damper_mass;
 mod elastic_cabinet;
 mod elastic_machine;

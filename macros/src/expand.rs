@@ -12,8 +12,8 @@ use std::path::Path as FsPath;
 use washdyn_model::codegen::generate;
 use washdyn_model::ir::check::{CheckError, Path, Seg, check};
 use washdyn_model::ir::{
-    Cabinet, Elastic, FrictionDamper, Gasket, LinearDamper, Model, Rotor, Scene, Sensor,
-    SpeedProfile, Spring, Tub, Unbalance, V3,
+    BoltedJoint, Cabinet, Counterweight, Elastic, FrictionDamper, Gasket, LinearDamper, Model,
+    Rotor, Scene, Sensor, SpeedProfile, Spring, Tub, Unbalance, V3,
 };
 
 /// The macro: tokens in, a module (or `compile_error!`s) out. `dir` is the calling crate's
@@ -133,6 +133,8 @@ fn deserialize(b: &Built, diag: &mut Diag) -> Option<Model> {
                 "sensors" => each::<Sensor>(v, &p, s, diag),
                 "scenes" => each::<Scene>(v, &p, s, diag),
                 "elastic" => each::<Elastic>(v, &p, s, diag),
+                "counterweights" => each::<Counterweight>(v, &p, s, diag),
+                "bolted_joints" => each::<BoltedJoint>(v, &p, s, diag),
                 _ => true,
             };
             if !ok {

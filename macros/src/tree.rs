@@ -21,6 +21,8 @@ pub const LISTS: &[(&str, &str, &str)] = &[
     ("friction_damper", "friction_dampers", "friction damper"),
     ("gasket", "gaskets", "gasket"),
     ("contact", "contacts", "contact"),
+    ("counterweight", "counterweights", "counterweight"),
+    ("bolted_joint", "bolted_joints", "bolted joint"),
     ("sensor", "sensors", "sensor"),
     ("scene", "scenes", "scene"),
     ("elastic", "elastic", "elastic body"),

@@ -72,6 +72,8 @@ pub fn check_scene(eq: &Equations) -> Result<(), HarmonicError> {
         Some("friction dampers (a nonlinear friction law); use linear dampers")
     } else if !eq.contacts.is_empty() {
         Some("`contact` (a contact force is nonlinear)")
+    } else if !eq.bolted_joints.is_empty() {
+        Some("`counterweights` (a bolted joint's curve and slider are nonlinear)")
     } else if eq.exact_geometry {
         Some("`element_geometry` (exact element kinematics and second-order sensors)")
     } else if eq.unbalance_inertia {

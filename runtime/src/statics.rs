@@ -51,6 +51,7 @@ fn equilibrium_avg<S: Mechanical>(
     let mut hk = vec![0.0; n];
     let (mut hq, mut hqd) = (vec![0.0; n * n], vec![0.0; n * n]);
     let time = |k: usize| t0 + span * k as f64 / samples as f64;
+    let mut last_res = f64::INFINITY;
     for _ in 0..50 {
         h.fill(0.0);
         // The largest load sampled: the average cancels it to round-off, not to zero.
@@ -66,6 +67,8 @@ fn equilibrium_avg<S: Mechanical>(
         if res < 1e-10 + 1e-13 * scale {
             return Ok(q);
         }
+        let stalled = res > 0.5 * last_res;
+        last_res = res;
         // Row-major dh/dq, averaged like the residual (a rotating load tilted with the tub has
         // a large stiffness at each instant and none on average): the back end's exact force
         // Jacobians.
@@ -90,6 +93,13 @@ fn equilibrium_avg<S: Mechanical>(
         let step = dq.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         let size = q.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         if step <= 1e-10 * size {
+            return Ok(q);
+        }
+        // So does a residual that stopped falling under steps of round-off's size: stiff
+        // joints (a counterweight's bolts, 1e9 N/m) turn the positions' round-off into a
+        // residual noise that no Newton step lowers, and Newton would contract it by far more
+        // than half.
+        if stalled && step <= 1e-8 * size {
             return Ok(q);
         }
     }

@@ -206,6 +206,7 @@ impl<'a> Builder<'a> {
                 })
             }
             BodyRef::DamperPart(_) => Err(AssemblyError::DamperPart),
+            BodyRef::Counterweight(_) => Err(AssemblyError::Counterweight),
         }
     }
 }

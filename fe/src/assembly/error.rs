@@ -28,6 +28,8 @@ pub enum AssemblyError {
     NoDrum,
     #[error("a damper's moving part is not on a mesh")]
     DamperPart,
+    #[error("a counterweight is a rigid body, not on a mesh")]
+    Counterweight,
     #[error("node set {set} is a rigid part: only masses and sensors can attach there")]
     RigidPart { set: String },
     #[error("no modal point of the {body} at {at:?}")]

@@ -10,6 +10,7 @@ mod gasket;
 mod linear_damper;
 mod spring;
 
+pub use bolted_joint::BoltedJoint;
 pub use contact::Contact;
 pub use damper_joint::{Axial, DamperJoint};
 pub use friction_damper::{FrictionDamper, friction_force};

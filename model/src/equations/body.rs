@@ -84,7 +84,7 @@ impl Body {
     /// The body's own coordinates in q: its frame's rigid ones and its modes.
     pub fn coordinates(&self) -> Range<usize> {
         let modes = match &self.modes {
-            Modes::Part(p) => Some(p.start..p.start + RigidPart::N),
+            Modes::Part(p) => Some(p.start..p.start + p.n()),
             _ => self.modal().map(|m| m.start..m.start + m.n),
         };
         match (&self.frame, modes) {
@@ -133,7 +133,8 @@ pub struct Bodies {
 impl Bodies {
     /// The checked model's bodies for a scene: the tub floating, the drum spinning on it, the
     /// cabinet fixed, each with the modes the scene keeps; then the moving part of each
-    /// friction damper the scene gives its mass (`damper_mass.<name>`).
+    /// friction damper the scene gives its mass (`damper_mass.<name>`), then the
+    /// counterweights where the scene has `counterweights`.
     pub fn new(model: &Model, scene: &EffectSet) -> Bodies {
         let g = model.gravity;
         let modes = |b: BodyRef, start: &mut usize| {
@@ -164,8 +165,19 @@ impl Bodies {
                     .as_ref()
                     .expect("checked: damper_mass has its part");
                 let p = RigidPart::new(mp, d.a.point, d.b.point, n);
-                n += RigidPart::N;
-                (i, p)
+                n += p.n();
+                (BodyRef::DamperPart(i), p)
+            })
+            .collect();
+        let weights: Vec<_> = model
+            .counterweights
+            .iter()
+            .enumerate()
+            .filter(|_| scene.has(&Effect::Counterweights))
+            .map(|(i, w)| {
+                let p = RigidPart::counterweight(w, n);
+                n += p.n();
+                (BodyRef::Counterweight(i), p)
             })
             .collect();
         let layout = Layout {
@@ -215,9 +227,9 @@ impl Bodies {
             frame: Frame::Fixed,
             modes: frame_modes(cabinet_modes),
         });
-        for (i, p) in parts {
+        for (id, p) in parts.into_iter().chain(weights) {
             bodies.list.push(Body {
-                id: BodyRef::DamperPart(i),
+                id,
                 frame: Frame::Fixed,
                 modes: Modes::Part(p),
             });
@@ -316,13 +328,22 @@ impl Bodies {
         let jac = |s: [f64; 3], rows: Option<&ModalRows>| frame_point_jacobian(start, s, rows, n1);
         let tub = match self.modes(BodyRef::Tub) {
             None => {
-                let jac = jac(f::sub(model.tub.cog, p0), None);
-                add_rigid_mass(&mut m1, n1, model.tub.mass, model.tub.inertia, &jac);
+                let bolted = self
+                    .list
+                    .iter()
+                    .any(|b| matches!(b.id, BodyRef::Counterweight(_)));
+                let t = if bolted {
+                    model.bare_tub()
+                } else {
+                    model.tub.clone()
+                };
+                let jac = jac(f::sub(t.cog, p0), None);
+                add_rigid_mass(&mut m1, n1, t.mass, t.inertia, &jac);
                 TubDef {
-                    mass: model.tub.mass,
+                    mass: t.mass,
                     p0,
-                    inertia: model.tub.inertia,
-                    cog_offset: f::sub(model.tub.cog, p0),
+                    inertia: t.inertia,
+                    cog_offset: f::sub(t.cog, p0),
                     modal_weight: None,
                 }
             }

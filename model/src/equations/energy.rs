@@ -135,6 +135,7 @@ impl Equations {
         of(&self.damper_joints, &mut v);
         of(&self.gaskets, &mut v);
         of(&self.contacts, &mut v);
+        of(&self.bolted_joints, &mut v);
         v
     }
 
@@ -192,6 +193,7 @@ impl Equations {
         self.element_powers(&self.damper_joints, &st, d, qd, s, w, out);
         self.element_powers(&self.gaskets, &st, d, qd, s, w, out);
         self.element_powers(&self.contacts, &st, d, qd, s, w, out);
+        self.element_powers(&self.bolted_joints, &st, d, qd, s, w, out);
         w.zd = zd;
     }
 

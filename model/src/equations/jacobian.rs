@@ -114,7 +114,9 @@ impl Equations {
         self.element_jacobians(&self.damper_joints, st, d, w, hq, hqd, dim, p);
         let p = ports.as_deref_mut();
         self.element_jacobians(&self.gaskets, st, d, w, hq, hqd, dim, p);
-        self.element_jacobians(&self.contacts, st, d, w, hq, hqd, dim, ports);
+        let p = ports.as_deref_mut();
+        self.element_jacobians(&self.contacts, st, d, w, hq, hqd, dim, p);
+        self.element_jacobians(&self.bolted_joints, st, d, w, hq, hqd, dim, ports);
     }
 
     /// Every force element's markers in the order `all_element_jacobians` visits them.
@@ -131,6 +133,7 @@ impl Equations {
             .chain(pairs(&self.damper_joints))
             .chain(pairs(&self.gaskets))
             .chain(pairs(&self.contacts))
+            .chain(pairs(&self.bolted_joints))
     }
 
     /// The element markers on subsystem 2's modes (the ported form's ports, six coordinates

@@ -28,7 +28,7 @@ mod sensors;
 mod states;
 
 use crate::elements::{
-    Contact, DamperJoint, Element, FrictionDamper, Gasket, LinearDamper, Spring,
+    BoltedJoint, Contact, DamperJoint, Element, FrictionDamper, Gasket, LinearDamper, Spring,
 };
 use crate::geom::{V, f};
 use crate::ir::{BodyRef, Effect, EffectSet, Model};
@@ -105,6 +105,8 @@ pub struct Equations {
     pub gaskets: Vec<Placed<Gasket>>,
     /// The tub-cabinet contacts (effect `contact`; none without it).
     pub contacts: Vec<Placed<Contact>>,
+    /// The counterweights' bolts, three elements each (effect `counterweights`; none without).
+    pub bolted_joints: Vec<Placed<BoltedJoint>>,
     pub sensors: Vec<SensorDef>,
 }
 
@@ -225,6 +227,23 @@ impl Equations {
         } else {
             Vec::new()
         };
+        let mut bolted_joints = Vec::new();
+        for (ci, w) in model.counterweights.iter().enumerate() {
+            let body = BodyRef::Counterweight(ci);
+            if bodies.get(body).is_none() {
+                continue;
+            }
+            for j in model
+                .bolted_joints
+                .iter()
+                .filter(|j| j.counterweight == w.name)
+            {
+                let (a, b) = (mk(BodyRef::Tub, j.point), mk(body, j.point));
+                let triple = BoltedJoint::triple(j, a, b, layout.nz);
+                layout.nz += 2;
+                bolted_joints.extend(triple.into_iter().map(|e| Placed::new(e, exact, n)));
+            }
+        }
         let sensors = model
             .sensors
             .iter()
@@ -253,6 +272,7 @@ impl Equations {
             damper_joints,
             gaskets,
             contacts,
+            bolted_joints,
             sensors,
             bodies,
         }
@@ -375,6 +395,7 @@ impl Equations {
         self.elements(&self.damper_joints, &b, d, z, h);
         self.elements(&self.gaskets, &b, d, z, h);
         self.elements(&self.contacts, &b, d, z, h);
+        self.elements(&self.bolted_joints, &b, d, z, h);
     }
 
     fn elements<T: Scalar, E: Element>(

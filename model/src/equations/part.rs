@@ -1,15 +1,20 @@
-//! A rigid part of its own on the ground frame: a friction damper's moving part (the seed
-//! paper's "two independent bodies"). Its coordinates are its small rigid motion about its rest
-//! place, mass-normalised so that it joins subsystem 2 with M2 = E (constant, never factorised):
-//! xi = sqrt(m) x for the CoG's translation (global axes) and xi = sqrt(J) theta for the
-//! rotation about the two axes normal to the rod (a rod has no torsion stiffness in its
-//! bearings; the torsion is left out as the massless element leaves it out). Its markers' rows
-//! are those of rigid-body modes, so every element, the Jacobians and the energy balance treat
-//! it as they treat a modal body's point.
+//! A rigid body of its own on the ground frame, mass-normalised so that it joins subsystem 2
+//! with M2 = E (constant, never factorised): xi = sqrt(m) x for the CoG's translation (global
+//! axes) and xi = sqrt(J_k) theta_k for the small rotation about each principal axis k. Two
+//! kinds share it:
+//! - a friction damper's moving part (the seed paper's "two independent bodies"): two rotations
+//!   about the axes normal to the rod (a rod has no torsion stiffness in its bearings; the
+//!   torsion is left out as the massless element leaves it out);
+//! - a counterweight on its bolts (issue 52): all three rotations about its principal axes.
+//!   Its mass is constant whatever the drum's angle, so it belongs with M2 rather than with the
+//!   drum-dependent M1; it meets the tub only through its joints' forces, as the cabinet does.
+//!
+//! Its markers' rows are those of rigid-body modes, so every element, the Jacobians and the
+//! energy balance treat it as they treat a modal body's point.
 
 use super::kinematics::ModalRows;
 use crate::geom::{V, f};
-use crate::ir::MovingPart;
+use crate::ir::{Counterweight, MovingPart};
 use crate::scalar::Scalar;
 
 /// A rigid body with constant mass in subsystem 2.
@@ -18,19 +23,15 @@ pub struct RigidPart {
     /// Its first coordinate in q.
     pub start: usize,
     pub mass: f64,
-    /// About the CoG, about each of `normals`.
-    pub inertia: f64,
     pub cog: [f64; 3],
-    /// The rod's axis at rest (unit) and two unit normals to it (the rotation coordinates).
-    pub axis: [f64; 3],
-    pub normals: [[f64; 3]; 2],
+    /// The rotation coordinates: each a unit axis and the inertia about it through the CoG
+    /// (principal axes: the kinetic energy is |xi'|^2 / 2).
+    pub rotations: Vec<([f64; 3], f64)>,
 }
 
 impl RigidPart {
-    /// Coordinates: three translations, two rotations.
-    pub const N: usize = 5;
-
-    /// The moving part of a damper from `a` to `b`, its coordinates from `start`.
+    /// The moving part of a damper from `a` to `b`, its coordinates from `start`: three
+    /// translations, two rotations about the rod's normals.
     pub fn new(p: &MovingPart, a: [f64; 3], b: [f64; 3], start: usize) -> Self {
         let axis = f::unit(f::sub(b, a));
         // A normal: the global axis least aligned with the rod, made orthogonal.
@@ -44,27 +45,50 @@ impl RigidPart {
         RigidPart {
             start,
             mass: p.mass,
-            inertia: p.inertia,
             cog: f::add(a, f::scale(f::sub(b, a), p.cog)),
-            axis,
-            normals: [n1, n2],
+            rotations: vec![(n1, p.inertia), (n2, p.inertia)],
         }
     }
 
+    /// A counterweight, its coordinates from `start`: three translations, three rotations
+    /// about its principal axes of inertia.
+    pub fn counterweight(w: &Counterweight, start: usize) -> Self {
+        let j = nalgebra::Matrix3::from_fn(|r, c| w.inertia[r][c]);
+        let e = nalgebra::SymmetricEigen::new(j);
+        let rotations = (0..3)
+            .map(|k| {
+                let v = e.eigenvectors.column(k);
+                ([v[0], v[1], v[2]], e.eigenvalues[k])
+            })
+            .collect();
+        RigidPart {
+            start,
+            mass: w.mass,
+            cog: w.cog,
+            rotations,
+        }
+    }
+
+    /// Its number of coordinates.
+    pub fn n(&self) -> usize {
+        3 + self.rotations.len()
+    }
+
     /// The rows of the point `p` (rest, global): the translation per unit coordinate
-    /// (e_a / sqrt(m); n_i x (p - cog) / sqrt(J)) and the rotation (0; n_i / sqrt(J)).
+    /// (e_a / sqrt(m); n_k x (p - cog) / sqrt(J_k)) and the rotation (0; n_k / sqrt(J_k)).
     pub fn rows(&self, p: [f64; 3]) -> ModalRows {
-        let (sm, sj) = (self.mass.sqrt(), self.inertia.sqrt());
+        let sm = self.mass.sqrt();
         let r = f::sub(p, self.cog);
-        let mut w = Vec::with_capacity(Self::N);
-        let mut phi = Vec::with_capacity(Self::N);
+        let mut w = Vec::with_capacity(self.n());
+        let mut phi = Vec::with_capacity(self.n());
         for a in 0..3 {
             let mut e = [0.0; 3];
             e[a] = 1.0 / sm;
             w.push(e);
             phi.push([0.0; 3]);
         }
-        for n in self.normals {
+        for &(n, j) in &self.rotations {
+            let sj = j.sqrt();
             w.push(f::scale(f::cross(n, r), 1.0 / sj));
             phi.push(f::scale(n, 1.0 / sj));
         }
@@ -98,8 +122,9 @@ mod tests {
         };
         let (a, b) = ([0.18, 0.18, 0.20], [0.18, 0.27, 0.03]);
         let part = RigidPart::new(&mp, a, b, 0);
-        let [n1, n2] = part.normals;
-        for (x, y) in [(n1, n2), (n1, part.axis), (n2, part.axis)] {
+        let (n1, n2) = (part.rotations[0].0, part.rotations[1].0);
+        let axis = f::unit(f::sub(b, a));
+        for (x, y) in [(n1, n2), (n1, axis), (n2, axis)] {
             assert!(f::dot(x, y).abs() < 1e-15);
         }
         let xi = [0.3, -0.2, 0.5, 0.7, -0.4];

@@ -33,6 +33,7 @@ impl Equations {
             .chain(element_markers(&self.damper_joints))
             .chain(element_markers(&self.gaskets))
             .chain(element_markers(&self.contacts))
+            .chain(element_markers(&self.bolted_joints))
             .chain(self.sensors.iter().map(|s| &s.at))
             .chain(self.carried.iter().map(|c| &c.0))
             .chain(self.rotors.iter().map(|r| &r.mount))

@@ -90,6 +90,10 @@ pub enum BodyRef {
     /// the body layer makes it; a model cannot attach to it.
     #[serde(skip)]
     DamperPart(usize),
+    /// The counterweight with this index (a scene's `counterweights`): the body layer makes
+    /// it; only its bolted joints attach to it.
+    #[serde(skip)]
+    Counterweight(usize),
 }
 
 impl BodyRef {
@@ -104,6 +108,7 @@ impl BodyRef {
             BodyRef::Cabinet => "cabinet",
             BodyRef::Drum => "drum",
             BodyRef::DamperPart(_) => "damper part",
+            BodyRef::Counterweight(_) => "counterweight",
         }
     }
 

@@ -12,6 +12,7 @@
 pub mod attachments;
 mod bodies;
 pub mod check;
+mod counterweights;
 pub mod exact;
 pub mod files;
 mod force_elements;
@@ -23,6 +24,7 @@ mod sensors;
 pub mod toml_file;
 
 pub use bodies::{Attach, BodyRef, Cabinet, DRUM, Elastic, MOTOR, Rotor, Tub, Unbalance};
+pub use counterweights::{BoltedJoint, Counterweight, Tightening};
 pub use force_elements::{
     Contact, DEFAULT_BREAKAWAY, FrictionDamper, FrictionLaw, Gasket, LinearDamper, LossFactor,
     MovingPart, Spring,
@@ -75,6 +77,12 @@ pub struct Model {
     /// Tub-cabinet contacts, simulated where a scene names the effect `contact`.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub contacts: Vec<Contact>,
+    /// The tub's counterweights, bodies of their own on their bolts where a scene names
+    /// `counterweights` (in the tub's mass elsewhere).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub counterweights: Vec<Counterweight>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub bolted_joints: Vec<BoltedJoint>,
     #[serde(default)]
     pub sensors: Vec<Sensor>,
     /// Named selections of effects; an empty list means the one scene `full`.

@@ -82,6 +82,10 @@ pub enum Effect {
     /// The tub-cabinet contacts (`contacts`): penalty forces where the tub reaches the cabinet.
     /// Off: no contact code or state; the validity monitor still watches the clearances.
     Contact,
+    /// The tub's counterweights as rigid bodies on their bolted joints (`counterweights`,
+    /// `bolted_joints`), their mass out of the tub's. Not in `full`: the alternative to the
+    /// counterweights inside the tub, not an added effect.
+    Counterweights,
     /// Every friction damper of the scene on this law, whatever its `law` says
     /// (`friction_law.arctan`: the paper's machine beside the one as built).
     FrictionLaw(FrictionLaw),
@@ -98,6 +102,8 @@ pub struct EffectNames<'a> {
     pub elastic: Vec<&'a str>,
     pub curved: Vec<&'a str>,
     pub massive: Vec<&'a str>,
+    /// The model has counterweights (`counterweights`).
+    pub bolted: bool,
 }
 
 impl<'a> EffectNames<'a> {
@@ -112,6 +118,7 @@ impl<'a> EffectNames<'a> {
                 .map(|e| e.name.as_str())
                 .collect(),
             massive: m.massive_dampers(),
+            bolted: !m.counterweights.is_empty(),
         }
     }
 }
@@ -124,6 +131,7 @@ impl Effect {
             elastic,
             curved,
             massive,
+            bolted,
         } = names;
         match s {
             "gyroscopic" => Some(Effect::Gyroscopic),
@@ -133,6 +141,7 @@ impl Effect {
             "unbalance_inertia" => Some(Effect::UnbalanceInertia),
             "centrifugal_stiffening" => Some(Effect::CentrifugalStiffening),
             "contact" => Some(Effect::Contact),
+            "counterweights" if *bolted => Some(Effect::Counterweights),
             _ => {
                 if let Some(b) = s.strip_prefix("elastic.") {
                     return elastic.contains(&b).then(|| Effect::Elastic(b.to_string()));
@@ -170,6 +179,7 @@ impl Effect {
             Effect::DamperMass(d) => format!("damper_mass.{d}"),
             Effect::CentrifugalStiffening => "centrifugal_stiffening".into(),
             Effect::Contact => "contact".into(),
+            Effect::Counterweights => "counterweights".into(),
             Effect::FrictionLaw(l) => format!("friction_law.{}", l.name()),
             Effect::CharacteristicCurves(b) => format!("characteristic_curves.{b}"),
         }

@@ -72,7 +72,7 @@ pub(super) fn unbalances<'a>(c: &mut Ctx, names: &mut Names<'a>, m: &'a Model) {
     }
 }
 
-fn inertia(c: &mut Ctx, p: Path, who: &str, m: &M3) {
+pub(super) fn inertia(c: &mut Ctx, p: Path, who: &str, m: &M3) {
     if !c.finite(&p, &format!("{who}: inertia"), m.as_flattened()) {
         return;
     }

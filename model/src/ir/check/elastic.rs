@@ -17,7 +17,7 @@ pub(super) fn elastic(c: &mut Ctx, m: &Model) {
             Some(BodyRef::Tub) => Some(K::Tub),
             Some(BodyRef::Drum) => Some(K::Drum),
             Some(BodyRef::Cabinet) => Some(K::Cabinet),
-            Some(BodyRef::DamperPart(_)) | None => {
+            Some(BodyRef::DamperPart(_) | BodyRef::Counterweight(_)) | None => {
                 let other = &e.name;
                 c.err(
                     p.clone().key("name"),

@@ -8,6 +8,7 @@
 //! scenes (`scenes.rs`); `check` runs them in one order.
 
 mod bodies;
+mod counterweights;
 mod elastic;
 mod force_elements;
 mod scenes;
@@ -134,6 +135,7 @@ pub fn check(m: &Model) -> Result<(), Vec<CheckError>> {
     force_elements::friction_dampers(&mut c, &mut names, m);
     force_elements::gaskets(&mut c, &mut names, m);
     force_elements::contacts(&mut c, &mut names, m);
+    counterweights::counterweights(&mut c, &mut names, m);
     scenes::sensors(&mut c, &mut names, m);
     scenes::scenes(&mut c, m);
     free(&mut c, m);

@@ -36,7 +36,8 @@ pub(super) fn scenes(c: &mut Ctx, m: &Model) {
                          gasket_damping, element_geometry, unbalance_inertia, unbalance.<rotor>, \
                          elastic.<body>, centrifugal_stiffening, damper_mass.<friction damper \
                          with a moving_part>, contact, friction_law.<arctan|elasto_plastic>, \
-                         characteristic_curves.<elastic body with curves>)",
+                         characteristic_curves.<elastic body with curves>, counterweights (a \
+                         model with counterweights))",
                         s.name
                     ),
                 );
@@ -52,6 +53,18 @@ pub(super) fn scenes(c: &mut Ctx, m: &Model) {
                     format!("scene `{}`: `{e}` needs the effect `elastic.{b}`", s.name),
                 );
             }
+        }
+        let bolted = s.effects.iter().position(|e| e == "counterweights");
+        if let Some(j) = bolted.filter(|_| s.effects.iter().any(|e| e == "elastic.tub")) {
+            c.err(
+                p.clone().key("effects").idx(j),
+                format!(
+                    "scene `{}`: `counterweights` with `elastic.tub` needs the tub's modal data \
+                     without the counterweights' bricks, which washdyn does not make yet; use \
+                     the rigid tub",
+                    s.name
+                ),
+            );
         }
         let massive = s.effects.iter().position(|e| e.starts_with("damper_mass."));
         if let Some(j) = massive.filter(|_| !s.effects.iter().any(|e| e == "friction_dampers")) {

@@ -97,10 +97,11 @@ fn generated_code_follows_its_free_parameters_in_every_scene() {
                 .zip(&m_g)
                 .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
             assert!(dm <= 5e-13 * m_scale, "{scene}: M1 {dm:e}");
-            // The unchanged model's forces are not the variant's (measured at least 3.9e-5 of
-            // the largest force: in the elastic scenes the modal forces dominate h).
+            // The unchanged model's forces are not the variant's (measured at least 8.1e-6 of
+            // the largest force: in the elastic scenes the modal forces dominate h, in
+            // `counterweights` the bolts' at these 2 mm deflections).
             moved = moved.min(diff(&h_i, &h_b));
-            assert!(diff(&h_i, &h_b) > 1e-5, "{scene}: {}", diff(&h_i, &h_b));
+            assert!(diff(&h_i, &h_b) > 1e-6, "{scene}: {}", diff(&h_i, &h_b));
         }
     }
     let _ = base;

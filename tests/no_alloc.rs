@@ -177,6 +177,8 @@ fn generated_run_allocates_only_at_set_up() {
         ("reference", "rigid_low_speed", Scene::Rigid),
         // The dampers' moving parts (subsystem 2's rigid parts, their joints) and the contacts.
         ("reference", "damper_mass", Scene::Rigid),
+        // The counterweights on their bolts: rigid parts of six coordinates, slider states.
+        ("reference", "counterweights", Scene::Rigid),
         ("reference", "contact", Scene::Rigid),
         ("elastic_cabinet", "elastic", Scene::ElasticCabinet),
         // Above the traced size: the generated M1 and h, the force Jacobians over dual numbers.

@@ -138,6 +138,38 @@ impl<E: Element> Placed<E> {
     }
 }
 
+/// The counterweights' bolts the scene has (three elements each, two slider states), their
+/// states numbered on from `layout.nz`.
+fn bolted_joints(
+    model: &Model,
+    bodies: &Bodies,
+    layout: &mut Layout,
+    exact: bool,
+) -> Vec<Placed<BoltedJoint>> {
+    let n = layout.n();
+    let mut out = Vec::new();
+    for (ci, w) in model.counterweights.iter().enumerate() {
+        let body = BodyRef::Counterweight(ci);
+        if bodies.get(body).is_none() {
+            continue;
+        }
+        for j in model
+            .bolted_joints
+            .iter()
+            .filter(|j| j.counterweight == w.name)
+        {
+            let (a, b) = (
+                bodies.marker(BodyRef::Tub, j.point),
+                bodies.marker(body, j.point),
+            );
+            let triple = BoltedJoint::triple(j, a, b, layout.nz);
+            layout.nz += 2;
+            out.extend(triple.into_iter().map(|e| Placed::new(e, exact, n)));
+        }
+    }
+    out
+}
+
 impl Equations {
     /// Resolve a checked model for a scene.
     pub fn new(model: &Model, scene: &EffectSet) -> Equations {
@@ -217,33 +249,14 @@ impl Equations {
             .map(|g| Gasket::new(g, mk(g.a, g.point), mk(g.b, g.point), gasket_damping))
             .map(|e| Placed::new(e, exact, n))
             .collect();
-        let contacts = if scene.has(&Effect::Contact) {
-            model
-                .contacts
-                .iter()
-                .map(|c| Contact::new(c, mk(c.a, c.point), mk(c.b, c.b_point())))
-                .map(|e| Placed::new(e, exact, n))
-                .collect()
-        } else {
-            Vec::new()
-        };
-        let mut bolted_joints = Vec::new();
-        for (ci, w) in model.counterweights.iter().enumerate() {
-            let body = BodyRef::Counterweight(ci);
-            if bodies.get(body).is_none() {
-                continue;
-            }
-            for j in model
-                .bolted_joints
-                .iter()
-                .filter(|j| j.counterweight == w.name)
-            {
-                let (a, b) = (mk(BodyRef::Tub, j.point), mk(body, j.point));
-                let triple = BoltedJoint::triple(j, a, b, layout.nz);
-                layout.nz += 2;
-                bolted_joints.extend(triple.into_iter().map(|e| Placed::new(e, exact, n)));
-            }
-        }
+        let contacts = model
+            .contacts
+            .iter()
+            .filter(|_| scene.has(&Effect::Contact))
+            .map(|c| Contact::new(c, mk(c.a, c.point), mk(c.b, c.b_point())))
+            .map(|e| Placed::new(e, exact, n))
+            .collect();
+        let bolted_joints = bolted_joints(model, &bodies, &mut layout, exact);
         let sensors = model
             .sensors
             .iter()

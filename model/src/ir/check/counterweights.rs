@@ -34,7 +34,8 @@ pub(super) fn counterweights<'a>(c: &mut Ctx, names: &mut Names<'a>, m: &'a Mode
             );
         }
     }
-    if total >= m.tub.mass {
+    // A tub without mass is its own error (`bodies::tub`).
+    if m.tub.mass > 0.0 && total >= m.tub.mass {
         c.err(
             Path::of(&["counterweights"]),
             format!(

@@ -53,7 +53,8 @@ pub struct Query<'a> {
 /// The model's content as `scene` runs it, hashed (FNV-1a, 64 bits, hex): the model's IR
 /// with its modal data, less what does not enter the scene's equations: the model's name, its
 /// other scenes (the scene counts as its resolved effects and mode cut-off), the contacts
-/// unless the scene has `contact`, a friction damper's moving part unless the scene has its
+/// unless the scene has `contact`, the counterweights and their bolts unless it has
+/// `counterweights`, a friction damper's moving part unless the scene has its
 /// `damper_mass` and the parameters of the friction law the scene does not run, and the names of the data files (their content is in the IR). Every
 /// `elastic` entry stays: a rigid scene takes the drum's FE mass and inertia from its data.
 pub fn content_hash(model: &Model, scene: &EffectSet) -> String {
@@ -64,6 +65,10 @@ pub fn content_hash(model: &Model, scene: &EffectSet) -> String {
     m.free.clear();
     if !scene.has(&Effect::Contact) {
         m.contacts.clear();
+    }
+    if !scene.has(&Effect::Counterweights) {
+        m.counterweights.clear();
+        m.bolted_joints.clear();
     }
     for d in &mut m.friction_dampers {
         let massive =

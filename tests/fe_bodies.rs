@@ -383,3 +383,75 @@ fn drum_stress_stiffened_frequencies_come_back_from_the_assembled_geometric_stif
 
 // The drum's Campbell diagram against CalculiX: `tests/fe_drum.rs`, on the knot-free brick
 // variant (ccx's Coriolis matrix is wrong on models with MPCs, as the production drum is).
+
+/// The reference's counterweights (models/data/reference.toml, scene `counterweights`) are the
+/// FE tub's concrete bricks: each sector's elements (top, bottom, collar by where they lie) by
+/// the same consistent mass integration as the tub's, against the model's mass, CoG and
+/// inertia about the CoG. Measured: 1.6e-5 at worst (bound 4e-4; the model's numbers integrate
+/// the exact cylindrical sectors, docs/even-orders/counterweight_mass.py, the mesh its C3D20
+/// with midside nodes on the circles, and are rounded), and the three together are the tub's
+/// bricks.
+#[test]
+fn the_models_counterweights_are_the_fe_tubs_concrete_bricks() {
+    let model = washdyn_model::ir::toml_file::load_file(
+        &PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("models/data/reference.toml"),
+    )
+    .unwrap();
+    let tub = bodies::tub::Tub::default().mesh();
+    let bricks = tub
+        .parts
+        .iter()
+        .find(|p| p.name == "TUB_COUNTERWEIGHT")
+        .expect("the tub's counterweight bricks");
+    // Which counterweight an element belongs to, by its centroid.
+    let which = |e: &Vec<usize>| {
+        let c: [f64; 3] = std::array::from_fn(|a| {
+            e.iter().map(|&n| tub.nodes[n - 1][a]).sum::<f64>() / e.len() as f64
+        });
+        if c[0] > bodies::tub::Tub::default().x_front {
+            "counterweight_collar"
+        } else if c[2] > 0.45 {
+            "counterweight_top"
+        } else {
+            "counterweight_bottom"
+        }
+    };
+    let mut worst = 0.0f64;
+    let mut total = 0.0;
+    for w in &model.counterweights {
+        let mut sub = tub.clone();
+        sub.rigid.clear();
+        sub.parts = vec![washdyn_fe::mesh::Part {
+            elements: bricks
+                .elements
+                .iter()
+                .filter(|e| which(e) == w.name)
+                .cloned()
+                .collect(),
+            ..bricks.clone()
+        }];
+        let p = consistent_mass_props(&sub);
+        total += p.mass;
+        let scale = w.inertia[0][0].max(w.inertia[1][1]).max(w.inertia[2][2]);
+        worst = worst.max((p.mass / w.mass - 1.0).abs());
+        for a in 0..3 {
+            worst = worst.max((p.cog[a] - w.cog[a]).abs() / 0.45);
+            for b in 0..3 {
+                worst = worst.max((p.inertia[a][b] - w.inertia[a][b]).abs() / scale);
+            }
+        }
+        eprintln!("{}: FE {p:?}", w.name);
+    }
+    let all = {
+        let mut sub = tub.clone();
+        sub.rigid.clear();
+        sub.parts = vec![bricks.clone()];
+        consistent_mass_props(&sub).mass
+    };
+    eprintln!("counterweights against the FE bricks: {worst:.1e}; {total} of {all} kg");
+    assert!(worst < 4e-4, "{worst:e}");
+    assert!(
+        (total - all).abs() < 1e-9 * all,
+        "every brick in one counterweight"
+    );
+}

@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# Regenerate docs/even-orders.md's run-up tables: the reference with its counterweights tight
+# and loose, with and without the kinematic sources of even orders. Whole run-ups, galpha at
+# 1e-6, interpreted (model files); about 25 min on one core, most of it the loose bolts.
+# Usage (from the repository's root, washdyn installed or built): bash docs/even-orders/regenerate.sh [OUT]
+set -euo pipefail
+out=${1:-out/eo}
+washdyn=${WASHDYN:-washdyn}
+mkdir -p "$out/models/data"
+ln -sfn "$(pwd)/models/fe" "$out/models/fe"
+scenes='
+[[scenes]]
+name = "full_galpha"
+effects = ["gyroscopic", "unbalance.drum", "unbalance.motor", "friction_dampers", "gasket_damping",
+           "element_geometry", "unbalance_inertia"]
+solver = { method = "galpha", tol = 1e-6 }
+
+[[scenes]]
+name = "iso_base"
+effects = ["gyroscopic", "unbalance.drum", "unbalance.motor", "friction_dampers", "gasket_damping"]
+solver = { method = "galpha", tol = 1e-6 }
+
+[[scenes]]
+name = "iso_cw"
+effects = ["gyroscopic", "unbalance.drum", "unbalance.motor", "friction_dampers", "gasket_damping",
+           "counterweights"]
+solver = { method = "galpha", tol = 1e-6 }
+'
+{ cat models/data/reference.toml; echo "$scenes"; } > "$out/models/data/tight.toml"
+# Loose: every bolt's tightening torque to zero (no preload).
+{ sed 's/torque = { moment = 15.0/torque = { moment = 0.0/' models/data/reference.toml; echo "$scenes"; } \
+  > "$out/models/data/loose.toml"
+run() { "$washdyn" run "$out/models/data/$1.toml" --scene "$2" --out "$out/$1_$2" --no-plots; }
+run tight full_galpha
+run tight counterweights
+run loose counterweights
+run tight iso_base
+run tight iso_cw
+run loose iso_cw
+python3 docs/even-orders/levels.py "$out/tight_full_galpha" "$out/tight_counterweights" \
+  "$out/loose_counterweights" "$out/tight_iso_base" "$out/tight_iso_cw" "$out/loose_iso_cw"

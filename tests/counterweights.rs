@@ -10,7 +10,7 @@
 
 use nalgebra::{DMatrix, Matrix3, SymmetricEigen, Vector3};
 use washdyn::commands::resolve_model;
-use washdyn_model::equations::{BodyState, Drive, Equations, JacobianWork, Modes};
+use washdyn_model::equations::{BodyState, Equations, Modes};
 use washdyn_model::ir::{BodyRef, Model};
 use washdyn_runtime::statics::static_equilibrium;
 use washdyn_runtime::system::Interpreter;
@@ -31,11 +31,8 @@ fn bolt_stiffness(m: &Model, i: usize) -> DMatrix<f64> {
         let s = (j.bolt_stiffness + j.member_stiffness) * n * n.transpose()
             + (j.shear_stiffness + j.bolt_bending_stiffness)
                 * (Matrix3::identity() - n * n.transpose());
-        let r = Vector3::from(j.point) - c;
-        // u = G [x; theta], G = [I, -[r]x].
-        let mut g = DMatrix::zeros(3, 6);
-        g.view_mut((0, 0), (3, 3)).copy_from(&Matrix3::identity());
-        g.view_mut((0, 3), (3, 3)).copy_from(&(-r.cross_matrix()));
+        // u = G [x; theta], G = [I, -[r]x] at the lever r = p - c.
+        let g = crate::common::t_point(Vector3::from(j.point) - c);
         k += g.transpose() * DMatrix::from_fn(3, 3, |a, b| s[(a, b)]) * g;
     }
     k
@@ -70,18 +67,7 @@ fn generalised(k: &DMatrix<f64>, m: &DMatrix<f64>) -> Vec<f64> {
 #[test]
 fn each_counterweight_rings_on_its_bolts_as_a_rigid_body_on_springs() {
     let model = reference();
-    let s = model.scene(Some("counterweights")).unwrap();
-    let eq = Equations::new(&model, &s);
-    let n = eq.layout.n();
-    let (q, qd) = (vec![0.0; n], vec![0.0; n]);
-    let (mut hq, mut hqd) = (vec![0.0; n * n], vec![0.0; n * n]);
-    let d = Drive {
-        phi: 0.0,
-        omega: 0.0,
-        omega_dot: 0.0,
-    };
-    eq.force_jacobians(&d, &q, &qd, &mut JacobianWork::new(&eq), &mut hq, &mut hqd);
-    let hq = DMatrix::from_row_slice(n, n, &hq);
+    let (eq, hq, _) = crate::common::at_rest(&model, "counterweights");
     let mut seen = 0;
     let mut worst = 0.0f64;
     for body in &eq.bodies.list {

@@ -10,7 +10,7 @@
 
 use nalgebra::{DMatrix, SymmetricEigen};
 use washdyn::commands::resolve_model;
-use washdyn_model::equations::{Drive, Equations, JacobianWork, Modes};
+use washdyn_model::equations::Modes;
 use washdyn_model::ir::{BodyRef, Model};
 use washdyn_ode::{AnySolver, Method, Options};
 use washdyn_runtime::output::MemorySink;
@@ -30,7 +30,7 @@ fn reference() -> Model {
 #[test]
 fn the_parts_frequencies_are_a_rigid_rod_on_its_bearings() {
     let model = reference();
-    let (eq, hq, _) = at_rest(&model, "damper_mass");
+    let (eq, hq, _) = crate::common::at_rest(&model, "damper_mass");
     let mut parts = 0;
     for body in &eq.bodies.list {
         let (BodyRef::DamperPart(i), Modes::Part(p)) = (body.id, &body.modes) else {
@@ -145,27 +145,6 @@ fn lighter(base: &Model, eps: f64) -> Model {
     m
 }
 
-/// The scene's equations with dh/dq and dh/dq' at rest, q = q' = 0, where the bearings are
-/// undeflected and the friction law is its slope.
-fn at_rest(model: &Model, scene: &str) -> (Equations, DMatrix<f64>, DMatrix<f64>) {
-    let s = model.scene(Some(scene)).unwrap();
-    let eq = Equations::new(model, &s);
-    let n = eq.layout.n();
-    let (q, qd) = (vec![0.0; n], vec![0.0; n]);
-    let (mut hq, mut hqd) = (vec![0.0; n * n], vec![0.0; n * n]);
-    let d = Drive {
-        phi: 0.0,
-        omega: 0.0,
-        omega_dot: 0.0,
-    };
-    eq.force_jacobians(&d, &q, &qd, &mut JacobianWork::new(&eq), &mut hq, &mut hqd);
-    (
-        eq,
-        DMatrix::from_row_slice(n, n, &hq),
-        DMatrix::from_row_slice(n, n, &hqd),
-    )
-}
-
 /// At rest, the tub's stiffness and damping through the dampers with their parts, the parts'
 /// coordinates condensed out (statically: q_p = -K_pp^-1 K_pt q_t), are the massless
 /// element's, to an error that falls as eps (the bearings' compliance): the same linear
@@ -173,7 +152,7 @@ fn at_rest(model: &Model, scene: &str) -> (Equations, DMatrix<f64>, DMatrix<f64>
 #[test]
 fn a_stiff_part_condenses_to_the_massless_element() {
     let base = reference();
-    let (eq0, k0, c0) = at_rest(&base, "full");
+    let (eq0, k0, c0) = crate::common::at_rest(&base, "full");
     assert_eq!(
         eq0.layout.n(),
         6,
@@ -181,7 +160,7 @@ fn a_stiff_part_condenses_to_the_massless_element() {
     );
     let mut errs = Vec::new();
     for eps in [1.0, 1e-2, 1e-4] {
-        let (eq, k, c) = at_rest(&lighter(&base, eps), "damper_mass");
+        let (eq, k, c) = crate::common::at_rest(&lighter(&base, eps), "damper_mass");
         let n = eq.layout.n();
         let np = n - 6;
         let kpp = k.view((6, 6), (np, np)).into_owned();

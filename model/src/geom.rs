@@ -115,6 +115,18 @@ pub mod f {
         let n = norm(a);
         [a[0] / n, a[1] / n, a[2] / n]
     }
+    /// Two unit normals to the unit `axis`, with it a right-handed frame (axis, n1, n2): n1
+    /// from the global axis least aligned with `axis`, made orthogonal (a rod's bending axes,
+    /// a bolt's tangents).
+    pub fn normals(axis: [f64; 3]) -> [[f64; 3]; 2] {
+        let k = (0..3)
+            .min_by(|&i, &j| axis[i].abs().total_cmp(&axis[j].abs()))
+            .expect("three axes");
+        let mut e = [0.0; 3];
+        e[k] = 1.0;
+        let n1 = unit(cross(axis, e));
+        [n1, cross(axis, n1)]
+    }
     /// Distance of `p` from the line through `point` along `axis` (any nonzero length): how
     /// far a point lies off a rotor's or a spin's axis.
     pub fn off_line(p: [f64; 3], point: [f64; 3], axis: [f64; 3]) -> f64 {

@@ -294,3 +294,32 @@ pub fn energy_difference(a: &[Vec<f64>], b: &[Vec<f64>]) -> (f64, f64) {
         .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
     (worst, scale)
 }
+
+/// A scene's equations with dh/dq and dh/dq' at rest, q = q' = 0, drum still: where bearings
+/// and bolts are undeflected and a friction law is its slope.
+pub fn at_rest(
+    model: &Model,
+    scene: &str,
+) -> (
+    washdyn_model::equations::Equations,
+    DMatrix<f64>,
+    DMatrix<f64>,
+) {
+    use washdyn_model::equations::{Drive, Equations, JacobianWork};
+    let s = model.scene(Some(scene)).unwrap();
+    let eq = Equations::new(model, &s);
+    let n = eq.layout.n();
+    let (q, qd) = (vec![0.0; n], vec![0.0; n]);
+    let (mut hq, mut hqd) = (vec![0.0; n * n], vec![0.0; n * n]);
+    let d = Drive {
+        phi: 0.0,
+        omega: 0.0,
+        omega_dot: 0.0,
+    };
+    eq.force_jacobians(&d, &q, &qd, &mut JacobianWork::new(&eq), &mut hq, &mut hqd);
+    (
+        eq,
+        DMatrix::from_row_slice(n, n, &hq),
+        DMatrix::from_row_slice(n, n, &hqd),
+    )
+}

@@ -122,13 +122,7 @@ impl BoltedJoint {
         first_state: usize,
     ) -> [BoltedJoint; 3] {
         let axis = f::unit(j.axis);
-        let k = (0..3)
-            .min_by(|&i, &k| axis[i].abs().total_cmp(&axis[k].abs()))
-            .expect("three axes");
-        let mut e = [0.0; 3];
-        e[k] = 1.0;
-        let t1 = f::unit(f::cross(axis, e));
-        let t2 = f::cross(axis, t1);
+        let [t1, t2] = f::normals(axis);
         let one = |name: String, direction| BoltedJoint {
             name,
             a: a.clone(),

@@ -33,15 +33,7 @@ impl RigidPart {
     /// The moving part of a damper from `a` to `b`, its coordinates from `start`: three
     /// translations, two rotations about the rod's normals.
     pub fn new(p: &MovingPart, a: [f64; 3], b: [f64; 3], start: usize) -> Self {
-        let axis = f::unit(f::sub(b, a));
-        // A normal: the global axis least aligned with the rod, made orthogonal.
-        let k = (0..3)
-            .min_by(|&i, &j| axis[i].abs().total_cmp(&axis[j].abs()))
-            .expect("three axes");
-        let mut e = [0.0; 3];
-        e[k] = 1.0;
-        let n1 = f::unit(f::cross(axis, e));
-        let n2 = f::cross(axis, n1);
+        let [n1, n2] = f::normals(f::unit(f::sub(b, a)));
         RigidPart {
             start,
             mass: p.mass,

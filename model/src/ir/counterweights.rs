@@ -5,6 +5,7 @@
 //! the tub's; elsewhere it stays in the tub's mass, as today.
 
 use super::{M3, Model, Tub, V3};
+use crate::geom::f;
 use serde::{Deserialize, Serialize};
 
 /// A rigid counterweight: its mass properties (the tub's `mass`, `cog` and `inertia` include
@@ -111,8 +112,8 @@ impl Model {
         }
         // Each body's inertia about `cog`: its own plus m (|d|^2 E - d d^T).
         let about = |m: f64, c: V3, j: &M3| -> M3 {
-            let d = [c[0] - cog[0], c[1] - cog[1], c[2] - cog[2]];
-            let dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+            let d = f::sub(c, cog);
+            let dd = f::dot(d, d);
             let mut out = *j;
             for r in 0..3 {
                 for s in 0..3 {

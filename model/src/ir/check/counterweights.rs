@@ -4,6 +4,7 @@
 //! three bolts not on one line (fewer leave it a free rotation); and less mass than the tub.
 
 use super::{Ctx, Names, Path, bodies::inertia, norm};
+use crate::geom::f;
 use crate::ir::{BoltedJoint, Model, V3};
 
 pub(super) fn counterweights<'a>(c: &mut Ctx, names: &mut Names<'a>, m: &'a Model) {
@@ -54,17 +55,11 @@ pub(super) fn counterweights<'a>(c: &mut Ctx, names: &mut Names<'a>, m: &'a Mode
 
 /// At least three points, not all on one line.
 fn spans_a_plane(pts: &[V3]) -> bool {
-    let Some(a) = pts.first() else { return false };
-    let d = |b: &V3| [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-    pts.iter().any(|b| {
-        pts.iter().any(|c| {
-            let (u, v) = (d(b), d(c));
-            let x = [
-                u[1] * v[2] - u[2] * v[1],
-                u[2] * v[0] - u[0] * v[2],
-                u[0] * v[1] - u[1] * v[0],
-            ];
-            norm(&x) > 1e-6 * (1.0 + norm(&u) * norm(&v))
+    let Some(&a) = pts.first() else { return false };
+    pts.iter().any(|&b| {
+        pts.iter().any(|&c| {
+            let (u, v) = (f::sub(b, a), f::sub(c, a));
+            f::norm(f::cross(u, v)) > 1e-6 * (1.0 + f::norm(u) * f::norm(v))
         })
     })
 }

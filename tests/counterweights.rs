@@ -163,8 +163,8 @@ fn the_rest_position_hangs_each_counterweight_on_its_bolts() {
 }
 
 /// A model file's counterweights and bolts refused at file, line and field: a negative preload,
-/// a counterweight on two bolts, a bolt on an unknown counterweight, and the effect with the
-/// elastic tub (whose modal data still holds the counterweights' bricks).
+/// a counterweight on two bolts, a bolt on an unknown counterweight, a bolt off the elastic
+/// tub's wall, and the effect with an elastic tub that has no data without the bricks.
 #[test]
 fn a_model_files_bolts_are_refused_by_file_and_field() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -222,13 +222,32 @@ fn a_model_files_bolts_are_refused_by_file_and_field() {
         err.contains("bolted joint `bolt_top_1`: no counterweight `counterweight_tpo`"),
         "{err}"
     );
-    let bad = format!(
+    // The elastic tub with its counterweights bolted on: its `bare` data hold each bolt's
+    // point; a bolt moved off the tub's wall (10 cm inwards) has no node set there, and
+    // without `bare` the scene has no data to bolt them to.
+    let both = format!(
         "{text}\n[[scenes]]\nname = \"both\"\neffects = [\"elastic.tub\", \"counterweights\"]\n"
     );
-    let (code, err) = check(&bad);
+    let (code, err) = check(&both);
+    assert_eq!(code, Some(0), "{err}");
+    let wall = "point = [-0.04000, -0.23383, 0.58500]";
+    let at = both.find(wall).unwrap();
+    let line = both[..at].lines().count() + 1;
+    let (code, err) = check(&both.replacen(wall, "point = [-0.04000, -0.18383, 0.50000]", 1));
     assert_eq!(code, Some(3), "{err}");
     assert!(
-        err.contains("scene `both`: `counterweights` with `elastic.tub`"),
+        err.contains(&format!("m.toml:{line}:"))
+            && err.contains("bolted joint `bolt_top_1`: the elastic tub has no FE node set"),
+        "{err}"
+    );
+    let bare = "bare = \"";
+    let no_bare = both.replacen(bare, "# bare = \"", 1);
+    let (code, err) = check(&no_bare);
+    assert_eq!(code, Some(3), "{err}");
+    assert!(
+        err.contains(
+            "scene `both`: `counterweights` with `elastic.tub` needs the tub's modal data"
+        ),
         "{err}"
     );
 }

@@ -15,6 +15,7 @@ mod analysis_read;
 mod backend_agreement;
 mod bad_input;
 mod bad_modal_input;
+mod bare_tub;
 mod characteristic_curves;
 mod compare;
 mod compare_speed;

@@ -321,6 +321,9 @@ fn load_base(
         .unwrap_or_default();
     for e in &mut model.elastic {
         e.file = normalise(&rel_dir.join(&e.file));
+        for f in [&mut e.bare, &mut e.curves].into_iter().flatten() {
+            *f = normalise(&rel_dir.join(&*f));
+        }
     }
     if let Some(csv) = &model.speed.csv {
         let base_dir = file.parent().map(PathBuf::from).unwrap_or_default();

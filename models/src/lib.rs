@@ -32,6 +32,11 @@ pub const REFERENCE_DATA: &[Embedded] = &[
         text: include_str!("../fe/tub.modal.toml"),
     },
     Embedded {
+        name: "../fe/tub_bare.modal.toml",
+        origin: "built-in models/fe/tub_bare.modal.toml",
+        text: include_str!("../fe/tub_bare.modal.toml"),
+    },
+    Embedded {
         name: "../fe/drum.modal.toml",
         origin: "built-in models/fe/drum.modal.toml",
         text: include_str!("../fe/drum.modal.toml"),

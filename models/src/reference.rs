@@ -381,7 +381,7 @@ washdyn_macros::machine! {
         // Elastic bodies (issue 8's FE models, `washdyn fe modal`): the tub free-free on its 6
         // rigid DOF, the drum clamped at its bearing, the cabinet on its feet. Modal damping
         // 2 % (estimate).
-        elastic tub { file: "fe/tub.modal.toml", damping: 0.02 }
+        elastic tub { file: "fe/tub.modal.toml", bare: "fe/tub_bare.modal.toml", damping: 0.02 }
         elastic drum { file: "fe/drum.modal.toml", damping: 0.02 }
         // The cabinet's on-feet modes get 6 % by the feet's share of their strain energy
         // (rubber feet on a floor, 5-8 %: estimate).

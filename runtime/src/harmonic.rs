@@ -66,14 +66,15 @@ pub struct Harmonic {
 }
 
 /// The structural reasons a scene is not LTI at constant speed; `linearise` also checks
-/// numerically that M1 and the Jacobians do not change over the period.
+/// numerically that M1 and the Jacobians do not change over the period. Bolted joints
+/// (`counterweights`) pass: with their slip held at 0 they are closed, sticking springs, linear
+/// while the interface stays closed (the check at the rest refuses one the mean load opens);
+/// the response is the small-motion one.
 pub fn check_scene(eq: &Equations) -> Result<(), HarmonicError> {
     let why = if !eq.friction_dampers.is_empty() || !eq.damper_joints.is_empty() {
         Some("friction dampers (a nonlinear friction law); use linear dampers")
     } else if !eq.contacts.is_empty() {
         Some("`contact` (a contact force is nonlinear)")
-    } else if !eq.bolted_joints.is_empty() {
-        Some("`counterweights` (a bolted joint's curve and slider are nonlinear)")
     } else if eq.exact_geometry {
         Some("`element_geometry` (exact element kinematics and second-order sensors)")
     } else if eq.unbalance_inertia {

@@ -87,6 +87,12 @@ pub fn content_hash(model: &Model, scene: &EffectSet) -> String {
     }
     for e in &mut m.elastic {
         e.file.clear();
+        // The data the scene runs: the tub's `bare` data where it bolts the counterweights on.
+        let bare = e.bare_data.take();
+        if scene.has(&Effect::Counterweights) && bare.is_some() {
+            e.data = bare;
+        }
+        e.bare = None;
         // A body the scene keeps rigid takes its FE model's mass, centre of gravity and
         // inertia (and feet), not its modes: a new solve of the modes does not void a study of
         // the rigid machine.

@@ -286,24 +286,7 @@ pub fn builtin() -> Vec<BodySpec> {
     let cab_loads = cabinet_loads(&model, &cab_all);
     let own = |v: Vec<(&str, [f64; 3])>| v.into_iter().map(|(s, p)| (s.to_string(), p)).collect();
     vec![
-        BodySpec {
-            name: "tub".into(),
-            kind: ElasticBodyKind::Tub,
-            support: Support::FreeFree,
-            mesh: tub_mesh,
-            // Modes to about 2 kHz (issue 21's study); a scene keeps those below its order bound.
-            solve_modes: 110,
-            keep: Keep {
-                rigid_below_hz: 1.0,
-                max_hz: 2000.0,
-                max_modes: 100,
-            },
-            points: own(tub_all),
-            spin: None,
-            correction: tub_loads(),
-            correction_order: 1,
-            recovery: true,
-        },
+        tub_spec("tub", tub_mesh, own(tub_all.clone()), tub_loads(), true),
         BodySpec {
             name: "drum".into(),
             kind: ElasticBodyKind::Drum,
@@ -352,7 +335,63 @@ pub fn builtin() -> Vec<BodySpec> {
             correction_order: 2,
             recovery: true,
         },
+        tub_bare(&model, &tub, own(tub_all)),
     ]
+}
+
+/// The tub as `washdyn fe modal` builds it: modes to about 2 kHz (issue 21's study; a scene
+/// keeps those below its order bound) and the static correction modes of `correction`.
+/// `recovery`: also the shapes on the mesh for field recovery.
+fn tub_spec(
+    name: &str,
+    mesh: Mesh,
+    points: Vec<(String, [f64; 3])>,
+    correction: Vec<LoadCase>,
+    recovery: bool,
+) -> BodySpec {
+    BodySpec {
+        name: name.into(),
+        kind: ElasticBodyKind::Tub,
+        support: Support::FreeFree,
+        mesh,
+        solve_modes: 110,
+        keep: Keep {
+            rigid_below_hz: 1.0,
+            max_hz: 2000.0,
+            max_modes: 100,
+        },
+        points,
+        spin: None,
+        correction,
+        correction_order: 1,
+        recovery,
+    }
+}
+
+/// The tub without its counterweights' bricks (issue 52: a scene with `counterweights` and
+/// `elastic.tub` carries them as bodies on their bolts): the tub's node sets, one patch at each
+/// bolted joint's point (named as the joint), and static correction modes under a force in x, y
+/// and z at every bolt beside the bearing's, so the shell's local give under each bolt is in
+/// the basis (a bolt's 1e9 N/m meets the 1.2 mm shell there, not a free-free mode).
+fn tub_bare(model: &Model, tub: &tub::Tub, mut points: Vec<(String, [f64; 3])>) -> BodySpec {
+    let bare = tub::Tub {
+        bricks: false,
+        ..tub.clone()
+    };
+    let mut mesh = bare.mesh();
+    let mut loads = tub_loads();
+    for j in &model.bolted_joints {
+        let set = j.name.to_uppercase();
+        patch(&mut mesh, &set, j.point);
+        for d in [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]] {
+            loads.push(LoadCase::force(&set, d));
+        }
+        points.push((set, j.point));
+    }
+    for (name, p) in &points {
+        set_or_patch(&mut mesh, name, *p);
+    }
+    tub_spec("tub_bare", mesh, points, loads, false)
 }
 
 #[cfg(test)]

@@ -53,6 +53,9 @@ pub struct Tub {
     /// A third concrete sector on top of the front collar (the "top front" weight reaches
     /// over the door opening, as on production tubs): radial thickness, m (0: none).
     pub collar_thickness: f64,
+    /// Whether the mesh carries the counterweights' bricks: `false` is the bare tub that a
+    /// scene with `counterweights` bolts them to (issue 52, `BodySpec` `tub_bare`).
+    pub bricks: bool,
     /// Motor stator: mass kg, centre (on the motor axis), rim radius of its point masses.
     pub stator_mass: f64,
     pub stator_centre: [f64; 3],
@@ -99,6 +102,7 @@ impl Default for Tub {
             bottom_half_span: 12,
             bottom_axial: (4, 12),
             collar_thickness: 0.0229,
+            bricks: true,
             stator_mass: 3.5,
             stator_centre: [-0.05, 0.0, 0.18],
             stator_radius: 0.05,
@@ -155,12 +159,16 @@ impl Tub {
     }
 
     pub fn mesh(&self) -> Mesh {
-        let mut m = Mesh::new(
-            "washdyn tub: S8R shell, C3D20 bearing unit and counterweights, stator on B32 truss",
-        );
+        let mut m = Mesh::new(if self.bricks {
+            "washdyn tub: S8R shell, C3D20 bearing unit and counterweights, stator on B32 truss"
+        } else {
+            "washdyn tub without its counterweights: S8R shell, C3D20 bearing unit, stator on B32 truss"
+        });
         let cylinder = self.shell(&mut m);
         self.bearing_unit(&mut m);
-        self.counterweights(&mut m);
+        if self.bricks {
+            self.counterweights(&mut m);
+        }
         self.stator(&mut m, &cylinder);
         m
     }

@@ -141,7 +141,7 @@ impl Bodies {
             model.modes_in(b, scene).map(|e| {
                 let loads = model.element_loads(b, scene);
                 let curves = scene.has(&Effect::CharacteristicCurves(b.name().into()));
-                let m = ModalBody::new(e, *start, g, (scene.mode_cutoff, curves), &loads);
+                let m = ModalBody::new(&e, *start, g, (scene.mode_cutoff, curves), &loads);
                 *start += m.n;
                 m
             })

@@ -39,6 +39,35 @@ fn contacts_used(m: &Model, body: BodyRef) -> bool {
     (m.scenes.is_empty() && m.elastic_of(body).is_some()) || m.scenes.iter().any(both)
 }
 
+/// Some scene bolts the counterweights to the elastic tub (`counterweights` with
+/// `elastic.tub`, which uses the tub's `bare` data).
+pub fn bolts_used(m: &Model) -> bool {
+    let both = |s: &Scene| {
+        s.effects.iter().any(|e| e == "counterweights")
+            && s.effects.iter().any(|e| e == "elastic.tub")
+    };
+    m.scenes.iter().any(both)
+}
+
+/// The bolted joints' points on the tub, which its `bare` data must hold where some scene
+/// bolts the counterweights to the elastic tub (`bolts_used`); the FE front end names each
+/// point's node set after its joint.
+pub fn bolts(m: &Model) -> Vec<Attachment> {
+    if !bolts_used(m) {
+        return Vec::new();
+    }
+    m.bolted_joints
+        .iter()
+        .enumerate()
+        .map(|(i, j)| Attachment {
+            path: Path::of(&["bolted_joints"]).idx(i).key("point"),
+            what: format!("bolted joint `{}`", j.name),
+            name: j.name.clone(),
+            point: j.point,
+        })
+        .collect()
+}
+
 /// Every point `body` must hold as a modal point where some scene makes it elastic, in the
 /// model's order: on the tub and the cabinet the force elements' ends, gaskets, sensors and
 /// (contact scenes) contacts, on the tub the rotors' mounts; on the drum its off-axis sensors

@@ -2,8 +2,9 @@
 //! entries, the body an element attaches to (`BodyRef`, `Attach`), the rotors and their
 //! unbalances.
 
-use super::{M3, V3, is_zero, modal};
+use super::{Effect, EffectSet, M3, V3, is_zero, modal};
 use serde::{Deserialize, Serialize};
+use std::borrow::Cow;
 
 /// The tub assembly with everything rigidly attached to it and the non-spinning mass of the rotors.
 /// Its CoG at rest is the reference point of the tub's 6 DOF.
@@ -58,6 +59,14 @@ pub struct Elastic {
     /// The curves' content, read by `modal::resolve` and checked against the modal data file.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub curves_data: Option<modal::Curves>,
+    /// The tub's modal data without its counterweights' bricks (`tub_bare.modal.toml`), relative
+    /// like `file`: what a scene with `counterweights` bolts them to. Its node sets hold the
+    /// tub's points and one at each bolted joint's point.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bare: Option<String>,
+    /// The `bare` file's content, read by `modal::resolve` like `data`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bare_data: Option<modal::ModalData>,
     /// The file's content, read by `modal::resolve` (both front ends), truncated to `modes`.
     /// Serialised so a `machine!` model's embedded IR carries it; `resolve` always replaces it
     /// from the file.
@@ -69,6 +78,20 @@ impl Elastic {
     /// The body this entry describes (the checker refuses other names).
     pub fn body(&self) -> Option<BodyRef> {
         BodyRef::from_name(&self.name)
+    }
+
+    /// The entry as a scene uses it: with `counterweights` the tub's `bare` data stand in for
+    /// its `data` (the counterweights are then bodies of their own).
+    pub fn in_scene(&self, scene: &EffectSet) -> Cow<'_, Elastic> {
+        match &self.bare_data {
+            Some(b) if scene.has(&Effect::Counterweights) => {
+                let mut e = self.clone();
+                e.data = Some(b.clone());
+                e.bare_data = None;
+                Cow::Owned(e)
+            }
+            _ => Cow::Borrowed(self),
+        }
     }
 }
 

@@ -115,6 +115,11 @@ impl Model {
                     v.extend(moments(r.mount_point()));
                 }
             }
+            if scene.has(&Effect::Counterweights) {
+                for j in &self.bolted_joints {
+                    v.extend(forces(j.point));
+                }
+            }
         }
         if body == BodyRef::Drum {
             for u in self.unbalances.iter().filter(|u| u.rotor == super::DRUM) {

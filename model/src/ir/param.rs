@@ -70,6 +70,7 @@ fn value(model: &Model) -> Value {
     let mut m = model.clone();
     for e in &mut m.elastic {
         e.data = None;
+        e.bare_data = None;
     }
     serde_json::to_value(&m).expect("the IR serialises")
 }
@@ -300,6 +301,7 @@ pub fn set(model: &Model, params: &[Param], values: &[f64]) -> Result<Model, Par
     })?;
     for (e, o) in out.elastic.iter_mut().zip(&model.elastic) {
         e.data = o.data.clone();
+        e.bare_data = o.bare_data.clone();
     }
     Ok(out)
 }

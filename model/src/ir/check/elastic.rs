@@ -89,6 +89,18 @@ pub(super) fn elastic(c: &mut Ctx, m: &Model) {
                 ),
             );
         }
+        if let Some(b) = &e.bare {
+            let bare_kind = e.bare_data.as_ref().map(|d| d.body);
+            if kind != Some(K::Tub) || bare_kind.is_some_and(|k| k != K::Tub) {
+                c.err(
+                    p.clone().key("bare"),
+                    format!(
+                        "elastic `{}`: bare `{b}`: only the tub's data leave out counterweights",
+                        e.name
+                    ),
+                );
+            }
+        }
     }
     drum_points(c, m);
     for body in [BodyRef::Cabinet, BodyRef::Tub, BodyRef::Drum] {
@@ -96,7 +108,45 @@ pub(super) fn elastic(c: &mut Ctx, m: &Model) {
     }
     rotor_mounts(c, m);
     tub_mass(c, m);
+    bare_tub(c, m);
     elastic_drum(c, m);
+}
+
+/// Where a scene bolts the counterweights to the elastic tub: the tub's `bare` data hold every
+/// tub point and each bolt's point, and with the counterweights they weigh what the tub's
+/// `data` weigh (within `TUB_MASS_TOLERANCE`). The scene checker asks for the `bare` file.
+fn bare_tub(c: &mut Ctx, m: &Model) {
+    let Some(e) = m.elastic_of(BodyRef::Tub) else {
+        return;
+    };
+    let Some(bare) = e.bare_data.as_ref().filter(|_| attachments::bolts_used(m)) else {
+        return;
+    };
+    let mut points = attachments::attachments(m, BodyRef::Tub);
+    points.extend(attachments::bolts(m));
+    for a in points {
+        need_point(c, bare, BodyRef::Tub, a.path, a.what, &a.point);
+    }
+    let Some(tied) = &e.data else {
+        return;
+    };
+    let weights: f64 = m.counterweights.iter().map(|w| w.mass).sum();
+    let total = bare.mass + weights;
+    if (total / tied.mass - 1.0).abs() > TUB_MASS_TOLERANCE {
+        let i = position_of(m, BodyRef::Tub).unwrap_or(0);
+        c.err(
+            Path::of(&["elastic"]).idx(i).key("bare"),
+            format!(
+                "elastic `tub`: bare `{}` ({:.3} kg) and the counterweights ({weights:.3} kg) \
+                 weigh {total:.3} kg, the tub's `{}` {:.3} kg: more than {} % apart",
+                e.bare.as_deref().unwrap_or(""),
+                bare.mass,
+                e.file,
+                tied.mass,
+                TUB_MASS_TOLERANCE * 100.0
+            ),
+        );
+    }
 }
 
 /// The drum carries sensors only (anywhere: a rim sensor turns with it; see `BodyRef::Drum`).

@@ -55,13 +55,16 @@ pub(super) fn scenes(c: &mut Ctx, m: &Model) {
             }
         }
         let bolted = s.effects.iter().position(|e| e == "counterweights");
-        if let Some(j) = bolted.filter(|_| s.effects.iter().any(|e| e == "elastic.tub")) {
+        let bare = m
+            .elastic_of(crate::ir::BodyRef::Tub)
+            .is_some_and(|e| e.bare.is_some());
+        if let Some(j) = bolted.filter(|_| s.effects.iter().any(|e| e == "elastic.tub") && !bare) {
             c.err(
                 p.clone().key("effects").idx(j),
                 format!(
                     "scene `{}`: `counterweights` with `elastic.tub` needs the tub's modal data \
-                     without the counterweights' bricks, which washdyn does not make yet; use \
-                     the rigid tub",
+                     without the counterweights' bricks: elastic `tub` names none (`bare`, \
+                     e.g. fe/tub_bare.modal.toml from `washdyn fe modal`)",
                     s.name
                 ),
             );

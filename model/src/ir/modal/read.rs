@@ -101,6 +101,15 @@ pub fn resolve(model: &mut Model, files: DataFiles) -> (Vec<PathBuf>, Vec<CheckE
                     d.truncate(n, &[]);
                 }
                 e.data = Some(d);
+                if let Some(file) = e.bare.clone() {
+                    match read_bare(&files, &file, e.modes, &mut read) {
+                        Ok(b) => e.bare_data = Some(b),
+                        Err(m) => errors.push(CheckError {
+                            path: Path::default().key("elastic").idx(i).key("bare"),
+                            message: format!("elastic `{}`: {m}", e.name),
+                        }),
+                    }
+                }
             }
             Err(m) => errors.push(CheckError {
                 path: Path::default().key("elastic").idx(i).key("file"),
@@ -109,6 +118,34 @@ pub fn resolve(model: &mut Model, files: DataFiles) -> (Vec<PathBuf>, Vec<CheckE
         }
     }
     (read, errors)
+}
+
+/// Read the tub's data without its counterweights (`Elastic::bare`): the file's own rules, and
+/// `modes` as for its `file`.
+fn read_bare(
+    files: &DataFiles,
+    file: &str,
+    modes: Option<usize>,
+    read: &mut Vec<PathBuf>,
+) -> Result<ModalData, String> {
+    let f = files.read(file).map_err(|e| e.to_string())?;
+    read.extend(f.path.clone());
+    let mut d = read_str(&f.text, &f.shown)?;
+    let found = problems(&d);
+    if !found.is_empty() {
+        return Err(format!("{}: {}", f.shown, found.join("; ")));
+    }
+    if let Some(n) = modes {
+        if n > d.eigenmodes() {
+            return Err(format!(
+                "asks for {n} modes, `{}` has {}",
+                f.shown,
+                d.eigenmodes()
+            ));
+        }
+        d.truncate(n, &[]);
+    }
+    Ok(d)
 }
 
 /// Parse a body's characteristic curves and check them against its modal data file (before

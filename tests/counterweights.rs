@@ -2,7 +2,8 @@
 //! against what no one here wrote into them:
 //! - each counterweight's six frequencies on its bolts, the tub held: the closed form of a rigid
 //!   body on point springs (k_b + k_m along each bolt while the interface is closed, k_t + the
-//!   bolt's bending stiffness across it), M = diag(m, m, m, J);
+//!   bolt's bending stiffness across it, and the clamped interface's tilt and twist on the
+//!   rotation), M = diag(m, m, m, J);
 //! - the rest position: each counterweight's sag under its weight is that body's static
 //!   solution, and the tub rests where it rests with the counterweights inside it (the mass
 //!   split: the bare tub and its counterweights are the tub);
@@ -34,6 +35,16 @@ fn bolt_stiffness(m: &Model, i: usize) -> DMatrix<f64> {
         // u = G [x; theta], G = [I, -[r]x] at the lever r = p - c.
         let g = crate::common::t_point(Vector3::from(j.point) - c);
         k += g.transpose() * DMatrix::from_fn(3, 3, |a, b| s[(a, b)]) * g;
+        // The clamped interface, a disc of diameter D: tilt k_m D^2 / 16 about the tangents,
+        // twist k_t D^2 / 8 about the axis, on the relative rotation theta.
+        let d2 = j.interface_diameter.powi(2);
+        let r = j.member_stiffness * d2 / 16.0 * (Matrix3::identity() - n * n.transpose())
+            + j.shear_stiffness * d2 / 8.0 * n * n.transpose();
+        for a in 0..3 {
+            for b in 0..3 {
+                k[(3 + a, 3 + b)] += r[(a, b)];
+            }
+        }
     }
     k
 }

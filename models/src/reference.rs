@@ -235,73 +235,73 @@ washdyn_macros::machine! {
         bolted_joint bolt_top_1 {
             counterweight: counterweight_top, point: [-0.04, -0.23383, 0.585], axis: [0.0, -0.86603, 0.5],
             torque: { moment: 15.0, pitch: 1.25e-3, pitch_diameter: 7.188e-3, thread_friction: 0.12, head_friction: 0.12, head_diameter: 10.3e-3 },
-            bolt_stiffness: 1.9e8, member_stiffness: 7.6e8, shear_stiffness: 3.0e8, bolt_bending_stiffness: 4.1e6,
+            bolt_stiffness: 1.9e8, member_stiffness: 7.6e8, shear_stiffness: 3.0e8, bolt_bending_stiffness: 4.1e6, interface_diameter: 0.033,
             friction: 0.3, damping: 2000.0,
         }
         bolted_joint bolt_top_2 {
             counterweight: counterweight_top, point: [-0.04, 0.23383, 0.585], axis: [0.0, 0.86603, 0.5],
             torque: { moment: 15.0, pitch: 1.25e-3, pitch_diameter: 7.188e-3, thread_friction: 0.12, head_friction: 0.12, head_diameter: 10.3e-3 },
-            bolt_stiffness: 1.9e8, member_stiffness: 7.6e8, shear_stiffness: 3.0e8, bolt_bending_stiffness: 4.1e6,
+            bolt_stiffness: 1.9e8, member_stiffness: 7.6e8, shear_stiffness: 3.0e8, bolt_bending_stiffness: 4.1e6, interface_diameter: 0.033,
             friction: 0.3, damping: 2000.0,
         }
         bolted_joint bolt_top_3 {
             counterweight: counterweight_top, point: [0.14, -0.23383, 0.585], axis: [0.0, -0.86603, 0.5],
             torque: { moment: 15.0, pitch: 1.25e-3, pitch_diameter: 7.188e-3, thread_friction: 0.12, head_friction: 0.12, head_diameter: 10.3e-3 },
-            bolt_stiffness: 1.9e8, member_stiffness: 7.6e8, shear_stiffness: 3.0e8, bolt_bending_stiffness: 4.1e6,
+            bolt_stiffness: 1.9e8, member_stiffness: 7.6e8, shear_stiffness: 3.0e8, bolt_bending_stiffness: 4.1e6, interface_diameter: 0.033,
             friction: 0.3, damping: 2000.0,
         }
         bolted_joint bolt_top_4 {
             counterweight: counterweight_top, point: [0.14, 0.23383, 0.585], axis: [0.0, 0.86603, 0.5],
             torque: { moment: 15.0, pitch: 1.25e-3, pitch_diameter: 7.188e-3, thread_friction: 0.12, head_friction: 0.12, head_diameter: 10.3e-3 },
-            bolt_stiffness: 1.9e8, member_stiffness: 7.6e8, shear_stiffness: 3.0e8, bolt_bending_stiffness: 4.1e6,
+            bolt_stiffness: 1.9e8, member_stiffness: 7.6e8, shear_stiffness: 3.0e8, bolt_bending_stiffness: 4.1e6, interface_diameter: 0.033,
             friction: 0.3, damping: 2000.0,
         }
         bolted_joint bolt_bottom_1 {
             counterweight: counterweight_bottom, point: [-0.04, 0.23383, 0.315], axis: [0.0, 0.86603, -0.5],
             torque: { moment: 15.0, pitch: 1.25e-3, pitch_diameter: 7.188e-3, thread_friction: 0.12, head_friction: 0.12, head_diameter: 10.3e-3 },
-            bolt_stiffness: 1.9e8, member_stiffness: 7.6e8, shear_stiffness: 3.0e8, bolt_bending_stiffness: 4.1e6,
+            bolt_stiffness: 1.9e8, member_stiffness: 7.6e8, shear_stiffness: 3.0e8, bolt_bending_stiffness: 4.1e6, interface_diameter: 0.033,
             friction: 0.3, damping: 2000.0,
         }
         bolted_joint bolt_bottom_2 {
             counterweight: counterweight_bottom, point: [-0.04, -0.23383, 0.315], axis: [0.0, -0.86603, -0.5],
             torque: { moment: 15.0, pitch: 1.25e-3, pitch_diameter: 7.188e-3, thread_friction: 0.12, head_friction: 0.12, head_diameter: 10.3e-3 },
-            bolt_stiffness: 1.9e8, member_stiffness: 7.6e8, shear_stiffness: 3.0e8, bolt_bending_stiffness: 4.1e6,
+            bolt_stiffness: 1.9e8, member_stiffness: 7.6e8, shear_stiffness: 3.0e8, bolt_bending_stiffness: 4.1e6, interface_diameter: 0.033,
             friction: 0.3, damping: 2000.0,
         }
         bolted_joint bolt_bottom_3 {
             counterweight: counterweight_bottom, point: [0.14, 0.23383, 0.315], axis: [0.0, 0.86603, -0.5],
             torque: { moment: 15.0, pitch: 1.25e-3, pitch_diameter: 7.188e-3, thread_friction: 0.12, head_friction: 0.12, head_diameter: 10.3e-3 },
-            bolt_stiffness: 1.9e8, member_stiffness: 7.6e8, shear_stiffness: 3.0e8, bolt_bending_stiffness: 4.1e6,
+            bolt_stiffness: 1.9e8, member_stiffness: 7.6e8, shear_stiffness: 3.0e8, bolt_bending_stiffness: 4.1e6, interface_diameter: 0.033,
             friction: 0.3, damping: 2000.0,
         }
         bolted_joint bolt_bottom_4 {
             counterweight: counterweight_bottom, point: [0.14, -0.23383, 0.315], axis: [0.0, -0.86603, -0.5],
             torque: { moment: 15.0, pitch: 1.25e-3, pitch_diameter: 7.188e-3, thread_friction: 0.12, head_friction: 0.12, head_diameter: 10.3e-3 },
-            bolt_stiffness: 1.9e8, member_stiffness: 7.6e8, shear_stiffness: 3.0e8, bolt_bending_stiffness: 4.1e6,
+            bolt_stiffness: 1.9e8, member_stiffness: 7.6e8, shear_stiffness: 3.0e8, bolt_bending_stiffness: 4.1e6, interface_diameter: 0.033,
             friction: 0.3, damping: 2000.0,
         }
         bolted_joint bolt_collar_1 {
             counterweight: counterweight_collar, point: [0.2025, -0.21651, 0.575], axis: [0.0, -0.86603, 0.5],
             torque: { moment: 15.0, pitch: 1.25e-3, pitch_diameter: 7.188e-3, thread_friction: 0.12, head_friction: 0.12, head_diameter: 10.3e-3 },
-            bolt_stiffness: 1.9e8, member_stiffness: 7.6e8, shear_stiffness: 3.0e8, bolt_bending_stiffness: 4.1e6,
+            bolt_stiffness: 1.9e8, member_stiffness: 7.6e8, shear_stiffness: 3.0e8, bolt_bending_stiffness: 4.1e6, interface_diameter: 0.033,
             friction: 0.3, damping: 2000.0,
         }
         bolted_joint bolt_collar_2 {
             counterweight: counterweight_collar, point: [0.2025, 0.21651, 0.575], axis: [0.0, 0.86603, 0.5],
             torque: { moment: 15.0, pitch: 1.25e-3, pitch_diameter: 7.188e-3, thread_friction: 0.12, head_friction: 0.12, head_diameter: 10.3e-3 },
-            bolt_stiffness: 1.9e8, member_stiffness: 7.6e8, shear_stiffness: 3.0e8, bolt_bending_stiffness: 4.1e6,
+            bolt_stiffness: 1.9e8, member_stiffness: 7.6e8, shear_stiffness: 3.0e8, bolt_bending_stiffness: 4.1e6, interface_diameter: 0.033,
             friction: 0.3, damping: 2000.0,
         }
         bolted_joint bolt_collar_3 {
             counterweight: counterweight_collar, point: [0.2675, -0.21651, 0.575], axis: [0.0, -0.86603, 0.5],
             torque: { moment: 15.0, pitch: 1.25e-3, pitch_diameter: 7.188e-3, thread_friction: 0.12, head_friction: 0.12, head_diameter: 10.3e-3 },
-            bolt_stiffness: 1.9e8, member_stiffness: 7.6e8, shear_stiffness: 3.0e8, bolt_bending_stiffness: 4.1e6,
+            bolt_stiffness: 1.9e8, member_stiffness: 7.6e8, shear_stiffness: 3.0e8, bolt_bending_stiffness: 4.1e6, interface_diameter: 0.033,
             friction: 0.3, damping: 2000.0,
         }
         bolted_joint bolt_collar_4 {
             counterweight: counterweight_collar, point: [0.2675, 0.21651, 0.575], axis: [0.0, 0.86603, 0.5],
             torque: { moment: 15.0, pitch: 1.25e-3, pitch_diameter: 7.188e-3, thread_friction: 0.12, head_friction: 0.12, head_diameter: 10.3e-3 },
-            bolt_stiffness: 1.9e8, member_stiffness: 7.6e8, shear_stiffness: 3.0e8, bolt_bending_stiffness: 4.1e6,
+            bolt_stiffness: 1.9e8, member_stiffness: 7.6e8, shear_stiffness: 3.0e8, bolt_bending_stiffness: 4.1e6, interface_diameter: 0.033,
             friction: 0.3, damping: 2000.0,
         }
 

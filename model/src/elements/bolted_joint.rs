@@ -1,5 +1,6 @@
-//! A preloaded bolt joining a counterweight to the tub (issue 52; `ir::BoltedJoint`), as three
-//! elements on the same two markers: the bolt's axis and the interface's two tangents.
+//! A preloaded bolt joining a counterweight to the tub (issue 52; `ir::BoltedJoint`), as
+//! elements on the same two markers: the bolt's axis and the interface's two tangents, and with
+//! an interface diameter the clamp's tilt and twist (`BoltedJoint::elements`).
 //!
 //! Along the axis, the preloaded joint's characteristic curve: the bolts and the clamped
 //! members act in parallel while the interface is closed, the bolts alone once the external
@@ -78,16 +79,25 @@ impl NormalLaw {
     }
 }
 
-/// Which of its three directions a bolted-joint element carries.
+/// Which of its directions a bolted-joint element carries.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Direction {
     /// Along the bolt: the normal law and damping.
     Normal,
     /// Across it along `tangent` (unit): the slider, its slip at element state `state`.
     Shear { tangent: [f64; 3], state: usize },
+    /// The clamped interface's resistance to the members' relative rotation about `about`
+    /// (unit): a moment `stiffness` x the angle, capped at the clamp force x `lever` (the
+    /// interface's edge lifting, or its twist slipping), with viscous `damping` (N m s/rad).
+    Tilt {
+        about: [f64; 3],
+        stiffness: f64,
+        lever: f64,
+        damping: f64,
+    },
 }
 
-/// One direction of a bolted joint (`BoltedJoint::triple` makes the three).
+/// One direction of a bolted joint (`BoltedJoint::elements` makes them).
 #[derive(Clone, Debug, PartialEq)]
 pub struct BoltedJoint {
     pub name: String,
@@ -113,14 +123,16 @@ const OPEN: f64 = 1e-15;
 const BREAKAWAY: f64 = ir::DEFAULT_BREAKAWAY;
 
 impl BoltedJoint {
-    /// The joint's three elements: normal, then the two shears with element states
-    /// `first_state` and `first_state + 1`.
-    pub fn triple(
+    /// The joint's elements: normal, then the two shears with element states `first_state`
+    /// and `first_state + 1`, then with an `interface_diameter` D the clamp's tilt about both
+    /// tangents (k_m D^2 / 16, lifting at F_m D / 8: a disc of uniform compliance) and its
+    /// twist about the axis (k_t D^2 / 8, slipping at mu F_m D / 3 under uniform pressure).
+    pub fn elements(
         j: &ir::BoltedJoint,
         a: MarkerDef,
         b: MarkerDef,
         first_state: usize,
-    ) -> [BoltedJoint; 3] {
+    ) -> Vec<BoltedJoint> {
         let axis = f::unit(j.axis);
         let [t1, t2] = f::normals(axis);
         let one = |name: String, direction| BoltedJoint {
@@ -143,11 +155,37 @@ impl BoltedJoint {
             tangent: t,
             state: first_state + k,
         };
-        [
+        let mut v = vec![
             one(format!("{} normal", j.name), Direction::Normal),
             one(format!("{} shear 1", j.name), shear(0, t1)),
             one(format!("{} shear 2", j.name), shear(1, t2)),
-        ]
+        ];
+        let d = j.interface_diameter;
+        if d > 0.0 {
+            let tilt = |about, k: f64, lever, area: f64| Direction::Tilt {
+                about,
+                stiffness: k * area,
+                lever,
+                damping: j.damping * area,
+            };
+            let (bend, twist) = (d * d / 16.0, d * d / 8.0);
+            let km = j.member_stiffness;
+            v.push(one(
+                format!("{} tilt 1", j.name),
+                tilt(t1, km, d / 8.0, bend),
+            ));
+            v.push(one(
+                format!("{} tilt 2", j.name),
+                tilt(t2, km, d / 8.0, bend),
+            ));
+            let lever = j.friction * d / 3.0;
+            let k = j.shear_stiffness;
+            v.push(one(
+                format!("{} twist", j.name),
+                tilt(axis, k, lever, twist),
+            ));
+        }
+        v
     }
 
     /// The members' clamp force at opening `delta`, N: max(F_V - k_m delta, 0).
@@ -188,7 +226,7 @@ impl Element for BoltedJoint {
     fn state(&self) -> Option<usize> {
         match self.direction {
             Direction::Shear { state, .. } => Some(state),
-            Direction::Normal => None,
+            Direction::Normal | Direction::Tilt { .. } => None,
         }
     }
 
@@ -235,6 +273,23 @@ impl Element for BoltedJoint {
         let (du, dv) = Self::relative(a, b);
         let n = Self::turned(self.axis, a, exact);
         let delta = n.dot(du);
+        if let Direction::Tilt {
+            about,
+            stiffness,
+            lever,
+            damping,
+        } = self.direction
+        {
+            // The moment on the counterweight about `about`, the angle's spring capped at the
+            // clamp's limit of the moment.
+            let e = Self::turned(about, a, exact);
+            let limit = self.clamp(delta) * (lever / stiffness);
+            let angle = e.dot(b.rot - a.rot);
+            let capped = T::zero() - (T::zero() - angle).max(T::zero() - limit);
+            let capped = capped.max(T::zero() - limit);
+            let m = e.scale(T::zero() - capped * stiffness - e.dot(b.angvel - a.angvel) * damping);
+            return (Wrench::moment(-m), Wrench::moment(m));
+        }
         // The force on the counterweight (b), along `dir`.
         let (dir, f) = match self.direction {
             Direction::Normal => (n, self.law.force(delta) - n.dot(dv) * self.damping),
@@ -252,6 +307,7 @@ impl Element for BoltedJoint {
                     T::zero() - capped * self.shear_stiffness - bolt - t.dot(dv) * self.damping,
                 )
             }
+            Direction::Tilt { .. } => unreachable!("a moment, above"),
         };
         let fb = dir.scale(f);
         (Wrench::force(-fb), Wrench::force(fb))
@@ -366,11 +422,10 @@ mod tests {
             bolt_bending_stiffness: 0.0,
             friction: 0.3,
             damping: 0.0,
+            interface_diameter: 0.0,
         };
         let m = |b| MarkerDef::fixed(b, [0.0; 3]);
-        let [_, shear, _] =
-            BoltedJoint::triple(&j, m(BodyRef::Tub), m(BodyRef::Counterweight(0)), 0);
-        shear
+        BoltedJoint::elements(&j, m(BodyRef::Tub), m(BodyRef::Counterweight(0)), 0).remove(1)
     }
 
     fn at(pos: [f64; 3], vel: [f64; 3]) -> Marker<f64> {

@@ -394,6 +394,12 @@ impl<T: Scalar> Wrench<T> {
             moment: V::zero(),
         }
     }
+    pub fn moment(moment: V<T>) -> Self {
+        Wrench {
+            force: V::zero(),
+            moment,
+        }
+    }
     /// The equal and opposite wrench.
     pub fn reaction(self) -> Self {
         Wrench {

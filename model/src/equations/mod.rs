@@ -162,9 +162,9 @@ fn bolted_joints(
                 bodies.marker(BodyRef::Tub, j.point),
                 bodies.marker(body, j.point),
             );
-            let triple = BoltedJoint::triple(j, a, b, layout.nz);
+            let elements = BoltedJoint::elements(j, a, b, layout.nz);
             layout.nz += 2;
-            out.extend(triple.into_iter().map(|e| Placed::new(e, exact, n)));
+            out.extend(elements.into_iter().map(|e| Placed::new(e, exact, n)));
         }
     }
     out

@@ -62,6 +62,12 @@ pub struct BoltedJoint {
     /// Viscous damping along and across the bolt, N s/m.
     #[serde(default)]
     pub damping: f64,
+    /// Diameter of the clamped interface under the bolt, m (VDI 2230's cone at the interface,
+    /// D_A): the clamp as a disc resists the members' relative tilt (k_m D^2 / 16 until its
+    /// edge lifts at F_m D / 8) and twist (k_t D^2 / 8 until it slips at mu F_m D / 3). 0: a
+    /// point joint, forces only.
+    #[serde(default)]
+    pub interface_diameter: f64,
 }
 
 /// A tightening torque on a metric thread (VDI 2230 Part 1, eq. R13).

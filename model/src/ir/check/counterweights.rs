@@ -121,5 +121,10 @@ fn joint(c: &mut Ctx, p: Path, m: &Model, j: &BoltedJoint) {
         &format!("{who}: bolt_bending_stiffness"),
         j.bolt_bending_stiffness,
     );
+    c.non_negative(
+        p.clone().key("interface_diameter"),
+        &format!("{who}: interface_diameter"),
+        j.interface_diameter,
+    );
     c.non_negative(p.key("damping"), &format!("{who}: damping"), j.damping);
 }

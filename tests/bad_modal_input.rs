@@ -521,7 +521,7 @@ fn within<T: Send + 'static>(secs: u64, f: impl FnOnce() -> T + Send + 'static) 
 
 #[test]
 fn the_committed_files_pass() {
-    for body in ["tub", "drum", "cabinet"] {
+    for body in ["tub", "tub_bare", "drum", "cabinet"] {
         assert_eq!(
             modal::problems(&committed(body)),
             Vec::<String>::new(),

@@ -127,7 +127,7 @@ fn tub_drum_and_rotor_make_the_suspended_body() {
 
 #[test]
 fn committed_modal_data_passes_the_checker_and_the_drum_clears_the_unbalance() {
-    for name in ["tub", "drum", "cabinet"] {
+    for name in ["tub", "tub_bare", "drum", "cabinet"] {
         let d = committed(name);
         assert_eq!(modal::problems(&d), Vec::<String>::new(), "{name}");
         eprintln!(

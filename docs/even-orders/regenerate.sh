@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Regenerate docs/even-orders.md's run-up tables: the reference with its counterweights tight
 # and loose, with and without the kinematic sources of even orders. Whole run-ups, galpha at
-# 1e-6, interpreted (model files); about 25 min on one core, most of it the loose bolts.
+# 1e-6, interpreted (model files); about 7 min on one core (quiet), most of it the loose bolts.
 # Usage (from the repository's root, washdyn installed or built): bash docs/even-orders/regenerate.sh [OUT]
 set -euo pipefail
 out=${1:-out/eo}

@@ -26,7 +26,7 @@ fn stage_fixtures() {
     // The reference's modal data, where its `../fe/` paths point from ui-data.
     let fe = project.parent().expect("ui-data has a parent").join("fe");
     std::fs::create_dir_all(&fe).expect("create the trybuild project's fe");
-    for body in ["tub", "drum", "cabinet"] {
+    for body in ["tub", "tub_bare", "drum", "cabinet"] {
         let name = format!("{body}.modal.toml");
         std::fs::copy(models.join("fe").join(&name), fe.join(&name)).expect("copy modal data");
     }

@@ -319,6 +319,8 @@ mod tests {
             stiffness_damping: beta,
             curves: None,
             curves_data: None,
+            bare: None,
+            bare_data: None,
             data: Some(d),
         }
     }

@@ -1,6 +1,11 @@
 //! A preloaded bolt joining a counterweight to the tub (issue 52; `ir::BoltedJoint`), as
 //! elements on the same two markers: the bolt's axis and the interface's two tangents, and with
-//! an interface diameter the clamp's tilt and twist (`BoltedJoint::elements`).
+//! an interface diameter the clamp's tilt and twist (`BoltedJoint::elements`): on the elastic
+//! tub a point joint lets the shell hinge at the bolt (tests/bare_tub.rs). The clamp is a disc
+//! of uniform compliance: its moments are capped at the edge's lifting (tilt) and the slip
+//! under uniform pressure (twist), both scaled by the clamp force of the moment, and both
+//! without a state: beyond its cap the twist holds the limit elastically instead of slipping
+//! (a known limitation; the reference's moments stay far below the caps while it is tight).
 //!
 //! Along the axis, the preloaded joint's characteristic curve: the bolts and the clamped
 //! members act in parallel while the interface is closed, the bolts alone once the external
@@ -405,8 +410,9 @@ mod tests {
     }
 
     /// A joint on the z axis (fixed markers at the origin) with the reference's M8 bolt:
-    /// preload 11.4 kN, k_b 1.9e8, k_m 7.6e8, k_t 3e8 N/m, mu 0.3, no damping.
-    fn joint() -> BoltedJoint {
+    /// preload 11.4 kN, k_b 1.9e8, k_m 7.6e8, k_t 3e8 N/m, mu 0.3, no damping; its elements,
+    /// with the clamped interface `d` across.
+    fn elements(d: f64) -> Vec<BoltedJoint> {
         use crate::equations::MarkerDef;
         use crate::ir::BodyRef;
         let j = ir::BoltedJoint {
@@ -422,10 +428,59 @@ mod tests {
             bolt_bending_stiffness: 0.0,
             friction: 0.3,
             damping: 0.0,
-            interface_diameter: 0.0,
+            interface_diameter: d,
         };
         let m = |b| MarkerDef::fixed(b, [0.0; 3]);
-        BoltedJoint::elements(&j, m(BodyRef::Tub), m(BodyRef::Counterweight(0)), 0).remove(1)
+        BoltedJoint::elements(&j, m(BodyRef::Tub), m(BodyRef::Counterweight(0)), 0)
+    }
+
+    /// The first shear path.
+    fn joint() -> BoltedJoint {
+        elements(0.0).remove(1)
+    }
+
+    /// The clamped interface as a disc of diameter D under the preload (closed forms): it tilts
+    /// at k_m I / A = k_m D^2 / 16 until its edge lifts, M = F_V (I / A) / (D / 2) = F_V D / 8,
+    /// and twists at k_t J / A = k_t D^2 / 8 until it slips under uniform pressure,
+    /// M = mu F_V (2 / 3)(D / 2) = mu F_V D / 3; a lifted interface holds no moment.
+    #[test]
+    fn the_clamp_tilts_and_twists_as_a_disc() {
+        let d = 0.033;
+        let all = elements(d);
+        let names: Vec<&str> = all.iter().map(|e| e.name.as_str()).collect();
+        assert_eq!(names[3..], ["b tilt 1", "b tilt 2", "b twist"]);
+        assert_eq!(elements(0.0).len(), 3, "a point joint: forces only");
+        let (fv, km, kt, mu) = (11.4e3, 7.6e8, 3e8, 0.3);
+        let drive = Drive {
+            phi: 0.0,
+            omega: 0.0,
+            omega_dot: 0.0,
+        };
+        let moment = |e: &BoltedJoint, angle: f64, open: f64| {
+            let Direction::Tilt { about, .. } = e.direction else {
+                unreachable!()
+            };
+            let mut b = at([0.0, 0.0, open], [0.0; 3]);
+            b.rot = V::c(about).scale(angle);
+            let (wa, wb) = e.wrenches(&at([0.0; 3], [0.0; 3]), &b, false, &drive, &[]);
+            assert!((wa.moment + wb.moment).norm() < 1e-12 * wb.moment.norm().max(1.0));
+            wb.moment.dot(V::c(about))
+        };
+        let rel = |a: f64, b: f64| ((a - b) / b).abs();
+        for (e, k, limit) in [
+            (&all[3], km * d * d / 16.0, fv * d / 8.0),
+            (&all[4], km * d * d / 16.0, fv * d / 8.0),
+            (&all[5], kt * d * d / 8.0, mu * fv * d / 3.0),
+        ] {
+            let small = 0.1 * limit / k;
+            assert!(rel(moment(e, small, 0.0), -k * small) < 1e-12, "{}", e.name);
+            assert!(
+                rel(moment(e, -10.0 * small, 0.0), limit) < 1e-12,
+                "{}",
+                e.name
+            );
+            assert_eq!(moment(e, small, 2.0 * fv / km), 0.0, "{} lifted", e.name);
+        }
     }
 
     fn at(pos: [f64; 3], vel: [f64; 3]) -> Marker<f64> {

@@ -47,14 +47,7 @@ fn frequencies(model: &Model, scene: &str) -> Vec<f64> {
     let eq = Equations::new(model, &model.scene(Some(scene)).unwrap());
     let l = crate::common::linearise_at_speed(&eq, 0.0, 1e-7);
     let k: DMatrix<f64> = 0.5 * (&l.k + l.k.transpose());
-    let mi = l.m.clone().try_inverse().expect("M regular");
-    let mut f: Vec<f64> = (&mi * &k)
-        .complex_eigenvalues()
-        .iter()
-        .map(|z| z.re.max(0.0).sqrt() / (2.0 * std::f64::consts::PI))
-        .collect();
-    f.sort_by(f64::total_cmp);
-    f
+    crate::common::frequencies(&l.m, &k)
 }
 
 /// The patch's least-squares rigid motion at `p` as washdyn's modal points take it

@@ -38,8 +38,10 @@ fn assert_same(a: &washdyn_model::ir::Model, b: &washdyn_model::ir::Model) {
 fn declared_reference_equals_the_toml_file() {
     // Data files are relative to each front end's base: compare which file, not the path.
     let files = |mut m: washdyn_model::ir::Model| {
+        let name = |f: &str| f.rsplit('/').next().unwrap_or_default().to_string();
         for e in &mut m.elastic {
-            e.file = e.file.rsplit('/').next().unwrap_or_default().to_string();
+            e.file = name(&e.file);
+            e.bare = e.bare.as_deref().map(name);
         }
         m
     };
@@ -116,6 +118,7 @@ fn compact_differs_from_the_reference_exactly_where_declared() {
     // (`fe`) here.
     for e in &mut undone.elastic {
         e.file = format!("../{}", e.file);
+        e.bare = e.bare.as_ref().map(|b| format!("../{b}"));
     }
     assert_same(&undone, &reference);
 }

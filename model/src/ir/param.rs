@@ -249,20 +249,29 @@ pub fn free_values(base: &Model, variant: &Model) -> Result<Vec<f64>, String> {
     .map_err(|e| e.to_string())?;
     let (mut a, mut b) = (value(base), value(&reset));
     // Neither the free list nor where a modal file was read from is the model's content (the
-    // file's data is, and is compared).
+    // files' data are, and are compared).
     for v in [&mut a, &mut b] {
         if let Value::Object(m) = v {
             m.remove("free");
             if let Some(Value::Array(bodies)) = m.get_mut("elastic") {
                 for e in bodies.iter_mut().filter_map(Value::as_object_mut) {
                     e.remove("file");
+                    e.remove("bare");
                 }
             }
         }
     }
-    let data = (0..base.elastic.len().min(reset.elastic.len()))
-        .find(|&i| base.elastic[i].data != reset.elastic[i].data)
-        .map(|i| Path::default().key("elastic").idx(i).key("data"));
+    let data = (0..base.elastic.len().min(reset.elastic.len())).find_map(|i| {
+        let (x, y) = (&base.elastic[i], &reset.elastic[i]);
+        let p = Path::default().key("elastic").idx(i);
+        if x.data != y.data {
+            Some(p.key("data"))
+        } else if x.bare_data != y.bare_data {
+            Some(p.key("bare_data"))
+        } else {
+            None
+        }
+    });
     match first_difference(&a, &b, Path::default()).or(data) {
         None => Ok(values),
         Some(p) => Err(format!(

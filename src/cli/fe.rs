@@ -53,7 +53,7 @@ pub enum FeCmd {
         /// Scratch directory for decks and ccx results.
         #[arg(long, default_value = "out/fe/work")]
         work: PathBuf,
-        /// Only these bodies (comma-separated: tub, drum, cabinet).
+        /// Only these bodies (comma-separated: tub, drum, cabinet, tub_bare).
         #[arg(long, value_delimiter = ',')]
         only: Vec<String>,
     },

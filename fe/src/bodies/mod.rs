@@ -370,9 +370,10 @@ fn tub_spec(
 
 /// The tub without its counterweights' bricks (issue 52: a scene with `counterweights` and
 /// `elastic.tub` carries them as bodies on their bolts): the tub's node sets, one patch at each
-/// bolted joint's point (named as the joint), and static correction modes under a force in x, y
-/// and z at every bolt beside the bearing's, so the shell's local give under each bolt is in
-/// the basis (a bolt's 1e9 N/m meets the 1.2 mm shell there, not a free-free mode).
+/// bolted joint's point (named as the joint), and static correction modes under a force and a
+/// moment in x, y and z at every bolt beside the bearing's, so the shell's local give under
+/// each bolt's force and its clamp's tilt and twist is in the basis (a bolt's 1e9 N/m meets the
+/// 1.2 mm shell there, not a free-free mode).
 fn tub_bare(model: &Model, tub: &tub::Tub, mut points: Vec<(String, [f64; 3])>) -> BodySpec {
     let bare = tub::Tub {
         bricks: false,
@@ -385,6 +386,7 @@ fn tub_bare(model: &Model, tub: &tub::Tub, mut points: Vec<(String, [f64; 3])>) 
         patch(&mut mesh, &set, j.point);
         for d in [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]] {
             loads.push(LoadCase::force(&set, d));
+            loads.push(LoadCase::moment(&set, d));
         }
         points.push((set, j.point));
     }

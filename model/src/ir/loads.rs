@@ -118,6 +118,10 @@ impl Model {
             if scene.has(&Effect::Counterweights) {
                 for j in &self.bolted_joints {
                     v.extend(forces(j.point));
+                    // The clamp's tilt and twist.
+                    if j.interface_diameter > 0.0 {
+                        v.extend(moments(j.point));
+                    }
                 }
             }
         }

@@ -40,7 +40,7 @@ fn main() -> Result<(), String> {
     );
     let (fo, fa) = (grid(ORDER_BAND_HZ, 1.0), grid(BAND_HZ, 1.0));
     for body in BodyRef::ALL {
-        let Some(e) = model.modes_in(body, &scene) else {
+        let Some((e, committed)) = model.modes_in(body, &scene) else {
             continue;
         };
         let path = std::path::Path::new(&dir).join(format!("{}.modal.toml", e.name));
@@ -49,9 +49,9 @@ fn main() -> Result<(), String> {
             continue;
         }
         let reference = read_file(&path, &path.display().to_string())?;
-        let committed = e.data.clone().ok_or("model resolved")?;
+        let committed = committed.clone();
         let (inputs, outputs) = ports(&model, &scene, body, &reference);
-        let r = Damped::new(&e, &reference);
+        let r = Damped::new(e, &reference);
         let eig = reference.eigenmodes();
         println!(
             "## {} ({} eigenmodes to {:.0} Hz + {} correction; committed: {} to {:.0} Hz + {})\n",
@@ -71,7 +71,7 @@ fn main() -> Result<(), String> {
             outputs.len()
         );
         let row = |name: &str, cutoff: Option<f64>, d: &ModalData| {
-            let t = Damped::new(&e, d);
+            let t = Damped::new(e, d);
             let (a, b) = (
                 basis_error(&r, &t, &outputs, &inputs, &fo),
                 basis_error(&r, &t, &outputs, &inputs, &fa),

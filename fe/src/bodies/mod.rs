@@ -383,7 +383,6 @@ fn tub_bare(model: &Model, tub: &tub::Tub, mut points: Vec<(String, [f64; 3])>) 
     let mut loads = tub_loads();
     for j in &model.bolted_joints {
         let set = j.name.to_uppercase();
-        patch(&mut mesh, &set, j.point);
         for d in [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]] {
             loads.push(LoadCase::force(&set, d));
             loads.push(LoadCase::moment(&set, d));

@@ -278,45 +278,46 @@ impl Element for BoltedJoint {
         let (du, dv) = Self::relative(a, b);
         let n = Self::turned(self.axis, a, exact);
         let delta = n.dot(du);
-        if let Direction::Tilt {
-            about,
-            stiffness,
-            lever,
-            damping,
-        } = self.direction
-        {
-            // The moment on the counterweight about `about`, the angle's spring capped at the
-            // clamp's limit of the moment.
-            let e = Self::turned(about, a, exact);
-            let limit = self.clamp(delta) * (lever / stiffness);
-            let angle = e.dot(b.rot - a.rot);
-            let capped = T::zero() - (T::zero() - angle).max(T::zero() - limit);
-            let capped = capped.max(T::zero() - limit);
-            let m = e.scale(T::zero() - capped * stiffness - e.dot(b.angvel - a.angvel) * damping);
-            return (Wrench::moment(-m), Wrench::moment(m));
-        }
         // The force on the counterweight (b), along `dir`.
         let (dir, f) = match self.direction {
             Direction::Normal => (n, self.law.force(delta) - n.dot(dv) * self.damping),
             Direction::Shear { tangent, state } => {
                 let t = Self::turned(tangent, a, exact);
-                let z_ss = self.sliding(delta);
                 // The elastic deflection u_t - s capped at the limit of the moment.
                 let slip = z.get(state).copied().unwrap_or(T::zero());
-                let e = t.dot(du) - slip;
-                let capped = T::zero() - (T::zero() - e).max(T::zero() - z_ss);
-                let capped = capped.max(T::zero() - z_ss);
+                let capped = within(t.dot(du) - slip, self.sliding(delta));
                 let bolt = t.dot(du) * self.bending_stiffness;
                 (
                     t,
                     T::zero() - capped * self.shear_stiffness - bolt - t.dot(dv) * self.damping,
                 )
             }
-            Direction::Tilt { .. } => unreachable!("a moment, above"),
+            Direction::Tilt {
+                about,
+                stiffness,
+                lever,
+                damping,
+            } => {
+                // The moment on the counterweight about `about`, the angle's spring capped at
+                // the clamp's limit of the moment.
+                let e = Self::turned(about, a, exact);
+                let limit = self.clamp(delta) * (lever / stiffness);
+                let capped = within(e.dot(b.rot - a.rot), limit);
+                let m = T::zero() - capped * stiffness - e.dot(b.angvel - a.angvel) * damping;
+                let mb = e.scale(m);
+                return (Wrench::moment(-mb), Wrench::moment(mb));
+            }
         };
         let fb = dir.scale(f);
         (Wrench::force(-fb), Wrench::force(fb))
     }
+}
+
+/// `x` capped to [-limit, limit] (limit >= 0), with `Scalar::max` only: a traced graph holds on
+/// both sides of each kink.
+fn within<T: Scalar>(x: T, limit: T) -> T {
+    let below = T::zero() - (T::zero() - x).max(T::zero() - limit);
+    below.max(T::zero() - limit)
 }
 
 /// Preload from the tightening torque, N (VDI 2230 Part 1, eq. R13 with the thread's flank

@@ -138,10 +138,10 @@ impl Bodies {
     pub fn new(model: &Model, scene: &EffectSet) -> Bodies {
         let g = model.gravity;
         let modes = |b: BodyRef, start: &mut usize| {
-            model.modes_in(b, scene).map(|e| {
+            model.modes_in(b, scene).map(|(e, d)| {
                 let loads = model.element_loads(b, scene);
                 let curves = scene.has(&Effect::CharacteristicCurves(b.name().into()));
-                let m = ModalBody::new(&e, *start, g, (scene.mode_cutoff, curves), &loads);
+                let m = ModalBody::new(e, d, *start, g, (scene.mode_cutoff, curves), &loads);
                 *start += m.n;
                 m
             })

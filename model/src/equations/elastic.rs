@@ -147,19 +147,21 @@ pub fn modal_damping(e: &Elastic, d: &crate::ir::modal::ModalData) -> Vec<f64> {
 }
 
 impl ModalBody {
-    /// From a checked, resolved `elastic` entry; its coordinates start at `start`. With a
+    /// From a checked, resolved `elastic` entry and the data the scene runs (`d`: its `data`,
+    /// or the tub's `bare` data); its coordinates start at `start`. With a
     /// scene's `cutoff` (Hz) only the eigenmodes up to it are kept (at least one), the static
     /// correction modes, and the dropped modes' static response to `loads` (the scene's
     /// elements' loads on this body, `Model::element_loads`).
     /// `curves`: whether the scene switches the entry's characteristic curves on.
     pub fn new(
         e: &Elastic,
+        d: &crate::ir::modal::ModalData,
         start: usize,
         gravity: [f64; 3],
         (cutoff, curves): (Option<f64>, bool),
         loads: &[ElementLoad],
     ) -> Self {
-        let mut d = e.data.clone().expect("checked: modal data resolved");
+        let mut d = d.clone();
         if let Some(fc) = cutoff {
             let cases: Vec<_> = loads.iter().filter_map(|l| l.case(&d)).collect();
             d.cut(fc, &cases);
@@ -332,6 +334,7 @@ mod tests {
         assert_eq!(d.support_energy(), vec![0.5, 0.0]);
         let b = ModalBody::new(
             &entry(d.clone(), Some(0.06), 1e-3),
+            &d,
             0,
             [0.0; 3],
             (None, false),
@@ -347,7 +350,14 @@ mod tests {
             assert!((b.damping[k] - 2.0 * zeta[k] * w[k]).abs() < 1e-12, "{k}");
         }
         // Without the new keys: every mode has `damping` (old files and models unchanged).
-        let b = ModalBody::new(&entry(d, None, 0.0), 0, [0.0; 3], (None, false), &[]);
+        let b = ModalBody::new(
+            &entry(d.clone(), None, 0.0),
+            &d,
+            0,
+            [0.0; 3],
+            (None, false),
+            &[],
+        );
         for k in 0..2 {
             assert_eq!(b.damping[k], 2.0 * 0.02 * w[k]);
         }
@@ -400,6 +410,7 @@ mod tests {
         // Krylov blocks) of modes 3-6 (the dropped eigenmodes and the correction mode).
         let b = ModalBody::new(
             &entry(full.clone(), Some(0.06), 0.0),
+            &full,
             0,
             [0.0; 3],
             (Some(10.0), false),

@@ -4,7 +4,6 @@
 
 use super::{Effect, EffectSet, M3, V3, is_zero, modal};
 use serde::{Deserialize, Serialize};
-use std::borrow::Cow;
 
 /// The tub assembly with everything rigidly attached to it and the non-spinning mass of the rotors.
 /// Its CoG at rest is the reference point of the tub's 6 DOF.
@@ -80,17 +79,12 @@ impl Elastic {
         BodyRef::from_name(&self.name)
     }
 
-    /// The entry as a scene uses it: with `counterweights` the tub's `bare` data stand in for
-    /// its `data` (the counterweights are then bodies of their own).
-    pub fn in_scene(&self, scene: &EffectSet) -> Cow<'_, Elastic> {
+    /// The data a scene runs: with `counterweights` the tub's `bare` data stand in for its
+    /// `data` (the counterweights are then bodies of their own).
+    pub fn data_in(&self, scene: &EffectSet) -> Option<&modal::ModalData> {
         match &self.bare_data {
-            Some(b) if scene.has(&Effect::Counterweights) => {
-                let mut e = self.clone();
-                e.data = Some(b.clone());
-                e.bare_data = None;
-                Cow::Owned(e)
-            }
-            _ => Cow::Borrowed(self),
+            Some(b) if scene.has(&Effect::Counterweights) => Some(b),
+            _ => self.data.as_ref(),
         }
     }
 }

@@ -142,11 +142,11 @@ impl Model {
         self.elastic.iter().find(|e| e.body() == Some(b))
     }
 
-    /// A body's modal data when the scene makes it elastic, as the scene uses them
-    /// (`Elastic::in_scene`).
-    pub fn modes_in(&self, b: BodyRef, scene: &EffectSet) -> Option<std::borrow::Cow<'_, Elastic>> {
+    /// A body's `elastic` entry and the modal data the scene runs (`Elastic::data_in`), when
+    /// the scene makes it elastic.
+    pub fn modes_in(&self, b: BodyRef, scene: &EffectSet) -> Option<(&Elastic, &modal::ModalData)> {
         self.elastic_of(b)
             .filter(|e| e.data.is_some() && scene.has(&Effect::Elastic(b.name().into())))
-            .map(|e| e.in_scene(scene))
+            .and_then(|e| Some((e, e.data_in(scene)?)))
     }
 }

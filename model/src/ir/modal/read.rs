@@ -54,98 +54,75 @@ pub fn from_toml<T: serde::de::DeserializeOwned>(
 pub fn resolve(model: &mut Model, files: DataFiles) -> (Vec<PathBuf>, Vec<CheckError>) {
     let (mut read, mut errors) = (Vec::new(), Vec::new());
     for (i, e) in model.elastic.iter_mut().enumerate() {
-        let data = files
-            .read(&e.file)
-            .map_err(|e| e.to_string())
-            .and_then(|f| {
-                read.extend(f.path.clone());
-                read_str(&f.text, &f.shown)
-            });
-        match data {
-            Ok(mut d) => {
-                // The file's own rules before anything computes with it (truncation's
-                // eigen-solver did not return on NaN); the checker skips a body without data.
-                let found = problems(&d);
-                if !found.is_empty() {
-                    errors.extend(found.into_iter().map(|m| CheckError {
-                        path: Path::default().key("elastic").idx(i).key("file"),
-                        message: format!("elastic `{}`: {}: {m}", e.name, files.shown(&e.file)),
-                    }));
-                    continue;
-                }
-                if let Some(file) = &e.curves {
-                    let curves = files.read(file).map_err(|e| e.to_string()).and_then(|f| {
-                        read.extend(f.path.clone());
-                        read_curves(&f.text, &f.shown, &e.name, &d)
-                    });
-                    match curves {
-                        Ok(c) => e.curves_data = Some(c),
-                        Err(m) => errors.push(CheckError {
-                            path: Path::default().key("elastic").idx(i).key("curves"),
-                            message: format!("elastic `{}`: {m}", e.name),
-                        }),
-                    }
-                }
-                if let Some(n) = e.modes {
-                    if n > d.eigenmodes() {
-                        errors.push(CheckError {
-                            path: Path::default().key("elastic").idx(i).key("modes"),
-                            message: format!(
-                                "elastic `{}`: asks for {n} modes, `{}` has {}",
-                                e.name,
-                                files.shown(&e.file),
-                                d.eigenmodes()
-                            ),
-                        });
-                    }
-                    d.truncate(n, &[]);
-                }
-                e.data = Some(d);
-                if let Some(file) = e.bare.clone() {
-                    match read_bare(&files, &file, e.modes, &mut read) {
-                        Ok(b) => e.bare_data = Some(b),
-                        Err(m) => errors.push(CheckError {
-                            path: Path::default().key("elastic").idx(i).key("bare"),
-                            message: format!("elastic `{}`: {m}", e.name),
-                        }),
-                    }
-                }
+        let at = |key: &str, m: String| CheckError {
+            path: Path::default().key("elastic").idx(i).key(key),
+            message: format!("elastic `{}`: {m}", e.name),
+        };
+        // The file's own rules before anything computes with it (truncation's eigen-solver did
+        // not return on NaN); the checker skips a body without data.
+        let mut d = match read_checked(&files, &e.file, &mut read) {
+            Ok(d) => d,
+            Err(found) => {
+                errors.extend(found.into_iter().map(|m| at("file", m)));
+                continue;
             }
-            Err(m) => errors.push(CheckError {
-                path: Path::default().key("elastic").idx(i).key("file"),
-                message: format!("elastic `{}`: {m}", e.name),
-            }),
+        };
+        if let Some(file) = &e.curves {
+            let curves = files.read(file).map_err(|e| e.to_string()).and_then(|f| {
+                read.extend(f.path.clone());
+                read_curves(&f.text, &f.shown, &e.name, &d)
+            });
+            match curves {
+                Ok(c) => e.curves_data = Some(c),
+                Err(m) => errors.push(at("curves", m)),
+            }
+        }
+        if let Err(m) = keep_modes(&mut d, e.modes, &files.shown(&e.file)) {
+            errors.push(at("modes", m));
+        }
+        e.data = Some(d);
+        if let Some(file) = &e.bare {
+            match read_checked(&files, file, &mut read) {
+                Ok(mut b) => match keep_modes(&mut b, e.modes, &files.shown(file)) {
+                    Ok(()) => e.bare_data = Some(b),
+                    Err(m) => errors.push(at("bare", m)),
+                },
+                Err(found) => errors.extend(found.into_iter().map(|m| at("bare", m))),
+            }
         }
     }
     (read, errors)
 }
 
-/// Read the tub's data without its counterweights (`Elastic::bare`): the file's own rules, and
-/// `modes` as for its `file`.
-fn read_bare(
+/// Read a modal data file (its path joins `read`) and hold it to its own rules
+/// (`problems`): the messages name the file.
+fn read_checked(
     files: &DataFiles,
     file: &str,
-    modes: Option<usize>,
     read: &mut Vec<PathBuf>,
-) -> Result<ModalData, String> {
-    let f = files.read(file).map_err(|e| e.to_string())?;
+) -> Result<ModalData, Vec<String>> {
+    let f = files.read(file).map_err(|e| vec![e.to_string()])?;
     read.extend(f.path.clone());
-    let mut d = read_str(&f.text, &f.shown)?;
+    let d = read_str(&f.text, &f.shown).map_err(|m| vec![m])?;
     let found = problems(&d);
-    if !found.is_empty() {
-        return Err(format!("{}: {}", f.shown, found.join("; ")));
+    if found.is_empty() {
+        Ok(d)
+    } else {
+        Err(found
+            .into_iter()
+            .map(|m| format!("{}: {m}", f.shown))
+            .collect())
     }
-    if let Some(n) = modes {
-        if n > d.eigenmodes() {
-            return Err(format!(
-                "asks for {n} modes, `{}` has {}",
-                f.shown,
-                d.eigenmodes()
-            ));
-        }
-        d.truncate(n, &[]);
-    }
-    Ok(d)
+}
+
+/// Keep the first `n` eigenmodes of `d` (an entry's `modes`); the message names the file
+/// (`shown`) when it has fewer.
+fn keep_modes(d: &mut ModalData, n: Option<usize>, shown: &str) -> Result<(), String> {
+    let Some(n) = n else { return Ok(()) };
+    let fewer = (n > d.eigenmodes())
+        .then(|| format!("asks for {n} modes, `{shown}` has {}", d.eigenmodes()));
+    d.truncate(n, &[]);
+    fewer.map_or(Ok(()), Err)
 }
 
 /// Parse a body's characteristic curves and check them against its modal data file (before

@@ -328,10 +328,10 @@ fn a_model_files_curves_are_resolved_and_refused_by_file_and_field() {
     let d = tmp.path();
     let text = std::fs::read_to_string(root.join("models/data/reference.toml")).unwrap();
     let fe = root.join("models/fe").display().to_string() + "/";
-    let entry = "file = \"../fe/cabinet.modal.toml\"\ndamping = 0.02\n";
+    let entry = "curves = \"../fe/cabinet.curves.toml\"\n";
     assert!(text.contains(entry), "the reference's cabinet entry moved");
     let text = text
-        .replace(entry, &format!("{entry}curves = \"cab.curves.toml\"\n"))
+        .replace(entry, "curves = \"cab.curves.toml\"\n")
         .replace("../fe/", &fe);
     let scene = |effects: &str| format!("\n[[scenes]]\nname = \"curved\"\neffects = [{effects}]\n");
     let model = |extra: &str| {

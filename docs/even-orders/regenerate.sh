@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Regenerate docs/even-orders.md's run-up tables: the reference with its counterweights tight
 # and loose, with and without the kinematic sources of even orders. Whole run-ups, galpha at
-# 1e-6, interpreted (model files); about 7 min on one core (quiet), most of it the loose bolts.
+# 1e-6, interpreted (model files); about 7 min on one core (quiet), most of it the loose bolts;
+# then the side panels' curves on the elastic cabinet (two built-in run-ups, about 5 min).
 # Usage (from the repository's root, washdyn installed or built): bash docs/even-orders/regenerate.sh [OUT]
 set -euo pipefail
 out=${1:-out/eo}
@@ -39,3 +40,9 @@ run tight iso_cw
 run loose iso_cw
 python3 docs/even-orders/levels.py "$out/tight_full_galpha" "$out/tight_counterweights" \
   "$out/loose_counterweights" "$out/tight_iso_base" "$out/tight_iso_cw" "$out/loose_iso_cw"
+# The side panels' curves (built-in scenes, generated): cabinet tables and Figure 14.
+"$washdyn" run reference --scene elastic_rigid_tub --out "$out/elastic_rigid_tub" --no-plots
+"$washdyn" run reference --scene panel_curves --out "$out/panel_curves" --no-plots
+python3 docs/even-orders/levels.py "$out/elastic_rigid_tub" "$out/panel_curves"
+python3 docs/even-orders/speed_plot.py cabinet2_ay "$out/even_orders_cabinet2_speed.png" \
+  "$out/elastic_rigid_tub" "$out/panel_curves"

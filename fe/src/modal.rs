@@ -334,6 +334,12 @@ pub fn solve_deck(
     let deck = dir.join(format!("{job}.inp"));
     std::fs::write(&deck, text).map_err(Error::io(&deck))?;
     let run = crate::ccx::run(&deck)?;
+    read_solved(mesh, run, job)
+}
+
+/// The results of a finished ccx `run` of `job` on `mesh`: its field file, its `.dat` and the
+/// rigid parts' prints.
+pub fn read_solved(mesh: &Mesh, run: crate::ccx::CcxRun, job: &str) -> Result<Solved, Error> {
     let read = |p: std::path::PathBuf| std::fs::read_to_string(&p).map_err(Error::io(p));
     let frd = crate::frd::parse(&read(run.frd())?).within(|| format!("{job}.frd"))?;
     let dat = read(run.dat())?;

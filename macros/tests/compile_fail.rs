@@ -23,11 +23,14 @@ fn stage_fixtures() {
     for f in files {
         std::fs::copy(&f, project.join(f.file_name().expect("a file"))).expect("copy fixture");
     }
-    // The reference's modal data, where its `../fe/` paths point from ui-data.
+    // The reference's modal data and curves, where its `../fe/` paths point from ui-data.
     let fe = project.parent().expect("ui-data has a parent").join("fe");
     std::fs::create_dir_all(&fe).expect("create the trybuild project's fe");
-    for body in ["tub", "tub_bare", "drum", "cabinet"] {
-        let name = format!("{body}.modal.toml");
+    let files = ["tub", "tub_bare", "drum", "cabinet"]
+        .map(|body| format!("{body}.modal.toml"))
+        .into_iter()
+        .chain(["cabinet.curves.toml".to_string()]);
+    for name in files {
         std::fs::copy(models.join("fe").join(&name), fe.join(&name)).expect("copy modal data");
     }
 }

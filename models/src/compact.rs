@@ -41,5 +41,12 @@ washdyn_macros::machine! {
                 element_geometry, unbalance_inertia, elastic.cabinet,
             ],
         }
+        scene panel_curves {
+            effects: [
+                gyroscopic, unbalance.drum, unbalance.motor, friction_dampers, gasket_damping,
+                element_geometry, unbalance_inertia, elastic.cabinet,
+                characteristic_curves.cabinet,
+            ],
+        }
     }
 }

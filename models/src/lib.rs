@@ -46,6 +46,11 @@ pub const REFERENCE_DATA: &[Embedded] = &[
         origin: "built-in models/fe/cabinet.modal.toml",
         text: include_str!("../fe/cabinet.modal.toml"),
     },
+    Embedded {
+        name: "../fe/cabinet.curves.toml",
+        origin: "built-in models/fe/cabinet.curves.toml",
+        text: include_str!("../fe/cabinet.curves.toml"),
+    },
 ];
 
 /// Names of the built-in models.

@@ -42,6 +42,7 @@ fn declared_reference_equals_the_toml_file() {
         for e in &mut m.elastic {
             e.file = name(&e.file);
             e.bare = e.bare.as_deref().map(name);
+            e.curves = e.curves.as_deref().map(name);
         }
         m
     };
@@ -98,7 +99,12 @@ fn compact_differs_from_the_reference_exactly_where_declared() {
     undone.sensors.remove(rim);
 
     let reference = washdyn_models::reference();
-    for name in ["elastic", "elastic_fine", "elastic_rigid_tub"] {
+    for name in [
+        "elastic",
+        "elastic_fine",
+        "elastic_rigid_tub",
+        "panel_curves",
+    ] {
         let scene = undone.scenes.iter_mut().find(|s| s.name == name).unwrap();
         assert!(
             !scene
@@ -119,6 +125,7 @@ fn compact_differs_from_the_reference_exactly_where_declared() {
     for e in &mut undone.elastic {
         e.file = format!("../{}", e.file);
         e.bare = e.bare.as_ref().map(|b| format!("../{b}"));
+        e.curves = e.curves.as_ref().map(|c| format!("../{c}"));
     }
     assert_same(&undone, &reference);
 }

@@ -93,6 +93,11 @@ pub fn content_hash(model: &Model, scene: &EffectSet) -> String {
             e.data = bare;
         }
         e.bare = None;
+        // The curves are the model's only where the scene switches them on.
+        e.curves = None;
+        if !scene.has(&Effect::CharacteristicCurves(e.name.clone())) {
+            e.curves_data = None;
+        }
         // A body the scene keeps rigid takes its FE model's mass, centre of gravity and
         // inertia (and feet), not its modes: a new solve of the modes does not void a study of
         // the rigid machine.

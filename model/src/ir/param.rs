@@ -248,8 +248,8 @@ pub fn free_values(base: &Model, variant: &Model) -> Result<Vec<f64>, String> {
     )
     .map_err(|e| e.to_string())?;
     let (mut a, mut b) = (value(base), value(&reset));
-    // Neither the free list nor where a modal file was read from is the model's content (the
-    // files' data are, and are compared).
+    // Neither the free list nor where a modal or curves file was read from is the model's
+    // content (the files' data are, and are compared).
     for v in [&mut a, &mut b] {
         if let Value::Object(m) = v {
             m.remove("free");
@@ -257,6 +257,7 @@ pub fn free_values(base: &Model, variant: &Model) -> Result<Vec<f64>, String> {
                 for e in bodies.iter_mut().filter_map(Value::as_object_mut) {
                     e.remove("file");
                     e.remove("bare");
+                    e.remove("curves");
                 }
             }
         }

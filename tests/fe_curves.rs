@@ -108,11 +108,11 @@ fn shallow_arch_quadratic_and_cubic_stiffness_match_the_closed_form() {
          ({e4:+.2e}); residual {:.1e}, unseen {:.1e}",
         c.fit.residual, c.fit.unseen_residual
     );
-    // Measured -1.8e-3 and -3.5e-4 (ccx 2.20): the shear and the FE mode's axial part the
+    // Measured -1.8e-3 and -3.4e-4 (ccx 2.20): the shear and the FE mode's axial part the
     // one-term theory lacks; 1 % holds both.
     assert!(e3.abs() < 0.01 && e4.abs() < 0.01, "{e3} {e4}");
     // The fit at the loads it did not see (a = +-0.75 h in the linear estimate): measured
-    // 2.4e-5 of the largest nonlinear force (fitted: 6.4e-5); the polynomial is the theory's
+    // 5.0e-5 of the largest nonlinear force (fitted: 7.0e-5); the polynomial is the theory's
     // exact form, so 5e-4 leaves room for ccx's convergence tolerance only.
     assert!(c.fit.unseen_residual < 5e-4, "{:?}", c.fit);
     assert_eq!(c.fit.unseen_loads.len(), 2);
@@ -137,8 +137,8 @@ fn flat_beam_has_no_quadratic_stiffness_and_the_cubic_of_the_closed_form() {
          residual {:.1e}, unseen {:.1e}",
         c.fit.residual, c.fit.unseen_residual
     );
-    // Measured +6.8e-4, a quadratic share of 7e-17 (the beam is symmetric to round-off) and
-    // residuals 5.0e-5 fitted, 7.1e-5 unseen.
+    // Measured +6.9e-4, a quadratic share of 0 (the beam is symmetric to round-off) and
+    // residuals 4.8e-5 fitted, 6.8e-5 unseen.
     assert!(e4.abs() < 0.01, "{e4}");
     assert!(share < 1e-6, "{share}");
     assert!(c.fit.unseen_residual < 5e-4, "{:?}", c.fit);

@@ -799,7 +799,8 @@ fn an_unknown_scene_lists_each_scene_once() {
     assert!(
         err.contains(
             "unknown scene `nope`; this model has: full, presliding, rigid_low_speed, \
-             damper_mass, counterweights, contact, elastic, elastic_fine, elastic_rigid_tub\n"
+             damper_mass, counterweights, contact, elastic, elastic_fine, elastic_rigid_tub, \
+             panel_curves\n"
         ),
         "{err}"
     );

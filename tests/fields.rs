@@ -548,7 +548,12 @@ fn field_files_of_bodies_the_scene_keeps_rigid_are_named_with_the_remedy() {
             assert_eq!(files, &["cabinet.field.bin"]);
             assert_eq!(
                 elastic_scenes,
-                &["elastic", "elastic_fine", "elastic_rigid_tub"]
+                &[
+                    "elastic",
+                    "elastic_fine",
+                    "elastic_rigid_tub",
+                    "panel_curves"
+                ]
             );
         }
         e => panic!("{e}"),
@@ -558,8 +563,8 @@ fn field_files_of_bodies_the_scene_keeps_rigid_are_named_with_the_remedy() {
     assert_eq!(out.status.code(), Some(5), "{err}");
     for part in [
         "fe holds cabinet.field.bin, but in the run's scene `full` none of these bodies is elastic",
-        "run a scene that keeps them elastic (elastic, elastic_fine, elastic_rigid_tub) with \
-         --states",
+        "run a scene that keeps them elastic (elastic, elastic_fine, elastic_rigid_tub, \
+         panel_curves) with --states",
     ] {
         assert!(err.contains(part), "`{part}` in: {err}");
     }

@@ -329,7 +329,8 @@ fn a_cancelled_task_is_submitted_again_and_the_dataset_is_the_local_runs() {
     }
 
     // The dataset: 0002 and 0004 missing, nothing of them in place; Slurm: task 2 CANCELLED,
-    // task 4 gone.
+    // task 4 gone, or still CANCELLED while slurmctld has not yet purged the record of a task
+    // cancelled while pending (seen once under load, the suite beside a simulation).
     println!("$ washdyn study status on-slurm");
     let st = c.washdyn(&["study", "status", o], START);
     assert!(st.status.success());
@@ -342,7 +343,8 @@ fn a_cancelled_task_is_submitted_again_and_the_dataset_is_the_local_runs() {
     assert!(
         st.contains(&format!("slurm job {job}: 5 tasks: "))
             && st.contains("  task 2 (variants 0002): CANCELLED")
-            && st.contains("  task 4 (variants 0004): gone"),
+            && (st.contains("  task 4 (variants 0004): gone")
+                || st.contains("  task 4 (variants 0004): CANCELLED")),
         "{st}"
     );
     for d in ["variants", "summary", "timing"] {

@@ -7,16 +7,17 @@
 //! 0.149); the fundamentals snap through at 1.3-1.6 thicknesses (a limit point in ccx) in one
 //! direction, so their levels stay at 0.5 and 1.
 
-use super::{from_modes, linear_modes};
+use super::{from_modes, linear_modes, share};
 use crate::bodies::builtin;
 use crate::modal::Shapes;
 
 /// Of the side panels' modes (at least half their translations' squares on the panels,
-/// the share [`super::dominant`] ranks by), the `count` that give the panel's centre (cabinet2, `MP_CAB2`) the
-/// most static give across the panel: phi_y^2 / w^2, the modes' share of its driving-point
-/// compliance. The panels' largest share alone picks local modes at 77 and 106 Hz that hardly
-/// move cabinet2 and whose forces are odd (measured: f(-q) = -f(q) within 3 %); the speed plot's
-/// asymmetry (the paper's Figure 14) is the centre's. Prints every candidate.
+/// [`share`], which [`super::dominant`] ranks by), the `count` that give the panel's centre
+/// (cabinet2, `MP_CAB2`) the most static give across the panel: phi_y^2 / w^2, the modes'
+/// share of its driving-point compliance. The panels' largest share alone picks local modes at
+/// 77 and 106 Hz that hardly move cabinet2 and whose forces are odd (measured at 4 and 8
+/// thicknesses: f(-q) = -f(q) within 9 %); the speed plot's asymmetry (the paper's Figure 14)
+/// is the centre's. Prints every candidate.
 fn at_the_panels_centre(
     all: &[Shapes],
     side: &[usize],
@@ -25,7 +26,7 @@ fn at_the_panels_centre(
 ) -> Vec<usize> {
     let mut score: Vec<(usize, f64)> = Vec::new();
     for (k, s) in all.iter().enumerate() {
-        let share = panel_share(s, side);
+        let share = share(s, side);
         let y: f64 = centre
             .iter()
             .filter_map(|id| s.w.get(id))
@@ -48,18 +49,12 @@ fn at_the_panels_centre(
     out
 }
 
-fn panel_share(s: &Shapes, of: &[usize]) -> f64 {
-    let sq = |u: &[f64; 3]| u.iter().map(|x| x * x).sum::<f64>();
-    let total: f64 = s.w.values().map(sq).sum();
-    let part: f64 = of.iter().filter_map(|id| s.w.get(id)).map(sq).sum();
-    if total > 0.0 { part / total } else { 0.0 }
-}
-
 /// The side panels' modes that move cabinet2 most among the cabinet's lowest 40
 /// (`WASHDYN_CURVES_MODES`, 2 unless set; paired when more than one), at loads a linear panel
 /// would take to 0.5 and 1 sheet thickness (0.7 mm; unseen: 0.75; all scaled by
-/// `WASHDYN_CURVES_THICKNESSES`, 0.5 unless set) at the modes' largest displacement, both signs. Writes `<WASHDYN_CURVES_OUT or a temp dir>/
-/// cabinet.curves.toml`; prints the chosen modes, the residuals and ccx's times.
+/// `WASHDYN_CURVES_THICKNESSES`, 0.5 unless set) at the modes' largest displacement, both
+/// signs. Writes `<WASHDYN_CURVES_OUT or a temp dir>/cabinet.curves.toml`; prints the chosen
+/// modes, the residuals and ccx's times.
 #[test]
 #[ignore = "ccx on the full cabinet: 22 nonlinear and linear static solves, about 9 min"]
 fn cabinet_side_panels() {

@@ -406,17 +406,20 @@ pub fn linear_modes(
 /// translations over every node (sum of |w|^2 over `of` against over all nodes; a mesh of even
 /// elements makes it the share of the kinetic energy): a panel's dominant modes. Ascending.
 pub fn dominant(all: &[Shapes], of: &[usize], count: usize) -> Vec<usize> {
-    let share = |s: &Shapes| {
-        let sq = |u: &[f64; 3]| u.iter().map(|x| x * x).sum::<f64>();
-        let total: f64 = s.w.values().map(sq).sum();
-        let part: f64 = of.iter().filter_map(|id| s.w.get(id)).map(sq).sum();
-        if total > 0.0 { part / total } else { 0.0 }
-    };
-    let mut order: Vec<(usize, f64)> = all.iter().map(share).enumerate().collect();
+    let mut order: Vec<(usize, f64)> = all.iter().map(|s| share(s, of)).enumerate().collect();
     order.sort_by(|a, b| b.1.total_cmp(&a.1));
     let mut out: Vec<usize> = order.into_iter().take(count).map(|x| x.0).collect();
     out.sort_unstable();
     out
+}
+
+/// The share of the mode `s`'s translations on the nodes `of`: sum of |w|^2 over `of` against
+/// over all nodes (0 for a shape without translations).
+pub fn share(s: &Shapes, of: &[usize]) -> f64 {
+    let sq = |u: &[f64; 3]| u.iter().map(|x| x * x).sum::<f64>();
+    let total: f64 = s.w.values().map(sq).sum();
+    let part: f64 = of.iter().filter_map(|id| s.w.get(id)).map(sq).sum();
+    if total > 0.0 { part / total } else { 0.0 }
 }
 
 /// [`identify`] on the modes of `all` (the body's kept modes) at `chosen`, with the load plan

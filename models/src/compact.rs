@@ -48,5 +48,11 @@ washdyn_macros::machine! {
                 characteristic_curves.cabinet,
             ],
         }
+        scene cabinet_counterweights {
+            effects: [
+                gyroscopic, unbalance.drum, unbalance.motor, friction_dampers, gasket_damping,
+                element_geometry, unbalance_inertia, elastic.cabinet, counterweights,
+            ],
+        }
     }
 }

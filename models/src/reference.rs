@@ -9,8 +9,9 @@ washdyn_macros::machine! {
     /// cabinet is rigid and fixed until elastic bodies arrive.
     reference {
         gravity: [0.0, 0.0, -9.81],
-        // The suspension's spring rates and damper friction are free parameters: the generated
-        // code takes them as inputs, so a study of them runs on this build.
+        // The suspension's spring rates, the damper friction and the counterweights' bolt
+        // torques are free parameters: the generated code takes them as inputs, so a study of
+        // them (a loose bolt: torque 0) runs on this build.
         free: [
             "springs.spring_rear_left.stiffness",
             "springs.spring_rear_right.stiffness",
@@ -19,6 +20,18 @@ washdyn_macros::machine! {
             "friction_dampers.damper_front_right.f_max",
             "friction_dampers.damper_rear_left.f_max",
             "friction_dampers.damper_rear_right.f_max",
+            "bolted_joints.bolt_top_1.torque.moment",
+            "bolted_joints.bolt_top_2.torque.moment",
+            "bolted_joints.bolt_top_3.torque.moment",
+            "bolted_joints.bolt_top_4.torque.moment",
+            "bolted_joints.bolt_bottom_1.torque.moment",
+            "bolted_joints.bolt_bottom_2.torque.moment",
+            "bolted_joints.bolt_bottom_3.torque.moment",
+            "bolted_joints.bolt_bottom_4.torque.moment",
+            "bolted_joints.bolt_collar_1.torque.moment",
+            "bolted_joints.bolt_collar_2.torque.moment",
+            "bolted_joints.bolt_collar_3.torque.moment",
+            "bolted_joints.bolt_collar_4.torque.moment",
         ],
 
         // Suspended body: tub assembly with counterweight, bearing unit, motor stator, plus the
@@ -444,6 +457,19 @@ washdyn_macros::machine! {
                 gyroscopic, unbalance.drum, unbalance.motor, friction_dampers, gasket_damping,
                 element_geometry, unbalance_inertia, elastic.drum, elastic.cabinet,
                 centrifugal_stiffening, friction_law.elasto_plastic, characteristic_curves.cabinet,
+            ],
+            solver: { method: dopri5, tol: 1e-6 },
+            max_order: 12.0,
+        }
+
+        // `elastic_rigid_tub` with the counterweights on their bolted joints: the cabinet's
+        // channels of the counterweights' even orders (docs/even-orders.md; loose bolts: a study
+        // that sets the free torques to 0 runs on this build).
+        scene cabinet_counterweights {
+            effects: [
+                gyroscopic, unbalance.drum, unbalance.motor, friction_dampers, gasket_damping,
+                element_geometry, unbalance_inertia, elastic.drum, elastic.cabinet,
+                centrifugal_stiffening, friction_law.elasto_plastic, counterweights,
             ],
             solver: { method: dopri5, tol: 1e-6 },
             max_order: 12.0,

@@ -104,6 +104,7 @@ fn compact_differs_from_the_reference_exactly_where_declared() {
         "elastic_fine",
         "elastic_rigid_tub",
         "panel_curves",
+        "cabinet_counterweights",
     ] {
         let scene = undone.scenes.iter_mut().find(|s| s.name == name).unwrap();
         assert!(

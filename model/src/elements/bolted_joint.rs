@@ -57,8 +57,12 @@ use crate::scalar::Scalar;
 /// The joint's normal parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NormalLaw {
-    /// Preload of all the joint's bolts together, N.
-    pub preload: f64,
+    /// The preload as the model declares it: N, or the tightening torque in N m.
+    pub declared: f64,
+    /// Newtons of preload per unit of `declared` (1, or the torque's per N m). Kept apart so
+    /// that the traced forces multiply the declared number at run time: a free torque
+    /// (`codegen::free`) reaches the generated code as a parameter, not a folded product.
+    pub per_declared: f64,
     /// Axial stiffness of the bolts together, N/m.
     pub bolt_stiffness: f64,
     /// Stiffness of the clamped members (the interface's compression cone), N/m.
@@ -66,16 +70,31 @@ pub struct NormalLaw {
 }
 
 impl NormalLaw {
+    /// A law with its preload in N.
+    pub fn with_preload(preload: f64, bolt_stiffness: f64, member_stiffness: f64) -> NormalLaw {
+        NormalLaw {
+            declared: preload,
+            per_declared: 1.0,
+            bolt_stiffness,
+            member_stiffness,
+        }
+    }
+
+    /// The preload of all the joint's bolts together, N.
+    pub fn preload<T: Scalar>(&self) -> T {
+        T::c(self.declared) * self.per_declared
+    }
+
     /// The force on the counterweight along the bolt axis at opening `delta` (m): F_m - F_b.
     pub fn force<T: Scalar>(&self, delta: T) -> T {
-        let bolt = (delta * self.bolt_stiffness + self.preload).max(T::zero());
-        let member = (T::c(self.preload) - delta * self.member_stiffness).max(T::zero());
+        let bolt = (delta * self.bolt_stiffness + self.preload::<T>()).max(T::zero());
+        let member = (self.preload::<T>() - delta * self.member_stiffness).max(T::zero());
         member - bolt
     }
 
     /// The external axial load that lifts the interface, N: F_V (1 + k_b / k_m).
     pub fn separation_load(&self) -> f64 {
-        self.preload * (1.0 + self.bolt_stiffness / self.member_stiffness)
+        self.preload::<f64>() * (1.0 + self.bolt_stiffness / self.member_stiffness)
     }
 
     /// VDI 2230's load factor Phi = k_b / (k_b + k_m).
@@ -140,13 +159,15 @@ impl BoltedJoint {
     ) -> Vec<BoltedJoint> {
         let axis = f::unit(j.axis);
         let [t1, t2] = f::normals(axis);
+        let (declared, per_declared) = j.preload_parts();
         let one = |name: String, direction| BoltedJoint {
             name,
             a: a.clone(),
             b: b.clone(),
             axis,
             law: NormalLaw {
-                preload: j.preload(),
+                declared,
+                per_declared,
                 bolt_stiffness: j.bolt_stiffness,
                 member_stiffness: j.member_stiffness,
             },
@@ -195,7 +216,7 @@ impl BoltedJoint {
 
     /// The members' clamp force at opening `delta`, N: max(F_V - k_m delta, 0).
     fn clamp<T: Scalar>(&self, delta: T) -> T {
-        (T::c(self.law.preload) - delta * self.law.member_stiffness).max(T::zero())
+        (self.law.preload::<T>() - delta * self.law.member_stiffness).max(T::zero())
     }
 
     /// The slider's sliding deflection mu F_m / k_t at opening `delta`.
@@ -342,11 +363,7 @@ mod tests {
     /// An M8 joint (estimate): k_b = 2e8 N/m, k_m = 8e8 N/m (the members about 4x the bolt,
     /// VDI 2230's typical ratio for a short clamp), F_V = 15 kN.
     fn m8() -> NormalLaw {
-        NormalLaw {
-            preload: 15e3,
-            bolt_stiffness: 2e8,
-            member_stiffness: 8e8,
-        }
+        NormalLaw::with_preload(15e3, 2e8, 8e8)
     }
 
     /// Closed: the bolt takes Phi of an external load F_A (VDI 2230's load factor) and the
@@ -355,7 +372,7 @@ mod tests {
     #[test]
     fn the_normal_law_is_the_preloaded_joint_of_vdi_2230() {
         let j = m8();
-        let (kb, km, fv) = (j.bolt_stiffness, j.member_stiffness, j.preload);
+        let (kb, km, fv) = (j.bolt_stiffness, j.member_stiffness, j.preload::<f64>());
         let phi = j.load_factor();
         assert_eq!(phi, 0.2);
         assert_eq!(j.force(0.0), 0.0, "the preload is internal");
@@ -385,7 +402,7 @@ mod tests {
     #[test]
     fn a_lifting_joint_gives_even_harmonics() {
         let j = m8();
-        let amp = 2.0 * j.preload / j.member_stiffness;
+        let amp = 2.0 * j.preload::<f64>() / j.member_stiffness;
         let n = 4096;
         let (mut mean, mut c2, mut s2) = (0.0, 0.0, 0.0);
         for k in 0..n {
@@ -402,7 +419,7 @@ mod tests {
         );
         assert!(s2.abs() < 1e-12 * first);
         // A joint that never lifts (amplitude below delta_sep) is linear: no even part.
-        let small = 0.5 * j.preload / j.member_stiffness;
+        let small = 0.5 * j.preload::<f64>() / j.member_stiffness;
         let mean_small: f64 = (0..n)
             .map(|k| j.force(small * (2.0 * std::f64::consts::PI * k as f64 / n as f64).cos()))
             .sum::<f64>()

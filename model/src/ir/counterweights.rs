@@ -89,17 +89,28 @@ pub struct Tightening {
 impl BoltedJoint {
     /// The preload, N: `preload`, or the torque's (the checker asks for exactly one).
     pub fn preload(&self) -> f64 {
+        let (declared, per) = self.preload_parts();
+        declared * per
+    }
+
+    /// The preload as declared and its newtons per unit: (`preload`, 1), or the torque and
+    /// the preload of 1 N m (VDI 2230's relation is linear in the torque). The elements keep
+    /// the two apart so that a free torque stays a parameter of the generated code.
+    pub fn preload_parts(&self) -> (f64, f64) {
         match (self.preload, self.torque) {
-            (Some(p), _) => p,
-            (None, Some(t)) => crate::elements::bolted_joint::preload_from_torque(
+            (Some(p), _) => (p, 1.0),
+            (None, Some(t)) => (
                 t.moment,
-                t.pitch,
-                t.pitch_diameter,
-                t.thread_friction,
-                t.head_friction,
-                t.head_diameter,
+                crate::elements::bolted_joint::preload_from_torque(
+                    1.0,
+                    t.pitch,
+                    t.pitch_diameter,
+                    t.thread_friction,
+                    t.head_friction,
+                    t.head_diameter,
+                ),
             ),
-            (None, None) => 0.0,
+            (None, None) => (0.0, 1.0),
         }
     }
 }

@@ -231,3 +231,21 @@ fn the_fit_check_agrees_with_the_build() {
     assert_eq!(washdyn_models::fits("reference", "no_such_scene", &v), None);
     assert_eq!(washdyn_models::fits("no_such_model", "full", &v), None);
 }
+
+/// The committed study of docs/even-orders.md (docs/even-orders/loose_bolts.toml) is one
+/// variant, every bolt's torque 0, and a study runs it on the generated code.
+#[test]
+fn the_loose_bolts_study_runs_generated() {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/even-orders/loose_bolts.toml");
+    let study = washdyn::study::Study::load(&path).unwrap();
+    let variants = washdyn::study::variants::variants(&study);
+    assert_eq!(variants.len(), 1);
+    let model = variants[0].model(&study).unwrap();
+    assert!(model.bolted_joints.iter().all(|j| j.preload() == 0.0));
+    assert_eq!(model.bolted_joints.len(), 12);
+    assert_eq!(
+        washdyn::study::run::backend_for(&study, &variants[0]),
+        Backend::Generated
+    );
+}

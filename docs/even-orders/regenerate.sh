@@ -2,7 +2,8 @@
 # Regenerate docs/even-orders.md's run-up tables: the reference with its counterweights tight
 # and loose, with and without the kinematic sources of even orders. Whole run-ups, galpha at
 # 1e-6, interpreted (model files); about 7 min on one core (quiet), most of it the loose bolts;
-# then the side panels' curves on the elastic cabinet (two built-in run-ups, about 5 min).
+# then the elastic cabinet (built-in scenes, generated, about 15 min): the side panels' curves,
+# and the counterweights tight and loose (the loose bolts a study of the free torques).
 # Usage (from the repository's root, washdyn installed or built): bash docs/even-orders/regenerate.sh [OUT]
 set -euo pipefail
 out=${1:-out/eo}
@@ -46,3 +47,11 @@ python3 docs/even-orders/levels.py "$out/tight_full_galpha" "$out/tight_counterw
 python3 docs/even-orders/levels.py "$out/elastic_rigid_tub" "$out/panel_curves"
 python3 docs/even-orders/speed_plot.py cabinet2_ay "$out/even_orders_cabinet2_speed.png" \
   "$out/elastic_rigid_tub" "$out/panel_curves"
+# The counterweights' cabinet channels: tight (built-in) and loose (a study setting every
+# bolt's free torque to 0, on the same generated code).
+"$washdyn" run reference --scene cabinet_counterweights --out "$out/cabinet_counterweights" --no-plots
+"$washdyn" study run docs/even-orders/loose_bolts.toml --out "$out/cabinet_loose"
+loose="$out/cabinet_loose/variants/variant=0000"
+python3 docs/even-orders/levels.py "$out/elastic_rigid_tub" "$out/cabinet_counterweights" "$loose"
+python3 docs/even-orders/speed_plot.py cabinet2_ay "$out/cabinet2_speed_counterweights.png" \
+  "$out/elastic_rigid_tub" "$out/cabinet_counterweights" "$loose"

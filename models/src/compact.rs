@@ -54,5 +54,12 @@ washdyn_macros::machine! {
                 element_geometry, unbalance_inertia, elastic.cabinet, counterweights,
             ],
         }
+        scene elastic_even_orders {
+            effects: [
+                gyroscopic, unbalance.drum, unbalance.motor, friction_dampers, gasket_damping,
+                element_geometry, unbalance_inertia, elastic.cabinet, counterweights,
+                characteristic_curves.cabinet,
+            ],
+        }
     }
 }

@@ -553,8 +553,7 @@ fn field_files_of_bodies_the_scene_keeps_rigid_are_named_with_the_remedy() {
                     "elastic_fine",
                     "elastic_rigid_tub",
                     "panel_curves",
-                    "cabinet_counterweights",
-                    "elastic_even_orders"
+                    "cabinet_counterweights"
                 ]
             );
         }
@@ -566,7 +565,7 @@ fn field_files_of_bodies_the_scene_keeps_rigid_are_named_with_the_remedy() {
     for part in [
         "fe holds cabinet.field.bin, but in the run's scene `full` none of these bodies is elastic",
         "run a scene that keeps them elastic (elastic, elastic_fine, elastic_rigid_tub, \
-         panel_curves, cabinet_counterweights, elastic_even_orders) with --states",
+         panel_curves, cabinet_counterweights) with --states",
     ] {
         assert!(err.contains(part), "`{part}` in: {err}");
     }

@@ -228,7 +228,6 @@ fn a_variant_merges_into_its_base_and_inherited_paths_point_at_base() {
         scene elastic_fine { effects: [unbalance.drum] }
         scene panel_curves { effects: [unbalance.drum] }
         scene cabinet_counterweights { effects: [unbalance.drum] }
-        scene elastic_even_orders { effects: [unbalance.drum] }
     }";
     let (_, model, built) =
         analyse(src.parse().unwrap(), &here()).unwrap_or_else(|d| panic!("{:#?}", d.list));

@@ -54,12 +54,5 @@ washdyn_macros::machine! {
                 element_geometry, unbalance_inertia, elastic.cabinet, counterweights,
             ],
         }
-        scene elastic_even_orders {
-            effects: [
-                gyroscopic, unbalance.drum, unbalance.motor, friction_dampers, gasket_damping,
-                element_geometry, unbalance_inertia, elastic.cabinet, counterweights,
-                characteristic_curves.cabinet,
-            ],
-        }
     }
 }

@@ -474,19 +474,5 @@ washdyn_macros::machine! {
             solver: { method: dopri5, tol: 1e-6 },
             max_order: 12.0,
         }
-
-        // `elastic` with both of the seed paper's remedies for its missing even orders: the
-        // counterweights on their bolts (the tub's data without their bricks) and the side
-        // panels' characteristic curves (docs/even-orders.md; its price: docs/performance.md).
-        scene elastic_even_orders {
-            effects: [
-                gyroscopic, unbalance.drum, unbalance.motor, friction_dampers, gasket_damping,
-                element_geometry, unbalance_inertia, elastic.tub, elastic.drum, elastic.cabinet,
-                centrifugal_stiffening, friction_law.elasto_plastic, counterweights,
-                characteristic_curves.cabinet,
-            ],
-            solver: { method: dopri5, tol: 1e-6 },
-            max_order: 12.0,
-        }
     }
 }

@@ -105,7 +105,6 @@ fn compact_differs_from_the_reference_exactly_where_declared() {
         "elastic_rigid_tub",
         "panel_curves",
         "cabinet_counterweights",
-        "elastic_even_orders",
     ] {
         let scene = undone.scenes.iter_mut().find(|s| s.name == name).unwrap();
         assert!(

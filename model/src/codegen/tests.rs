@@ -107,7 +107,7 @@ fn free_parameters_are_proven_or_refused() {
 fn generated_source_mentions_every_scene() {
     let m = reference();
     let (src, stats) = generate_with_stats(&m).unwrap();
-    assert_eq!(stats.len(), 12);
+    assert_eq!(stats.len(), 11);
     assert!(src.contains("pub struct Full") && src.contains("pub struct RigidLowSpeed"));
     assert!(
         src.contains("pub struct PanelCurves") && src.contains("pub struct CabinetCounterweights")

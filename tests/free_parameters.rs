@@ -134,7 +134,7 @@ fn loose_bolts_run_on_the_built_code() {
         .map(|t| resolve(&base, t).unwrap())
         .collect();
     assert_eq!(torques.len(), 12);
-    let loose = set(&base, &torques, &vec![0.0; 12]).unwrap();
+    let loose = set(&base, &torques, &[0.0; 12]).unwrap();
     for scene in ["counterweights", "cabinet_counterweights"] {
         assert_eq!(
             washdyn_models::fits("reference", scene, &loose),
@@ -142,8 +142,10 @@ fn loose_bolts_run_on_the_built_code() {
         );
         let (d, m) = h_against_interpreter(&loose, scene);
         println!("{scene}: generated vs interpreter {d:e}, loose vs tight {m:e}");
+        // Measured: 0, and the loose bolts 1.9e-2 (`counterweights`) and 1.1e-2
+        // (`cabinet_counterweights`) of the largest force away from the tight ones.
         assert!(d < 5e-13, "{scene}: h {d:e}");
-        assert!(m > 1e-6, "{scene}: the torque is not read: {m:e}");
+        assert!(m > 1e-3, "{scene}: the torque is not read: {m:e}");
     }
 }
 

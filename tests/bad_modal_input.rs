@@ -662,10 +662,14 @@ fn fixed_size_lists_of_another_length_are_refused_naming_the_field() {
     )
     .unwrap();
     let e = washdyn::commands::resolve_model(p.to_str().unwrap()).unwrap_err();
-    // The model file's line 28 (`cog = [...]`), the field named.
+    // The line of the tub's `cog = [...]` in the model file, the field named.
+    let line = 1 + model
+        .lines()
+        .position(|l| l.starts_with("cog = [0.0, 0.0, 0.45]"))
+        .unwrap();
     assert!(
         matches!(&e, washdyn::Error::Model(m) if m.errors.iter().any(|l| l.file.ends_with("four.toml")
-            && l.line == 28
+            && l.line == line
             && l.message.contains("tub.cog: invalid length 4"))),
         "{e:?}"
     );

@@ -12,9 +12,8 @@ use crate::bodies::builtin;
 use crate::modal::Shapes;
 
 /// Of the side panels' modes (at least half their translations' squares on the panels,
-/// [`share`], which [`super::dominant`] ranks by), the `count` that give the panel's centre
-/// (cabinet2, `MP_CAB2`) the most static give across the panel: phi_y^2 / w^2, the modes'
-/// share of its driving-point compliance. The panels' largest share alone picks local modes at
+/// [`share`]), the `count` that give the panel's centre (cabinet2, `MP_CAB2`) the most static
+/// give across the panel: phi_y^2 / w^2, the modes' share of its driving-point compliance. The panels' largest share alone picks local modes at
 /// 77 and 106 Hz that hardly move cabinet2 and whose forces are odd (measured at 4 and 8
 /// thicknesses: f(-q) = -f(q) within 9 %); the speed plot's asymmetry (the paper's Figure 14)
 /// is the centre's. Prints every candidate.

@@ -402,19 +402,9 @@ pub fn linear_modes(
     )?)
 }
 
-/// The `count` modes of `all` that move the nodes `of` most, as a share of the mode's
-/// translations over every node (sum of |w|^2 over `of` against over all nodes; a mesh of even
-/// elements makes it the share of the kinetic energy): a panel's dominant modes. Ascending.
-pub fn dominant(all: &[Shapes], of: &[usize], count: usize) -> Vec<usize> {
-    let mut order: Vec<(usize, f64)> = all.iter().map(|s| share(s, of)).enumerate().collect();
-    order.sort_by(|a, b| b.1.total_cmp(&a.1));
-    let mut out: Vec<usize> = order.into_iter().take(count).map(|x| x.0).collect();
-    out.sort_unstable();
-    out
-}
-
 /// The share of the mode `s`'s translations on the nodes `of`: sum of |w|^2 over `of` against
-/// over all nodes (0 for a shape without translations).
+/// over all nodes (0 for a shape without translations; a mesh of even elements makes it the
+/// share of the kinetic energy).
 pub fn share(s: &Shapes, of: &[usize]) -> f64 {
     let sq = |u: &[f64; 3]| u.iter().map(|x| x * x).sum::<f64>();
     let total: f64 = s.w.values().map(sq).sum();
